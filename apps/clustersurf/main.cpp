@@ -1,0 +1,100 @@
+// Entry point of the `clustersurf` command-line tool: argument parsing (CLI11) and the single
+// place where errors become messages and exit codes.
+
+#include "commands.hpp"
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/version.hpp>
+
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <cstdio>
+#include <memory>
+#include <new>
+
+namespace {
+
+// Exit codes, documented in the README.
+constexpr int kExitUsage = 2;
+constexpr int kExitInput = 3;
+constexpr int kExitIo = 4;
+constexpr int kExitMemory = 5;
+constexpr int kExitCancelled = 130;
+constexpr int kExitInternal = 70;
+
+void add_input(CLI::App& cmd, clustersurf::cli::InputArgs& in) {
+  cmd.add_option("input", in.file, "Point cloud (.ply, .xyz/.pts/.txt/.csv, .obj)")->required();
+  cmd.add_flag("--drop-non-finite", in.drop_non_finite,
+               "Drop points with NaN/Inf coordinates (counted in a warning) instead of failing");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace clustersurf::cli;
+  CLI::App app{"clustersurf: surfaces from point clouds by hierarchical clustering"};
+  app.set_version_flag("--version", std::string("clustersurf ") + clustersurf::kVersion);
+  app.require_subcommand(1);
+  GlobalOptions global;
+  app.add_option("--threads", global.threads, "Worker threads (0: all cores); results do not depend on it")
+      ->check(CLI::NonNegativeNumber)
+      ->default_val(0);
+  app.add_flag("-q,--quiet", global.quiet, "No progress, no human output; errors only");
+  app.add_flag("--json", global.json, "Machine-readable JSON on stdout");
+
+  ConvertArgs convert;
+  auto* c = app.add_subcommand("convert", "Convert a point cloud between formats, optionally reduced");
+  add_input(*c, convert.input);
+  c->add_option("output", convert.output, "Output file (.ply, .xyz, .obj)")->required();
+  c->add_option("--subsample", convert.subsample, "Keep N points chosen uniformly at random")->check(CLI::PositiveNumber);
+  c->add_option("--voxel", convert.voxel, "Average the points in each cube of this side")->check(CLI::PositiveNumber);
+  c->add_option("--seed", convert.seed, "Random seed for --subsample")->default_val(1);
+  c->add_flag("--ascii", convert.ascii, "Write ascii PLY instead of binary");
+  c->add_flag("--double", convert.double_precision, "Store PLY coordinates as double (bit-exact)");
+
+  StatsArgs stats;
+  auto* s = app.add_subcommand("stats", "Point count, bounding box, spacing, attributes of a cloud");
+  add_input(*s, stats.input);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+
+  const int threads = global.threads > 0 ? global.threads : static_cast<int>(tbb::info::default_concurrency());
+  tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+  Console console(global);
+  try {
+    if (c->parsed()) return run_convert(console, convert);
+    if (s->parsed()) return run_stats(console, stats);
+    return kExitUsage;
+  } catch (const clustersurf::InputError& e) {
+    console.end_progress();
+    spdlog::error("{}", e.what());
+    return kExitInput;
+  } catch (const clustersurf::IoError& e) {
+    console.end_progress();
+    spdlog::error("{}", e.what());
+    return kExitIo;
+  } catch (const clustersurf::OptionError& e) {
+    console.end_progress();
+    spdlog::error("{}", e.what());
+    return kExitUsage;
+  } catch (const clustersurf::Cancelled&) {
+    console.end_progress();
+    spdlog::error("cancelled");
+    return kExitCancelled;
+  } catch (const std::bad_alloc&) {
+    console.end_progress();
+    spdlog::error("out of memory");
+    return kExitMemory;
+  } catch (const std::exception& e) {
+    console.end_progress();
+    spdlog::error("internal error: {}", e.what());
+    return kExitInternal;
+  }
+}

@@ -1,0 +1,61 @@
+#pragma once
+// Reading and writing point clouds and triangle meshes: PLY (ascii, binary little/big endian),
+// XYZ/PTS/TXT and OBJ. Readers validate everything they read and throw InputError naming the
+// file and the line or byte offset; writers write atomically (temporary file, then rename).
+
+#include <clustersurf/point_cloud.hpp>
+
+#include <filesystem>
+#include <functional>
+#include <string>
+
+namespace clustersurf {
+
+/// File formats known to the readers and writers.
+enum class FileFormat { Ply, Xyz, Obj };
+
+/// The format implied by a file name's extension (.ply, .xyz/.pts/.txt/.csv, .obj), or throws
+/// InputError for an unknown extension.
+FileFormat format_from_extension(const std::filesystem::path& file);
+
+/// Options for the point-cloud readers.
+struct ReadOptions {
+  /// Drop points whose coordinates (or normal) are NaN or infinite instead of failing;
+  /// the number dropped is reported through `warn`. Default: fail.
+  bool drop_non_finite = false;
+  /// Receives non-fatal warnings (dropped points, ignored content). Default: ignore them.
+  std::function<void(const std::string&)> warn;
+};
+
+/// Reads the points of a PLY, XYZ/PTS/TXT or OBJ file (format by extension; PLY also by magic).
+/// A mesh's vertices are its points; faces and unknown properties are skipped. Throws
+/// InputError (malformed content, no points) or IoError (cannot open or read).
+PointCloud read_point_cloud(const std::filesystem::path& file, const ReadOptions& options = {});
+
+/// Reads a triangle mesh from PLY or OBJ (polygons are fan-triangulated). Throws like
+/// read_point_cloud, and InputError when a face index is out of range.
+TriangleMesh read_triangle_mesh(const std::filesystem::path& file, const ReadOptions& options = {});
+
+/// Options for writing PLY files.
+struct PlyWriteOptions {
+  /// Binary little-endian (default) or ascii.
+  bool binary = true;
+  /// Store coordinates and normals as double (bit-exact round trip) instead of float.
+  bool double_precision = false;
+};
+
+/// Writes a point cloud as PLY (with normals and colors when present). Atomic. Throws IoError.
+void write_ply(const std::filesystem::path& file, const PointCloud& cloud, const PlyWriteOptions& options = {});
+/// Writes a triangle mesh as PLY (with per-vertex normals and colors when present). Atomic.
+void write_ply(const std::filesystem::path& file, const TriangleMesh& mesh, const PlyWriteOptions& options = {});
+/// Writes a point cloud as text, one "x y z [nx ny nz]" line per point, with 17 significant
+/// digits (bit-exact round trip). Atomic.
+void write_xyz(const std::filesystem::path& file, const PointCloud& cloud);
+/// Writes a triangle mesh as OBJ (v, vn when normals exist, f). Atomic.
+void write_obj(const std::filesystem::path& file, const TriangleMesh& mesh);
+/// Writes a point cloud in the format its extension names (PLY with `ply` options). Atomic.
+void write_point_cloud(const std::filesystem::path& file, const PointCloud& cloud, const PlyWriteOptions& ply = {});
+/// Writes a triangle mesh as PLY or OBJ by extension. Atomic.
+void write_triangle_mesh(const std::filesystem::path& file, const TriangleMesh& mesh, const PlyWriteOptions& ply = {});
+
+}  // namespace clustersurf

@@ -1,0 +1,123 @@
+// Format dispatch and validation shared by every reader (non-finite values, empty clouds).
+
+#include "io/mapped_file.hpp"
+#include "io/readers.hpp"
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/point_cloud_io.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <string>
+
+namespace clustersurf {
+
+namespace {
+
+std::string lower_extension(const std::filesystem::path& file) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+FileFormat detect(const std::filesystem::path& file, std::string_view bytes) {
+  if (bytes.substr(0, 4) == "ply\n" || bytes.substr(0, 5) == "ply\r\n") return FileFormat::Ply;
+  return format_from_extension(file);
+}
+
+/// Rejects (or drops, by option) points with a non-finite coordinate or normal.
+void check_finite(const std::filesystem::path& file, io::ParsedFile& parsed, const ReadOptions& options) {
+  PointCloud& c = parsed.cloud;
+  const Eigen::Index n = c.size();
+  std::vector<Eigen::Index> keep;
+  bool any_bad = false;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const bool ok = c.positions.row(i).allFinite() && (!c.has_normals() || c.normals.row(i).allFinite());
+    if (!ok && !options.drop_non_finite)
+      throw InputError(file, {}, "point " + std::to_string(i) + " (0-based) has a non-finite coordinate or normal "
+                                     "(NaN or Inf); use the option to drop such points");
+    any_bad = any_bad || !ok;
+  }
+  if (!any_bad) return;
+  keep.reserve(static_cast<std::size_t>(n));
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (c.positions.row(i).allFinite() && (!c.has_normals() || c.normals.row(i).allFinite())) keep.push_back(i);
+  if (parsed.triangles.rows() != 0)
+    throw InputError(file, {}, "mesh has vertices with non-finite coordinates; they cannot be dropped without breaking faces");
+  const auto m = static_cast<Eigen::Index>(keep.size());
+  PointCloud out;
+  out.positions = c.positions(keep, Eigen::all);
+  if (c.has_normals()) out.normals = c.normals(keep, Eigen::all);
+  if (c.has_colors()) out.colors = c.colors(keep, Eigen::all);
+  if (options.warn)
+    options.warn(file.string() + ": dropped " + std::to_string(n - m) + " of " + std::to_string(n) +
+                 " points with non-finite coordinates or normals");
+  c = std::move(out);
+}
+
+io::ParsedFile parse(const std::filesystem::path& file, const ReadOptions& options, bool want_faces) {
+  io::MappedFile mapped(file);
+  const std::string_view bytes = mapped.view();
+  if (bytes.empty()) throw InputError(file, {}, "file is empty");
+  io::ParsedFile parsed;
+  switch (detect(file, bytes)) {
+    case FileFormat::Ply: parsed = io::read_ply(file, bytes, want_faces); break;
+    case FileFormat::Obj: parsed = io::read_obj(file, bytes, want_faces); break;
+    case FileFormat::Xyz:
+      if (want_faces) throw InputError(file, {}, "an XYZ file holds points, not a mesh");
+      parsed = io::read_xyz(file, bytes);
+      break;
+  }
+  check_finite(file, parsed, options);
+  if (parsed.cloud.empty()) throw InputError(file, {}, "file holds no points");
+  return parsed;
+}
+
+}  // namespace
+
+FileFormat format_from_extension(const std::filesystem::path& file) {
+  const std::string ext = lower_extension(file);
+  if (ext == ".ply") return FileFormat::Ply;
+  if (ext == ".xyz" || ext == ".pts" || ext == ".txt" || ext == ".csv" || ext == ".xyzn") return FileFormat::Xyz;
+  if (ext == ".obj") return FileFormat::Obj;
+  throw InputError(file, {}, "unknown file format \"" + ext + "\" (expected .ply, .xyz, .pts, .txt, .csv or .obj)");
+}
+
+PointCloud read_point_cloud(const std::filesystem::path& file, const ReadOptions& options) {
+  return parse(file, options, false).cloud;
+}
+
+TriangleMesh read_triangle_mesh(const std::filesystem::path& file, const ReadOptions& options) {
+  io::ParsedFile parsed = parse(file, options, true);
+  TriangleMesh mesh;
+  mesh.vertices = std::move(parsed.cloud.positions);
+  mesh.normals = std::move(parsed.cloud.normals);
+  mesh.colors = std::move(parsed.cloud.colors);
+  mesh.triangles = std::move(parsed.triangles);
+  return mesh;
+}
+
+void write_point_cloud(const std::filesystem::path& file, const PointCloud& cloud, const PlyWriteOptions& ply) {
+  switch (format_from_extension(file)) {
+    case FileFormat::Ply: write_ply(file, cloud, ply); return;
+    case FileFormat::Xyz: write_xyz(file, cloud); return;
+    case FileFormat::Obj: {
+      TriangleMesh m;
+      m.vertices = cloud.positions;
+      m.normals = cloud.normals;
+      write_obj(file, m);
+      return;
+    }
+  }
+}
+
+void write_triangle_mesh(const std::filesystem::path& file, const TriangleMesh& mesh, const PlyWriteOptions& ply) {
+  switch (format_from_extension(file)) {
+    case FileFormat::Ply: write_ply(file, mesh, ply); return;
+    case FileFormat::Obj: write_obj(file, mesh); return;
+    case FileFormat::Xyz: throw OptionError(file.string() + ": cannot write a mesh as XYZ (use .ply or .obj)");
+  }
+}
+
+}  // namespace clustersurf

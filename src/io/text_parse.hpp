@@ -1,0 +1,90 @@
+#pragma once
+// Small helpers for the text readers: number parsing and a line-counting token cursor.
+
+#include <charconv>
+#include <cstdint>
+#include <string_view>
+
+namespace clustersurf::io {
+
+/// Parses the whole token as a double (leading '+' allowed; "nan"/"inf" parse to non-finite
+/// values so callers can name them). Returns false if the token is not entirely a number.
+inline bool parse_double(std::string_view token, double& value) {
+  if (!token.empty() && token.front() == '+') token.remove_prefix(1);
+  if (token.empty()) return false;
+  const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+  return ec == std::errc() && ptr == token.data() + token.size();
+}
+
+/// Parses the whole token as a signed 64-bit integer.
+inline bool parse_int(std::string_view token, std::int64_t& value) {
+  if (!token.empty() && token.front() == '+') token.remove_prefix(1);
+  if (token.empty()) return false;
+  const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+  return ec == std::errc() && ptr == token.data() + token.size();
+}
+
+inline bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+
+/// Walks a text buffer, yielding whitespace-separated tokens and whole lines, and counting
+/// lines (1-based) for error messages.
+class TextCursor {
+ public:
+  TextCursor(std::string_view text, std::uint64_t first_line = 1)
+      : p_(text.data()), end_(text.data() + text.size()), line_(first_line) {}
+
+  /// Next token, crossing line breaks; empty at end of input. line() is the token's line.
+  std::string_view next_token() {
+    while (p_ != end_ && (is_space(*p_) || *p_ == '\n')) {
+      if (*p_ == '\n') ++line_;
+      ++p_;
+    }
+    const char* start = p_;
+    while (p_ != end_ && !is_space(*p_) && *p_ != '\n') ++p_;
+    return {start, static_cast<std::size_t>(p_ - start)};
+  }
+
+  /// Next line without its terminator; returns false at end of input. line() is its number.
+  bool next_line(std::string_view& out) {
+    if (p_ == end_) return false;
+    if (started_) ++line_;
+    started_ = true;
+    const char* start = p_;
+    while (p_ != end_ && *p_ != '\n') ++p_;
+    out = {start, static_cast<std::size_t>(p_ - start)};
+    if (p_ != end_) ++p_;
+    if (!out.empty() && out.back() == '\r') out.remove_suffix(1);
+    return true;
+  }
+
+  /// True if only whitespace remains.
+  bool only_space_left() const {
+    for (const char* q = p_; q != end_; ++q)
+      if (!is_space(*q) && *q != '\n') return false;
+    return true;
+  }
+
+  std::uint64_t line() const noexcept { return line_; }
+
+ private:
+  const char* p_;
+  const char* end_;
+  std::uint64_t line_;
+  bool started_ = false;
+};
+
+/// Splits `line` into tokens separated by whitespace and/or commas; stops at '#'.
+template <class Out>
+void split_fields(std::string_view line, Out& out) {
+  out.clear();
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && (is_space(line[i]) || line[i] == ',')) ++i;
+    if (i >= line.size() || line[i] == '#') break;
+    const std::size_t start = i;
+    while (i < line.size() && !is_space(line[i]) && line[i] != ',' && line[i] != '#') ++i;
+    out.push_back(line.substr(start, i - start));
+  }
+}
+
+}  // namespace clustersurf::io

@@ -1,0 +1,150 @@
+// PLY (binary little-endian or ascii), XYZ and OBJ writers, all atomic.
+
+#include "io/atomic_file.hpp"
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/point_cloud_io.hpp>
+
+#include <fmt/format.h>
+
+#include <bit>
+#include <cstring>
+#include <vector>
+
+namespace clustersurf {
+
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "binary writers assume a little-endian host");
+
+void write_ply_impl(const std::filesystem::path& file, const Points& v, const Points& n, const Colors& c,
+                    const Triangles* tris, const PlyWriteOptions& o) {
+  const Eigen::Index nv = v.rows();
+  const bool has_n = n.rows() == nv && nv > 0;
+  const bool has_c = c.rows() == nv && nv > 0;
+  const char* real = o.double_precision ? "double" : "float";
+  std::string h = "ply\n";
+  h += o.binary ? "format binary_little_endian 1.0\n" : "format ascii 1.0\n";
+  h += "comment written by clustersurf\n";
+  h += fmt::format("element vertex {}\nproperty {} x\nproperty {} y\nproperty {} z\n", nv, real, real, real);
+  if (has_n) h += fmt::format("property {} nx\nproperty {} ny\nproperty {} nz\n", real, real, real);
+  if (has_c) h += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  if (tris != nullptr) h += fmt::format("element face {}\nproperty list uchar int vertex_indices\n", tris->rows());
+  h += "end_header\n";
+
+  io::AtomicFile out(file);
+  out.write(h);
+  std::vector<char> buf;
+  buf.reserve(1 << 20);
+  auto flush_if_full = [&] {
+    if (buf.size() > (1u << 20) - 256) {
+      out.write(buf.data(), buf.size());
+      buf.clear();
+    }
+  };
+  auto put = [&](const auto& value) {
+    const char* p = reinterpret_cast<const char*>(&value);
+    buf.insert(buf.end(), p, p + sizeof(value));
+  };
+  auto put_real = [&](double x) {
+    if (o.double_precision) put(x);
+    else put(static_cast<float>(x));
+  };
+  fmt::memory_buffer text;
+  for (Eigen::Index i = 0; i < nv; ++i) {
+    if (o.binary) {
+      for (int k = 0; k < 3; ++k) put_real(v(i, k));
+      if (has_n)
+        for (int k = 0; k < 3; ++k) put_real(n(i, k));
+      if (has_c)
+        for (int k = 0; k < 3; ++k) put(c(i, k));
+      flush_if_full();
+    } else {
+      // Shortest representation that reads back to the same value ({} in fmt).
+      auto fmt_real = [&](double x) {
+        if (o.double_precision) fmt::format_to(std::back_inserter(text), "{}", x);
+        else fmt::format_to(std::back_inserter(text), "{}", static_cast<float>(x));
+      };
+      fmt_real(v(i, 0)), text.push_back(' '), fmt_real(v(i, 1)), text.push_back(' '), fmt_real(v(i, 2));
+      if (has_n)
+        for (int k = 0; k < 3; ++k) text.push_back(' '), fmt_real(n(i, k));
+      if (has_c) fmt::format_to(std::back_inserter(text), " {} {} {}", c(i, 0), c(i, 1), c(i, 2));
+      text.push_back('\n');
+      if (text.size() > (1u << 20)) out.write(text.data(), text.size()), text.clear();
+    }
+  }
+  if (tris != nullptr) {
+    for (Eigen::Index f = 0; f < tris->rows(); ++f) {
+      if (o.binary) {
+        put(static_cast<std::uint8_t>(3));
+        for (int k = 0; k < 3; ++k) put((*tris)(f, k));
+        flush_if_full();
+      } else {
+        fmt::format_to(std::back_inserter(text), "3 {} {} {}\n", (*tris)(f, 0), (*tris)(f, 1), (*tris)(f, 2));
+        if (text.size() > (1u << 20)) out.write(text.data(), text.size()), text.clear();
+      }
+    }
+  }
+  out.write(buf.data(), buf.size());
+  out.write(text.data(), text.size());
+  out.commit();
+}
+
+}  // namespace
+
+void write_ply(const std::filesystem::path& file, const PointCloud& cloud, const PlyWriteOptions& options) {
+  write_ply_impl(file, cloud.positions, cloud.normals, cloud.colors, nullptr, options);
+}
+
+void write_ply(const std::filesystem::path& file, const TriangleMesh& mesh, const PlyWriteOptions& options) {
+  write_ply_impl(file, mesh.vertices, mesh.normals, mesh.colors, &mesh.triangles, options);
+}
+
+void write_xyz(const std::filesystem::path& file, const PointCloud& cloud) {
+  io::AtomicFile out(file);
+  fmt::memory_buffer text;
+  for (Eigen::Index i = 0; i < cloud.size(); ++i) {
+    fmt::format_to(std::back_inserter(text), "{} {} {}", cloud.positions(i, 0), cloud.positions(i, 1), cloud.positions(i, 2));
+    if (cloud.has_normals())
+      fmt::format_to(std::back_inserter(text), " {} {} {}", cloud.normals(i, 0), cloud.normals(i, 1), cloud.normals(i, 2));
+    text.push_back('\n');
+    if (text.size() > (1u << 20)) out.write(text.data(), text.size()), text.clear();
+  }
+  out.write(text.data(), text.size());
+  out.commit();
+}
+
+void write_obj(const std::filesystem::path& file, const TriangleMesh& mesh) {
+  io::AtomicFile out(file);
+  fmt::memory_buffer text;
+  fmt::format_to(std::back_inserter(text), "# written by clustersurf: {} vertices, {} triangles\n", mesh.vertices.rows(),
+                 mesh.triangles.rows());
+  const bool has_n = mesh.normals.rows() == mesh.vertices.rows() && mesh.vertices.rows() > 0;
+  const bool has_c = mesh.colors.rows() == mesh.vertices.rows() && mesh.vertices.rows() > 0;
+  auto drain = [&] {
+    if (text.size() > (1u << 20)) out.write(text.data(), text.size()), text.clear();
+  };
+  for (Eigen::Index i = 0; i < mesh.vertices.rows(); ++i) {
+    fmt::format_to(std::back_inserter(text), "v {} {} {}", mesh.vertices(i, 0), mesh.vertices(i, 1), mesh.vertices(i, 2));
+    if (has_c)
+      fmt::format_to(std::back_inserter(text), " {:.4f} {:.4f} {:.4f}", mesh.colors(i, 0) / 255.0, mesh.colors(i, 1) / 255.0,
+                     mesh.colors(i, 2) / 255.0);
+    text.push_back('\n');
+    drain();
+  }
+  if (has_n)
+    for (Eigen::Index i = 0; i < mesh.normals.rows(); ++i) {
+      fmt::format_to(std::back_inserter(text), "vn {} {} {}\n", mesh.normals(i, 0), mesh.normals(i, 1), mesh.normals(i, 2));
+      drain();
+    }
+  for (Eigen::Index f = 0; f < mesh.triangles.rows(); ++f) {
+    const auto a = mesh.triangles(f, 0) + 1, b = mesh.triangles(f, 1) + 1, c = mesh.triangles(f, 2) + 1;
+    if (has_n) fmt::format_to(std::back_inserter(text), "f {}//{} {}//{} {}//{}\n", a, a, b, b, c, c);
+    else fmt::format_to(std::back_inserter(text), "f {} {} {}\n", a, b, c);
+    drain();
+  }
+  out.write(text.data(), text.size());
+  out.commit();
+}
+
+}  // namespace clustersurf

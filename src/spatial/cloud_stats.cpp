@@ -1,0 +1,41 @@
+#include <clustersurf/cloud_stats.hpp>
+#include <clustersurf/kd_tree.hpp>
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace clustersurf {
+
+CloudStats compute_stats(const PointCloud& cloud, std::size_t max_samples) {
+  CloudStats s;
+  s.points = static_cast<std::size_t>(cloud.size());
+  s.bbox = bounding_box(cloud.positions);
+  s.diagonal = s.bbox.diagonal();
+  s.has_normals = cloud.has_normals();
+  s.has_colors = cloud.has_colors();
+  if (s.points < 2 || max_samples == 0) return s;
+
+  const KdTree tree(cloud.positions);
+  const std::size_t samples = std::min(s.points, max_samples);
+  const double stride = static_cast<double>(s.points) / static_cast<double>(samples);
+  std::vector<double> nearest(samples);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples), [&](const auto& r) {
+    std::vector<Neighbor> nb;
+    for (std::size_t j = r.begin(); j != r.end(); ++j) {
+      const auto i = static_cast<Eigen::Index>(static_cast<double>(j) * stride);
+      tree.knn(cloud.positions.row(i).transpose(), 2, nb);
+      // Skip the query itself (and exact duplicates count as spacing 0).
+      nearest[j] = nb.size() > 1 ? std::sqrt(nb[1].distance_squared) : 0.0;
+    }
+  });
+  // Summation in index order keeps the result independent of the thread count.
+  s.mean_spacing = std::accumulate(nearest.begin(), nearest.end(), 0.0) / static_cast<double>(samples);
+  std::nth_element(nearest.begin(), nearest.begin() + static_cast<std::ptrdiff_t>(samples / 2), nearest.end());
+  s.median_spacing = nearest[samples / 2];
+  return s;
+}
+
+}  // namespace clustersurf

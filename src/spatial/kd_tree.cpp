@@ -1,0 +1,93 @@
+#include <clustersurf/kd_tree.hpp>
+
+#include <nanoflann.hpp>
+
+#include <algorithm>
+
+namespace clustersurf {
+
+namespace {
+
+/// nanoflann dataset adaptor over the rows of a Points matrix.
+struct PointsAdaptor {
+  const Points* points;
+  std::size_t kdtree_get_point_count() const { return static_cast<std::size_t>(points->rows()); }
+  double kdtree_get_pt(std::size_t i, std::size_t dim) const {
+    return (*points)(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(dim));
+  }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const {
+    return false;
+  }
+};
+
+using Index = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>, PointsAdaptor,
+                                                  3, std::uint32_t>;
+
+bool closer(const Neighbor& a, const Neighbor& b) {
+  return a.distance_squared < b.distance_squared || (a.distance_squared == b.distance_squared && a.index < b.index);
+}
+
+}  // namespace
+
+struct KdTree::Impl {
+  PointsAdaptor adaptor;
+  Index index;
+  Impl(const Points& points, int leaf_size)
+      : adaptor{&points},
+        index(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(static_cast<std::size_t>(std::max(1, leaf_size)))) {}
+};
+
+KdTree::KdTree(const Points& points, int leaf_size) : impl_(std::make_unique<Impl>(points, leaf_size)) {}
+KdTree::~KdTree() = default;
+KdTree::KdTree(KdTree&&) noexcept = default;
+KdTree& KdTree::operator=(KdTree&&) noexcept = default;
+
+std::size_t KdTree::size() const noexcept { return impl_->adaptor.kdtree_get_point_count(); }
+const Points& KdTree::points() const noexcept { return *impl_->adaptor.points; }
+
+void KdTree::knn(const Eigen::Vector3d& query, std::size_t k, std::vector<Neighbor>& out) const {
+  k = std::min(k, size());
+  out.clear();
+  if (k == 0) return;
+  // Ask for one extra candidate so ties at the k-th distance resolve by index deterministically.
+  const std::size_t want = std::min(k + 1, size());
+  thread_local std::vector<std::uint32_t> idx;
+  thread_local std::vector<double> d2;
+  idx.resize(want);
+  d2.resize(want);
+  nanoflann::KNNResultSet<double, std::uint32_t> result(want);
+  result.init(idx.data(), d2.data());
+  impl_->index.findNeighbors(result, query.data(), nanoflann::SearchParams());
+  const std::size_t found = result.size();
+  out.reserve(found);
+  for (std::size_t i = 0; i < found; ++i) out.push_back(Neighbor{idx[i], d2[i]});
+  std::sort(out.begin(), out.end(), closer);
+  out.resize(std::min(k, out.size()));
+}
+
+std::vector<Neighbor> KdTree::knn(const Eigen::Vector3d& query, std::size_t k) const {
+  std::vector<Neighbor> out;
+  knn(query, k, out);
+  return out;
+}
+
+std::vector<Neighbor> KdTree::radius(const Eigen::Vector3d& query, double radius) const {
+  std::vector<std::pair<std::uint32_t, double>> found;
+  if (radius >= 0) {
+    // nanoflann's L2 adaptors compare squared distances; its test is "< radius", so widen by
+    // one ulp to make the query inclusive, then filter exactly.
+    const double r2 = radius * radius;
+    impl_->index.radiusSearch(query.data(), std::nextafter(r2, std::numeric_limits<double>::infinity()), found,
+                              nanoflann::SearchParams(32, 0, false));
+    std::vector<Neighbor> out;
+    out.reserve(found.size());
+    for (const auto& [i, d2] : found)
+      if (d2 <= r2) out.push_back(Neighbor{i, d2});
+    std::sort(out.begin(), out.end(), closer);
+    return out;
+  }
+  return {};
+}
+
+}  // namespace clustersurf
