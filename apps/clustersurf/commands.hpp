@@ -33,3 +33,32 @@ struct StatsArgs {
 int run_stats(Console& console, const StatsArgs& args);
 
 }  // namespace clustersurf::cli
+
+namespace clustersurf::cli {
+
+struct ReconstructArgs {
+  InputArgs input;
+  std::string tree_output;  // .cstree (optional when mesh_output is given)
+  std::string mesh_output;  // .ply/.obj (optional)
+  std::string proxy = "poly";
+  std::string splitter = "split-plane";
+  std::string max_error = "auto";
+  std::optional<double> absolute_error;
+  std::string error_metric = "rms";
+  std::uint32_t min_points = 20;
+  std::uint32_t max_depth = 200;
+  double alpha = 0.75;
+  std::uint32_t kstep = 0;
+  std::uint32_t lloyd_restarts = 4;
+  std::uint32_t proxy_lloyd = 0;
+  std::uint64_t seed = 1;
+  bool no_point_leaves = false;
+};
+int run_reconstruct(Console& console, const ReconstructArgs& args);
+
+struct InfoArgs {
+  std::string tree;
+};
+int run_info(Console& console, const InfoArgs& args);
+
+}  // namespace clustersurf::cli

@@ -59,6 +59,38 @@ int main(int argc, char** argv) {
   auto* s = app.add_subcommand("stats", "Point count, bounding box, spacing, attributes of a cloud");
   add_input(*s, stats.input);
 
+  ReconstructArgs rec;
+  auto* r = app.add_subcommand("reconstruct", "Build the cluster tree of a point cloud (and save it)");
+  add_input(*r, rec.input);
+  r->add_option("-o,--output", rec.tree_output, "Tree file to write (.cstree)");
+  r->add_option("--proxy", rec.proxy, "Proxy per cluster: plane, poly (bivariate quadratic) or quadric")
+      ->check(CLI::IsMember({"plane", "poly", "quadric"}))
+      ->default_val("poly");
+  r->add_option("--splitter", rec.splitter, "Cluster splitting: split-plane or lloyd")
+      ->check(CLI::IsMember({"split-plane", "lloyd"}))
+      ->default_val("split-plane");
+  r->add_option("--max-error", rec.max_error,
+                "Leaf error threshold as a fraction of the bbox diagonal, or \"auto\" (noise-aware: the larger of "
+                "0.001 x diagonal and 1.5 x estimated noise)")
+      ->default_val("auto");
+  r->add_option("--absolute-error", rec.absolute_error, "Leaf error threshold in the input's units (overrides --max-error)")
+      ->check(CLI::NonNegativeNumber);
+  r->add_option("--error", rec.error_metric, "Error compared with the threshold: rms or max")
+      ->check(CLI::IsMember({"rms", "max"}))
+      ->default_val("rms");
+  r->add_option("--min-points", rec.min_points, "No cluster below this many points")->check(CLI::Range(1, 1 << 30))->default_val(20);
+  r->add_option("--max-depth", rec.max_depth, "Maximum tree depth")->default_val(200);
+  r->add_option("--alpha", rec.alpha, "Support radius = alpha x cluster bbox diagonal")->check(CLI::PositiveNumber)->default_val(0.75);
+  r->add_option("--kstep", rec.kstep, "Split-plane sweep step (0: at most 64 candidates per split)")->default_val(0);
+  r->add_option("--lloyd-restarts", rec.lloyd_restarts, "Lloyd splitter: 2-means restarts")->check(CLI::Range(1, 1000))->default_val(4);
+  r->add_option("--proxy-lloyd", rec.proxy_lloyd, "Lloyd splitter: proxy-Lloyd refinement rounds")->default_val(0);
+  r->add_option("--seed", rec.seed, "Seed for every random choice")->default_val(1);
+  r->add_flag("--no-point-leaves", rec.no_point_leaves, "Do not store each point's leaf in the tree file");
+
+  InfoArgs info;
+  auto* i = app.add_subcommand("info", "Describe a tree file: sizes, depth, proxies, errors, parameters");
+  i->add_option("tree", info.tree, "Tree file (.cstree)")->required();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -71,6 +103,8 @@ int main(int argc, char** argv) {
   try {
     if (c->parsed()) return run_convert(console, convert);
     if (s->parsed()) return run_stats(console, stats);
+    if (r->parsed()) return run_reconstruct(console, rec);
+    if (i->parsed()) return run_info(console, info);
     return kExitUsage;
   } catch (const clustersurf::InputError& e) {
     console.end_progress();

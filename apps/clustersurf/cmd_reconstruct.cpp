@@ -1,0 +1,90 @@
+#include "commands.hpp"
+#include "input.hpp"
+#include "tree_report.hpp"
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/tree_file.hpp>
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <iostream>
+
+namespace clustersurf::cli {
+
+namespace {
+
+ProxyKind parse_proxy(const std::string& s) {
+  if (s == "plane") return ProxyKind::Plane;
+  if (s == "poly") return ProxyKind::Poly;
+  if (s == "quadric") return ProxyKind::Quadric;
+  throw OptionError("--proxy must be plane, poly or quadric, not \"" + s + "\"");
+}
+
+BuildOptions build_options(const ReconstructArgs& a) {
+  BuildOptions o;
+  o.proxy = parse_proxy(a.proxy);
+  if (a.splitter == "split-plane") o.splitter = SplitterKind::SplitPlane;
+  else if (a.splitter == "lloyd") o.splitter = SplitterKind::Lloyd;
+  else throw OptionError("--splitter must be split-plane or lloyd, not \"" + a.splitter + "\"");
+  if (a.error_metric == "rms") o.metric = ErrorMetric::Rms;
+  else if (a.error_metric == "max") o.metric = ErrorMetric::Max;
+  else throw OptionError("--error must be rms or max, not \"" + a.error_metric + "\"");
+  if (a.absolute_error) {
+    o.threshold_mode = ThresholdMode::Absolute;
+    o.threshold = *a.absolute_error;
+  } else if (a.max_error == "auto") {
+    o.threshold_mode = ThresholdMode::Auto;
+  } else {
+    o.threshold_mode = ThresholdMode::Relative;
+    std::size_t used = 0;
+    try {
+      o.threshold = std::stod(a.max_error, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != a.max_error.size() || !(o.threshold >= 0))
+      throw OptionError("--max-error must be \"auto\" or a non-negative fraction of the diagonal, not \"" + a.max_error + "\"");
+  }
+  o.min_points = a.min_points;
+  o.max_depth = a.max_depth;
+  o.alpha = a.alpha;
+  o.kstep = a.kstep;
+  o.lloyd_restarts = a.lloyd_restarts;
+  o.proxy_lloyd_iterations = a.proxy_lloyd;
+  o.seed = a.seed;
+  o.keep_point_leaves = !a.no_point_leaves;
+  return o;
+}
+
+}  // namespace
+
+int run_reconstruct(Console& console, const ReconstructArgs& args) {
+  if (args.tree_output.empty() && args.mesh_output.empty())
+    throw OptionError("nothing to write: give -o TREE.cstree and/or --mesh MESH.ply");
+  BuildOptions options = build_options(args);
+  const auto t0 = std::chrono::steady_clock::now();
+  const PointCloud cloud = read_input(console, args.input);
+  const auto t1 = std::chrono::steady_clock::now();
+  options.progress = console.progress();
+  const ClusterTree tree = build_cluster_tree(cloud, options);
+  const auto t2 = std::chrono::steady_clock::now();
+  console.end_progress();
+  if (!args.tree_output.empty()) save_tree(args.tree_output, tree);
+  const auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
+
+  if (console.options().json) {
+    nlohmann::json j = tree_report_json(tree);
+    j["input"] = args.input.file;
+    if (!args.tree_output.empty()) j["tree"] = args.tree_output;
+    j["timing"] = {{"read_seconds", seconds(t0, t1)}, {"build_seconds", seconds(t1, t2)}};
+    std::cout << j.dump(2) << "\n";
+  } else {
+    for (const auto& line : tree_report_lines(tree)) console.print(line);
+    console.print(fmt::format("time            read {:.3f} s, build {:.3f} s", seconds(t0, t1), seconds(t1, t2)));
+    if (!args.tree_output.empty()) console.print("wrote           " + args.tree_output);
+  }
+  return 0;
+}
+
+}  // namespace clustersurf::cli

@@ -1,0 +1,81 @@
+#include "tree_report.hpp"
+
+#include <fmt/format.h>
+
+namespace clustersurf::cli {
+
+nlohmann::json tree_report_json(const ClusterTree& tree) {
+  const TreeSummary s = summarize(tree);
+  const TreeParameters& p = tree.parameters;
+  nlohmann::json hist;
+  for (int k = 0; k < 4; ++k) hist[to_string(static_cast<ProxyKind>(k))] = s.proxy_histogram[static_cast<std::size_t>(k)];
+  auto pct = [](const std::array<double, 5>& a) {
+    return nlohmann::json{{"min", a[0]}, {"p25", a[1]}, {"median", a[2]}, {"p75", a[3]}, {"max", a[4]}};
+  };
+  return {
+      {"nodes", s.nodes},
+      {"leaves", s.leaves},
+      {"depth", s.depth},
+      {"input_points", tree.input_points},
+      {"has_point_leaves", !tree.point_leaf.empty()},
+      {"bbox_min", {tree.bbox.min.x(), tree.bbox.min.y(), tree.bbox.min.z()}},
+      {"bbox_max", {tree.bbox.max.x(), tree.bbox.max.y(), tree.bbox.max.z()}},
+      {"diagonal", tree.bbox.diagonal()},
+      {"leaf_proxies", hist},
+      {"leaf_size", pct(s.leaf_size_percentiles)},
+      {"leaf_rms_error", pct(s.leaf_rms_percentiles)},
+      {"leaves_over_threshold", s.leaves_over_threshold},
+      {"noise_sigma", p.noise_sigma},
+      {"error_threshold", p.error_threshold},
+      {"parameters",
+       {{"proxy", to_string(p.proxy)},
+        {"splitter", to_string(p.splitter)},
+        {"error_metric", to_string(p.metric)},
+        {"threshold_mode", to_string(p.threshold_mode)},
+        {"threshold", p.threshold},
+        {"noise_factor", p.noise_factor},
+        {"min_points", p.min_points},
+        {"max_depth", p.max_depth},
+        {"alpha", p.alpha},
+        {"kstep", p.kstep},
+        {"lloyd_restarts", p.lloyd_restarts},
+        {"proxy_lloyd_iterations", p.proxy_lloyd_iterations},
+        {"seed", p.seed}}},
+  };
+}
+
+std::vector<std::string> tree_report_lines(const ClusterTree& tree) {
+  const TreeSummary s = summarize(tree);
+  const TreeParameters& p = tree.parameters;
+  const double diag = tree.bbox.diagonal();
+  std::vector<std::string> out;
+  out.push_back(fmt::format("points          {}", tree.input_points));
+  out.push_back(fmt::format("nodes           {} ({} leaves), depth {}", s.nodes, s.leaves, s.depth));
+  std::string hist;
+  for (int k = 0; k < 4; ++k)
+    if (s.proxy_histogram[static_cast<std::size_t>(k)] != 0)
+      hist += fmt::format("{}{} {}", hist.empty() ? "" : ", ", s.proxy_histogram[static_cast<std::size_t>(k)],
+                          to_string(static_cast<ProxyKind>(k)));
+  out.push_back(fmt::format("leaf proxies    {}", hist));
+  const auto& ls = s.leaf_size_percentiles;
+  out.push_back(fmt::format("leaf size       min {:.0f}  p25 {:.0f}  median {:.0f}  p75 {:.0f}  max {:.0f}", ls[0], ls[1],
+                            ls[2], ls[3], ls[4]));
+  const auto& le = s.leaf_rms_percentiles;
+  out.push_back(fmt::format("leaf RMS error  min {:.3g}  p25 {:.3g}  median {:.3g}  p75 {:.3g}  max {:.3g}", le[0], le[1],
+                            le[2], le[3], le[4]));
+  out.push_back(fmt::format("threshold       {:.4g} ({:.4g} % of the diagonal {:.4g}); {} leaves above it (at min-points "
+                            "or max-depth)",
+                            p.error_threshold, diag > 0 ? 100 * p.error_threshold / diag : 0.0, diag,
+                            s.leaves_over_threshold));
+  if (p.threshold_mode == ThresholdMode::Auto)
+    out.push_back(fmt::format("noise estimate  {:.4g} ({:.4g} % of the diagonal)", p.noise_sigma,
+                              diag > 0 ? 100 * p.noise_sigma / diag : 0.0));
+  out.push_back(fmt::format("parameters      proxy {}, splitter {}, error {}, max-error {} {}, min-points {}, "
+                            "max-depth {}, alpha {}, kstep {}, seed {}",
+                            to_string(p.proxy), to_string(p.splitter), to_string(p.metric), to_string(p.threshold_mode),
+                            p.threshold, p.min_points, p.max_depth, p.alpha, p.kstep == 0 ? std::string("auto") : std::to_string(p.kstep),
+                            p.seed));
+  return out;
+}
+
+}  // namespace clustersurf::cli

@@ -1,0 +1,124 @@
+#pragma once
+// The cluster tree: a binary tree of point clusters, each with a fitted proxy and support
+// sphere (thesis ch. 3, METHOD.md "Cluster tree").
+
+#include <clustersurf/point_cloud.hpp>
+#include <clustersurf/progress.hpp>
+#include <clustersurf/proxy.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace clustersurf {
+
+/// How a cluster is split in two. Values are stored in tree files: never renumber.
+enum class SplitterKind : std::uint8_t { SplitPlane = 0, Lloyd = 1 };
+/// Which error of a cluster's proxy is compared with the threshold. Stored in tree files.
+enum class ErrorMetric : std::uint8_t { Rms = 0, Max = 1 };
+/// How the error threshold is given. Stored in tree files.
+enum class ThresholdMode : std::uint8_t {
+  Relative = 0,  ///< value × bounding-box diagonal of the input
+  Absolute = 1,  ///< value, in the input's units
+  Auto = 2,      ///< max(value × diagonal, noise_factor × estimated noise)
+};
+
+const char* to_string(SplitterKind kind);
+const char* to_string(ErrorMetric metric);
+const char* to_string(ThresholdMode mode);
+
+/// Options of build_cluster_tree(); the defaults are the recommended settings.
+struct BuildOptions {
+  ProxyKind proxy = ProxyKind::Poly;             ///< proxy fitted to every node
+  SplitterKind splitter = SplitterKind::SplitPlane;
+  ErrorMetric metric = ErrorMetric::Rms;         ///< RMS: max never drops below scanner noise
+  ThresholdMode threshold_mode = ThresholdMode::Auto;
+  double threshold = 0.001;                      ///< relative (fraction of diagonal) or absolute
+  double noise_factor = 1.5;                     ///< Auto: leaves may keep this × noise as error
+  std::uint32_t min_points = 20;                 ///< no child below this many points
+  std::uint32_t max_depth = 200;                 ///< nodes at this depth are leaves (root: 0)
+  double alpha = 0.75;                           ///< support radius = alpha × cluster bbox diagonal
+  std::uint32_t kstep = 0;                       ///< split-plane sweep step; 0: ≤ 64 candidates
+  std::uint32_t lloyd_restarts = 4;              ///< Lloyd splitter: 2-means restarts
+  std::uint32_t proxy_lloyd_iterations = 0;      ///< Lloyd splitter: proxy refinement rounds
+  std::uint64_t seed = 1;                        ///< seeds every random choice (Lloyd seeding)
+  bool keep_point_leaves = true;                 ///< store the leaf of every input point
+  ProgressCallback progress;                     ///< progress and cancellation (may be empty)
+};
+
+/// A sphere by center and radius.
+struct Sphere {
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  double radius = 0;
+  bool contains(const Eigen::Vector3d& x) const { return (x - center).squaredNorm() < radius * radius; }
+};
+
+/// One node of the tree. Nodes are stored in depth-first pre-order, root first; a node's
+/// children come after it. `left`/`right` are -1 for leaves (both or neither are set).
+struct ClusterNode {
+  std::int32_t parent = -1;
+  std::int32_t left = -1;
+  std::int32_t right = -1;
+  std::uint32_t depth = 0;
+  std::uint32_t point_count = 0;
+  Proxy proxy;
+  double rms_error = 0;  ///< RMS of |Q| over the cluster
+  double max_error = 0;  ///< max of |Q| over the cluster
+  Sphere support;        ///< center = cluster mean, radius = alpha × cluster bbox diagonal
+  Sphere bound;          ///< encloses `support` and every support in the subtree
+
+  bool is_leaf() const noexcept { return left < 0; }
+};
+
+/// The parameters a tree was built with, as stored in its file.
+struct TreeParameters {
+  ProxyKind proxy = ProxyKind::Poly;
+  SplitterKind splitter = SplitterKind::SplitPlane;
+  ErrorMetric metric = ErrorMetric::Rms;
+  ThresholdMode threshold_mode = ThresholdMode::Auto;
+  double threshold = 0.001;
+  double noise_factor = 1.5;
+  std::uint32_t min_points = 20;
+  std::uint32_t max_depth = 200;
+  double alpha = 0.75;
+  std::uint32_t kstep = 0;
+  std::uint32_t lloyd_restarts = 4;
+  std::uint32_t proxy_lloyd_iterations = 0;
+  std::uint64_t seed = 1;
+  double noise_sigma = 0;      ///< estimated noise of the input (Auto mode; 0 otherwise)
+  double error_threshold = 0;  ///< the absolute threshold actually used
+
+  bool operator==(const TreeParameters&) const = default;
+};
+
+/// A built (or loaded) cluster tree.
+struct ClusterTree {
+  TreeParameters parameters;
+  BoundingBox bbox;                      ///< of the input points
+  std::uint64_t input_points = 0;
+  std::vector<ClusterNode> nodes;        ///< pre-order, nodes[0] is the root
+  std::vector<std::int32_t> point_leaf;  ///< node index of each input point's leaf, or empty
+
+  /// Indices of the leaves, in pre-order.
+  std::vector<std::int32_t> leaves() const;
+  /// Largest node depth (root: 0).
+  std::uint32_t depth() const;
+};
+
+/// Builds the tree. Deterministic: the same cloud and options give the same tree for any
+/// thread count. Throws OptionError for invalid options, Cancelled when `progress` says stop.
+ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& options = {});
+
+/// Figures of a tree for reports (`clustersurf info`).
+struct TreeSummary {
+  std::size_t nodes = 0;
+  std::size_t leaves = 0;
+  std::uint32_t depth = 0;
+  std::array<std::size_t, 4> proxy_histogram{};  ///< leaves per ProxyKind
+  std::array<double, 5> leaf_size_percentiles{};  ///< 0, 25, 50, 75, 100 %
+  std::array<double, 5> leaf_rms_percentiles{};   ///< 0, 25, 50, 75, 100 %
+  std::size_t leaves_over_threshold = 0;          ///< leaves whose error exceeds the threshold
+};
+
+TreeSummary summarize(const ClusterTree& tree);
+
+}  // namespace clustersurf

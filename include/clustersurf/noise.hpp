@@ -1,0 +1,19 @@
+#pragma once
+// Estimating the noise level of a scan, for the automatic error threshold.
+
+#include <clustersurf/point_cloud.hpp>
+
+namespace clustersurf {
+
+/// Options of estimate_noise().
+struct NoiseOptions {
+  std::size_t neighbors = 24;     ///< points per local fit
+  std::size_t samples = 4000;     ///< local fits (evenly strided points, deterministic)
+};
+
+/// Robust estimate of the standard deviation of the points' normal-direction noise: the median
+/// over sampled neighbourhoods of the RMS residual of a local quadratic height-field fit,
+/// corrected for the fit's degrees of freedom. Smooth noise-free samples give a value near 0.
+double estimate_noise(const Points& points, const NoiseOptions& options = {});
+
+}  // namespace clustersurf

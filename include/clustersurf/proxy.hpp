@@ -1,0 +1,120 @@
+#pragma once
+// Surface proxies: the small analytic surfaces fitted to each cluster (thesis ch. 4).
+// Every proxy gives an approximate signed distance Q(x) (positive on the side its normal points
+// to), its gradient, a ray intersection and its error over a set of points.
+
+#include <clustersurf/point_cloud.hpp>
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <type_traits>
+#include <variant>
+
+namespace clustersurf {
+
+/// The proxy types. Values are stored in tree files: never renumber.
+enum class ProxyKind : std::uint8_t { Point = 0, Plane = 1, Poly = 2, Quadric = 3 };
+
+/// Name used on the command line and in reports: "point", "plane", "poly", "quadric".
+const char* to_string(ProxyKind kind);
+
+/// Orthonormal local frame: `origin` and axes e1, e2 (tangents) and e3 (normal) as the
+/// columns of `axes`.
+struct Frame {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
+
+  Eigen::Vector3d to_local(const Eigen::Vector3d& x) const { return axes.transpose() * (x - origin); }
+  Eigen::Vector3d to_world(const Eigen::Vector3d& l) const { return origin + axes * l; }
+};
+
+/// The cluster's mean. Defines no surface: value() is the distance to the center.
+struct PointProxy {
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+};
+
+/// Plane through `point` with unit `normal`; Q(x) = normal · (x − point).
+struct PlaneProxy {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+};
+
+/// Bivariate quadratic height field over a local frame (thesis 4.2):
+/// w = c0 + c1 u + c2 v + c3 u² + c4 uv + c5 v², with (u, v, w) the local coordinates, and
+/// Q(x) = (w − f(u, v)) / sqrt(1 + |∇f|²).
+struct PolyProxy {
+  Frame frame;
+  std::array<double, 6> coeffs{};
+};
+
+/// General quadric q(y) = cᵀ [y1², y2², y3², y1y2, y1y3, y2y3, y1, y2, y3, 1] in normalized
+/// coordinates y = (x − center) / scale (Taubin fit); Q(x) = scale · q / |∇_y q|.
+struct QuadricProxy {
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  double scale = 1.0;
+  std::array<double, 10> coeffs{};
+};
+
+/// A ray origin + t · direction.
+struct Ray {
+  Eigen::Vector3d origin;
+  Eigen::Vector3d direction;
+};
+
+/// RMS and maximum of |Q| over a set of points.
+struct ProxyError {
+  double rms = 0;
+  double max = 0;
+};
+
+/// One proxy of any kind, held by value.
+class Proxy {
+ public:
+  using Variant = std::variant<PointProxy, PlaneProxy, PolyProxy, QuadricProxy>;
+
+  Proxy() = default;
+  /// Implicit from any of the proxy types (and from Variant).
+  template <class T>
+    requires std::is_constructible_v<Variant, T>
+  Proxy(T p) : v_(std::move(p)) {}  // NOLINT(google-explicit-constructor)
+
+  ProxyKind kind() const noexcept { return static_cast<ProxyKind>(v_.index()); }
+  const Variant& variant() const noexcept { return v_; }
+  Variant& variant() noexcept { return v_; }
+
+  /// Approximate signed distance Q(x); finite everywhere.
+  double value(const Eigen::Vector3d& x) const;
+  /// Exact gradient of value() at x.
+  Eigen::Vector3d gradient(const Eigen::Vector3d& x) const;
+  /// Smallest t in [t_min, t_max] with Q(origin + t·direction) = 0, if any (Point: none).
+  std::optional<double> intersect(const Ray& ray, double t_min, double t_max) const;
+  /// Negates Q (swaps inside and outside) without changing the zero set.
+  void flip();
+  /// Unit normal direction of the proxy near its center (plane and poly: e3; quadric: the
+  /// normalized gradient at the center; point: +z).
+  Eigen::Vector3d normal() const;
+
+ private:
+  Variant v_;
+};
+
+/// Principal-component frame of points[indices]: origin at the mean, e1/e2/e3 the axes of
+/// decreasing variance, right-handed, each axis's sign fixed so results are reproducible.
+Frame pca_frame(const Points& points, std::span<const std::uint32_t> indices);
+
+/// Least-squares fit of a proxy of `kind` to points[indices] (nonempty). Rank-deficient systems
+/// (collinear points, fewer points than coefficients) get the minimum-norm pseudo-inverse
+/// solution; the result is always finite.
+Proxy fit_proxy(ProxyKind kind, const Points& points, std::span<const std::uint32_t> indices);
+
+/// Fits a bivariate polynomial over a given frame (the frame is kept; only coefficients fit).
+PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<const std::uint32_t> indices);
+
+/// RMS and max of |Q| over points[indices] (zero for no points).
+ProxyError proxy_error(const Proxy& proxy, const Points& points, std::span<const std::uint32_t> indices);
+
+}  // namespace clustersurf

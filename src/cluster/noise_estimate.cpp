@@ -1,0 +1,45 @@
+#include <clustersurf/kd_tree.hpp>
+#include <clustersurf/noise.hpp>
+#include <clustersurf/proxy.hpp>
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace clustersurf {
+
+double estimate_noise(const Points& points, const NoiseOptions& options) {
+  const auto n = static_cast<std::size_t>(points.rows());
+  const std::size_t k = std::min(options.neighbors, n);
+  if (k < 10 || options.samples == 0) return 0;
+  const KdTree tree(points);
+  const std::size_t samples = std::min(options.samples, n);
+  const double stride = static_cast<double>(n) / static_cast<double>(samples);
+  std::vector<double> sigma(samples);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples), [&](const auto& r) {
+    std::vector<Neighbor> nb;
+    std::vector<std::uint32_t> idx;
+    for (std::size_t s = r.begin(); s != r.end(); ++s) {
+      const auto i = static_cast<Eigen::Index>(static_cast<double>(s) * stride);
+      tree.knn(points.row(i).transpose(), k, nb);
+      idx.clear();
+      for (const auto& m : nb) idx.push_back(m.index);
+      const Frame frame = pca_frame(points, idx);
+      const PolyProxy poly = fit_poly_in_frame(frame, points, idx);
+      double ss = 0;
+      for (auto j : idx) {
+        const Eigen::Vector3d l = frame.to_local(points.row(j).transpose());
+        const auto& c = poly.coeffs;
+        const double f = c[0] + c[1] * l.x() + c[2] * l.y() + c[3] * l.x() * l.x() + c[4] * l.x() * l.y() + c[5] * l.y() * l.y();
+        ss += (l.z() - f) * (l.z() - f);
+      }
+      // Six coefficients are fitted from k residuals: E[ss] = (k − 6) σ².
+      sigma[s] = std::sqrt(ss / static_cast<double>(k - 6));
+    }
+  });
+  std::nth_element(sigma.begin(), sigma.begin() + static_cast<std::ptrdiff_t>(samples / 2), sigma.end());
+  return sigma[samples / 2];
+}
+
+}  // namespace clustersurf

@@ -1,0 +1,95 @@
+// Split-plane clustering (thesis 3.2.3, METHOD.md): direction from 2-means, sort along it,
+// sweep the split index with O(1) moment fits.
+
+#include "cluster/splitters.hpp"
+
+#include <clustersurf/moments.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace clustersurf::detail {
+
+namespace {
+
+Eigen::Vector3d farthest_from(const Points& points, std::span<const std::uint32_t> range, const Eigen::Vector3d& x) {
+  double best = -1;
+  Eigen::Vector3d far = x;
+  for (auto i : range) {
+    const double d = (points.row(i).transpose() - x).squaredNorm();
+    if (d > best) best = d, far = points.row(i).transpose();
+  }
+  return far;
+}
+
+/// Direction of eq. 3.7 from a 2-means split; the principal axis when that degenerates.
+Eigen::Vector3d split_direction(const Points& points, std::span<const std::uint32_t> range, const Frame& frame) {
+  const Eigen::Vector3d mean = frame.origin;
+  const Eigen::Vector3d a = farthest_from(points, range, mean);
+  const Eigen::Vector3d b = farthest_from(points, range, a);
+  const TwoMeans tm = two_means(points, range, a, b);
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  if (tm.sizes[0] > 0 && tm.sizes[1] > 0)
+    n = static_cast<double>(tm.sizes[0]) * (tm.centers[0] - mean) - static_cast<double>(tm.sizes[1]) * (tm.centers[1] - mean);
+  const double scale = (b - a).norm() * static_cast<double>(range.size());
+  if (!(n.norm() > 1e-12 * scale)) return frame.axes.col(0);
+  return n.normalized();
+}
+
+/// Evaluates the sweep with a moments type M (PlaneMoments or PolyMoments).
+template <class M>
+std::size_t sweep(const Points& points, std::span<const std::uint32_t> sorted, const M& empty,
+                  const std::vector<std::size_t>& candidates) {
+  const std::size_t m = sorted.size();
+  std::vector<double> left_error(candidates.size()), right_error(candidates.size());
+  M acc = empty;
+  std::size_t c = 0;
+  for (std::size_t i = 0; i < m && c < candidates.size(); ++i) {
+    acc.add(points.row(sorted[i]).transpose());
+    while (c < candidates.size() && candidates[c] == i + 1) left_error[c++] = acc.rms_error();
+  }
+  acc = empty;
+  c = candidates.size();
+  for (std::size_t i = m; i-- > 0 && c > 0;) {
+    acc.add(points.row(sorted[i]).transpose());
+    while (c > 0 && candidates[c - 1] == i) right_error[--c] = acc.rms_error();
+  }
+  std::size_t best = 0;
+  double best_score = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    const double score = std::max(left_error[k], right_error[k]);
+    if (score < best_score) best_score = score, best = candidates[k];
+  }
+  return best;
+}
+
+}  // namespace
+
+std::size_t split_plane(const Points& points, std::span<std::uint32_t> range, const Frame& parent_frame,
+                        const BuildOptions& options) {
+  const std::size_t m = range.size();
+  const std::size_t kmin = std::max<std::size_t>(1, options.min_points);
+  if (m < 2 * kmin) return 0;
+
+  const Eigen::Vector3d n = split_direction(points, range, parent_frame);
+  std::vector<std::pair<double, std::uint32_t>> keyed(m);
+  for (std::size_t k = 0; k < m; ++k) keyed[k] = {n.dot(points.row(range[k]).transpose()), range[k]};
+  std::sort(keyed.begin(), keyed.end());  // ties by point index: reproducible
+  for (std::size_t k = 0; k < m; ++k) range[k] = keyed[k].second;
+
+  const std::size_t span_len = m - 2 * kmin;
+  const std::size_t step = options.kstep > 0 ? options.kstep : std::max<std::size_t>(1, span_len / 64);
+  std::vector<std::size_t> candidates;
+  for (std::size_t k = kmin; k <= m - kmin; k += step) candidates.push_back(k);
+
+  if (options.proxy == ProxyKind::Plane) return sweep(points, range, PlaneMoments(parent_frame.origin), candidates);
+  // Polynomial moments in the parent's fixed frame (also the score for point and quadric
+  // proxies, whose fits have no O(1) update).
+  double scale = 0;
+  for (auto i : range) scale = std::max(scale, (parent_frame.to_local(points.row(i).transpose())).head<2>().norm());
+  return sweep(points, range, PolyMoments(parent_frame, scale > 0 ? scale : 1.0), candidates);
+}
+
+}  // namespace clustersurf::detail

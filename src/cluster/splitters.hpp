@@ -1,0 +1,35 @@
+#pragma once
+// The two ways to split a cluster in two (thesis 3.2). Both reorder the cluster's index range
+// so that the first k indices form one child and return k, or 0 when no split leaves both
+// children with at least options.min_points points.
+
+#include <clustersurf/cluster_tree.hpp>
+
+#include <span>
+
+namespace clustersurf::detail {
+
+/// Result of 2-means clustering with point proxies.
+struct TwoMeans {
+  Eigen::Vector3d centers[2];
+  std::size_t sizes[2] = {0, 0};
+  std::vector<std::uint8_t> labels;  ///< per position in the range
+  double energy = 0;                 ///< E² = Σ |p − center(label)|², thesis eq. 3.3
+};
+
+/// Lloyd iterations from the given seeds until no point changes side (at most 50 rounds).
+TwoMeans two_means(const Points& points, std::span<const std::uint32_t> range, const Eigen::Vector3d& seed0,
+                   const Eigen::Vector3d& seed1);
+
+/// Split-plane clustering (thesis 3.2.3): 2-means direction, sort along it, sweep the split
+/// index scoring max(e+, e−) with O(1) moment fits in the parent's frame.
+std::size_t split_plane(const Points& points, std::span<std::uint32_t> range, const Frame& parent_frame,
+                        const BuildOptions& options);
+
+/// Lloyd 2-means with point proxies (farthest-point seeding, then k-means++ restarts; lowest
+/// E² wins), optionally refined by proxy-Lloyd rounds; children below min_points are topped
+/// up with the nearest points of the other side.
+std::size_t lloyd_split(const Points& points, std::span<std::uint32_t> range, const BuildOptions& options,
+                        std::uint64_t node_seed);
+
+}  // namespace clustersurf::detail

@@ -1,0 +1,217 @@
+// Recursive construction of the cluster tree (thesis ch. 3), subtrees in parallel.
+
+#include <clustersurf/cluster_tree.hpp>
+#include <clustersurf/errors.hpp>
+#include <clustersurf/noise.hpp>
+
+#include "cluster/splitters.hpp"
+#include "core/progress_reporter.hpp"
+
+#include <tbb/parallel_invoke.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <numeric>
+
+namespace clustersurf {
+
+namespace {
+
+/// Clusters at least this large build their two subtrees as parallel tasks.
+constexpr std::size_t kParallelGrain = 2048;
+
+struct BuildNode {
+  ClusterNode node;
+  std::uint32_t begin = 0;  // offset of the cluster's range in the permutation
+  std::unique_ptr<BuildNode> left, right;
+};
+
+/// Smallest sphere containing spheres a and b.
+Sphere enclose(const Sphere& a, const Sphere& b) {
+  const Eigen::Vector3d d = b.center - a.center;
+  const double dist = d.norm();
+  if (dist + b.radius <= a.radius) return a;
+  if (dist + a.radius <= b.radius) return b;
+  const double r = 0.5 * (dist + a.radius + b.radius);
+  // Pad by a relative epsilon so rounding never leaves a child's sphere sticking out.
+  return Sphere{a.center + d * ((r - a.radius) / dist), r * (1 + 1e-12)};
+}
+
+std::uint64_t mix(std::uint64_t x) {  // splitmix64 finalizer
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+class Builder {
+ public:
+  Builder(const Points& points, const BuildOptions& options, double threshold, detail::ProgressReporter& progress)
+      : points_(points), options_(options), threshold_(threshold), progress_(progress) {}
+
+  void build(BuildNode& bn, std::span<std::uint32_t> range, std::uint32_t depth, std::uint64_t path_seed) const {
+    progress_.check();
+    ClusterNode& node = bn.node;
+    node.depth = depth;
+    node.point_count = static_cast<std::uint32_t>(range.size());
+
+    const Frame frame = pca_frame(points_, range);
+    node.proxy = options_.proxy == ProxyKind::Poly ? Proxy(fit_poly_in_frame(frame, points_, range))
+                                                   : fit_proxy(options_.proxy, points_, range);
+    const ProxyError err = proxy_error(node.proxy, points_, range);
+    node.rms_error = err.rms;
+    node.max_error = err.max;
+    BoundingBox box;
+    for (auto i : range) box.extend(points_.row(i).transpose());
+    node.support = Sphere{frame.origin, options_.alpha * box.diagonal()};
+    node.bound = node.support;
+
+    const double e = options_.metric == ErrorMetric::Rms ? err.rms : err.max;
+    std::size_t k = 0;
+    if (e > threshold_ && depth < options_.max_depth && range.size() >= 2 * std::size_t{options_.min_points}) {
+      k = options_.splitter == SplitterKind::SplitPlane ? detail::split_plane(points_, range, frame, options_)
+                                                        : detail::lloyd_split(points_, range, options_, mix(path_seed));
+    }
+    if (k == 0 || k >= range.size()) {
+      progress_.advance(range.size());
+      return;
+    }
+    bn.left = std::make_unique<BuildNode>();
+    bn.right = std::make_unique<BuildNode>();
+    bn.left->begin = bn.begin;
+    bn.right->begin = bn.begin + static_cast<std::uint32_t>(k);
+    const auto left_range = range.subspan(0, k);
+    const auto right_range = range.subspan(k);
+    const std::uint64_t ls = mix(path_seed * 2 + 1), rs = mix(path_seed * 2 + 2);
+    if (range.size() >= kParallelGrain) {
+      tbb::parallel_invoke([&] { build(*bn.left, left_range, depth + 1, ls); },
+                           [&] { build(*bn.right, right_range, depth + 1, rs); });
+    } else {
+      build(*bn.left, left_range, depth + 1, ls);
+      build(*bn.right, right_range, depth + 1, rs);
+    }
+    node.bound = enclose(enclose(node.support, bn.left->node.bound), bn.right->node.bound);
+  }
+
+ private:
+  const Points& points_;
+  const BuildOptions& options_;
+  double threshold_;
+  detail::ProgressReporter& progress_;
+};
+
+void validate(const PointCloud& cloud, const BuildOptions& o) {
+  if (cloud.empty()) throw OptionError("cannot build a tree from an empty point cloud");
+  if (cloud.size() > std::numeric_limits<std::int32_t>::max()) throw OptionError("too many points (at most 2^31-1)");
+  if (!(o.threshold >= 0) || !std::isfinite(o.threshold)) throw OptionError("error threshold must be a non-negative number");
+  if (!(o.noise_factor > 0) || !std::isfinite(o.noise_factor)) throw OptionError("noise factor must be positive");
+  if (!(o.alpha > 0) || !std::isfinite(o.alpha)) throw OptionError("alpha must be positive");
+  if (o.min_points < 1) throw OptionError("min_points must be at least 1");
+}
+
+/// Pre-order flattening; children are appended after their parent.
+void flatten(BuildNode& root, ClusterTree& tree, std::vector<std::uint32_t>* leaf_begin) {
+  struct Item {
+    BuildNode* node;
+    std::int32_t parent;
+    bool is_left;
+  };
+  std::vector<Item> stack{{&root, -1, false}};
+  while (!stack.empty()) {
+    const Item it = stack.back();
+    stack.pop_back();
+    const auto index = static_cast<std::int32_t>(tree.nodes.size());
+    ClusterNode n = it.node->node;
+    n.parent = it.parent;
+    n.left = n.right = -1;
+    tree.nodes.push_back(n);
+    if (leaf_begin != nullptr) leaf_begin->push_back(it.node->begin);
+    if (it.parent >= 0) {
+      ClusterNode& p = tree.nodes[static_cast<std::size_t>(it.parent)];
+      (it.is_left ? p.left : p.right) = index;
+    }
+    if (it.node->left) {
+      stack.push_back({it.node->right.get(), index, false});
+      stack.push_back({it.node->left.get(), index, true});
+    }
+  }
+}
+
+}  // namespace
+
+const char* to_string(SplitterKind kind) { return kind == SplitterKind::SplitPlane ? "split-plane" : "lloyd"; }
+const char* to_string(ErrorMetric metric) { return metric == ErrorMetric::Rms ? "rms" : "max"; }
+const char* to_string(ThresholdMode mode) {
+  switch (mode) {
+    case ThresholdMode::Relative: return "relative";
+    case ThresholdMode::Absolute: return "absolute";
+    case ThresholdMode::Auto: return "auto";
+  }
+  return "unknown";
+}
+
+std::vector<std::int32_t> ClusterTree::leaves() const {
+  std::vector<std::int32_t> out;
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    if (nodes[i].is_leaf()) out.push_back(static_cast<std::int32_t>(i));
+  return out;
+}
+
+std::uint32_t ClusterTree::depth() const {
+  std::uint32_t d = 0;
+  for (const auto& n : nodes) d = std::max(d, n.depth);
+  return d;
+}
+
+ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& options) {
+  validate(cloud, options);
+  ClusterTree tree;
+  tree.bbox = bounding_box(cloud.positions);
+  tree.input_points = static_cast<std::uint64_t>(cloud.size());
+  TreeParameters& p = tree.parameters;
+  p.proxy = options.proxy;
+  p.splitter = options.splitter;
+  p.metric = options.metric;
+  p.threshold_mode = options.threshold_mode;
+  p.threshold = options.threshold;
+  p.noise_factor = options.noise_factor;
+  p.min_points = options.min_points;
+  p.max_depth = options.max_depth;
+  p.alpha = options.alpha;
+  p.kstep = options.kstep;
+  p.lloyd_restarts = options.lloyd_restarts;
+  p.proxy_lloyd_iterations = options.proxy_lloyd_iterations;
+  p.seed = options.seed;
+  const double diagonal = tree.bbox.diagonal();
+  switch (options.threshold_mode) {
+    case ThresholdMode::Relative: p.error_threshold = options.threshold * diagonal; break;
+    case ThresholdMode::Absolute: p.error_threshold = options.threshold; break;
+    case ThresholdMode::Auto:
+      if (options.progress && !options.progress("estimating noise", 0.0)) throw Cancelled();
+      p.noise_sigma = estimate_noise(cloud.positions);
+      p.error_threshold = std::max(options.threshold * diagonal, options.noise_factor * p.noise_sigma);
+      break;
+  }
+
+  std::vector<std::uint32_t> perm(static_cast<std::size_t>(cloud.size()));
+  std::iota(perm.begin(), perm.end(), 0u);
+  detail::ProgressReporter progress(options.progress, "building tree", perm.size());
+  BuildNode root;
+  Builder(cloud.positions, options, p.error_threshold, progress).build(root, perm, 0, options.seed);
+  progress.finish();
+
+  std::vector<std::uint32_t> begins;
+  flatten(root, tree, options.keep_point_leaves ? &begins : nullptr);
+  if (options.keep_point_leaves) {
+    tree.point_leaf.assign(perm.size(), -1);
+    for (std::size_t n = 0; n < tree.nodes.size(); ++n) {
+      if (!tree.nodes[n].is_leaf()) continue;
+      for (std::uint32_t k = 0; k < tree.nodes[n].point_count; ++k)
+        tree.point_leaf[perm[begins[n] + k]] = static_cast<std::int32_t>(n);
+    }
+  }
+  return tree;
+}
+
+}  // namespace clustersurf

@@ -1,0 +1,331 @@
+// The .cstree binary format (docs/file-format.md): little-endian, versioned, CRC-32 protected,
+// every field validated on load.
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/tree_file.hpp>
+
+#include "io/atomic_file.hpp"
+#include "io/mapped_file.hpp"
+
+#include <zlib.h>
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <type_traits>
+
+namespace clustersurf {
+
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the tree file codec assumes a little-endian host");
+
+constexpr char kMagic[8] = {'\x89', 'C', 'S', 'T', 'R', 'E', 'E', '\n'};
+constexpr std::uint32_t kEndianTag = 0x01020304u;
+
+/// Number of doubles that encode each proxy kind (indexed by ProxyKind).
+constexpr std::size_t kProxyDoubles[4] = {3, 6, 18, 14};
+
+class Writer {
+ public:
+  template <class T>
+  void put(T v) {
+    static_assert(std::is_arithmetic_v<T>);
+    const char* p = reinterpret_cast<const char*>(&v);
+    out_.append(p, sizeof(T));
+  }
+  void put_vec(const Eigen::Vector3d& v) { put(v.x()), put(v.y()), put(v.z()); }
+  void raw(const char* p, std::size_t n) { out_.append(p, n); }
+  std::string& bytes() { return out_; }
+
+ private:
+  std::string out_;
+};
+
+class Reader {
+ public:
+  Reader(std::string_view bytes, const std::filesystem::path& file) : bytes_(bytes), file_(file) {}
+
+  template <class T>
+  T get(const char* what) {
+    if (sizeof(T) > bytes_.size() - pos_) fail("file is truncated: expected " + std::string(what));
+    T v;
+    std::memcpy(&v, bytes_.data() + pos_, sizeof(T));
+    pos_ += sizeof(T);
+    return v;
+  }
+  double finite(const char* what) {
+    const std::size_t at = pos_;
+    const double v = get<double>(what);
+    if (!std::isfinite(v)) fail_at(at, std::string(what) + " is not a finite number");
+    return v;
+  }
+  Eigen::Vector3d vec(const char* what) {
+    Eigen::Vector3d v;
+    for (int k = 0; k < 3; ++k) v(k) = finite(what);
+    return v;
+  }
+  std::size_t pos() const { return pos_; }
+  std::size_t remaining() const { return bytes_.size() - pos_; }
+  [[noreturn]] void fail(const std::string& msg) const { fail_at(pos_, msg); }
+  [[noreturn]] void fail_at(std::size_t at, const std::string& msg) const {
+    throw InputError(file_, FileLocation{std::nullopt, at}, msg);
+  }
+
+ private:
+  std::string_view bytes_;
+  const std::filesystem::path& file_;
+  std::size_t pos_ = 0;
+};
+
+void put_proxy(Writer& w, const Proxy& proxy) {
+  std::visit(
+      [&](const auto& p) {
+        using T = std::decay_t<decltype(p)>;
+        if constexpr (std::is_same_v<T, PointProxy>) {
+          w.put_vec(p.center);
+        } else if constexpr (std::is_same_v<T, PlaneProxy>) {
+          w.put_vec(p.point), w.put_vec(p.normal);
+        } else if constexpr (std::is_same_v<T, PolyProxy>) {
+          w.put_vec(p.frame.origin);
+          for (int c = 0; c < 3; ++c) w.put_vec(p.frame.axes.col(c));
+          for (double x : p.coeffs) w.put(x);
+        } else {
+          w.put_vec(p.center), w.put(p.scale);
+          for (double x : p.coeffs) w.put(x);
+        }
+      },
+      proxy.variant());
+}
+
+Proxy get_proxy(Reader& r, ProxyKind kind) {
+  switch (kind) {
+    case ProxyKind::Point: return PointProxy{r.vec("point proxy center")};
+    case ProxyKind::Plane: {
+      PlaneProxy p;
+      p.point = r.vec("plane point");
+      const std::size_t at = r.pos();
+      p.normal = r.vec("plane normal");
+      if (std::abs(p.normal.norm() - 1) > 1e-6) r.fail_at(at, "plane normal is not a unit vector");
+      return p;
+    }
+    case ProxyKind::Poly: {
+      PolyProxy p;
+      p.frame.origin = r.vec("polynomial frame origin");
+      const std::size_t at = r.pos();
+      for (int c = 0; c < 3; ++c) p.frame.axes.col(c) = r.vec("polynomial frame axis");
+      if (!(p.frame.axes.transpose() * p.frame.axes).isIdentity(1e-6))
+        r.fail_at(at, "polynomial frame axes are not orthonormal");
+      for (double& x : p.coeffs) x = r.finite("polynomial coefficient");
+      return p;
+    }
+    case ProxyKind::Quadric: {
+      QuadricProxy p;
+      p.center = r.vec("quadric center");
+      const std::size_t at = r.pos();
+      p.scale = r.finite("quadric scale");
+      if (!(p.scale > 0)) r.fail_at(at, "quadric scale must be positive");
+      for (double& x : p.coeffs) x = r.finite("quadric coefficient");
+      return p;
+    }
+  }
+  return {};
+}
+
+Sphere get_sphere(Reader& r, const char* what) {
+  Sphere s;
+  s.center = r.vec(what);
+  const std::size_t at = r.pos();
+  s.radius = r.finite(what);
+  if (s.radius < 0) r.fail_at(at, std::string(what) + " has a negative radius");
+  return s;
+}
+
+template <class E>
+E get_enum(Reader& r, std::uint8_t count, const char* what) {
+  const std::size_t at = r.pos();
+  const auto v = r.get<std::uint8_t>(what);
+  if (v >= count) r.fail_at(at, "unknown " + std::string(what) + " " + std::to_string(v));
+  return static_cast<E>(v);
+}
+
+/// Bytes of one node record for a proxy kind (for the "absurd count" check: the smallest).
+constexpr std::size_t kNodeFixedBytes = 4 + 4 + 4 + 4 + 2 * 8 + 2 * 4 * 8;
+
+}  // namespace
+
+std::string serialize_tree(const ClusterTree& tree) {
+  Writer w;
+  w.raw(kMagic, sizeof kMagic);
+  w.put(kTreeFileVersion);
+  w.put(kEndianTag);
+  const TreeParameters& p = tree.parameters;
+  w.put(static_cast<std::uint8_t>(p.proxy)), w.put(static_cast<std::uint8_t>(p.splitter));
+  w.put(static_cast<std::uint8_t>(p.metric)), w.put(static_cast<std::uint8_t>(p.threshold_mode));
+  w.put(p.threshold), w.put(p.noise_factor);
+  w.put(p.min_points), w.put(p.max_depth);
+  w.put(p.alpha);
+  w.put(p.kstep), w.put(p.lloyd_restarts), w.put(p.proxy_lloyd_iterations), w.put(std::uint32_t{0});
+  w.put(p.seed);
+  w.put(p.noise_sigma), w.put(p.error_threshold);
+  w.put_vec(tree.bbox.min), w.put_vec(tree.bbox.max);
+  w.put(tree.input_points);
+  w.put(static_cast<std::uint64_t>(tree.nodes.size()));
+  for (const ClusterNode& n : tree.nodes) {
+    w.put(n.left), w.put(n.right), w.put(n.point_count);
+    w.put(static_cast<std::uint8_t>(n.proxy.kind())), w.put(std::uint8_t{0}), w.put(std::uint16_t{0});
+    w.put(n.rms_error), w.put(n.max_error);
+    w.put_vec(n.support.center), w.put(n.support.radius);
+    w.put_vec(n.bound.center), w.put(n.bound.radius);
+    put_proxy(w, n.proxy);
+  }
+  w.put(static_cast<std::uint64_t>(tree.point_leaf.size()));
+  for (std::int32_t leaf : tree.point_leaf) w.put(leaf);
+  const auto crc = static_cast<std::uint32_t>(
+      crc32(0L, reinterpret_cast<const Bytef*>(w.bytes().data()), static_cast<uInt>(w.bytes().size())));
+  w.put(crc);
+  return std::move(w.bytes());
+}
+
+ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path& file) {
+  Reader r(bytes, file);
+  if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+    r.fail_at(0, "not a clustersurf tree file (bad magic number)");
+  for (std::size_t k = 0; k < sizeof kMagic; ++k) r.get<char>("magic");
+  const std::size_t version_at = r.pos();
+  const auto version = r.get<std::uint32_t>("format version");
+  if (version != kTreeFileVersion)
+    r.fail_at(version_at, "unsupported tree file version " + std::to_string(version) + " (this build reads version " +
+                              std::to_string(kTreeFileVersion) + ")");
+  const std::size_t endian_at = r.pos();
+  if (r.get<std::uint32_t>("endianness tag") != kEndianTag)
+    r.fail_at(endian_at, "endianness tag mismatch (file written on an incompatible machine or corrupted)");
+  if (bytes.size() < r.pos() + 4) r.fail("file is truncated");
+  std::uint32_t stored_crc;
+  std::memcpy(&stored_crc, bytes.data() + bytes.size() - 4, 4);
+  const auto crc = static_cast<std::uint32_t>(
+      crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uInt>(bytes.size() - 4)));
+  if (crc != stored_crc)
+    r.fail_at(bytes.size() - 4, "checksum mismatch: the file is corrupted or truncated");
+
+  ClusterTree tree;
+  TreeParameters& p = tree.parameters;
+  p.proxy = get_enum<ProxyKind>(r, 4, "proxy kind");
+  p.splitter = get_enum<SplitterKind>(r, 2, "splitter");
+  p.metric = get_enum<ErrorMetric>(r, 2, "error metric");
+  p.threshold_mode = get_enum<ThresholdMode>(r, 3, "threshold mode");
+  p.threshold = r.finite("threshold");
+  p.noise_factor = r.finite("noise factor");
+  p.min_points = r.get<std::uint32_t>("min points");
+  p.max_depth = r.get<std::uint32_t>("max depth");
+  p.alpha = r.finite("alpha");
+  p.kstep = r.get<std::uint32_t>("kstep");
+  p.lloyd_restarts = r.get<std::uint32_t>("lloyd restarts");
+  p.proxy_lloyd_iterations = r.get<std::uint32_t>("proxy lloyd iterations");
+  r.get<std::uint32_t>("reserved");
+  p.seed = r.get<std::uint64_t>("seed");
+  p.noise_sigma = r.finite("noise sigma");
+  p.error_threshold = r.finite("error threshold");
+  tree.bbox.min = r.vec("bounding box");
+  tree.bbox.max = r.vec("bounding box");
+  tree.input_points = r.get<std::uint64_t>("input point count");
+
+  const std::size_t count_at = r.pos();
+  const auto node_count = r.get<std::uint64_t>("node count");
+  if (node_count == 0) r.fail_at(count_at, "tree has no nodes");
+  if (node_count > r.remaining() / (kNodeFixedBytes + 3 * 8))
+    r.fail_at(count_at, "node count " + std::to_string(node_count) + " is larger than the file can hold");
+  tree.nodes.resize(node_count);
+  const auto nodes = static_cast<std::int64_t>(node_count);
+  std::vector<std::size_t> node_at(node_count);
+  for (std::int64_t i = 0; i < nodes; ++i) {
+    ClusterNode& n = tree.nodes[static_cast<std::size_t>(i)];
+    node_at[static_cast<std::size_t>(i)] = r.pos();
+    n.left = r.get<std::int32_t>("node child");
+    n.right = r.get<std::int32_t>("node child");
+    if ((n.left < 0) != (n.right < 0) || (n.left >= 0 && (n.left != i + 1 || n.right <= n.left || n.right >= nodes)) ||
+        n.left < -1 || n.right < -1)
+      r.fail_at(node_at[static_cast<std::size_t>(i)],
+                "node " + std::to_string(i) + " has invalid children " + std::to_string(n.left) + ", " + std::to_string(n.right));
+    n.point_count = r.get<std::uint32_t>("node point count");
+    const ProxyKind kind = get_enum<ProxyKind>(r, 4, "proxy kind");
+    r.get<std::uint8_t>("padding"), r.get<std::uint16_t>("padding");
+    n.rms_error = r.finite("node error");
+    n.max_error = r.finite("node error");
+    n.support = get_sphere(r, "support sphere");
+    n.bound = get_sphere(r, "bounding sphere");
+    if (kProxyDoubles[static_cast<std::size_t>(kind)] * 8 > r.remaining()) r.fail("file is truncated inside a proxy");
+    n.proxy = get_proxy(r, kind);
+  }
+  // Topology: every node but the root is the child of exactly one node; parents and depths
+  // follow; counts add up.
+  std::vector<std::uint8_t> referenced(node_count, 0);
+  for (std::int64_t i = 0; i < nodes; ++i) {
+    ClusterNode& n = tree.nodes[static_cast<std::size_t>(i)];
+    if (n.is_leaf()) {
+      if (n.point_count == 0) r.fail_at(node_at[static_cast<std::size_t>(i)], "leaf " + std::to_string(i) + " has no points");
+      continue;
+    }
+    for (std::int32_t c : {n.left, n.right}) {
+      auto& child = tree.nodes[static_cast<std::size_t>(c)];
+      if (referenced[static_cast<std::size_t>(c)]++ != 0)
+        r.fail_at(node_at[static_cast<std::size_t>(i)], "node " + std::to_string(c) + " has two parents");
+      child.parent = static_cast<std::int32_t>(i);
+      child.depth = n.depth + 1;
+    }
+  }
+  for (std::int64_t i = 1; i < nodes; ++i)
+    if (referenced[static_cast<std::size_t>(i)] == 0)
+      r.fail_at(node_at[static_cast<std::size_t>(i)], "node " + std::to_string(i) + " is not reachable from the root");
+  // Pre-order: children come after parents, so sums can be checked in reverse.
+  for (std::int64_t i = nodes - 1; i >= 0; --i) {
+    const ClusterNode& n = tree.nodes[static_cast<std::size_t>(i)];
+    if (n.is_leaf()) continue;
+    const std::uint64_t sum = std::uint64_t{tree.nodes[static_cast<std::size_t>(n.left)].point_count} +
+                              tree.nodes[static_cast<std::size_t>(n.right)].point_count;
+    if (sum != n.point_count)
+      r.fail_at(node_at[static_cast<std::size_t>(i)], "node " + std::to_string(i) + " counts " +
+                                                         std::to_string(n.point_count) + " points but its children " +
+                                                         std::to_string(sum));
+  }
+  if (tree.nodes[0].point_count != tree.input_points)
+    r.fail_at(node_at[0], "root counts " + std::to_string(tree.nodes[0].point_count) + " points but the header says " +
+                              std::to_string(tree.input_points));
+
+  const std::size_t leaf_at = r.pos();
+  const auto leaf_count = r.get<std::uint64_t>("point-leaf count");
+  if (leaf_count != 0 && leaf_count != tree.input_points)
+    r.fail_at(leaf_at, "point-leaf table has " + std::to_string(leaf_count) + " entries for " +
+                           std::to_string(tree.input_points) + " points");
+  if (leaf_count > (r.remaining() - 4) / 4) r.fail_at(leaf_at, "file is truncated inside the point-leaf table");
+  tree.point_leaf.resize(leaf_count);
+  std::vector<std::uint32_t> per_leaf(leaf_count != 0 ? node_count : 0, 0);
+  for (auto& leaf : tree.point_leaf) {
+    const std::size_t at = r.pos();
+    leaf = r.get<std::int32_t>("point leaf");
+    if (leaf < 0 || leaf >= nodes || !tree.nodes[static_cast<std::size_t>(leaf)].is_leaf())
+      r.fail_at(at, "point-leaf entry " + std::to_string(leaf) + " is not a leaf");
+    ++per_leaf[static_cast<std::size_t>(leaf)];
+  }
+  for (std::size_t i = 0; i < per_leaf.size(); ++i)
+    if (tree.nodes[i].is_leaf() && per_leaf[i] != tree.nodes[i].point_count)
+      r.fail_at(leaf_at, "leaf " + std::to_string(i) + " has " + std::to_string(tree.nodes[i].point_count) +
+                             " points but the point-leaf table gives it " + std::to_string(per_leaf[i]));
+  if (r.remaining() != 4) r.fail(std::to_string(r.remaining() - 4) + " unexpected bytes before the checksum");
+  return tree;
+}
+
+void save_tree(const std::filesystem::path& file, const ClusterTree& tree) {
+  const std::string bytes = serialize_tree(tree);
+  io::AtomicFile out(file);
+  out.write(bytes);
+  out.commit();
+}
+
+ClusterTree load_tree(const std::filesystem::path& file) {
+  const io::MappedFile mapped(file);
+  return deserialize_tree(mapped.view(), file);
+}
+
+}  // namespace clustersurf

@@ -1,0 +1,160 @@
+// Least-squares fits of the proxies to a cluster's points (thesis ch. 4).
+
+#include <clustersurf/moments.hpp>
+#include <clustersurf/proxy.hpp>
+
+#include "proxy/linear_algebra.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/QR>
+
+#include <cmath>
+
+namespace clustersurf {
+
+namespace {
+
+Eigen::Vector3d mean_of(const Points& points, std::span<const std::uint32_t> indices) {
+  Eigen::Vector3d m = Eigen::Vector3d::Zero();
+  for (auto i : indices) m += points.row(i).transpose();
+  return indices.empty() ? m : Eigen::Vector3d(m / static_cast<double>(indices.size()));
+}
+
+/// Flips `axis` so that its largest-magnitude component is positive (a reproducible sign).
+Eigen::Vector3d canonical_sign(Eigen::Vector3d axis) {
+  Eigen::Index k;
+  axis.cwiseAbs().maxCoeff(&k);
+  return axis(k) < 0 ? Eigen::Vector3d(-axis) : axis;
+}
+
+/// RMS radius of the points about `center`, or 1 when they coincide (a conditioning scale).
+double spread(const Points& points, std::span<const std::uint32_t> indices, const Eigen::Vector3d& center) {
+  double s = 0;
+  for (auto i : indices) s += (points.row(i).transpose() - center).squaredNorm();
+  s = indices.empty() ? 0 : std::sqrt(s / static_cast<double>(indices.size()));
+  return s > 0 && std::isfinite(s) ? s : 1.0;
+}
+
+PlaneProxy fit_plane(const Points& points, std::span<const std::uint32_t> indices) {
+  const Frame f = pca_frame(points, indices);
+  return PlaneProxy{f.origin, f.axes.col(2)};
+}
+
+QuadricProxy fit_quadric(const Points& points, std::span<const std::uint32_t> indices) {
+  // Taubin's method: minimize Σ q² / Σ |∇q|² as a generalized eigenproblem. The constant term
+  // has no gradient, so it is eliminated by centering the other monomials (c9 = −mean(l)ᵀc).
+  using Matrix9 = Eigen::Matrix<double, 9, 9>;
+  using Vector9 = Eigen::Matrix<double, 9, 1>;
+  QuadricProxy q;
+  q.center = mean_of(points, indices);
+  q.scale = spread(points, indices, q.center);
+  const auto n = static_cast<double>(indices.size());
+  Matrix9 m = Matrix9::Zero(), g = Matrix9::Zero();
+  Vector9 mean = Vector9::Zero();
+  Eigen::Matrix<double, 9, 3> j;
+  for (auto i : indices) {
+    const Eigen::Vector3d y = (points.row(i).transpose() - q.center) / q.scale;
+    Vector9 l;
+    l << y.x() * y.x(), y.y() * y.y(), y.z() * y.z(), y.x() * y.y(), y.x() * y.z(), y.y() * y.z(), y.x(), y.y(), y.z();
+    j << 2 * y.x(), 0, 0, 0, 2 * y.y(), 0, 0, 0, 2 * y.z(), y.y(), y.x(), 0, y.z(), 0, y.x(), 0, y.z(), y.y(), 1, 0, 0, 0,
+        1, 0, 0, 0, 1;
+    m.noalias() += l * l.transpose();
+    mean += l;
+    g.noalias() += j * j.transpose();
+  }
+  mean /= n;
+  m -= n * mean * mean.transpose();
+  // A small ridge keeps the gradient moments positive definite for degenerate clusters.
+  g += (1e-9 * g.trace() / 9 + 1e-300) * Matrix9::Identity();
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Matrix9> eig(m, g);
+  Vector9 c = eig.info() == Eigen::Success ? Vector9(eig.eigenvectors().col(0)) : Vector9::Zero();
+  if (!c.allFinite() || c.norm() == 0) {
+    c.setZero();  // fall back to the PCA plane: q = e3 · y
+    const Eigen::Vector3d e3 = pca_frame(points, indices).axes.col(2);
+    c.tail<3>() = e3;
+  }
+  c.normalize();
+  for (int k = 0; k < 9; ++k) q.coeffs[static_cast<std::size_t>(k)] = c(k);
+  q.coeffs[9] = -mean.dot(c);
+  // Orient like the PCA normal (a reproducible choice; the orientation stage fixes the sign).
+  Proxy p(q);
+  if (p.normal().dot(pca_frame(points, indices).axes.col(2)) < 0) p.flip();
+  return std::get<QuadricProxy>(p.variant());
+}
+
+}  // namespace
+
+Frame pca_frame(const Points& points, std::span<const std::uint32_t> indices) {
+  Frame f;
+  f.origin = mean_of(points, indices);
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (auto i : indices) {
+    const Eigen::Vector3d d = points.row(i).transpose() - f.origin;
+    cov.noalias() += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);  // ascending eigenvalues
+  if (eig.info() != Eigen::Success || !eig.eigenvectors().allFinite()) return f;
+  const Eigen::Vector3d e1 = canonical_sign(eig.eigenvectors().col(2));
+  const Eigen::Vector3d e3 = canonical_sign(eig.eigenvectors().col(0));
+  f.axes.col(0) = e1;
+  f.axes.col(1) = e3.cross(e1).normalized();
+  f.axes.col(2) = e3;
+  return f;
+}
+
+PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<const std::uint32_t> indices) {
+  // Direct least squares on the design matrix (complete orthogonal decomposition: the
+  // minimum-norm solution when rank-deficient), in coordinates scaled for conditioning.
+  const auto n = static_cast<Eigen::Index>(indices.size());
+  double scale = 0;
+  Eigen::Matrix<double, Eigen::Dynamic, 6> b(n, 6);
+  Eigen::VectorXd w(n);
+  std::vector<Eigen::Vector3d> local(static_cast<std::size_t>(n));
+  for (Eigen::Index k = 0; k < n; ++k) {
+    local[static_cast<std::size_t>(k)] = frame.to_local(points.row(indices[static_cast<std::size_t>(k)]).transpose());
+    scale += local[static_cast<std::size_t>(k)].head<2>().squaredNorm();
+  }
+  scale = n > 0 ? std::sqrt(scale / static_cast<double>(n)) : 0;
+  if (!(scale > 0) || !std::isfinite(scale)) scale = 1;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Eigen::Vector3d l = local[static_cast<std::size_t>(k)] / scale;
+    b.row(k) << 1, l.x(), l.y(), l.x() * l.x(), l.x() * l.y(), l.y() * l.y();
+    w(k) = l.z();
+  }
+  PolyProxy p;
+  p.frame = frame;
+  if (n == 0) return p;
+  Eigen::CompleteOrthogonalDecomposition<Eigen::Matrix<double, Eigen::Dynamic, 6>> cod(b);
+  cod.setThreshold(1e-10);
+  const Eigen::Matrix<double, 6, 1> c = cod.solve(w);
+  // Back to unscaled coordinates: w = s·c0 + c1 u + c2 v + (c3 u² + c4 uv + c5 v²) / s.
+  p.coeffs = {scale * c(0), c(1), c(2), c(3) / scale, c(4) / scale, c(5) / scale};
+  for (double& x : p.coeffs)
+    if (!std::isfinite(x)) x = 0;
+  return p;
+}
+
+Proxy fit_proxy(ProxyKind kind, const Points& points, std::span<const std::uint32_t> indices) {
+  switch (kind) {
+    case ProxyKind::Point: return PointProxy{mean_of(points, indices)};
+    case ProxyKind::Plane: return fit_plane(points, indices);
+    case ProxyKind::Poly: return fit_poly_in_frame(pca_frame(points, indices), points, indices);
+    case ProxyKind::Quadric: return fit_quadric(points, indices);
+  }
+  return PointProxy{};
+}
+
+ProxyError proxy_error(const Proxy& proxy, const Points& points, std::span<const std::uint32_t> indices) {
+  ProxyError e;
+  if (indices.empty()) return e;
+  double sum = 0;
+  for (auto i : indices) {
+    const double q = std::abs(proxy.value(points.row(i).transpose()));
+    sum += q * q;
+    e.max = std::max(e.max, q);
+  }
+  e.rms = std::sqrt(sum / static_cast<double>(indices.size()));
+  return e;
+}
+
+}  // namespace clustersurf

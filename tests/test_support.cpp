@@ -1,0 +1,97 @@
+#include "test_support.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <unistd.h>
+
+namespace clustersurf::test {
+
+TempDir::TempDir() {
+  std::string pattern = (std::filesystem::temp_directory_path() / "clustersurf-test-XXXXXX").string();
+  if (::mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
+  path_ = pattern;
+}
+
+TempDir::~TempDir() {
+  std::error_code ec;
+  std::filesystem::remove_all(path_, ec);
+}
+
+void write_file(const std::filesystem::path& file, const std::string& bytes) {
+  std::ofstream out(file, std::ios::binary);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+std::string read_file(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::optional<std::filesystem::path> shared_data(const std::string& relative) {
+  const char* env = std::getenv("CLUSTERSURF_SHARED_DATA");
+  const std::filesystem::path root = env != nullptr ? env : CLUSTERSURF_SHARED_DATA;
+  const auto file = root / relative;
+  if (std::filesystem::exists(file)) return file;
+  return std::nullopt;
+}
+
+std::optional<std::filesystem::path> default_bunny() {
+  const auto file = std::filesystem::path(CLUSTERSURF_DEFAULT_DATA) / "bunny.ply";
+  if (std::filesystem::exists(file)) return file;
+  return std::nullopt;
+}
+
+PointCloud sample_sphere(int n, double radius, const Eigen::Vector3d& center) {
+  PointCloud c;
+  c.positions.resize(n, 3);
+  c.normals.resize(n, 3);
+  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < n; ++i) {
+    const double z = 1.0 - 2.0 * (i + 0.5) / n;
+    const double r = std::sqrt(1.0 - z * z);
+    const Eigen::Vector3d u(r * std::cos(golden * i), r * std::sin(golden * i), z);
+    c.normals.row(i) = u.transpose();
+    c.positions.row(i) = (center + radius * u).transpose();
+  }
+  return c;
+}
+
+PointCloud sample_torus(int n, double R, double r) {
+  // Area-uniform sampling by rejection on the tube angle (area element ~ R + r cos v).
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::vector<Eigen::Vector3d> p, nn;
+  while (static_cast<int>(p.size()) < n) {
+    const double a = 2 * M_PI * U(rng), b = 2 * M_PI * U(rng);
+    if (U(rng) * (R + r) > R + r * std::cos(b)) continue;
+    const Eigen::Vector3d normal(std::cos(b) * std::cos(a), std::cos(b) * std::sin(a), std::sin(b));
+    p.emplace_back(Eigen::Vector3d(R * std::cos(a), R * std::sin(a), 0) + r * normal);
+    nn.push_back(normal);
+  }
+  PointCloud c;
+  c.positions.resize(n, 3);
+  c.normals.resize(n, 3);
+  for (int i = 0; i < n; ++i) {
+    c.positions.row(i) = p[static_cast<std::size_t>(i)].transpose();
+    c.normals.row(i) = nn[static_cast<std::size_t>(i)].transpose();
+  }
+  return c;
+}
+
+PointCloud sample_plane(int nx, int ny) {
+  PointCloud c;
+  c.positions.resize(nx * ny, 3);
+  c.normals.resize(nx * ny, 3);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      c.positions.row(j * nx + i) << i / double(nx - 1), j / double(ny - 1), 0.0;
+      c.normals.row(j * nx + i) << 0, 0, 1;
+    }
+  return c;
+}
+
+}  // namespace clustersurf::test

@@ -1,0 +1,41 @@
+#pragma once
+// Helpers shared by the unit tests: temporary folders, data locations, synthetic samples.
+
+#include <clustersurf/point_cloud.hpp>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace clustersurf::test {
+
+/// A fresh folder under the system temp dir, removed (with its content) on destruction.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+/// Writes `bytes` to `file` (binary, exactly).
+void write_file(const std::filesystem::path& file, const std::string& bytes);
+/// Reads `file` whole.
+std::string read_file(const std::filesystem::path& file);
+
+/// A file of the shared scans folder, or nullopt when it is absent (the caller skips).
+std::optional<std::filesystem::path> shared_data(const std::string& relative);
+/// The default input written by scripts/setup (the npm bunny), or nullopt when absent.
+std::optional<std::filesystem::path> default_bunny();
+
+/// `n` points on a sphere (Fibonacci lattice), with outward normals.
+PointCloud sample_sphere(int n, double radius = 1.0, const Eigen::Vector3d& center = Eigen::Vector3d::Zero());
+/// About `n` points on a torus (major radius R, minor radius r, axis z), with outward normals.
+PointCloud sample_torus(int n, double R = 1.0, double r = 0.35);
+/// A grid of nx x ny points on the plane z = 0 over [0,1]^2, normals +z.
+PointCloud sample_plane(int nx, int ny);
+
+}  // namespace clustersurf::test
