@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <vector>
 
 namespace clustersurf::detail {
@@ -24,12 +25,24 @@ Eigen::Vector3d farthest_from(const Points& points, std::span<const std::uint32_
   return far;
 }
 
+/// Clusters larger than this estimate the split direction from an evenly strided subset.
+constexpr std::size_t kDirectionSample = 4096;
+/// Lloyd rounds for the direction: it converges to a few degrees within a handful.
+constexpr int kDirectionRounds = 12;
+
 /// Direction of eq. 3.7 from a 2-means split; the principal axis when that degenerates.
-Eigen::Vector3d split_direction(const Points& points, std::span<const std::uint32_t> range, const Frame& frame) {
+Eigen::Vector3d split_direction(const Points& points, std::span<const std::uint32_t> cluster, const Frame& frame) {
+  std::vector<std::uint32_t> sample;
+  std::span<const std::uint32_t> range = cluster;
+  if (cluster.size() > kDirectionSample) {
+    sample.resize(kDirectionSample);
+    for (std::size_t k = 0; k < kDirectionSample; ++k) sample[k] = cluster[k * cluster.size() / kDirectionSample];
+    range = sample;
+  }
   const Eigen::Vector3d mean = frame.origin;
   const Eigen::Vector3d a = farthest_from(points, range, mean);
   const Eigen::Vector3d b = farthest_from(points, range, a);
-  const TwoMeans tm = two_means(points, range, a, b);
+  const TwoMeans tm = two_means(points, range, a, b, kDirectionRounds);
   Eigen::Vector3d n = Eigen::Vector3d::Zero();
   if (tm.sizes[0] > 0 && tm.sizes[1] > 0)
     n = static_cast<double>(tm.sizes[0]) * (tm.centers[0] - mean) - static_cast<double>(tm.sizes[1]) * (tm.centers[1] - mean);
@@ -38,13 +51,26 @@ Eigen::Vector3d split_direction(const Points& points, std::span<const std::uint3
   return n.normalized();
 }
 
-/// Evaluates the sweep with a moments type M (PlaneMoments or PolyMoments).
-template <class M>
-std::size_t sweep(const Points& points, std::span<const std::uint32_t> sorted, const M& empty,
+/// Moments of one side of a split. Its error is the tighter of two O(1) upper bounds of the
+/// side's own fit error: the PCA plane (exact for the side, frame-free) and, for polynomial
+/// proxies, the polynomial in the parent's fixed frame (tight while the parent is a height field
+/// over that frame, loose for large curved clusters).
+struct SideMoments {
+  PlaneMoments plane;
+  std::optional<PolyMoments> poly;
+  void add(const Eigen::Vector3d& p) {
+    plane.add(p);
+    if (poly) poly->add(p);
+  }
+  double rms_error() const { return poly ? std::min(plane.rms_error(), poly->rms_error()) : plane.rms_error(); }
+};
+
+/// Sweeps the candidate split positions of `sorted`; returns the one minimizing max(e+, e−).
+std::size_t sweep(const Points& points, std::span<const std::uint32_t> sorted, const SideMoments& empty,
                   const std::vector<std::size_t>& candidates) {
   const std::size_t m = sorted.size();
   std::vector<double> left_error(candidates.size()), right_error(candidates.size());
-  M acc = empty;
+  SideMoments acc = empty;
   std::size_t c = 0;
   for (std::size_t i = 0; i < m && c < candidates.size(); ++i) {
     acc.add(points.row(sorted[i]).transpose());
@@ -84,12 +110,15 @@ std::size_t split_plane(const Points& points, std::span<std::uint32_t> range, co
   std::vector<std::size_t> candidates;
   for (std::size_t k = kmin; k <= m - kmin; k += step) candidates.push_back(k);
 
-  if (options.proxy == ProxyKind::Plane) return sweep(points, range, PlaneMoments(parent_frame.origin), candidates);
-  // Polynomial moments in the parent's fixed frame (also the score for point and quadric
-  // proxies, whose fits have no O(1) update).
-  double scale = 0;
-  for (auto i : range) scale = std::max(scale, (parent_frame.to_local(points.row(i).transpose())).head<2>().norm());
-  return sweep(points, range, PolyMoments(parent_frame, scale > 0 ? scale : 1.0), candidates);
+  SideMoments empty{PlaneMoments(parent_frame.origin), std::nullopt};
+  if (options.proxy != ProxyKind::Plane) {
+    // Polynomial moments in the parent's fixed frame (also a bound for point and quadric
+    // proxies, whose fits have no O(1) update).
+    double scale = 0;
+    for (auto i : range) scale = std::max(scale, parent_frame.to_local(points.row(i).transpose()).head<2>().norm());
+    empty.poly.emplace(parent_frame, scale > 0 ? scale : 1.0);
+  }
+  return sweep(points, range, empty, candidates);
 }
 
 }  // namespace clustersurf::detail

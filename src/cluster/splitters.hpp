@@ -17,9 +17,9 @@ struct TwoMeans {
   double energy = 0;                 ///< E² = Σ |p − center(label)|², thesis eq. 3.3
 };
 
-/// Lloyd iterations from the given seeds until no point changes side (at most 50 rounds).
+/// Lloyd iterations from the given seeds until no point changes side (at most `max_rounds`).
 TwoMeans two_means(const Points& points, std::span<const std::uint32_t> range, const Eigen::Vector3d& seed0,
-                   const Eigen::Vector3d& seed1);
+                   const Eigen::Vector3d& seed1, int max_rounds = 50);
 
 /// Split-plane clustering (thesis 3.2.3): 2-means direction, sort along it, sweep the split
 /// index scoring max(e+, e−) with O(1) moment fits in the parent's frame.

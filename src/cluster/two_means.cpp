@@ -3,12 +3,12 @@
 namespace clustersurf::detail {
 
 TwoMeans two_means(const Points& points, std::span<const std::uint32_t> range, const Eigen::Vector3d& seed0,
-                   const Eigen::Vector3d& seed1) {
+                   const Eigen::Vector3d& seed1, int max_rounds) {
   TwoMeans r;
   r.centers[0] = seed0;
   r.centers[1] = seed1;
   r.labels.assign(range.size(), 0);
-  for (int round = 0; round < 50; ++round) {
+  for (int round = 0; round < max_rounds; ++round) {
     bool changed = round == 0;
     Eigen::Vector3d sum[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
     std::size_t count[2] = {0, 0};

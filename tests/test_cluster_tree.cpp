@@ -1,0 +1,230 @@
+// Cluster tree: stop rules, partition invariants, determinism across thread counts, noise.
+
+#include <clustersurf/cluster_tree.hpp>
+#include <clustersurf/errors.hpp>
+#include <clustersurf/noise.hpp>
+#include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/tree_file.hpp>
+
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include <cmath>
+#include <iostream>
+#include <random>
+
+#include "test_support.hpp"
+
+using namespace clustersurf;
+
+namespace {
+
+PointCloud sine_heightmap(int n) {
+  // Thesis fig. 6.9: z = sin(x) sin(y) over [0, 2π]², noise-free.
+  PointCloud c;
+  c.positions.resize(n * n, 3);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double x = 2 * M_PI * i / (n - 1), y = 2 * M_PI * j / (n - 1);
+      c.positions.row(j * n + i) << x, y, std::sin(x) * std::sin(y);
+    }
+  return c;
+}
+
+void add_noise(PointCloud& c, double sigma, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0, sigma);
+  for (Eigen::Index i = 0; i < c.size(); ++i)
+    c.positions.row(i) += g(rng) * c.normals.row(i);
+}
+
+/// Checks the tree's structural invariants and that point_leaf partitions the input.
+void expect_valid_partition(const ClusterTree& t, const BuildOptions& o) {
+  ASSERT_FALSE(t.nodes.empty());
+  EXPECT_EQ(t.nodes[0].point_count, t.input_points);
+  for (std::size_t i = 0; i < t.nodes.size(); ++i) {
+    const ClusterNode& n = t.nodes[i];
+    if (n.is_leaf()) continue;
+    const auto& l = t.nodes[static_cast<std::size_t>(n.left)];
+    const auto& r = t.nodes[static_cast<std::size_t>(n.right)];
+    EXPECT_EQ(l.point_count + r.point_count, n.point_count);
+    EXPECT_GE(l.point_count, o.min_points) << "child below min_points";
+    EXPECT_GE(r.point_count, o.min_points) << "child below min_points";
+    EXPECT_EQ(l.parent, static_cast<int>(i));
+    // The bounding sphere encloses both children's bounding spheres.
+    for (const auto* c : {&l, &r})
+      EXPECT_LE((c->bound.center - n.bound.center).norm() + c->bound.radius, n.bound.radius * (1 + 1e-9));
+  }
+  ASSERT_EQ(t.point_leaf.size(), t.input_points);
+  std::vector<std::uint32_t> per_leaf(t.nodes.size(), 0);
+  for (auto leaf : t.point_leaf) {
+    ASSERT_GE(leaf, 0);
+    ASSERT_TRUE(t.nodes[static_cast<std::size_t>(leaf)].is_leaf());
+    ++per_leaf[static_cast<std::size_t>(leaf)];
+  }
+  for (std::size_t i = 0; i < t.nodes.size(); ++i)
+    if (t.nodes[i].is_leaf()) {
+      EXPECT_EQ(per_leaf[i], t.nodes[i].point_count);
+    }
+}
+
+/// Every leaf meets the threshold or could not be split (fewer than 2 × min_points points).
+void expect_leaves_meet_threshold_or_min_points(const ClusterTree& t) {
+  const auto& p = t.parameters;
+  for (auto i : t.leaves()) {
+    const auto& n = t.nodes[static_cast<std::size_t>(i)];
+    const double e = p.metric == ErrorMetric::Rms ? n.rms_error : n.max_error;
+    if (e > p.error_threshold) {
+      EXPECT_LT(n.point_count, 2 * p.min_points) << "leaf " << i << " error " << e;
+    }
+  }
+}
+
+}  // namespace
+
+TEST(ClusterTree, PlaneGivesOneLeaf) {
+  const PointCloud c = test::sample_plane(50, 50);
+  const ClusterTree t = build_cluster_tree(c, {});
+  EXPECT_EQ(t.nodes.size(), 1u);
+  EXPECT_LT(t.nodes[0].max_error, 1e-12);
+}
+
+TEST(ClusterTree, SineHeightmapLeavesMeetMaxError) {
+  const PointCloud c = sine_heightmap(160);
+  for (SplitterKind s : {SplitterKind::SplitPlane, SplitterKind::Lloyd}) {
+    BuildOptions o;
+    o.threshold_mode = ThresholdMode::Relative;
+    o.threshold = 0.001;
+    o.splitter = s;
+    const ClusterTree t = build_cluster_tree(c, o);
+    expect_valid_partition(t, o);
+    EXPECT_GT(t.leaves().size(), 4u);
+    for (auto i : t.leaves()) EXPECT_LE(t.nodes[static_cast<std::size_t>(i)].rms_error, t.parameters.error_threshold);
+  }
+}
+
+TEST(ClusterTree, SphereAndTorusLeavesMeetThresholdOrMinPoints) {
+  const PointCloud shapes[] = {test::sample_sphere(20000), test::sample_torus(20000)};
+  for (const auto& c : shapes)
+    for (ProxyKind proxy : {ProxyKind::Plane, ProxyKind::Poly, ProxyKind::Quadric})
+      for (ErrorMetric metric : {ErrorMetric::Rms, ErrorMetric::Max}) {
+        BuildOptions o;
+        o.proxy = proxy;
+        o.metric = metric;
+        o.threshold_mode = ThresholdMode::Relative;
+        o.threshold = 0.0005;
+        const ClusterTree t = build_cluster_tree(c, o);
+        expect_valid_partition(t, o);
+        expect_leaves_meet_threshold_or_min_points(t);
+      }
+}
+
+TEST(ClusterTree, LloydSplitterKeepsMinPoints) {
+  PointCloud c = test::sample_torus(8000);
+  BuildOptions o;
+  o.splitter = SplitterKind::Lloyd;
+  o.proxy_lloyd_iterations = 3;
+  o.min_points = 30;
+  o.threshold_mode = ThresholdMode::Relative;
+  o.threshold = 0.0002;
+  const ClusterTree t = build_cluster_tree(c, o);
+  expect_valid_partition(t, o);
+  expect_leaves_meet_threshold_or_min_points(t);
+}
+
+TEST(ClusterTree, SameTreeForOneAndTwoThreads) {
+  PointCloud c = test::sample_torus(30000);
+  add_noise(c, 0.002, 9);
+  for (SplitterKind s : {SplitterKind::SplitPlane, SplitterKind::Lloyd}) {
+    BuildOptions o;
+    o.splitter = s;
+    std::string bytes[2];
+    for (int threads : {1, 2}) {
+      tbb::task_arena arena(threads);
+      arena.execute([&] { bytes[threads - 1] = serialize_tree(build_cluster_tree(c, o)); });
+    }
+    EXPECT_EQ(bytes[0], bytes[1]) << to_string(s);
+    EXPECT_GT(bytes[0].size(), 10000u);
+  }
+}
+
+TEST(ClusterTree, NoiseEstimateRecoversGaussianNoise) {
+  PointCloud c = test::sample_sphere(40000, 1.0);
+  EXPECT_LT(estimate_noise(c.positions), 1e-4);  // smooth and noise-free
+  add_noise(c, 0.004, 3);
+  EXPECT_NEAR(estimate_noise(c.positions), 0.004, 0.0008);
+}
+
+TEST(ClusterTree, AutoThresholdDoesNotShatterNoisyScans) {
+  // 0.25 %-of-diagonal noise: a fixed 0.1 % threshold splits down to min_points, the
+  // noise-aware threshold keeps clusters large.
+  PointCloud c = test::sample_sphere(40000, 1.0);
+  add_noise(c, 0.0025 * 2 * std::sqrt(3.0), 4);
+  BuildOptions fixed;
+  fixed.threshold_mode = ThresholdMode::Relative;
+  BuildOptions aware;  // Auto is the default
+  const ClusterTree shattered = build_cluster_tree(c, fixed);
+  const ClusterTree calm = build_cluster_tree(c, aware);
+  const TreeSummary a = summarize(shattered), b = summarize(calm);
+  EXPECT_LT(a.leaf_size_percentiles[2], 2.0 * fixed.min_points);
+  EXPECT_GT(b.leaf_size_percentiles[2], 5.0 * aware.min_points);
+  EXPECT_LT(b.leaves * 5, a.leaves);
+  EXPECT_GT(calm.parameters.noise_sigma, 0);
+}
+
+TEST(ClusterTree, CancelStopsTheBuild) {
+  const PointCloud c = test::sample_torus(20000);
+  BuildOptions o;
+  int calls = 0;
+  o.progress = [&](std::string_view, double f) { return ++calls < 3 && f < 0.5; };
+  EXPECT_THROW(build_cluster_tree(c, o), Cancelled);
+}
+
+TEST(ClusterTree, InvalidOptionsThrow) {
+  const PointCloud c = test::sample_sphere(100);
+  BuildOptions o;
+  o.alpha = -1;
+  EXPECT_THROW(build_cluster_tree(c, o), OptionError);
+  EXPECT_THROW(build_cluster_tree(PointCloud{}, {}), OptionError);
+}
+
+TEST(ClusterTree, DefaultBunnyBuilds) {
+  const auto file = test::default_bunny();
+  if (!file) GTEST_SKIP() << "data/bunny.ply is absent: run scripts/setup";
+  const PointCloud c = read_point_cloud(*file);
+  const BuildOptions o;
+  const ClusterTree t = build_cluster_tree(c, o);
+  expect_valid_partition(t, o);
+  expect_leaves_meet_threshold_or_min_points(t);
+}
+
+TEST(ClusterTree, SharedBunnyScansBuildAndLogFigures) {
+  const auto file = test::shared_data("bunny/bunny_scans_aligned.ply");
+  if (!file) GTEST_SKIP() << "../shared/data/bunny/bunny_scans_aligned.ply is absent";
+  const PointCloud c = read_point_cloud(*file);
+  const BuildOptions o;
+  const ClusterTree t = build_cluster_tree(c, o);
+  expect_valid_partition(t, o);
+  expect_leaves_meet_threshold_or_min_points(t);
+  const TreeSummary s = summarize(t);
+  std::cout << "bunny_scans_aligned: " << s.leaves << " leaves, depth " << s.depth << ", noise "
+            << t.parameters.noise_sigma << ", threshold " << t.parameters.error_threshold << "\n  leaf size p0/25/50/75/100: "
+            << s.leaf_size_percentiles[0] << " " << s.leaf_size_percentiles[1] << " " << s.leaf_size_percentiles[2] << " "
+            << s.leaf_size_percentiles[3] << " " << s.leaf_size_percentiles[4] << "\n  leaf rms p0/25/50/75/100: "
+            << s.leaf_rms_percentiles[0] << " " << s.leaf_rms_percentiles[1] << " " << s.leaf_rms_percentiles[2] << " "
+            << s.leaf_rms_percentiles[3] << " " << s.leaf_rms_percentiles[4] << "\n";
+  RecordProperty("leaves", static_cast<int>(s.leaves));
+  EXPECT_GT(s.leaves, 100u);
+  EXPECT_LT(s.depth, 64u);
+}
+
+TEST(ClusterTree, RawScanDoesNotShatter) {
+  const auto file = test::shared_data("bunny/scans/bun000.ply");
+  if (!file) GTEST_SKIP() << "../shared/data/bunny/scans/bun000.ply is absent";
+  const PointCloud c = read_point_cloud(*file);
+  const ClusterTree t = build_cluster_tree(c, {});
+  const TreeSummary s = summarize(t);
+  std::cout << "bun000: " << s.leaves << " leaves, median leaf " << s.leaf_size_percentiles[2] << " points, noise "
+            << t.parameters.noise_sigma << "\n";
+  EXPECT_GT(s.leaf_size_percentiles[2], 2.0 * t.parameters.min_points);
+}

@@ -1,0 +1,163 @@
+// Proxies: fits recover known surfaces, Q is a signed distance near the surface, gradients
+// match finite differences, ray hits lie on the surface, degenerate fits stay finite.
+
+#include <clustersurf/proxy.hpp>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include <numeric>
+#include <random>
+
+#include "test_support.hpp"
+
+using namespace clustersurf;
+
+namespace {
+
+std::vector<std::uint32_t> all(const Points& p) {
+  std::vector<std::uint32_t> idx(static_cast<std::size_t>(p.rows()));
+  std::iota(idx.begin(), idx.end(), 0u);
+  return idx;
+}
+
+Points heightfield(int n, double noise, std::uint64_t seed) {
+  // w = 0.3 + 0.2u − 0.1v + 0.5u² − 0.3uv + 0.25v² over [-1,1]², in a rotated, shifted frame.
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::normal_distribution<double> g(0, noise);
+  const Eigen::Matrix3d rot = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  Points p(n, 3);
+  for (int i = 0; i < n; ++i) {
+    const double a = u(rng), b = u(rng);
+    const double w = 0.3 + 0.2 * a - 0.1 * b + 0.5 * a * a - 0.3 * a * b + 0.25 * b * b + (noise > 0 ? g(rng) : 0);
+    p.row(i) = (rot * Eigen::Vector3d(a, b, w) + Eigen::Vector3d(5, -2, 1)).transpose();
+  }
+  return p;
+}
+
+Eigen::Vector3d finite_difference(const Proxy& p, const Eigen::Vector3d& x, double h) {
+  Eigen::Vector3d g;
+  for (int k = 0; k < 3; ++k) {
+    Eigen::Vector3d e = Eigen::Vector3d::Zero();
+    e(k) = h;
+    g(k) = (p.value(x + e) - p.value(x - e)) / (2 * h);
+  }
+  return g;
+}
+
+}  // namespace
+
+TEST(Proxy, PolyFitReproducesQuadraticExactly) {
+  const Points p = heightfield(400, 0.0, 1);
+  const auto idx = all(p);
+  // In the generating frame the height field is exactly quadratic.
+  Frame truth;
+  truth.origin = Eigen::Vector3d(5, -2, 1);
+  truth.axes = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  const Proxy exact = fit_poly_in_frame(truth, p, idx);
+  EXPECT_LT(proxy_error(exact, p, idx).max, 1e-9);
+  const auto& c = std::get<PolyProxy>(exact.variant()).coeffs;
+  EXPECT_NEAR(c[3], 0.5, 1e-9);
+  EXPECT_NEAR(c[4], -0.3, 1e-9);
+  // In its own PCA frame the fit is close, and far better than a plane.
+  const double poly = proxy_error(fit_proxy(ProxyKind::Poly, p, idx), p, idx).rms;
+  const double plane = proxy_error(fit_proxy(ProxyKind::Plane, p, idx), p, idx).rms;
+  EXPECT_LT(poly * 5, plane);
+  EXPECT_GT(plane, 0.05);
+}
+
+TEST(Proxy, QuadricFitsSphereExactly) {
+  const PointCloud s = test::sample_sphere(500, 2.0, Eigen::Vector3d(1, 2, 3));
+  const auto idx = all(s.positions);
+  const Proxy q = fit_proxy(ProxyKind::Quadric, s.positions, idx);
+  EXPECT_LT(proxy_error(q, s.positions, idx).max, 1e-8);
+  // Q approximates the signed distance off the surface too (within 5 % at 0.1 R).
+  const Eigen::Vector3d out = Eigen::Vector3d(1, 2, 3) + 2.2 * Eigen::Vector3d(0, 0, 1);
+  EXPECT_NEAR(std::abs(q.value(out)), 0.2, 0.01);
+}
+
+TEST(Proxy, PlaneFitOfNoisyPlaneHasRmsNearNoise) {
+  PointCloud c = test::sample_plane(40, 40);
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> g(0, 0.01);
+  for (Eigen::Index i = 0; i < c.size(); ++i) c.positions(i, 2) += g(rng);
+  const auto idx = all(c.positions);
+  const Proxy plane = fit_proxy(ProxyKind::Plane, c.positions, idx);
+  EXPECT_NEAR(proxy_error(plane, c.positions, idx).rms, 0.01, 0.001);
+  EXPECT_GT(std::abs(plane.normal().z()), 0.999);
+}
+
+TEST(Proxy, GradientsMatchFiniteDifferences) {
+  const Points hp = heightfield(300, 0.01, 2);
+  const PointCloud sp = test::sample_sphere(300, 1.0);
+  for (ProxyKind kind : {ProxyKind::Plane, ProxyKind::Poly, ProxyKind::Quadric}) {
+    const Points& pts = kind == ProxyKind::Quadric ? sp.positions : hp;
+    const Proxy p = fit_proxy(kind, pts, all(pts));
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(-0.3, 0.3);
+    for (int t = 0; t < 50; ++t) {
+      const Eigen::Vector3d x = pts.row(t * 5).transpose() + Eigen::Vector3d(u(rng), u(rng), u(rng));
+      const Eigen::Vector3d fd = finite_difference(p, x, 1e-6);
+      EXPECT_LT((p.gradient(x) - fd).norm(), 1e-5 * std::max(1.0, fd.norm())) << to_string(kind);
+    }
+  }
+}
+
+TEST(Proxy, RayIntersectionLiesOnTheZeroSet) {
+  const Points hp = heightfield(300, 0.0, 4);
+  const PointCloud sp = test::sample_sphere(300, 1.0);
+  for (ProxyKind kind : {ProxyKind::Plane, ProxyKind::Poly, ProxyKind::Quadric}) {
+    const Points& pts = kind == ProxyKind::Quadric ? sp.positions : hp;
+    const Proxy p = fit_proxy(kind, pts, all(pts));
+    int hits = 0;
+    for (int t = 0; t < 40; ++t) {
+      const Eigen::Vector3d target = pts.row(t * 7).transpose();
+      const Eigen::Vector3d origin = target + 3.0 * p.gradient(target).normalized() + Eigen::Vector3d(0.1, -0.05, 0.02);
+      const Ray ray{origin, (target - origin).normalized()};
+      const auto t_hit = p.intersect(ray, 0, 100);
+      if (!t_hit) continue;
+      ++hits;
+      EXPECT_LT(std::abs(p.value(ray.origin + *t_hit * ray.direction)), 1e-9) << to_string(kind);
+    }
+    EXPECT_GT(hits, 30) << to_string(kind);
+  }
+}
+
+TEST(Proxy, FlipNegatesValueKeepsZeroSet) {
+  const Points hp = heightfield(100, 0.01, 6);
+  for (ProxyKind kind : {ProxyKind::Plane, ProxyKind::Poly, ProxyKind::Quadric}) {
+    const Proxy p = fit_proxy(kind, hp, all(hp));
+    Proxy f = p;
+    f.flip();
+    for (int t = 0; t < 20; ++t) {
+      const Eigen::Vector3d x = hp.row(t).transpose() + Eigen::Vector3d(0.1, 0.2, -0.1) * (t % 3);
+      EXPECT_NEAR(f.value(x), -p.value(x), 1e-12) << to_string(kind);
+      EXPECT_LT((f.gradient(x) + p.gradient(x)).norm(), 1e-9) << to_string(kind);
+    }
+    EXPECT_LT((f.normal() + p.normal()).norm(), 1e-9) << to_string(kind);
+  }
+}
+
+TEST(Proxy, RankDeficientFitsStayFinite) {
+  // Collinear points, a single point, fewer points than polynomial coefficients, duplicates.
+  Points line(10, 3);
+  for (int i = 0; i < 10; ++i) line.row(i) << i, 2 * i, -i;
+  Points one(1, 3);
+  one << 1, 2, 3;
+  Points few(4, 3);
+  few << 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0.5;
+  Points dup = Points::Constant(8, 3, 2.5);
+  for (const Points* pts : {&line, &one, &few, &dup}) {
+    for (ProxyKind kind : {ProxyKind::Point, ProxyKind::Plane, ProxyKind::Poly, ProxyKind::Quadric}) {
+      const Proxy p = fit_proxy(kind, *pts, all(*pts));
+      const ProxyError e = proxy_error(p, *pts, all(*pts));
+      EXPECT_TRUE(std::isfinite(e.rms) && std::isfinite(e.max)) << to_string(kind);
+      EXPECT_TRUE(std::isfinite(p.value(Eigen::Vector3d(0.3, 0.2, 0.1)))) << to_string(kind);
+      EXPECT_TRUE(p.gradient(Eigen::Vector3d(0.3, 0.2, 0.1)).allFinite()) << to_string(kind);
+    }
+  }
+  // Fewer than 6 points on a height field: the poly interpolates them (minimum-norm solution).
+  const Proxy p = fit_proxy(ProxyKind::Poly, few, all(few));
+  EXPECT_LT(proxy_error(p, few, all(few)).max, 1e-9);
+}

@@ -1,0 +1,213 @@
+// Tree files: bit-exact round trips, reproducible bytes, and a table of corruptions that must
+// each be rejected with a clear error.
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/tree_file.hpp>
+
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <cstring>
+
+#include "test_support.hpp"
+
+using namespace clustersurf;
+
+namespace {
+
+ClusterTree sample_tree(ProxyKind proxy) {
+  BuildOptions o;
+  o.proxy = proxy;
+  o.threshold_mode = ThresholdMode::Relative;
+  return build_cluster_tree(test::sample_torus(5000), o);
+}
+
+void fix_crc(std::string& b) {
+  const auto crc = static_cast<std::uint32_t>(crc32(0L, reinterpret_cast<const Bytef*>(b.data()), static_cast<uInt>(b.size() - 4)));
+  std::memcpy(b.data() + b.size() - 4, &crc, 4);
+}
+
+template <class T>
+void poke(std::string& b, std::size_t offset, T value) {
+  std::memcpy(b.data() + offset, &value, sizeof(T));
+}
+
+// Offsets of fields in version 1 (docs/file-format.md).
+constexpr std::size_t kVersionOffset = 8;
+constexpr std::size_t kProxyKindOffset = 16;
+constexpr std::size_t kNodeCountOffset = 16 + 4 + 8 + 8 + 4 + 4 + 8 + 16 + 8 + 16 + 48 + 8;
+constexpr std::size_t kFirstNode = kNodeCountOffset + 8;
+
+}  // namespace
+
+TEST(TreeFile, RoundTripIsBitExactForEveryProxy) {
+  for (ProxyKind kind : {ProxyKind::Plane, ProxyKind::Poly, ProxyKind::Quadric}) {
+    const ClusterTree t = sample_tree(kind);
+    const std::string bytes = serialize_tree(t);
+    const ClusterTree u = deserialize_tree(bytes);
+    EXPECT_EQ(serialize_tree(u), bytes);
+    EXPECT_TRUE(u.parameters == t.parameters);
+    ASSERT_EQ(u.nodes.size(), t.nodes.size());
+    for (std::size_t i = 0; i < t.nodes.size(); ++i) {
+      const auto &a = t.nodes[i], &b = u.nodes[i];
+      EXPECT_EQ(a.parent, b.parent);
+      EXPECT_EQ(a.depth, b.depth);
+      EXPECT_EQ(a.point_count, b.point_count);
+      EXPECT_EQ(a.rms_error, b.rms_error);
+      EXPECT_EQ(a.support.radius, b.support.radius);
+      EXPECT_EQ(a.bound.center, b.bound.center);
+      const Eigen::Vector3d x(0.3, -0.2, 0.1);
+      EXPECT_EQ(a.proxy.value(x), b.proxy.value(x));
+    }
+    EXPECT_EQ(u.point_leaf, t.point_leaf);
+  }
+}
+
+TEST(TreeFile, SaveLoadThroughDiskAndSameBytesForSameInput) {
+  test::TempDir dir;
+  const ClusterTree t = sample_tree(ProxyKind::Poly);
+  save_tree(dir / "a.cstree", t);
+  save_tree(dir / "b.cstree", sample_tree(ProxyKind::Poly));
+  EXPECT_EQ(test::read_file(dir / "a.cstree"), test::read_file(dir / "b.cstree"));
+  EXPECT_EQ(serialize_tree(load_tree(dir / "a.cstree")), test::read_file(dir / "a.cstree"));
+}
+
+TEST(TreeFile, TreesDeeperThan63LevelsRoundTrip) {
+  // A caterpillar of depth 100 (a heap index would need 2^100): each internal node has a leaf
+  // (one point) on the left and the rest of the chain on the right.
+  constexpr int kDepth = 100;
+  ClusterTree t;
+  t.input_points = kDepth + 1;
+  t.bbox.extend(Eigen::Vector3d::Zero());
+  t.bbox.extend(Eigen::Vector3d::Ones());
+  for (int d = 0; d <= kDepth; ++d) {
+    const auto chain = static_cast<std::int32_t>(t.nodes.size());
+    ClusterNode internal;
+    internal.point_count = static_cast<std::uint32_t>(kDepth + 1 - d);
+    internal.proxy = PlaneProxy{};
+    internal.support.radius = internal.bound.radius = 1;
+    if (d < kDepth) {
+      internal.left = chain + 1;
+      internal.right = chain + 2;
+    }
+    t.nodes.push_back(internal);
+    if (d < kDepth) {
+      ClusterNode leaf = internal;
+      leaf.point_count = 1;
+      leaf.left = leaf.right = -1;
+      t.nodes.push_back(leaf);
+    }
+  }
+  const std::string bytes = serialize_tree(t);
+  const ClusterTree u = deserialize_tree(bytes);
+  EXPECT_EQ(u.depth(), static_cast<std::uint32_t>(kDepth));
+  EXPECT_EQ(serialize_tree(u), bytes);
+}
+
+struct Corruption {
+  const char* name;
+  std::string (*make)(const std::string& good);
+  const char* message;  // expected substring
+};
+
+TEST(TreeFile, CorruptedFilesAreRejected) {
+  const std::string good = serialize_tree(sample_tree(ProxyKind::Poly));
+  const Corruption table[] = {
+      {"empty", [](const std::string&) { return std::string(); }, "bad magic"},
+      {"not a tree", [](const std::string&) { return std::string("ply\nformat ascii 1.0\n"); }, "bad magic"},
+      {"truncated header", [](const std::string& g) { return g.substr(0, 12); }, "truncated"},
+      {"truncated middle", [](const std::string& g) { return g.substr(0, g.size() / 2); }, "checksum"},
+      {"truncated last byte", [](const std::string& g) { return g.substr(0, g.size() - 1); }, "checksum"},
+      {"flipped byte in a node",
+       [](const std::string& g) {
+         std::string b = g;
+         b[kFirstNode + 40] ^= 0x10;
+         return b;
+       },
+       "checksum"},
+      {"flipped byte in the checksum",
+       [](const std::string& g) {
+         std::string b = g;
+         b[b.size() - 2] ^= 1;
+         return b;
+       },
+       "checksum"},
+      {"wrong version",
+       [](const std::string& g) {
+         std::string b = g;
+         poke<std::uint32_t>(b, kVersionOffset, 99);
+         fix_crc(b);
+         return b;
+       },
+       "unsupported tree file version 99"},
+      {"unknown proxy kind",
+       [](const std::string& g) {
+         std::string b = g;
+         b[kProxyKindOffset] = 9;
+         fix_crc(b);
+         return b;
+       },
+       "unknown proxy kind 9"},
+      {"absurd node count",
+       [](const std::string& g) {
+         std::string b = g;
+         poke<std::uint64_t>(b, kNodeCountOffset, 50'000'000'000ULL);
+         fix_crc(b);
+         return b;
+       },
+       "larger than the file can hold"},
+      {"zero nodes",
+       [](const std::string& g) {
+         std::string b = g;
+         poke<std::uint64_t>(b, kNodeCountOffset, 0);
+         fix_crc(b);
+         return b;
+       },
+       "no nodes"},
+      {"child index out of range",
+       [](const std::string& g) {
+         std::string b = g;
+         poke<std::int32_t>(b, kFirstNode + 4, 1 << 30);
+         fix_crc(b);
+         return b;
+       },
+       "invalid children"},
+      {"wrong point count",
+       [](const std::string& g) {
+         std::string b = g;
+         poke<std::uint32_t>(b, kFirstNode + 8, 7);
+         fix_crc(b);
+         return b;
+       },
+       "points but"},
+      {"NaN error",
+       [](const std::string& g) {
+         std::string b = g;
+         poke<double>(b, kFirstNode + 16, std::nan(""));
+         fix_crc(b);
+         return b;
+       },
+       "not a finite number"},
+      {"trailing garbage",
+       [](const std::string& g) {
+         std::string b = g;
+         b.insert(b.size() - 4, "xxxx");
+         fix_crc(b);
+         return b;
+       },
+       "unexpected bytes"},
+  };
+  for (const auto& row : table) {
+    const std::string bad = row.make(good);
+    try {
+      deserialize_tree(bad, "bad.cstree");
+      ADD_FAILURE() << row.name << ": accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(row.message), std::string::npos) << row.name << ": " << e.what();
+      EXPECT_NE(std::string(e.what()).find("bad.cstree"), std::string::npos) << row.name;
+      EXPECT_TRUE(e.where().byte_offset.has_value()) << row.name;
+    }
+  }
+}
+
+TEST(TreeFile, MissingFileIsAnIoError) { EXPECT_THROW(load_tree("/nonexistent/tree.cstree"), IoError); }
