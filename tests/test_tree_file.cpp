@@ -35,7 +35,7 @@ void poke(std::string& b, std::size_t offset, T value) {
 // Offsets of fields in version 1 (docs/file-format.md).
 constexpr std::size_t kVersionOffset = 8;
 constexpr std::size_t kProxyKindOffset = 16;
-constexpr std::size_t kNodeCountOffset = 16 + 4 + 8 + 8 + 4 + 4 + 8 + 16 + 8 + 16 + 48 + 8;
+constexpr std::size_t kNodeCountOffset = 16 + 4 + 8 + 8 + 4 + 4 + 8 + 16 + 8 + 8 + 16 + 48 + 8;
 constexpr std::size_t kFirstNode = kNodeCountOffset + 8;
 
 }  // namespace

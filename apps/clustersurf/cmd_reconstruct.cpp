@@ -1,8 +1,10 @@
 #include "commands.hpp"
 #include "input.hpp"
+#include "mesh_stage.hpp"
 #include "tree_report.hpp"
 
 #include <clustersurf/errors.hpp>
+#include <clustersurf/orientation.hpp>
 #include <clustersurf/tree_file.hpp>
 
 #include <fmt/format.h>
@@ -52,6 +54,7 @@ BuildOptions build_options(const ReconstructArgs& a) {
   o.kstep = a.kstep;
   o.lloyd_restarts = a.lloyd_restarts;
   o.proxy_lloyd_iterations = a.proxy_lloyd;
+  o.support_factor = a.support_factor;
   o.seed = a.seed;
   o.keep_point_leaves = !a.no_point_leaves;
   return o;
@@ -67,23 +70,33 @@ int run_reconstruct(Console& console, const ReconstructArgs& args) {
   const PointCloud cloud = read_input(console, args.input);
   const auto t1 = std::chrono::steady_clock::now();
   options.progress = console.progress();
-  const ClusterTree tree = build_cluster_tree(cloud, options);
-  const auto t2 = std::chrono::steady_clock::now();
+  ClusterTree tree = build_cluster_tree(cloud, options);
   console.end_progress();
+  const OrientationReport orientation = orient_tree(tree, args.ignore_normals ? PointCloud{} : cloud);
+  const auto t2 = std::chrono::steady_clock::now();
   if (!args.tree_output.empty()) save_tree(args.tree_output, tree);
   const auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
+  const std::string oriented =
+      orientation.used_normals ? std::string("by input normals")
+                               : fmt::format("by propagation ({} component{})", orientation.components,
+                                             orientation.components == 1 ? "" : "s");
 
   if (console.options().json) {
     nlohmann::json j = tree_report_json(tree);
     j["input"] = args.input.file;
     if (!args.tree_output.empty()) j["tree"] = args.tree_output;
     j["timing"] = {{"read_seconds", seconds(t0, t1)}, {"build_seconds", seconds(t1, t2)}};
+    j["orientation"] = {{"used_normals", orientation.used_normals}, {"components", orientation.components},
+                        {"flipped", orientation.flipped}};
+    if (!args.mesh_output.empty()) j["mesh"] = write_tree_mesh(console, tree, args.mesh, args.mesh_output, &cloud);
     std::cout << j.dump(2) << "\n";
-  } else {
-    for (const auto& line : tree_report_lines(tree)) console.print(line);
-    console.print(fmt::format("time            read {:.3f} s, build {:.3f} s", seconds(t0, t1), seconds(t1, t2)));
-    if (!args.tree_output.empty()) console.print("wrote           " + args.tree_output);
+    return 0;
   }
+  for (const auto& line : tree_report_lines(tree)) console.print(line);
+  console.print("orientation     " + oriented);
+  console.print(fmt::format("time            read {:.3f} s, build {:.3f} s", seconds(t0, t1), seconds(t1, t2)));
+  if (!args.tree_output.empty()) console.print("wrote           " + args.tree_output);
+  if (!args.mesh_output.empty()) write_tree_mesh(console, tree, args.mesh, args.mesh_output, &cloud);
   return 0;
 }
 

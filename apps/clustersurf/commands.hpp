@@ -16,6 +16,17 @@ struct InputArgs {
   bool drop_non_finite = false;
 };
 
+/// Options of the mesh stage, shared by `mesh` and `reconstruct --mesh`.
+struct MeshArgs {
+  std::uint32_t resolution = 256;
+  std::optional<double> voxel_size;
+  std::optional<std::uint32_t> lod_depth;
+  std::optional<double> lod_error;  // fraction of the bbox diagonal
+  std::string color = "none";       // none | leaf | distance
+  std::string points;               // input cloud for --color distance (mesh command)
+  bool ascii = false;
+};
+
 struct ConvertArgs {
   InputArgs input;
   std::string output;
@@ -32,14 +43,11 @@ struct StatsArgs {
 };
 int run_stats(Console& console, const StatsArgs& args);
 
-}  // namespace clustersurf::cli
-
-namespace clustersurf::cli {
-
 struct ReconstructArgs {
   InputArgs input;
   std::string tree_output;  // .cstree (optional when mesh_output is given)
   std::string mesh_output;  // .ply/.obj (optional)
+  MeshArgs mesh;
   std::string proxy = "poly";
   std::string splitter = "split-plane";
   std::string max_error = "auto";
@@ -51,8 +59,10 @@ struct ReconstructArgs {
   std::uint32_t kstep = 0;
   std::uint32_t lloyd_restarts = 4;
   std::uint32_t proxy_lloyd = 0;
+  double support_factor = 2.0;
   std::uint64_t seed = 1;
   bool no_point_leaves = false;
+  bool ignore_normals = false;
 };
 int run_reconstruct(Console& console, const ReconstructArgs& args);
 
@@ -60,5 +70,12 @@ struct InfoArgs {
   std::string tree;
 };
 int run_info(Console& console, const InfoArgs& args);
+
+struct MeshCommandArgs {
+  std::string tree;
+  std::string output;
+  MeshArgs mesh;
+};
+int run_mesh(Console& console, const MeshCommandArgs& args);
 
 }  // namespace clustersurf::cli

@@ -31,6 +31,20 @@ void add_input(CLI::App& cmd, clustersurf::cli::InputArgs& in) {
                "Drop points with NaN/Inf coordinates (counted in a warning) instead of failing");
 }
 
+void add_mesh_options(CLI::App& cmd, clustersurf::cli::MeshArgs& m) {
+  cmd.add_option("--resolution", m.resolution, "Mesh grid cells along the longest bbox side")
+      ->check(CLI::Range(2, 100000))
+      ->default_val(256);
+  cmd.add_option("--voxel-size", m.voxel_size, "Mesh grid cell size (overrides --resolution)")->check(CLI::PositiveNumber);
+  cmd.add_option("--lod-depth", m.lod_depth, "Blend the tree cut at this depth instead of the leaves");
+  cmd.add_option("--lod-error", m.lod_error, "Blend the shallowest nodes with error <= this fraction of the diagonal")
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--color", m.color, "Vertex colors: none, leaf (per blended node) or distance (to the input points)")
+      ->check(CLI::IsMember({"none", "leaf", "distance"}))
+      ->default_val("none");
+  cmd.add_flag("--mesh-ascii", m.ascii, "Write the mesh as ascii PLY instead of binary");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -63,6 +77,9 @@ int main(int argc, char** argv) {
   auto* r = app.add_subcommand("reconstruct", "Build the cluster tree of a point cloud (and save it)");
   add_input(*r, rec.input);
   r->add_option("-o,--output", rec.tree_output, "Tree file to write (.cstree)");
+  r->add_option("--mesh", rec.mesh_output, "Also mesh the surface into this file (.ply or .obj)");
+  add_mesh_options(*r, rec.mesh);
+  r->add_flag("--ignore-normals", rec.ignore_normals, "Orient by propagation even when the input has normals");
   r->add_option("--proxy", rec.proxy, "Proxy per cluster: plane, poly (bivariate quadratic) or quadric")
       ->check(CLI::IsMember({"plane", "poly", "quadric"}))
       ->default_val("poly");
@@ -84,12 +101,24 @@ int main(int argc, char** argv) {
   r->add_option("--kstep", rec.kstep, "Split-plane sweep step (0: at most 64 candidates per split)")->default_val(0);
   r->add_option("--lloyd-restarts", rec.lloyd_restarts, "Lloyd splitter: 2-means restarts")->check(CLI::Range(1, 1000))->default_val(4);
   r->add_option("--proxy-lloyd", rec.proxy_lloyd, "Lloyd splitter: proxy-Lloyd refinement rounds")->default_val(0);
+  r->add_option("--support-factor", rec.support_factor,
+                "A leaf's weighted RMS error over the points in its support sphere must be <= this x the threshold "
+                "(0: no check)")
+      ->check(CLI::NonNegativeNumber)
+      ->default_val(2.0);
   r->add_option("--seed", rec.seed, "Seed for every random choice")->default_val(1);
   r->add_flag("--no-point-leaves", rec.no_point_leaves, "Do not store each point's leaf in the tree file");
 
   InfoArgs info;
   auto* i = app.add_subcommand("info", "Describe a tree file: sizes, depth, proxies, errors, parameters");
   i->add_option("tree", info.tree, "Tree file (.cstree)")->required();
+
+  MeshCommandArgs meshcmd;
+  auto* m = app.add_subcommand("mesh", "Mesh the implicit surface of a tree file");
+  m->add_option("tree", meshcmd.tree, "Tree file (.cstree)")->required();
+  m->add_option("-o,--output", meshcmd.output, "Mesh file to write (.ply or .obj)")->required();
+  m->add_option("--points", meshcmd.mesh.points, "The input cloud, for --color distance");
+  add_mesh_options(*m, meshcmd.mesh);
 
   try {
     app.parse(argc, argv);
@@ -105,6 +134,7 @@ int main(int argc, char** argv) {
     if (s->parsed()) return run_stats(console, stats);
     if (r->parsed()) return run_reconstruct(console, rec);
     if (i->parsed()) return run_info(console, info);
+    if (m->parsed()) return run_mesh(console, meshcmd);
     return kExitUsage;
   } catch (const clustersurf::InputError& e) {
     console.end_progress();

@@ -40,6 +40,7 @@ nlohmann::json tree_report_json(const ClusterTree& tree) {
         {"kstep", p.kstep},
         {"lloyd_restarts", p.lloyd_restarts},
         {"proxy_lloyd_iterations", p.proxy_lloyd_iterations},
+        {"support_factor", p.support_factor},
         {"seed", p.seed}}},
   };
 }
@@ -71,10 +72,10 @@ std::vector<std::string> tree_report_lines(const ClusterTree& tree) {
     out.push_back(fmt::format("noise estimate  {:.4g} ({:.4g} % of the diagonal)", p.noise_sigma,
                               diag > 0 ? 100 * p.noise_sigma / diag : 0.0));
   out.push_back(fmt::format("parameters      proxy {}, splitter {}, error {}, max-error {} {}, min-points {}, "
-                            "max-depth {}, alpha {}, kstep {}, seed {}",
+                            "max-depth {}, alpha {}, kstep {}, support-factor {}, seed {}",
                             to_string(p.proxy), to_string(p.splitter), to_string(p.metric), to_string(p.threshold_mode),
                             p.threshold, p.min_points, p.max_depth, p.alpha, p.kstep == 0 ? std::string("auto") : std::to_string(p.kstep),
-                            p.seed));
+                            p.support_factor, p.seed));
   return out;
 }
 

@@ -41,6 +41,11 @@ struct BuildOptions {
   std::uint32_t lloyd_restarts = 4;              ///< Lloyd splitter: 2-means restarts
   std::uint32_t proxy_lloyd_iterations = 0;      ///< Lloyd splitter: proxy refinement rounds
   std::uint64_t seed = 1;                        ///< seeds every random choice (Lloyd seeding)
+  /// A leaf must also fit the input points inside its support sphere: the RMS of |Q| over
+  /// them, weighted by the blending weight, must be at most support_factor × the threshold
+  /// (MPU's rule). Keeps the blend accurate where supports overlap and stops large clusters
+  /// from extrapolating across the model. 0 turns the check off.
+  double support_factor = 2.0;
   bool keep_point_leaves = true;                 ///< store the leaf of every input point
   ProgressCallback progress;                     ///< progress and cancellation (may be empty)
 };
@@ -83,6 +88,7 @@ struct TreeParameters {
   std::uint32_t kstep = 0;
   std::uint32_t lloyd_restarts = 4;
   std::uint32_t proxy_lloyd_iterations = 0;
+  double support_factor = 2.0;
   std::uint64_t seed = 1;
   double noise_sigma = 0;      ///< estimated noise of the input (Auto mode; 0 otherwise)
   double error_threshold = 0;  ///< the absolute threshold actually used

@@ -67,7 +67,7 @@ struct SideMoments {
 
 /// Sweeps the candidate split positions of `sorted`; returns the one minimizing max(e+, e−).
 std::size_t sweep(const Points& points, std::span<const std::uint32_t> sorted, const SideMoments& empty,
-                  const std::vector<std::size_t>& candidates) {
+                  const std::vector<std::size_t>& candidates, double noise) {
   const std::size_t m = sorted.size();
   std::vector<double> left_error(candidates.size()), right_error(candidates.size());
   SideMoments acc = empty;
@@ -82,11 +82,22 @@ std::size_t sweep(const Points& points, std::span<const std::uint32_t> sorted, c
     acc.add(points.row(sorted[i]).transpose());
     while (c > 0 && candidates[c - 1] == i) right_error[--c] = acc.rms_error();
   }
-  std::size_t best = 0;
+  // Scores within 2 % of the best (or within the noise, whose part of the error no split can
+  // remove) count as ties: among them take the most balanced split, so noise-dominated
+  // clusters are halved instead of cut at an arbitrary position.
+  std::vector<double> score(candidates.size());
   double best_score = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < candidates.size(); ++k) {
-    const double score = std::max(left_error[k], right_error[k]);
-    if (score < best_score) best_score = score, best = candidates[k];
+    const double e = std::max(left_error[k], right_error[k]);
+    score[k] = std::sqrt(std::max(0.0, e * e - noise * noise));
+    best_score = std::min(best_score, score[k]);
+  }
+  std::size_t best = 0;
+  double best_balance = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    if (score[k] > best_score * 1.02) continue;
+    const double balance = std::abs(2.0 * static_cast<double>(candidates[k]) - static_cast<double>(m));
+    if (balance < best_balance) best_balance = balance, best = candidates[k];
   }
   return best;
 }
@@ -94,7 +105,7 @@ std::size_t sweep(const Points& points, std::span<const std::uint32_t> sorted, c
 }  // namespace
 
 std::size_t split_plane(const Points& points, std::span<std::uint32_t> range, const Frame& parent_frame,
-                        const BuildOptions& options) {
+                        const BuildOptions& options, double noise) {
   const std::size_t m = range.size();
   const std::size_t kmin = std::max<std::size_t>(1, options.min_points);
   if (m < 2 * kmin) return 0;
@@ -118,7 +129,7 @@ std::size_t split_plane(const Points& points, std::span<std::uint32_t> range, co
     for (auto i : range) scale = std::max(scale, parent_frame.to_local(points.row(i).transpose()).head<2>().norm());
     empty.poly.emplace(parent_frame, scale > 0 ? scale : 1.0);
   }
-  return sweep(points, range, empty, candidates);
+  return sweep(points, range, empty, candidates, noise);
 }
 
 }  // namespace clustersurf::detail

@@ -22,9 +22,11 @@ TwoMeans two_means(const Points& points, std::span<const std::uint32_t> range, c
                    const Eigen::Vector3d& seed1, int max_rounds = 50);
 
 /// Split-plane clustering (thesis 3.2.3): 2-means direction, sort along it, sweep the split
-/// index scoring max(e+, e−) with O(1) moment fits in the parent's frame.
+/// index scoring max(e+, e−) with O(1) moment fits in the parent's frame. `noise` (the
+/// estimated scanner noise, or 0) is discounted from the scores; near-ties go to the most
+/// balanced split.
 std::size_t split_plane(const Points& points, std::span<std::uint32_t> range, const Frame& parent_frame,
-                        const BuildOptions& options);
+                        const BuildOptions& options, double noise);
 
 /// Lloyd 2-means with point proxies (farthest-point seeding, then k-means++ restarts; lowest
 /// E² wins), optionally refined by proxy-Lloyd rounds; children below min_points are topped

@@ -2,6 +2,7 @@
 
 #include <clustersurf/cluster_tree.hpp>
 #include <clustersurf/errors.hpp>
+#include <clustersurf/kd_tree.hpp>
 #include <clustersurf/noise.hpp>
 
 #include "cluster/splitters.hpp"
@@ -13,6 +14,7 @@
 #include <cmath>
 #include <memory>
 #include <numeric>
+#include <optional>
 
 namespace clustersurf {
 
@@ -47,8 +49,9 @@ std::uint64_t mix(std::uint64_t x) {  // splitmix64 finalizer
 
 class Builder {
  public:
-  Builder(const Points& points, const BuildOptions& options, double threshold, detail::ProgressReporter& progress)
-      : points_(points), options_(options), threshold_(threshold), progress_(progress) {}
+  Builder(const Points& points, const KdTree* index, const BuildOptions& options, double threshold, double noise,
+          detail::ProgressReporter& progress)
+      : points_(points), index_(index), options_(options), threshold_(threshold), noise_(noise), progress_(progress) {}
 
   void build(BuildNode& bn, std::span<std::uint32_t> range, std::uint32_t depth, std::uint64_t path_seed) const {
     progress_.check();
@@ -68,9 +71,10 @@ class Builder {
     node.bound = node.support;
 
     const double e = options_.metric == ErrorMetric::Rms ? err.rms : err.max;
+    const bool can_split = depth < options_.max_depth && range.size() >= 2 * std::size_t{options_.min_points};
     std::size_t k = 0;
-    if (e > threshold_ && depth < options_.max_depth && range.size() >= 2 * std::size_t{options_.min_points}) {
-      k = options_.splitter == SplitterKind::SplitPlane ? detail::split_plane(points_, range, frame, options_)
+    if (can_split && (e > threshold_ || (index_ != nullptr && support_error(node) > options_.support_factor * threshold_))) {
+      k = options_.splitter == SplitterKind::SplitPlane ? detail::split_plane(points_, range, frame, options_, noise_)
                                                         : detail::lloyd_split(points_, range, options_, mix(path_seed));
     }
     if (k == 0 || k >= range.size()) {
@@ -95,9 +99,27 @@ class Builder {
   }
 
  private:
+  /// RMS of |Q| over the input points inside the node's support, weighted by the blending
+  /// weight (1 − d²/r²)³.
+  double support_error(const ClusterNode& node) const {
+    const double r2 = node.support.radius * node.support.radius;
+    if (!(r2 > 0)) return 0;
+    double sum = 0, weight = 0;
+    for (const Neighbor& nb : index_->radius(node.support.center, node.support.radius)) {
+      const double t = 1 - nb.distance_squared / r2;
+      const double w = t * t * t;
+      const double q = node.proxy.value(points_.row(nb.index).transpose());
+      sum += w * q * q;
+      weight += w;
+    }
+    return weight > 0 ? std::sqrt(sum / weight) : 0;
+  }
+
   const Points& points_;
+  const KdTree* index_;
   const BuildOptions& options_;
   double threshold_;
+  double noise_;
   detail::ProgressReporter& progress_;
 };
 
@@ -108,6 +130,7 @@ void validate(const PointCloud& cloud, const BuildOptions& o) {
   if (!(o.noise_factor > 0) || !std::isfinite(o.noise_factor)) throw OptionError("noise factor must be positive");
   if (!(o.alpha > 0) || !std::isfinite(o.alpha)) throw OptionError("alpha must be positive");
   if (o.min_points < 1) throw OptionError("min_points must be at least 1");
+  if (!(o.support_factor >= 0) || !std::isfinite(o.support_factor)) throw OptionError("support factor must be >= 0");
 }
 
 /// Pre-order flattening; children are appended after their parent.
@@ -182,6 +205,7 @@ ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& opti
   p.kstep = options.kstep;
   p.lloyd_restarts = options.lloyd_restarts;
   p.proxy_lloyd_iterations = options.proxy_lloyd_iterations;
+  p.support_factor = options.support_factor;
   p.seed = options.seed;
   const double diagonal = tree.bbox.diagonal();
   switch (options.threshold_mode) {
@@ -197,8 +221,10 @@ ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& opti
   std::vector<std::uint32_t> perm(static_cast<std::size_t>(cloud.size()));
   std::iota(perm.begin(), perm.end(), 0u);
   detail::ProgressReporter progress(options.progress, "building tree", perm.size());
+  std::optional<KdTree> index;
+  if (options.support_factor > 0) index.emplace(cloud.positions);
   BuildNode root;
-  Builder(cloud.positions, options, p.error_threshold, progress).build(root, perm, 0, options.seed);
+  Builder(cloud.positions, index ? &*index : nullptr, options, p.error_threshold, p.noise_sigma, progress).build(root, perm, 0, options.seed);
   progress.finish();
 
   std::vector<std::uint32_t> begins;

@@ -167,6 +167,7 @@ std::string serialize_tree(const ClusterTree& tree) {
   w.put(p.min_points), w.put(p.max_depth);
   w.put(p.alpha);
   w.put(p.kstep), w.put(p.lloyd_restarts), w.put(p.proxy_lloyd_iterations), w.put(std::uint32_t{0});
+  w.put(p.support_factor);
   w.put(p.seed);
   w.put(p.noise_sigma), w.put(p.error_threshold);
   w.put_vec(tree.bbox.min), w.put_vec(tree.bbox.max);
@@ -224,6 +225,7 @@ ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path
   p.lloyd_restarts = r.get<std::uint32_t>("lloyd restarts");
   p.proxy_lloyd_iterations = r.get<std::uint32_t>("proxy lloyd iterations");
   r.get<std::uint32_t>("reserved");
+  p.support_factor = r.finite("support factor");
   p.seed = r.get<std::uint64_t>("seed");
   p.noise_sigma = r.finite("noise sigma");
   p.error_threshold = r.finite("error threshold");

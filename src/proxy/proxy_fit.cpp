@@ -6,6 +6,7 @@
 #include "proxy/linear_algebra.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <Eigen/QR>
 
 #include <cmath>

@@ -1,0 +1,60 @@
+#include "mesh_stage.hpp"
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/implicit_surface.hpp>
+#include <clustersurf/mesh_colors.hpp>
+#include <clustersurf/mesh_extraction.hpp>
+#include <clustersurf/point_cloud_io.hpp>
+
+#include <fmt/format.h>
+
+#include <chrono>
+
+namespace clustersurf::cli {
+
+nlohmann::json write_tree_mesh(Console& console, const ClusterTree& tree, const MeshArgs& args, const std::string& output,
+                               const PointCloud* cloud) {
+  if (args.color != "none" && args.color != "leaf" && args.color != "distance")
+    throw OptionError("--color must be none, leaf or distance, not \"" + args.color + "\"");
+  if (args.color == "distance" && cloud == nullptr)
+    throw OptionError("--color distance needs the input points (--points FILE)");
+  const auto t0 = std::chrono::steady_clock::now();
+  LevelOfDetail lod;
+  lod.max_depth = args.lod_depth;
+  if (args.lod_error) lod.max_error = *args.lod_error * tree.bbox.diagonal();
+  const ImplicitSurface surface(tree, lod);
+  MeshOptions options;
+  options.resolution = args.resolution;
+  options.voxel_size = args.voxel_size;
+  options.progress = console.progress();
+  MeshReport report;
+  TriangleMesh mesh = extract_mesh(surface, options, &report);
+  console.end_progress();
+  if (args.color == "leaf") mesh.colors = colors_by_node(mesh, surface);
+  if (args.color == "distance") mesh.colors = colors_by_distance(mesh, cloud->positions, 0.005 * tree.bbox.diagonal());
+  const auto t1 = std::chrono::steady_clock::now();
+  PlyWriteOptions ply;
+  ply.binary = !args.ascii;
+  write_triangle_mesh(output, mesh, ply);
+  const MeshTopology topo = mesh_topology(mesh);
+  const double seconds = std::chrono::duration<double>(t1 - t0).count();
+  console.print(fmt::format("mesh            {} vertices, {} triangles ({} blended nodes, voxel {:.4g}), {} boundary edges, "
+                            "{} non-manifold edges",
+                            topo.vertices, topo.triangles, surface.cut().size(), report.voxel_size, topo.boundary_edges,
+                            topo.non_manifold_edges));
+  console.print(fmt::format("mesh time       {:.3f} s", seconds));
+  console.print("wrote           " + output);
+  return {{"file", output},
+          {"vertices", topo.vertices},
+          {"triangles", topo.triangles},
+          {"boundary_edges", topo.boundary_edges},
+          {"non_manifold_edges", topo.non_manifold_edges},
+          {"euler_characteristic", topo.euler_characteristic},
+          {"blended_nodes", surface.cut().size()},
+          {"voxel_size", report.voxel_size},
+          {"surface_cells", report.surface_cells},
+          {"evaluated_corners", report.evaluated_corners},
+          {"mesh_seconds", seconds}};
+}
+
+}  // namespace clustersurf::cli

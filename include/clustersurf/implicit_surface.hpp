@@ -1,0 +1,91 @@
+#pragma once
+// The partition-of-unity implicit function of a cluster tree:
+// f(x) = Σ wᵢ(x) Qᵢ(x) / Σ wᵢ(x) over the nodes of a cut of the tree (the leaves by default),
+// with wᵢ = (1 − ‖x − cᵢ‖² / rᵢ²)³ inside node i's support sphere and 0 outside.
+
+#include <clustersurf/cluster_tree.hpp>
+
+#include <optional>
+#include <vector>
+
+namespace clustersurf {
+
+/// Which nodes are blended: the leaves (default), or a coarser cut of the tree.
+struct LevelOfDetail {
+  /// Cut at this depth: nodes of that depth, plus shallower leaves.
+  std::optional<std::uint32_t> max_depth;
+  /// Cut where the error first drops to this value (the tree's error metric, in the input's
+  /// units): the shallowest nodes with error ≤ max_error, or leaves.
+  std::optional<double> max_error;
+};
+
+/// The nodes of `tree` forming the cut `lod` (pre-order; every input point is covered once).
+std::vector<std::int32_t> lod_cut(const ClusterTree& tree, const LevelOfDetail& lod);
+
+/// f, its gradient and the total weight at a point. `defined` is false where no support sphere
+/// of the cut reaches (total weight 0): f is undefined there, not invented.
+struct SurfaceSample {
+  double value = 0;
+  Eigen::Vector3d gradient = Eigen::Vector3d::Zero();
+  double weight = 0;
+  bool defined = false;
+};
+
+/// The implicit surface of a tree. Holds a reference to the tree, which must outlive it and
+/// stay unchanged. Evaluation descends the tree's bounding spheres: cost ~ depth + number of
+/// supports containing the point. All methods are const and thread-safe.
+class ImplicitSurface {
+ public:
+  explicit ImplicitSurface(const ClusterTree& tree, const LevelOfDetail& lod = {});
+
+  /// f and ∇f at x (exact analytic gradient of the blend).
+  SurfaceSample sample(const Eigen::Vector3d& x) const;
+  /// f at x, or nullopt where undefined.
+  std::optional<double> value(const Eigen::Vector3d& x) const;
+  /// Samples every row of `points` in parallel; results in row order.
+  std::vector<SurfaceSample> sample_all(const Points& points) const;
+  /// Calls visit(node index, weight) for every cut node whose support contains x.
+  template <class Visit>
+  void for_each_support(const Eigen::Vector3d& x, Visit&& visit) const;
+
+  const ClusterTree& tree() const noexcept { return *tree_; }
+  /// The nodes blended (pre-order).
+  const std::vector<std::int32_t>& cut() const noexcept { return cut_; }
+
+ private:
+  const ClusterTree* tree_;
+  std::vector<std::int32_t> cut_;
+  std::vector<std::uint8_t> in_cut_;  // per node
+};
+
+template <class Visit>
+void ImplicitSurface::for_each_support(const Eigen::Vector3d& x, Visit&& visit) const {
+  std::int32_t stack[256];
+  int top = 0;
+  stack[top++] = 0;
+  const auto& nodes = tree_->nodes;
+  std::vector<std::int32_t> overflow;
+  while (top > 0 || !overflow.empty()) {
+    std::int32_t i;
+    if (!overflow.empty()) {
+      i = overflow.back();
+      overflow.pop_back();
+    } else {
+      i = stack[--top];
+    }
+    const ClusterNode& n = nodes[static_cast<std::size_t>(i)];
+    if (!n.bound.contains(x)) continue;
+    if (in_cut_[static_cast<std::size_t>(i)]) {
+      const double s = (x - n.support.center).squaredNorm() / (n.support.radius * n.support.radius);
+      if (s < 1) visit(i, s);
+      continue;
+    }
+    if (n.is_leaf()) continue;
+    for (std::int32_t c : {n.right, n.left}) {
+      if (top < 256) stack[top++] = c;
+      else overflow.push_back(c);
+    }
+  }
+}
+
+}  // namespace clustersurf

@@ -1,0 +1,53 @@
+#pragma once
+// Triangle mesh of the zero set of an ImplicitSurface.
+
+#include <clustersurf/implicit_surface.hpp>
+#include <clustersurf/point_cloud.hpp>
+#include <clustersurf/progress.hpp>
+
+#include <optional>
+
+namespace clustersurf {
+
+/// Options of extract_mesh().
+struct MeshOptions {
+  /// Grid cells along the longest side of the tree's bounding box (ignored with voxel_size).
+  std::uint32_t resolution = 256;
+  /// Grid cell size in the input's units; overrides resolution.
+  std::optional<double> voxel_size;
+  /// Newton steps projecting each vertex onto f = 0 along ∇f.
+  int newton_steps = 2;
+  ProgressCallback progress;
+};
+
+/// What extract_mesh() visited.
+struct MeshReport {
+  double voxel_size = 0;
+  std::size_t evaluated_corners = 0;  ///< grid points where f was evaluated
+  std::size_t surface_cells = 0;      ///< cells crossed by f = 0 with f defined at all corners
+};
+
+/// Meshes f = 0 on a sparse grid that follows the surface from seeds on every blended proxy:
+/// only cells crossed by the surface (and their corners) are visited, so the cost follows the
+/// surface area. Cells with a corner where f is undefined are not meshed, so missing data gives
+/// a hole with a boundary, never a wall. Polygons come from OpenVDB's volumeToMesh (manifold,
+/// one or more vertices per cell); vertices are then moved onto f = 0 by Newton steps along ∇f
+/// and get ∇f as normal; quads are split along their shorter diagonal; degenerate triangles
+/// and unused vertices are removed. Triangles face outward (towards f > 0). Deterministic.
+TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& options = {}, MeshReport* report = nullptr);
+
+/// Edge-manifoldness, boundary and Euler characteristic of a mesh.
+struct MeshTopology {
+  std::size_t vertices = 0;
+  std::size_t triangles = 0;
+  std::size_t edges = 0;
+  std::size_t boundary_edges = 0;      ///< edges with one triangle
+  std::size_t non_manifold_edges = 0;  ///< edges with more than two triangles
+  std::size_t inconsistent_edges = 0;  ///< interior edges traversed twice in the same direction
+  long euler_characteristic = 0;       ///< V − E + F
+  double signed_volume = 0;            ///< > 0 for closed outward-facing meshes
+};
+
+MeshTopology mesh_topology(const TriangleMesh& mesh);
+
+}  // namespace clustersurf

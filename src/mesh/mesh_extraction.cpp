@@ -1,0 +1,268 @@
+// Surface-following sparse grid + OpenVDB's volumeToMesh. OpenVDB is confined to this file
+// (it is slow to compile).
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/mesh_extraction.hpp>
+
+#include "core/progress_reporter.hpp"
+
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/VolumeToMesh.h>
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+namespace clustersurf {
+
+namespace {
+
+using Key = std::uint64_t;
+constexpr std::int64_t kBias = std::int64_t{1} << 20;  // grid coordinates in [-2^20, 2^20)
+
+Key pack(std::int64_t i, std::int64_t j, std::int64_t k) {
+  return static_cast<Key>(i + kBias) | (static_cast<Key>(j + kBias) << 21) | (static_cast<Key>(k + kBias) << 42);
+}
+std::array<std::int64_t, 3> unpack(Key key) {
+  const Key mask = (Key{1} << 21) - 1;
+  return {static_cast<std::int64_t>(key & mask) - kBias, static_cast<std::int64_t>((key >> 21) & mask) - kBias,
+          static_cast<std::int64_t>((key >> 42) & mask) - kBias};
+}
+
+constexpr int kCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
+// For each face direction (−x, +x, −y, +y, −z, +z): the 4 corners on that face, and the step.
+constexpr int kFaceCorners[6][4] = {{0, 2, 4, 6}, {1, 3, 5, 7}, {0, 1, 4, 5}, {2, 3, 6, 7}, {0, 1, 2, 3}, {4, 5, 6, 7}};
+constexpr int kFaceStep[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+
+/// Newton steps x ← x − f ∇f / |∇f|² towards f = 0; returns false if f is undefined or the
+/// point wanders farther than `max_move`.
+bool project(const ImplicitSurface& s, Eigen::Vector3d& x, int steps, double max_move, double tolerance) {
+  const Eigen::Vector3d start = x;
+  for (int k = 0; k < steps; ++k) {
+    const SurfaceSample q = s.sample(x);
+    if (!q.defined) return false;
+    if (std::abs(q.value) <= tolerance) return true;
+    const double g2 = q.gradient.squaredNorm();
+    if (!(g2 > 0)) return false;
+    x -= (q.value / g2) * q.gradient;
+    if ((x - start).norm() > max_move) return false;
+  }
+  const auto v = s.value(x);
+  return v && std::abs(*v) <= 10 * tolerance;
+}
+
+/// A unit vector orthogonal to n.
+Eigen::Vector3d any_tangent(const Eigen::Vector3d& n) {
+  const Eigen::Vector3d a = std::abs(n.x()) < 0.6 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  return n.cross(a).normalized();
+}
+
+}  // namespace
+
+TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& options, MeshReport* report) {
+  const ClusterTree& tree = surface.tree();
+  const BoundingBox box = tree.bbox;
+  const double longest = box.extent().maxCoeff();
+  double h = options.voxel_size ? *options.voxel_size
+                                : (options.resolution > 0 ? longest / options.resolution : 0.0);
+  if (!(h > 0) || !std::isfinite(h)) throw OptionError("mesh voxel size must be positive (check --resolution/--voxel-size)");
+  if (longest / h > 500000) throw OptionError("mesh grid too fine: more than 500000 cells along the bounding box");
+  const Eigen::Vector3d origin = box.min;
+  auto corner_position = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
+    return Eigen::Vector3d(origin + h * Eigen::Vector3d(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k)));
+  };
+  auto cell_of = [&](const Eigen::Vector3d& x) {
+    const Eigen::Vector3d c = ((x - origin) / h).array().floor();
+    return pack(static_cast<std::int64_t>(c.x()), static_cast<std::int64_t>(c.y()), static_cast<std::int64_t>(c.z()));
+  };
+
+  // 1. Seeds: points on every blended proxy near its center and at ±r/3 along two tangents,
+  //    projected onto f = 0.
+  const auto& cut = surface.cut();
+  std::vector<std::vector<Key>> seed_cells(cut.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cut.size()), [&](const auto& r) {
+    for (std::size_t c = r.begin(); c != r.end(); ++c) {
+      const ClusterNode& n = tree.nodes[static_cast<std::size_t>(cut[c])];
+      const Eigen::Vector3d normal = n.proxy.normal();
+      const Eigen::Vector3d t1 = any_tangent(normal), t2 = normal.cross(t1);
+      const double step = n.support.radius / 3;
+      for (int a = -1; a <= 1; ++a)
+        for (int b = -1; b <= 1; ++b) {
+          Eigen::Vector3d x = n.support.center + step * (a * t1 + b * t2);
+          if (project(surface, x, 12, n.support.radius, 1e-3 * h)) seed_cells[c].push_back(cell_of(x));
+        }
+    }
+  });
+  std::vector<Key> frontier;
+  for (const auto& cells : seed_cells)
+    for (Key key : cells) {
+      const auto [i, j, k] = unpack(key);
+      for (int di = -1; di <= 1; ++di)
+        for (int dj = -1; dj <= 1; ++dj)
+          for (int dk = -1; dk <= 1; ++dk) frontier.push_back(pack(i + di, j + dj, k + dk));
+    }
+  std::sort(frontier.begin(), frontier.end());
+  frontier.erase(std::unique(frontier.begin(), frontier.end()), frontier.end());
+
+  // 2. Breadth-first walk over cells crossed by the surface, evaluating corners in batches.
+  detail::ProgressReporter progress(options.progress, "meshing", 1000);
+  std::unordered_map<Key, float> corner_value;  // NaN where f is undefined
+  std::unordered_set<Key> visited(frontier.begin(), frontier.end());
+  std::vector<Key> surface_cells;
+  std::vector<Key> todo;
+  std::uint64_t reported = 0;
+  while (!frontier.empty()) {
+    progress.check();
+    todo.clear();
+    for (Key cell : frontier) {
+      const auto [i, j, k] = unpack(cell);
+      for (const auto& c : kCorner) {
+        const Key key = pack(i + c[0], j + c[1], k + c[2]);
+        if (!corner_value.contains(key)) todo.push_back(key);
+      }
+    }
+    std::sort(todo.begin(), todo.end());
+    todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
+    std::vector<float> values(todo.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 64), [&](const auto& r) {
+      for (std::size_t t = r.begin(); t != r.end(); ++t) {
+        const auto [i, j, k] = unpack(todo[t]);
+        const auto v = surface.value(corner_position(i, j, k));
+        values[t] = v ? static_cast<float>(*v) : std::numeric_limits<float>::quiet_NaN();
+      }
+    });
+    for (std::size_t t = 0; t < todo.size(); ++t) corner_value.emplace(todo[t], values[t]);
+
+    std::vector<Key> next;
+    for (Key cell : frontier) {
+      const auto [i, j, k] = unpack(cell);
+      float v[8];
+      bool defined = true, any_neg = false, any_pos = false;
+      for (int c = 0; c < 8; ++c) {
+        v[c] = corner_value.at(pack(i + kCorner[c][0], j + kCorner[c][1], k + kCorner[c][2]));
+        defined = defined && !std::isnan(v[c]);
+        (v[c] < 0 ? any_neg : any_pos) = true;
+      }
+      if (!defined || !any_neg || !any_pos) continue;
+      surface_cells.push_back(cell);
+      for (int f = 0; f < 6; ++f) {
+        bool neg = false, pos = false;
+        for (int c : kFaceCorners[f]) (v[c] < 0 ? neg : pos) = true;
+        if (!(neg && pos)) continue;
+        const Key nb = pack(i + kFaceStep[f][0], j + kFaceStep[f][1], k + kFaceStep[f][2]);
+        if (visited.insert(nb).second) next.push_back(nb);
+      }
+    }
+    std::sort(next.begin(), next.end());
+    frontier = std::move(next);
+    // The walk's length is unknown in advance: report the share of cells already settled.
+    const double done = static_cast<double>(surface_cells.size()) / static_cast<double>(surface_cells.size() + frontier.size() + 1);
+    const auto permille = static_cast<std::uint64_t>(900 * done);
+    if (permille > reported) progress.advance(permille - reported), reported = permille;
+  }
+  std::sort(surface_cells.begin(), surface_cells.end());
+
+  // 3. OpenVDB: the evaluated corners as voxel values, the surface cells as the mask.
+  openvdb::initialize();
+  auto grid = openvdb::FloatGrid::create(static_cast<float>(3 * h));
+  grid->setTransform(openvdb::math::Transform::createLinearTransform(h));
+  grid->transform().postTranslate(openvdb::Vec3d(origin.x(), origin.y(), origin.z()));
+  auto mask = openvdb::BoolGrid::create(false);
+  mask->setTransform(grid->transform().copy());
+  {
+    auto acc = grid->getAccessor();
+    auto macc = mask->getAccessor();
+    for (Key cell : surface_cells) {
+      const auto [i, j, k] = unpack(cell);
+      macc.setValueOn(openvdb::Coord(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k)), true);
+      for (const auto& c : kCorner) {
+        const float value = corner_value.at(pack(i + c[0], j + c[1], k + c[2]));
+        acc.setValueOn(openvdb::Coord(static_cast<int>(i + c[0]), static_cast<int>(j + c[1]), static_cast<int>(k + c[2])), value);
+      }
+    }
+  }
+  openvdb::tools::VolumeToMesh mesher(0.0, 0.0);
+  mesher.setSurfaceMask(mask, false);
+  mesher(*grid);
+
+  // 4. Vertices projected onto f = 0 (kept where the projection fails), normals from ∇f.
+  TriangleMesh mesh;
+  const auto nv = static_cast<Eigen::Index>(mesher.pointListSize());
+  mesh.vertices.resize(nv, 3);
+  mesh.normals.resize(nv, 3);
+  const auto& pts = mesher.pointList();
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, nv, 256), [&](const auto& r) {
+    for (Eigen::Index v = r.begin(); v != r.end(); ++v) {
+      const auto& p = pts[static_cast<std::size_t>(v)];
+      Eigen::Vector3d x(p.x(), p.y(), p.z());
+      Eigen::Vector3d y = x;
+      if (options.newton_steps > 0 && project(surface, y, options.newton_steps, h, 1e-6 * h)) x = y;
+      const SurfaceSample s = surface.sample(x);
+      mesh.vertices.row(v) = x.transpose();
+      const double g = s.gradient.norm();
+      mesh.normals.row(v) = (g > 0 ? Eigen::Vector3d(s.gradient / g) : Eigen::Vector3d::UnitZ()).transpose();
+    }
+  });
+
+  // 5. Triangles: quads split along the shorter diagonal; degenerate ones dropped. OpenVDB
+  //    orients polygons for "negative inside", which is ours.
+  std::vector<std::array<std::int32_t, 3>> tris;
+  auto add = [&](std::int32_t a, std::int32_t b, std::int32_t c) {
+    if (a == b || b == c || a == c) return;
+    const Eigen::Vector3d pa = mesh.vertices.row(a).transpose(), pb = mesh.vertices.row(b).transpose(),
+                          pc = mesh.vertices.row(c).transpose();
+    if ((pb - pa).cross(pc - pa).norm() <= 1e-12 * h * h) return;
+    tris.push_back({a, b, c});
+  };
+  const auto& pools = mesher.polygonPoolList();
+  for (std::size_t n = 0; n < mesher.polygonPoolListSize(); ++n) {
+    const auto& pool = pools[n];
+    for (std::size_t q = 0; q < pool.numQuads(); ++q) {
+      const auto& quad = pool.quad(q);
+      const auto a = static_cast<std::int32_t>(quad[0]), b = static_cast<std::int32_t>(quad[1]),
+                 c = static_cast<std::int32_t>(quad[2]), d = static_cast<std::int32_t>(quad[3]);
+      const double ac = (mesh.vertices.row(a) - mesh.vertices.row(c)).squaredNorm();
+      const double bd = (mesh.vertices.row(b) - mesh.vertices.row(d)).squaredNorm();
+      if (ac <= bd) add(a, b, c), add(a, c, d);
+      else add(a, b, d), add(b, c, d);
+    }
+    for (std::size_t t = 0; t < pool.numTriangles(); ++t) {
+      const auto& tri = pool.triangle(t);
+      add(static_cast<std::int32_t>(tri[0]), static_cast<std::int32_t>(tri[1]), static_cast<std::int32_t>(tri[2]));
+    }
+  }
+  // OpenVDB emits polygons wound clockwise seen from the positive side: reverse them.
+  for (auto& t : tris) std::swap(t[1], t[2]);
+
+  // 6. Drop unreferenced vertices, keeping order.
+  std::vector<std::int32_t> remap(static_cast<std::size_t>(nv), -1);
+  for (const auto& t : tris)
+    for (auto v : t) remap[static_cast<std::size_t>(v)] = 0;
+  std::int32_t next_index = 0;
+  std::vector<Eigen::Index> keep;
+  for (Eigen::Index v = 0; v < nv; ++v)
+    if (remap[static_cast<std::size_t>(v)] == 0) remap[static_cast<std::size_t>(v)] = next_index++, keep.push_back(v);
+  mesh.vertices = Points(mesh.vertices(keep, Eigen::all));
+  mesh.normals = Points(mesh.normals(keep, Eigen::all));
+  mesh.triangles.resize(static_cast<Eigen::Index>(tris.size()), 3);
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      mesh.triangles(static_cast<Eigen::Index>(t), k) = remap[static_cast<std::size_t>(tris[t][static_cast<std::size_t>(k)])];
+
+  progress.finish();
+  if (report != nullptr) {
+    report->voxel_size = h;
+    report->evaluated_corners = corner_value.size();
+    report->surface_cells = surface_cells.size();
+  }
+  return mesh;
+}
+
+}  // namespace clustersurf

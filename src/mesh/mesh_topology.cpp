@@ -1,0 +1,49 @@
+#include <clustersurf/mesh_extraction.hpp>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <vector>
+
+namespace clustersurf {
+
+MeshTopology mesh_topology(const TriangleMesh& mesh) {
+  MeshTopology t;
+  t.vertices = static_cast<std::size_t>(mesh.vertices.rows());
+  t.triangles = static_cast<std::size_t>(mesh.triangles.rows());
+  // Directed half-edges sorted by undirected key.
+  struct HalfEdge {
+    std::int32_t lo, hi;
+    bool forward;
+  };
+  std::vector<HalfEdge> half;
+  half.reserve(3 * t.triangles);
+  for (Eigen::Index f = 0; f < mesh.triangles.rows(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const std::int32_t a = mesh.triangles(f, k), b = mesh.triangles(f, (k + 1) % 3);
+      half.push_back({std::min(a, b), std::max(a, b), a < b});
+    }
+    const Eigen::Vector3d p0 = mesh.vertices.row(mesh.triangles(f, 0)).transpose();
+    const Eigen::Vector3d p1 = mesh.vertices.row(mesh.triangles(f, 1)).transpose();
+    const Eigen::Vector3d p2 = mesh.vertices.row(mesh.triangles(f, 2)).transpose();
+    t.signed_volume += p0.dot(p1.cross(p2)) / 6.0;
+  }
+  std::sort(half.begin(), half.end(), [](const HalfEdge& a, const HalfEdge& b) {
+    return a.lo < b.lo || (a.lo == b.lo && (a.hi < b.hi || (a.hi == b.hi && a.forward < b.forward)));
+  });
+  for (std::size_t i = 0; i < half.size();) {
+    std::size_t j = i;
+    std::size_t forward = 0;
+    while (j < half.size() && half[j].lo == half[i].lo && half[j].hi == half[i].hi) forward += half[j++].forward;
+    const std::size_t count = j - i;
+    ++t.edges;
+    if (count == 1) ++t.boundary_edges;
+    else if (count > 2) ++t.non_manifold_edges;
+    else if (forward != 1) ++t.inconsistent_edges;
+    i = j;
+  }
+  t.euler_characteristic = static_cast<long>(t.vertices) - static_cast<long>(t.edges) + static_cast<long>(t.triangles);
+  return t;
+}
+
+}  // namespace clustersurf

@@ -1,0 +1,79 @@
+// Partition-of-unity blending of the proxies of a tree cut.
+
+#include <clustersurf/implicit_surface.hpp>
+
+#include <tbb/parallel_for.h>
+
+namespace clustersurf {
+
+std::vector<std::int32_t> lod_cut(const ClusterTree& tree, const LevelOfDetail& lod) {
+  std::vector<std::int32_t> cut;
+  if (tree.nodes.empty()) return cut;
+  const ErrorMetric metric = tree.parameters.metric;
+  std::vector<std::int32_t> stack{0};
+  while (!stack.empty()) {
+    const std::int32_t i = stack.back();
+    stack.pop_back();
+    const ClusterNode& n = tree.nodes[static_cast<std::size_t>(i)];
+    const double e = metric == ErrorMetric::Rms ? n.rms_error : n.max_error;
+    const bool stop = n.is_leaf() || (lod.max_depth && n.depth >= *lod.max_depth) || (lod.max_error && e <= *lod.max_error);
+    if (stop) {
+      cut.push_back(i);
+    } else {
+      stack.push_back(n.right);
+      stack.push_back(n.left);
+    }
+  }
+  return cut;
+}
+
+ImplicitSurface::ImplicitSurface(const ClusterTree& tree, const LevelOfDetail& lod)
+    : tree_(&tree), cut_(lod_cut(tree, lod)), in_cut_(tree.nodes.size(), 0) {
+  for (auto i : cut_) in_cut_[static_cast<std::size_t>(i)] = 1;
+}
+
+SurfaceSample ImplicitSurface::sample(const Eigen::Vector3d& x) const {
+  // f = A / W with A = Σ w Q and W = Σ w; ∇f = (∇A − f ∇W) / W.
+  double a = 0, w_sum = 0;
+  Eigen::Vector3d grad_a = Eigen::Vector3d::Zero(), grad_w = Eigen::Vector3d::Zero();
+  for_each_support(x, [&](std::int32_t i, double s) {
+    const ClusterNode& n = tree_->nodes[static_cast<std::size_t>(i)];
+    const double one_minus = 1 - s;
+    const double w = one_minus * one_minus * one_minus;
+    const Eigen::Vector3d dw = (-6 * one_minus * one_minus / (n.support.radius * n.support.radius)) * (x - n.support.center);
+    const double q = n.proxy.value(x);
+    a += w * q;
+    w_sum += w;
+    grad_a += dw * q + w * n.proxy.gradient(x);
+    grad_w += dw;
+  });
+  SurfaceSample out;
+  out.weight = w_sum;
+  if (!(w_sum > 0)) return out;
+  out.defined = true;
+  out.value = a / w_sum;
+  out.gradient = (grad_a - out.value * grad_w) / w_sum;
+  return out;
+}
+
+std::optional<double> ImplicitSurface::value(const Eigen::Vector3d& x) const {
+  double a = 0, w_sum = 0;
+  for_each_support(x, [&](std::int32_t i, double s) {
+    const double one_minus = 1 - s;
+    const double w = one_minus * one_minus * one_minus;
+    a += w * tree_->nodes[static_cast<std::size_t>(i)].proxy.value(x);
+    w_sum += w;
+  });
+  if (!(w_sum > 0)) return std::nullopt;
+  return a / w_sum;
+}
+
+std::vector<SurfaceSample> ImplicitSurface::sample_all(const Points& points) const {
+  std::vector<SurfaceSample> out(static_cast<std::size_t>(points.rows()));
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, points.rows(), 256), [&](const auto& r) {
+    for (Eigen::Index i = r.begin(); i != r.end(); ++i) out[static_cast<std::size_t>(i)] = sample(Eigen::Vector3d(points.row(i).transpose()));
+  });
+  return out;
+}
+
+}  // namespace clustersurf

@@ -1,0 +1,104 @@
+// Mesh extraction: accuracy against the true surface, manifoldness, watertightness, Euler
+// characteristic, outward orientation, holes where data is missing.
+
+#include <clustersurf/implicit_surface.hpp>
+#include <clustersurf/mesh_extraction.hpp>
+#include <clustersurf/orientation.hpp>
+
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include "test_support.hpp"
+
+using namespace clustersurf;
+
+namespace {
+
+TriangleMesh mesh_of(const PointCloud& c, std::uint32_t resolution, ClusterTree* keep = nullptr) {
+  ClusterTree t = build_cluster_tree(c, {});
+  orient_tree(t, c);
+  const ImplicitSurface f(t);
+  MeshOptions o;
+  o.resolution = resolution;
+  TriangleMesh m = extract_mesh(f, o);
+  if (keep != nullptr) *keep = std::move(t);
+  return m;
+}
+
+double diagonal(const PointCloud& c) { return bounding_box(c.positions).diagonal(); }
+
+}  // namespace
+
+TEST(MeshExtraction, SphereIsAccurateWatertightGenusZeroAndOutward) {
+  const PointCloud c = test::sample_sphere(30000, 1.0);
+  const TriangleMesh m = mesh_of(c, 128);
+  ASSERT_GT(m.triangles.rows(), 1000);
+  const double tol = 0.002 * diagonal(c);
+  double worst = 0;
+  for (Eigen::Index v = 0; v < m.vertices.rows(); ++v) worst = std::max(worst, std::abs(m.vertices.row(v).norm() - 1.0));
+  EXPECT_LT(worst, tol);
+  const MeshTopology t = mesh_topology(m);
+  EXPECT_EQ(t.non_manifold_edges, 0u);
+  EXPECT_EQ(t.boundary_edges, 0u);
+  EXPECT_EQ(t.inconsistent_edges, 0u);
+  EXPECT_EQ(t.euler_characteristic, 2);
+  EXPECT_NEAR(t.signed_volume, 4.0 / 3.0 * M_PI, 0.01 * 4.0 / 3.0 * M_PI);
+  // Normals point away from the center.
+  for (Eigen::Index v = 0; v < m.vertices.rows(); v += 17) EXPECT_GT(m.normals.row(v).dot(m.vertices.row(v)), 0.99);
+}
+
+TEST(MeshExtraction, TorusIsAccurateWatertightGenusOne) {
+  const PointCloud c = test::sample_torus(60000, 1.0, 0.35);
+  const TriangleMesh m = mesh_of(c, 128);
+  const double tol = 0.002 * diagonal(c);
+  double worst = 0;
+  for (Eigen::Index v = 0; v < m.vertices.rows(); ++v) {
+    const Eigen::Vector3d p = m.vertices.row(v).transpose();
+    const double ring = std::hypot(p.x(), p.y()) - 1.0;
+    worst = std::max(worst, std::abs(std::hypot(ring, p.z()) - 0.35));
+  }
+  EXPECT_LT(worst, tol);
+  const MeshTopology t = mesh_topology(m);
+  EXPECT_EQ(t.non_manifold_edges, 0u);
+  EXPECT_EQ(t.boundary_edges, 0u);
+  EXPECT_EQ(t.euler_characteristic, 0);
+  EXPECT_GT(t.signed_volume, 0);
+}
+
+TEST(MeshExtraction, MissingDataGivesAHoleNotAWall) {
+  // A hemisphere (z > 0 only): the mesh must end in a boundary near z = 0, with no surface
+  // far below the data.
+  PointCloud full = test::sample_sphere(30000, 1.0);
+  std::vector<Eigen::Index> keep;
+  for (Eigen::Index i = 0; i < full.size(); ++i)
+    if (full.positions(i, 2) > 0) keep.push_back(i);
+  PointCloud half;
+  half.positions = full.positions(keep, Eigen::all);
+  half.normals = full.normals(keep, Eigen::all);
+  const TriangleMesh m = mesh_of(half, 96);
+  const MeshTopology t = mesh_topology(m);
+  EXPECT_GT(t.boundary_edges, 20u);
+  EXPECT_EQ(t.non_manifold_edges, 0u);
+  for (Eigen::Index v = 0; v < m.vertices.rows(); ++v) {
+    EXPECT_GT(m.vertices(v, 2), -0.3);
+    EXPECT_NEAR(m.vertices.row(v).norm(), 1.0, 0.05);
+  }
+}
+
+TEST(MeshExtraction, SameMeshForOneAndTwoThreads) {
+  const PointCloud c = test::sample_torus(20000);
+  ClusterTree t = build_cluster_tree(c, {});
+  orient_tree(t, c);
+  const ImplicitSurface f(t);
+  TriangleMesh a, b;
+  {
+    tbb::task_arena one(1);
+    one.execute([&] { a = extract_mesh(f, {}); });
+  }
+  {
+    tbb::task_arena two(2);
+    two.execute([&] { b = extract_mesh(f, {}); });
+  }
+  EXPECT_EQ(a.vertices, b.vertices);
+  EXPECT_EQ(a.triangles, b.triangles);
+}
