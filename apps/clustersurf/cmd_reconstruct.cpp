@@ -72,7 +72,9 @@ int run_reconstruct(Console& console, const ReconstructArgs& args) {
   options.progress = console.progress();
   ClusterTree tree = build_cluster_tree(cloud, options);
   console.end_progress();
-  const OrientationReport orientation = orient_tree(tree, args.ignore_normals ? PointCloud{} : cloud);
+  PointCloud positions_only;
+  if (args.ignore_normals) positions_only.positions = cloud.positions;
+  const OrientationReport orientation = orient_tree(tree, args.ignore_normals ? positions_only : cloud);
   const auto t2 = std::chrono::steady_clock::now();
   if (!args.tree_output.empty()) save_tree(args.tree_output, tree);
   const auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };

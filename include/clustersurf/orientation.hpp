@@ -13,12 +13,15 @@ struct OrientationReport {
   std::size_t components = 0;    ///< connected groups of overlapping leaves (propagation only)
 };
 
-/// Flips proxies so that all agree on the outside. With `cloud` normals and the tree's
-/// point-leaf table: each node follows the mean normal of its points. Otherwise: a minimum
-/// spanning tree over leaves with overlapping supports, weighted by 1 − |nᵢ·nⱼ| (plus a
-/// penalty for neighbours stacked along their normals, i.e. opposite sides of thin parts),
-/// propagates from the leaf holding the extreme point of each component, whose outward side is
-/// certain. Internal nodes then follow the point-weighted mean of their leaves' normals.
+/// Flips proxies so that all agree on the outside. `cloud` is the tree's input.
+/// With normals in `cloud` (and the tree's point-leaf table): each node follows the mean normal
+/// of its points. Otherwise the orientation propagates over a minimum spanning tree of the
+/// leaves weighted by 1 − |nᵢ·nⱼ| (Hoppe et al. 1992 on clusters): leaves are neighbours when
+/// their clusters touch (k-nearest-neighbour point pairs; the proxies' gradients are compared
+/// where they meet) or, without a point-leaf table, when their supports overlap. Each connected
+/// component starts from the leaf reaching farthest in +x, whose outward side is certain.
+/// Internal nodes then follow the point-weighted mean of their leaves' normals.
+/// Pass an empty cloud (or one without normals) to force propagation.
 OrientationReport orient_tree(ClusterTree& tree, const PointCloud& cloud);
 
 }  // namespace clustersurf

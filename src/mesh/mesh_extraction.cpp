@@ -238,8 +238,6 @@ TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& opt
       add(static_cast<std::int32_t>(tri[0]), static_cast<std::int32_t>(tri[1]), static_cast<std::int32_t>(tri[2]));
     }
   }
-  // OpenVDB emits polygons wound clockwise seen from the positive side: reverse them.
-  for (auto& t : tris) std::swap(t[1], t[2]);
 
   // 6. Drop unreferenced vertices, keeping order.
   std::vector<std::int32_t> remap(static_cast<std::size_t>(nv), -1);
