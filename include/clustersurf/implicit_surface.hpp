@@ -40,8 +40,10 @@ class ImplicitSurface {
 
   /// f and ∇f at x (exact analytic gradient of the blend).
   SurfaceSample sample(const Eigen::Vector3d& x) const;
-  /// f at x, or nullopt where undefined.
-  std::optional<double> value(const Eigen::Vector3d& x) const;
+  /// f at x, or nullopt where undefined: where the total weight is 0, or not above
+  /// `min_weight` (a confidence floor: near the outer rim of the supports a lone proxy
+  /// extrapolates).
+  std::optional<double> value(const Eigen::Vector3d& x, double min_weight = 0) const;
   /// Samples every row of `points` in parallel; results in row order.
   std::vector<SurfaceSample> sample_all(const Points& points) const;
   /// Calls visit(node index, weight) for every cut node whose support contains x.

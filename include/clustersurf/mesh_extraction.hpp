@@ -17,6 +17,10 @@ struct MeshOptions {
   std::optional<double> voxel_size;
   /// Newton steps projecting each vertex onto f = 0 along ∇f.
   int newton_steps = 2;
+  /// Grid points whose total blending weight Σwᵢ is at most this count as undefined, so the
+  /// mesh stops where only the outer rim of a support reaches (w = 0.1 is 73 % of a radius
+  /// from a lone center): there a single proxy extrapolates away from its data.
+  double min_weight = 0.1;
   ProgressCallback progress;
 };
 
@@ -29,8 +33,8 @@ struct MeshReport {
 
 /// Meshes f = 0 on a sparse grid that follows the surface from seeds on every blended proxy:
 /// only cells crossed by the surface (and their corners) are visited, so the cost follows the
-/// surface area. Cells with a corner where f is undefined are not meshed, so missing data gives
-/// a hole with a boundary, never a wall. Polygons come from OpenVDB's volumeToMesh (manifold,
+/// surface area. Cells with a corner where f is undefined (or below min_weight) are not
+/// meshed, so missing data gives a hole with a boundary, never a wall. Polygons come from OpenVDB's volumeToMesh (manifold,
 /// one or more vertices per cell); vertices are then moved onto f = 0 by Newton steps along ∇f
 /// and get ∇f as normal; quads are split along their shorter diagonal; degenerate triangles
 /// and unused vertices are removed. Triangles face outward (towards f > 0). Deterministic.

@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -21,6 +23,8 @@ ParsedFile read_obj(const std::filesystem::path& file, std::string_view bytes, b
   std::vector<std::int32_t> tri;
   std::vector<std::int64_t> poly;
   std::size_t colored = 0;
+  // (point index, line) of the first non-finite `v` and `vn`, for the error message.
+  std::optional<std::pair<std::size_t, std::uint64_t>> bad_v, bad_vn;
   std::string_view line;
   auto numbers = [&](std::size_t first, std::size_t count, double* out) {
     for (std::size_t k = 0; k < count; ++k)
@@ -38,6 +42,8 @@ ParsedFile read_obj(const std::filesystem::path& file, std::string_view bytes, b
         throw InputError(file, {cur.line(), {}}, "expected \"v x y z [w]\" or \"v x y z r g b\", found " + std::to_string(n) + " values");
       double v[6];
       numbers(1, n, v);
+      if (!bad_v && !(std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2])))
+        bad_v = std::pair{pos.size() / 3, cur.line()};
       pos.insert(pos.end(), v, v + 3);
       if (n == 6) {
         ++colored;
@@ -49,6 +55,8 @@ ParsedFile read_obj(const std::filesystem::path& file, std::string_view bytes, b
       if (fields.size() != 4) throw InputError(file, {cur.line(), {}}, "expected \"vn x y z\"");
       double v[3];
       numbers(1, 3, v);
+      if (!bad_vn && !(std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2])))
+        bad_vn = std::pair{nrm.size() / 3, cur.line()};
       nrm.insert(nrm.end(), v, v + 3);
     } else if (kw == "f" && want_faces) {
       if (fields.size() < 4) throw InputError(file, {cur.line(), {}}, "a face needs at least 3 vertices");
@@ -75,7 +83,10 @@ ParsedFile read_obj(const std::filesystem::path& file, std::string_view bytes, b
   const auto n = static_cast<Eigen::Index>(pos.size() / 3);
   ParsedFile out;
   out.cloud.positions = Eigen::Map<Points>(pos.data(), n, 3);
-  if (n > 0 && nrm.size() == pos.size()) out.cloud.normals = Eigen::Map<Points>(nrm.data(), n, 3);
+  const bool normals = n > 0 && nrm.size() == pos.size();
+  if (normals) out.cloud.normals = Eigen::Map<Points>(nrm.data(), n, 3);
+  if (normals && bad_vn && (!bad_v || bad_vn->first < bad_v->first)) bad_v = bad_vn;
+  if (bad_v) out.first_non_finite = FileLocation{bad_v->second, std::nullopt};
   if (colored != 0 && colored == static_cast<std::size_t>(n)) out.cloud.colors = Eigen::Map<Colors>(rgb.data(), n, 3);
   out.triangles = Eigen::Map<Triangles>(tri.data(), static_cast<Eigen::Index>(tri.size() / 3), 3);
   return out;

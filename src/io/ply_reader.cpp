@@ -7,6 +7,7 @@
 
 #include <clustersurf/errors.hpp>
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -270,20 +271,46 @@ std::string element_what(const Element& e, std::uint64_t i) {
   return e.name + " " + std::to_string(i) + " of " + std::to_string(e.count);
 }
 
-void check_counts(const std::filesystem::path& file, const Header& h, std::size_t total) {
-  const std::uint64_t available = total - h.data_offset;
-  std::uint64_t need = 0;
+/// Fails, before anything is allocated, when the element counts of the header cannot fit in
+/// the data that follows it (a truncated file, or an absurd count). The error is located where
+/// the data ends: the start of the first incomplete record when that is known exactly (binary,
+/// no list before it), else the end of the file (its byte offset, or its last line for ascii).
+void check_counts(const std::filesystem::path& file, const Header& h, std::string_view bytes) {
+  const bool ascii = h.encoding == Encoding::Ascii;
+  const std::uint64_t available = bytes.size() - h.data_offset;
+  std::uint64_t need = 0;  // a lower bound of the bytes taken by the elements before `e`
+  bool exact = true;       // `need` is exact (binary, no list property so far)
   for (const auto& e : h.elements) {
-    std::uint64_t per = 0;
-    if (h.encoding == Encoding::Ascii) per = 2 * e.properties.size();  // ≥ 1 char + separator each
-    else per = e.min_binary_record();
-    if (per != 0 && e.count > (available - std::min(need, available)) / per)
-      fail_line(file, e.header_line,
-                "header claims " + std::to_string(e.count) + " " + e.name + " records (at least " +
-                    std::to_string(e.count) + " x " + std::to_string(per) + " bytes) but only " +
-                    std::to_string(available) + " bytes of data follow the header");
+    // ascii: at least one character and one separator per value; binary: the record size
+    // (lists counting their length field only).
+    const std::uint64_t per = ascii ? 2 * e.properties.size() : e.min_binary_record();
+    const std::uint64_t left = available - std::min(need, available);
+    if (per != 0 && e.count > left / per) {
+      const std::string claim = "the header (line " + std::to_string(e.header_line) + ") claims " +
+                                std::to_string(e.count) + " " + e.name + " records of " +
+                                (ascii || e.has_lists() ? "at least " : "") + std::to_string(per) + " bytes" +
+                                (ascii ? " as text" : "") + " but only " + std::to_string(available) +
+                                " bytes of data follow the header";
+      if (!ascii && exact && !e.has_lists()) {
+        const std::uint64_t complete = left / per;
+        fail_byte(file, h.data_offset + need + complete * per,
+                  "file ends inside " + element_what(e, complete) + " (" + claim + ")");
+      }
+      if (!ascii) fail_byte(file, bytes.size(), "file ends too early: " + claim);
+      const auto lines = static_cast<std::uint64_t>(std::count(bytes.begin(), bytes.end(), '\n'));
+      fail_line(file, lines + 1, "file ends too early: " + claim);
+    }
     need += per * e.count;
+    exact = exact && !e.has_lists();
   }
+}
+
+/// The number of vertices the header declares (0 without a vertex element), so that faces can
+/// be checked even when they come first.
+std::int64_t declared_vertices(const Header& h) {
+  for (const auto& e : h.elements)
+    if (e.name == "vertex") return static_cast<std::int64_t>(e.count);
+  return 0;
 }
 
 ParsedFile read_binary(const std::filesystem::path& file, std::string_view bytes, const Header& h, bool want_faces) {
@@ -293,7 +320,7 @@ ParsedFile read_binary(const std::filesystem::path& file, std::string_view bytes
   std::size_t off = h.data_offset;
   const std::size_t size = bytes.size();
   bool seen_vertex = false;
-  std::int64_t vertex_count = 0;
+  const std::int64_t vertex_count = declared_vertices(h);
   FaceSink faces;
 
   auto need = [&](std::size_t n, const Element& e, std::uint64_t i) {
@@ -310,7 +337,6 @@ ParsedFile read_binary(const std::filesystem::path& file, std::string_view bytes
       if (e.count > static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max()))
         fail_line(file, e.header_line, "too many vertices (" + std::to_string(e.count) + "); at most 2^31-1 supported");
       const VertexLayout l = vertex_layout(file, e);
-      vertex_count = static_cast<std::int64_t>(e.count);
       const auto n = static_cast<Eigen::Index>(e.count);
       out.cloud.positions.resize(n, 3);
       if (l.normals()) out.cloud.normals.resize(n, 3);
@@ -354,6 +380,7 @@ ParsedFile read_binary(const std::filesystem::path& file, std::string_view bytes
             const int idx = l.rgb[static_cast<std::size_t>(c)];
             out.cloud.colors(i, c) = to_color(get(rec, idx), e.properties[static_cast<std::size_t>(idx)].type);
           }
+        note_non_finite(out, i, FileLocation{std::nullopt, off});
         off += record;
       }
       continue;
@@ -408,7 +435,7 @@ ParsedFile read_ascii(const std::filesystem::path& file, std::string_view bytes,
   ParsedFile out;
   TextCursor cur(bytes.substr(h.data_offset), h.data_line);
   bool seen_vertex = false;
-  std::int64_t vertex_count = 0;
+  const std::int64_t vertex_count = declared_vertices(h);
   FaceSink faces;
   std::uint64_t record_line = 0;
 
@@ -445,7 +472,6 @@ ParsedFile read_ascii(const std::filesystem::path& file, std::string_view bytes,
       if (e.count > static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max()))
         fail_line(file, e.header_line, "too many vertices (" + std::to_string(e.count) + "); at most 2^31-1 supported");
       l = vertex_layout(file, e);
-      vertex_count = static_cast<std::int64_t>(e.count);
       const auto n = static_cast<Eigen::Index>(e.count);
       out.cloud.positions.resize(n, 3);
       if (l.normals()) out.cloud.normals.resize(n, 3);
@@ -453,6 +479,7 @@ ParsedFile read_ascii(const std::filesystem::path& file, std::string_view bytes,
       values.resize(e.properties.size());
     }
     const int face_prop = is_face ? face_index_property(file, e) : -1;
+    if (e.properties.empty()) continue;  // records without values take no text
     for (std::uint64_t i = 0; i < e.count; ++i) {
       for (std::size_t k = 0; k < e.properties.size(); ++k) {
         const Property& p = e.properties[k];
@@ -480,12 +507,15 @@ ParsedFile read_ascii(const std::filesystem::path& file, std::string_view bytes,
             const auto idx = static_cast<std::size_t>(l.rgb[static_cast<std::size_t>(c)]);
             out.cloud.colors(r, c) = to_color(values[idx], e.properties[idx].type);
           }
+        note_non_finite(out, r, FileLocation{record_line, std::nullopt});
       }
       if (face_prop >= 0) faces.emit(vertex_count, file, FileLocation{record_line, std::nullopt});
     }
   }
-  if (!cur.only_space_left())
-    fail_line(file, cur.line() + 1, "unexpected data after the last element (counts in the header too small?)");
+  if (const std::string_view extra = cur.next_token(); !extra.empty())
+    fail_line(file, cur.line(),
+              "unexpected data \"" + std::string(extra.substr(0, 40)) +
+                  "\" after the last element (counts in the header too small?)");
   if (!seen_vertex) fail_line(file, 1, "PLY file has no \"vertex\" element");
   if (want_faces) out.triangles = Eigen::Map<Triangles>(faces.tri.data(), static_cast<Eigen::Index>(faces.tri.size() / 3), 3);
   return out;
@@ -495,7 +525,7 @@ ParsedFile read_ascii(const std::filesystem::path& file, std::string_view bytes,
 
 ParsedFile read_ply(const std::filesystem::path& file, std::string_view bytes, bool want_faces) {
   const Header h = parse_header(file, bytes);
-  check_counts(file, h, bytes.size());
+  check_counts(file, h, bytes);
   return h.encoding == Encoding::Ascii ? read_ascii(file, bytes, h, want_faces)
                                        : read_binary(file, bytes, h, want_faces);
 }

@@ -35,8 +35,9 @@ void check_finite(const std::filesystem::path& file, io::ParsedFile& parsed, con
   for (Eigen::Index i = 0; i < n; ++i) {
     const bool ok = c.positions.row(i).allFinite() && (!c.has_normals() || c.normals.row(i).allFinite());
     if (!ok && !options.drop_non_finite)
-      throw InputError(file, {}, "point " + std::to_string(i) + " (0-based) has a non-finite coordinate or normal "
-                                     "(NaN or Inf); use the option to drop such points");
+      throw InputError(file, parsed.first_non_finite.value_or(FileLocation{}),
+                       "point " + std::to_string(i) + " (0-based) has a non-finite coordinate or normal "
+                       "(NaN or Inf); use the option to drop such points");
     any_bad = any_bad || !ok;
   }
   if (!any_bad) return;
@@ -44,7 +45,8 @@ void check_finite(const std::filesystem::path& file, io::ParsedFile& parsed, con
   for (Eigen::Index i = 0; i < n; ++i)
     if (c.positions.row(i).allFinite() && (!c.has_normals() || c.normals.row(i).allFinite())) keep.push_back(i);
   if (parsed.triangles.rows() != 0)
-    throw InputError(file, {}, "mesh has vertices with non-finite coordinates; they cannot be dropped without breaking faces");
+    throw InputError(file, parsed.first_non_finite.value_or(FileLocation{}),
+                     "mesh has vertices with non-finite coordinates; they cannot be dropped without breaking faces");
   const auto m = static_cast<Eigen::Index>(keep.size());
   PointCloud out;
   out.positions = c.positions(keep, Eigen::all);

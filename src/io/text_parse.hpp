@@ -7,19 +7,27 @@
 
 namespace clustersurf::io {
 
+/// Removes one leading '+' (a sign after it, as in "+-1", makes the token invalid); false if
+/// nothing is left.
+inline bool strip_plus(std::string_view& token) {
+  if (!token.empty() && token.front() == '+') {
+    token.remove_prefix(1);
+    if (!token.empty() && token.front() == '-') return false;
+  }
+  return !token.empty();
+}
+
 /// Parses the whole token as a double (leading '+' allowed; "nan"/"inf" parse to non-finite
 /// values so callers can name them). Returns false if the token is not entirely a number.
 inline bool parse_double(std::string_view token, double& value) {
-  if (!token.empty() && token.front() == '+') token.remove_prefix(1);
-  if (token.empty()) return false;
+  if (!strip_plus(token)) return false;
   const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
   return ec == std::errc() && ptr == token.data() + token.size();
 }
 
 /// Parses the whole token as a signed 64-bit integer.
 inline bool parse_int(std::string_view token, std::int64_t& value) {
-  if (!token.empty() && token.front() == '+') token.remove_prefix(1);
-  if (token.empty()) return false;
+  if (!strip_plus(token)) return false;
   const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
   return ec == std::errc() && ptr == token.data() + token.size();
 }

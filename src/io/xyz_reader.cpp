@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,7 @@ ParsedFile read_xyz(const std::filesystem::path& file, std::string_view bytes) {
   std::uint64_t declared_line = 0;
   std::string_view line;
   double v[7];
+  std::optional<FileLocation> first_non_finite;
   while (cur.next_line(line)) {
     split_fields(line, fields);
     if (fields.empty()) continue;
@@ -54,6 +56,8 @@ ParsedFile read_xyz(const std::filesystem::path& file, std::string_view bytes) {
                              std::string(fields[k].substr(0, 40)) + "\"");
     pos.insert(pos.end(), v, v + 3);
     if (columns == 6) nrm.insert(nrm.end(), v + 3, v + 6);
+    if (!first_non_finite && !std::all_of(v, v + (columns == 6 ? 6 : 3), [](double x) { return std::isfinite(x); }))
+      first_non_finite = FileLocation{cur.line(), std::nullopt};
     if (columns == 7)
       for (int k = 4; k < 7; ++k) rgb.push_back(static_cast<std::uint8_t>(std::clamp(std::lround(v[k]), 0L, 255L)));
   }
@@ -65,6 +69,7 @@ ParsedFile read_xyz(const std::filesystem::path& file, std::string_view bytes) {
   out.cloud.positions = Eigen::Map<Points>(pos.data(), n, 3);
   if (!nrm.empty()) out.cloud.normals = Eigen::Map<Points>(nrm.data(), n, 3);
   if (!rgb.empty()) out.cloud.colors = Eigen::Map<Colors>(rgb.data(), n, 3);
+  out.first_non_finite = first_non_finite;
   return out;
 }
 

@@ -73,6 +73,7 @@ TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& opt
   double h = options.voxel_size ? *options.voxel_size
                                 : (options.resolution > 0 ? longest / options.resolution : 0.0);
   if (!(h > 0) || !std::isfinite(h)) throw OptionError("mesh voxel size must be positive (check --resolution/--voxel-size)");
+  if (!(options.min_weight >= 0) || !std::isfinite(options.min_weight)) throw OptionError("mesh min_weight must be >= 0");
   if (longest / h > 500000) throw OptionError("mesh grid too fine: more than 500000 cells along the bounding box");
   const Eigen::Vector3d origin = box.min;
   auto corner_position = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
@@ -134,7 +135,7 @@ TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& opt
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 64), [&](const auto& r) {
       for (std::size_t t = r.begin(); t != r.end(); ++t) {
         const auto [i, j, k] = unpack(todo[t]);
-        const auto v = surface.value(corner_position(i, j, k));
+        const auto v = surface.value(corner_position(i, j, k), options.min_weight);
         values[t] = v ? static_cast<float>(*v) : std::numeric_limits<float>::quiet_NaN();
       }
     });

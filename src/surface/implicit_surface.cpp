@@ -56,7 +56,7 @@ SurfaceSample ImplicitSurface::sample(const Eigen::Vector3d& x) const {
   return out;
 }
 
-std::optional<double> ImplicitSurface::value(const Eigen::Vector3d& x) const {
+std::optional<double> ImplicitSurface::value(const Eigen::Vector3d& x, double min_weight) const {
   double a = 0, w_sum = 0;
   for_each_support(x, [&](std::int32_t i, double s) {
     const double one_minus = 1 - s;
@@ -64,7 +64,7 @@ std::optional<double> ImplicitSurface::value(const Eigen::Vector3d& x) const {
     a += w * tree_->nodes[static_cast<std::size_t>(i)].proxy.value(x);
     w_sum += w;
   });
-  if (!(w_sum > 0)) return std::nullopt;
+  if (!(w_sum > 0) || !(w_sum > min_weight)) return std::nullopt;
   return a / w_sum;
 }
 
