@@ -1,6 +1,7 @@
 #include "console.hpp"
 
 #include <fmt/format.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -11,6 +12,8 @@ namespace clustersurf::cli {
 
 Console::Console(const GlobalOptions& options) : options_(options) {
   bar_ = !options.quiet && !options.json && ::isatty(STDERR_FILENO) != 0;
+  // Warnings and errors go to stderr, keeping stdout for results (and --json).
+  spdlog::set_default_logger(spdlog::stderr_color_mt("clustersurf"));
   spdlog::set_pattern("%^%l%$: %v");
   spdlog::set_level(options.quiet ? spdlog::level::err : spdlog::level::info);
 }
