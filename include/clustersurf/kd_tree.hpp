@@ -31,6 +31,9 @@ class KdTree {
   void knn(const Eigen::Vector3d& query, std::size_t k, std::vector<Neighbor>& out) const;
   /// All points within distance `radius` of `query` (inclusive), nearest first.
   std::vector<Neighbor> radius(const Eigen::Vector3d& query, double radius) const;
+  /// Same set as radius(), into `out`, in the tree's traversal order (deterministic for a given
+  /// tree, but not by distance): cheaper when the order does not matter.
+  void radius_unsorted(const Eigen::Vector3d& query, double radius, std::vector<Neighbor>& out) const;
 
   std::size_t size() const noexcept;
   const Points& points() const noexcept;

@@ -22,6 +22,8 @@ namespace {
 
 /// Clusters at least this large build their two subtrees as parallel tasks.
 constexpr std::size_t kParallelGrain = 2048;
+/// The support check evaluates at most about this many of the points inside a support.
+constexpr std::size_t kSupportSample = 2048;
 
 struct BuildNode {
   ClusterNode node;
@@ -104,11 +106,15 @@ class Builder {
   double support_error(const ClusterNode& node) const {
     const double r2 = node.support.radius * node.support.radius;
     if (!(r2 > 0)) return 0;
+    thread_local std::vector<Neighbor> inside;
+    index_->radius_unsorted(node.support.center, node.support.radius, inside);
+    // An evenly strided subset of at most kSupportSample points estimates the RMS well.
+    const std::size_t stride = inside.size() / kSupportSample + 1;
     double sum = 0, weight = 0;
-    for (const Neighbor& nb : index_->radius(node.support.center, node.support.radius)) {
-      const double t = 1 - nb.distance_squared / r2;
+    for (std::size_t k = 0; k < inside.size(); k += stride) {
+      const double t = 1 - inside[k].distance_squared / r2;
       const double w = t * t * t;
-      const double q = node.proxy.value(points_.row(nb.index).transpose());
+      const double q = node.proxy.value(points_.row(inside[k].index).transpose());
       sum += w * q * q;
       weight += w;
     }

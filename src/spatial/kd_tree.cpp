@@ -3,6 +3,9 @@
 #include <nanoflann.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
 
 namespace clustersurf {
 
@@ -36,6 +39,21 @@ struct KdTree::Impl {
   Impl(const Points& points, int leaf_size)
       : adaptor{&points},
         index(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(static_cast<std::size_t>(std::max(1, leaf_size)))) {}
+
+  /// Every point with squared distance <= r2 (inclusive), sorted by distance then index.
+  void within(const Eigen::Vector3d& query, double r2, std::vector<Neighbor>& out) const {
+    // nanoflann's L2 adaptors compare squared distances; its test is "< radius", so widen by
+    // one ulp to make the query inclusive, then filter exactly.
+    thread_local std::vector<std::pair<std::uint32_t, double>> found;
+    found.clear();
+    index.radiusSearch(query.data(), std::nextafter(r2, std::numeric_limits<double>::infinity()), found,
+                       nanoflann::SearchParams(32, 0, false));
+    out.clear();
+    out.reserve(found.size());
+    for (const auto& [i, d2] : found)
+      if (d2 <= r2) out.push_back(Neighbor{i, d2});
+    std::sort(out.begin(), out.end(), closer);
+  }
 };
 
 KdTree::KdTree(const Points& points, int leaf_size) : impl_(std::make_unique<Impl>(points, leaf_size)) {}
@@ -63,6 +81,11 @@ void KdTree::knn(const Eigen::Vector3d& query, std::size_t k, std::vector<Neighb
   out.reserve(found);
   for (std::size_t i = 0; i < found; ++i) out.push_back(Neighbor{idx[i], d2[i]});
   std::sort(out.begin(), out.end(), closer);
+  // nanoflann keeps the first points it meets at the worst distance, so when the (k+1)-th
+  // candidate ties with the k-th, other points at that distance may have been left out and the
+  // lowest indices among them may be missing: gather all of them.
+  if (out.size() > k && out[k].distance_squared == out[k - 1].distance_squared)
+    impl_->within(query, out[k - 1].distance_squared, out);
   out.resize(std::min(k, out.size()));
 }
 
@@ -72,22 +95,22 @@ std::vector<Neighbor> KdTree::knn(const Eigen::Vector3d& query, std::size_t k) c
   return out;
 }
 
+void KdTree::radius_unsorted(const Eigen::Vector3d& query, double radius, std::vector<Neighbor>& out) const {
+  out.clear();
+  if (!(radius >= 0)) return;
+  thread_local std::vector<std::pair<std::uint32_t, double>> found;
+  found.clear();
+  const double r2 = radius * radius;
+  impl_->index.radiusSearch(query.data(), std::nextafter(r2, std::numeric_limits<double>::infinity()), found,
+                            nanoflann::SearchParams(32, 0, false));
+  for (const auto& [i, d2] : found)
+    if (d2 <= r2) out.push_back(Neighbor{i, d2});
+}
+
 std::vector<Neighbor> KdTree::radius(const Eigen::Vector3d& query, double radius) const {
-  std::vector<std::pair<std::uint32_t, double>> found;
-  if (radius >= 0) {
-    // nanoflann's L2 adaptors compare squared distances; its test is "< radius", so widen by
-    // one ulp to make the query inclusive, then filter exactly.
-    const double r2 = radius * radius;
-    impl_->index.radiusSearch(query.data(), std::nextafter(r2, std::numeric_limits<double>::infinity()), found,
-                              nanoflann::SearchParams(32, 0, false));
-    std::vector<Neighbor> out;
-    out.reserve(found.size());
-    for (const auto& [i, d2] : found)
-      if (d2 <= r2) out.push_back(Neighbor{i, d2});
-    std::sort(out.begin(), out.end(), closer);
-    return out;
-  }
-  return {};
+  std::vector<Neighbor> out;
+  if (radius >= 0 && size() > 0) impl_->within(query, radius * radius, out);
+  return out;
 }
 
 }  // namespace clustersurf
