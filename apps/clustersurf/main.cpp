@@ -52,6 +52,7 @@ int main(int argc, char** argv) {
   CLI::App app{"clustersurf: surfaces from point clouds by hierarchical clustering"};
   app.set_version_flag("--version", std::string("clustersurf ") + clustersurf::kVersion);
   app.require_subcommand(1);
+  app.fallthrough();  // global options may also follow the subcommand (inherited by subcommands)
   GlobalOptions global;
   app.add_option("--threads", global.threads, "Worker threads (0: all cores); results do not depend on it")
       ->check(CLI::NonNegativeNumber)
@@ -123,7 +124,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    const int code = app.exit(e);  // prints help, version or the usage error
+    return code == 0 ? 0 : kExitUsage;
   }
 
   const int threads = global.threads > 0 ? global.threads : static_cast<int>(tbb::info::default_concurrency());

@@ -439,14 +439,16 @@ ParsedFile read_ascii(const std::filesystem::path& file, std::string_view bytes,
   FaceSink faces;
   std::uint64_t record_line = 0;
 
+  std::string_view last_token;  // the token number() parsed last, for messages
   auto number = [&](const Element& e, std::uint64_t i, const Property& p) {
     const std::string_view t = cur.next_token();
+    last_token = t.substr(0, 40);
     if (t.empty()) fail_line(file, cur.line(), "file ends inside " + element_what(e, i) + " (property " + p.name + ")");
     double v;
     if (!parse_double(t, v))
       fail_line(file, cur.line(), "expected a number for property \"" + p.name + "\" of " + element_what(e, i) +
                                       ", found \"" + std::string(t.substr(0, 40)) + "\"");
-    if (is_integer_type(p.type) && v != std::floor(v))
+    if (is_integer_type(p.type) && (!std::isfinite(v) || v != std::floor(v)))
       fail_line(file, cur.line(), "expected an integer for property \"" + p.name + "\" of " + element_what(e, i) +
                                       ", found \"" + std::string(t.substr(0, 40)) + "\"");
     return v;
@@ -494,7 +496,13 @@ ParsedFile read_ascii(const std::filesystem::path& file, std::string_view bytes,
         if (static_cast<int>(k) == face_prop) faces.poly.clear();
         for (std::int64_t j = 0; j < c; ++j) {
           const double v = number(e, i, p);
-          if (static_cast<int>(k) == face_prop) faces.poly.push_back(static_cast<std::int64_t>(v));
+          if (static_cast<int>(k) == face_prop) {
+            // Integral but beyond any vertex count (and beyond int64: the cast would be undefined).
+            if (!(std::abs(v) <= 1e18))
+              fail_line(file, cur.line(), "face refers to vertex " + std::string(last_token) + " but there are " +
+                                              std::to_string(vertex_count) + " vertices");
+            faces.poly.push_back(static_cast<std::int64_t>(v));
+          }
         }
       }
       if (is_vertex) {

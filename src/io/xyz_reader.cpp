@@ -59,7 +59,7 @@ ParsedFile read_xyz(const std::filesystem::path& file, std::string_view bytes) {
     if (!first_non_finite && !std::all_of(v, v + (columns == 6 ? 6 : 3), [](double x) { return std::isfinite(x); }))
       first_non_finite = FileLocation{cur.line(), std::nullopt};
     if (columns == 7)
-      for (int k = 4; k < 7; ++k) rgb.push_back(static_cast<std::uint8_t>(std::clamp(std::lround(v[k]), 0L, 255L)));
+      for (int k = 4; k < 7; ++k) rgb.push_back(static_cast<std::uint8_t>(std::lround(std::clamp(v[k], 0.0, 255.0))));
   }
   const auto n = static_cast<Eigen::Index>(pos.size() / 3);
   if (declared >= 0 && declared != n)
