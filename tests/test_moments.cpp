@@ -47,8 +47,7 @@ TEST(Moments, PolyIncrementalEqualsDirectFit) {
   double ss = 0;
   for (auto i : half) {
     const Eigen::Vector3d l = frame.to_local(p.row(i).transpose());
-    const auto& c = direct.coeffs;
-    const double f = c[0] + c[1] * l.x() + c[2] * l.y() + c[3] * l.x() * l.x() + c[4] * l.x() * l.y() + c[5] * l.y() * l.y();
+    const double f = direct.height(l.x(), l.y());
     ss += (l.z() - f) * (l.z() - f);
   }
   EXPECT_NEAR(m.rms_error(), std::sqrt(ss / 300), 1e-9 * std::sqrt(ss / 300));

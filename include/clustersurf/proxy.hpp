@@ -49,6 +49,12 @@ struct PlaneProxy {
 struct PolyProxy {
   Frame frame;
   std::array<double, 6> coeffs{};
+
+  /// The height f(u, v) at local coordinates (u, v).
+  double height(double u, double v) const {
+    const auto& c = coeffs;
+    return c[0] + c[1] * u + c[2] * v + c[3] * u * u + c[4] * u * v + c[5] * v * v;
+  }
 };
 
 /// General quadric q(y) = cᵀ [y1², y2², y3², y1y2, y1y3, y2y3, y1, y2, y3, 1] in normalized

@@ -30,8 +30,7 @@ double estimate_noise(const Points& points, const NoiseOptions& options) {
       double ss = 0;
       for (auto j : idx) {
         const Eigen::Vector3d l = frame.to_local(points.row(j).transpose());
-        const auto& c = poly.coeffs;
-        const double f = c[0] + c[1] * l.x() + c[2] * l.y() + c[3] * l.x() * l.x() + c[4] * l.x() * l.y() + c[5] * l.y() * l.y();
+        const double f = poly.height(l.x(), l.y());
         ss += (l.z() - f) * (l.z() - f);
       }
       // Six coefficients are fitted from k residuals: E[ss] = (k − 6) σ².

@@ -22,9 +22,9 @@ Overloaded(F...) -> Overloaded<F...>;
 struct PolyLocal {
   double f, fu, fv;
 };
-PolyLocal poly_at(const std::array<double, 6>& c, double u, double v) {
-  return {c[0] + c[1] * u + c[2] * v + c[3] * u * u + c[4] * u * v + c[5] * v * v, c[1] + 2 * c[3] * u + c[4] * v,
-          c[2] + c[4] * u + 2 * c[5] * v};
+PolyLocal poly_at(const PolyProxy& p, double u, double v) {
+  const auto& c = p.coeffs;
+  return {p.height(u, v), c[1] + 2 * c[3] * u + c[4] * v, c[2] + c[4] * u + 2 * c[5] * v};
 }
 
 Eigen::Matrix3d quadric_hessian(const std::array<double, 10>& c) {
@@ -63,7 +63,7 @@ double Proxy::value(const Eigen::Vector3d& x) const {
           [&](const PlaneProxy& p) { return p.normal.dot(x - p.point); },
           [&](const PolyProxy& p) {
             const Eigen::Vector3d l = p.frame.to_local(x);
-            const PolyLocal f = poly_at(p.coeffs, l.x(), l.y());
+            const PolyLocal f = poly_at(p, l.x(), l.y());
             return (l.z() - f.f) / std::sqrt(1 + f.fu * f.fu + f.fv * f.fv);
           },
           [&](const QuadricProxy& p) {
@@ -87,7 +87,7 @@ Eigen::Vector3d Proxy::gradient(const Eigen::Vector3d& x) const {
           [&](const PolyProxy& p) -> Eigen::Vector3d {
             const Eigen::Vector3d l = p.frame.to_local(x);
             const auto& c = p.coeffs;
-            const PolyLocal f = poly_at(c, l.x(), l.y());
+            const PolyLocal f = poly_at(p, l.x(), l.y());
             const double d2 = 1 + f.fu * f.fu + f.fv * f.fv;
             const double d = std::sqrt(d2);
             const double r = l.z() - f.f;
@@ -122,7 +122,7 @@ std::optional<double> Proxy::intersect(const Ray& ray, double t_min, double t_ma
             const double a = -(c[3] * d.x() * d.x() + c[4] * d.x() * d.y() + c[5] * d.y() * d.y());
             const double b = d.z() - (c[1] * d.x() + c[2] * d.y() + 2 * c[3] * o.x() * d.x() +
                                       c[4] * (o.x() * d.y() + o.y() * d.x()) + 2 * c[5] * o.y() * d.y());
-            const double c0 = o.z() - poly_at(c, o.x(), o.y()).f;
+            const double c0 = o.z() - poly_at(p, o.x(), o.y()).f;
             return detail::smallest_root(a, b, c0, t_min, t_max);
           },
           [&](const QuadricProxy& p) -> std::optional<double> {
@@ -160,7 +160,7 @@ Eigen::Vector3d Proxy::normal() const {
                         [](const PointProxy&) -> Eigen::Vector3d { return Eigen::Vector3d::UnitZ(); },
                         [](const PlaneProxy& p) -> Eigen::Vector3d { return p.normal; },
                         [](const PolyProxy& p) -> Eigen::Vector3d {
-                          const PolyLocal f = poly_at(p.coeffs, 0, 0);
+                          const PolyLocal f = poly_at(p, 0, 0);
                           return (p.frame.axes * Eigen::Vector3d(-f.fu, -f.fv, 1)).normalized();
                         },
                         [](const QuadricProxy& p) -> Eigen::Vector3d {
