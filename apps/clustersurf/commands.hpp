@@ -78,4 +78,16 @@ struct MeshCommandArgs {
 };
 int run_mesh(Console& console, const MeshCommandArgs& args);
 
+struct SampleArgs {
+  std::string mesh;
+  std::string output;
+  std::size_t count = 200000;
+  double noise = 0;
+  double outliers = 0;
+  std::uint64_t seed = 1;
+  bool ascii = false;
+  bool no_normals = false;
+};
+int run_sample(Console& console, const SampleArgs& args);
+
 }  // namespace clustersurf::cli

@@ -121,6 +121,21 @@ int main(int argc, char** argv) {
   m->add_option("--points", meshcmd.mesh.points, "The input cloud, for --color distance");
   add_mesh_options(*m, meshcmd.mesh);
 
+  SampleArgs sample;
+  auto* sm = app.add_subcommand("sample", "Draw area-uniform random points (with normals) from a triangle mesh");
+  sm->add_option("mesh", sample.mesh, "Triangle mesh (.ply or .obj)")->required();
+  sm->add_option("-o,--output", sample.output, "Point cloud to write (.ply, .xyz)")->required();
+  sm->add_option("-n,--n", sample.count, "Number of surface points")->check(CLI::PositiveNumber)->default_val(200000);
+  sm->add_option("--noise", sample.noise, "Gaussian noise sigma as a fraction of the bbox diagonal")
+      ->check(CLI::NonNegativeNumber)
+      ->default_val(0);
+  sm->add_option("--outliers", sample.outliers, "Uniform outliers in the bbox, as a fraction of N")
+      ->check(CLI::NonNegativeNumber)
+      ->default_val(0);
+  sm->add_option("--seed", sample.seed, "Random seed")->default_val(1);
+  sm->add_flag("--ascii", sample.ascii, "Write ascii PLY instead of binary");
+  sm->add_flag("--no-normals", sample.no_normals, "Do not write the triangle normals");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -137,6 +152,7 @@ int main(int argc, char** argv) {
     if (r->parsed()) return run_reconstruct(console, rec);
     if (i->parsed()) return run_info(console, info);
     if (m->parsed()) return run_mesh(console, meshcmd);
+    if (sm->parsed()) return run_sample(console, sample);
     return kExitUsage;
   } catch (const clustersurf::InputError& e) {
     console.end_progress();

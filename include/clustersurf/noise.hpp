@@ -1,6 +1,7 @@
 #pragma once
 // Estimating the noise level of a scan, for the automatic error threshold.
 
+#include <clustersurf/kd_tree.hpp>
 #include <clustersurf/point_cloud.hpp>
 
 namespace clustersurf {
@@ -15,5 +16,7 @@ struct NoiseOptions {
 /// over sampled neighbourhoods of the RMS residual of a local quadratic height-field fit,
 /// corrected for the fit's degrees of freedom. Smooth noise-free samples give a value near 0.
 double estimate_noise(const Points& points, const NoiseOptions& options = {});
+/// The same estimate with a k-d tree of `points` the caller already has.
+double estimate_noise(const Points& points, const KdTree& index, const NoiseOptions& options = {});
 
 }  // namespace clustersurf

@@ -11,9 +11,14 @@ namespace clustersurf {
 
 double estimate_noise(const Points& points, const NoiseOptions& options) {
   const auto n = static_cast<std::size_t>(points.rows());
+  if (std::min(options.neighbors, n) < 10 || options.samples == 0) return 0;
+  return estimate_noise(points, KdTree(points), options);
+}
+
+double estimate_noise(const Points& points, const KdTree& tree, const NoiseOptions& options) {
+  const auto n = static_cast<std::size_t>(points.rows());
   const std::size_t k = std::min(options.neighbors, n);
   if (k < 10 || options.samples == 0) return 0;
-  const KdTree tree(points);
   const std::size_t samples = std::min(options.samples, n);
   const double stride = static_cast<double>(n) / static_cast<double>(samples);
   std::vector<double> sigma(samples);

@@ -6,6 +6,7 @@
 #include <clustersurf/noise.hpp>
 
 #include "cluster/splitters.hpp"
+#include "cluster/support_sampler.hpp"
 #include "core/progress_reporter.hpp"
 
 #include <tbb/parallel_invoke.h>
@@ -24,11 +25,37 @@ namespace {
 constexpr std::size_t kParallelGrain = 2048;
 /// The support check evaluates at most about this many of the points inside a support.
 constexpr std::size_t kSupportSample = 2048;
+/// A support sphere holds about this many times its cluster's points (measured on scans).
+constexpr std::size_t kSupportPointsPerClusterPoint = 8;
 
 struct BuildNode {
   ClusterNode node;
-  std::uint32_t begin = 0;  // offset of the cluster's range in the permutation
+  std::uint32_t begin = 0;  // offset of the cluster's rows in the working copy
   std::unique_ptr<BuildNode> left, right;
+};
+
+/// The points in cluster order: every cluster's points are contiguous rows, so the passes over
+/// a cluster read memory sequentially instead of gathering from the whole input.
+struct WorkingSet {
+  Points positions;               // positions[j] = input.positions[ids[j]]
+  std::vector<std::uint32_t> ids; // input index of each row
+  std::vector<std::uint32_t> local;  // the splitters' index ranges; local[j] == j between splits
+
+  /// Moves rows [begin, begin + order.size()) into the order a splitter left in `order`
+  /// (a permutation of those rows), and makes `order` the identity again.
+  void apply(std::uint32_t begin, std::span<std::uint32_t> order) {
+    const auto m = static_cast<Eigen::Index>(order.size());
+    Points rows(m, 3);
+    std::vector<std::uint32_t> moved(order.size());
+    for (Eigen::Index k = 0; k < m; ++k) {
+      const auto j = order[static_cast<std::size_t>(k)];
+      rows.row(k) = positions.row(j);
+      moved[static_cast<std::size_t>(k)] = ids[j];
+    }
+    positions.middleRows(begin, m) = rows;
+    std::copy(moved.begin(), moved.end(), ids.begin() + begin);
+    std::iota(order.begin(), order.end(), begin);
+  }
 };
 
 /// Smallest sphere containing spheres a and b.
@@ -51,9 +78,16 @@ std::uint64_t mix(std::uint64_t x) {  // splitmix64 finalizer
 
 class Builder {
  public:
-  Builder(const Points& points, const KdTree* index, const BuildOptions& options, double threshold, double noise,
-          detail::ProgressReporter& progress)
-      : points_(points), index_(index), options_(options), threshold_(threshold), noise_(noise), progress_(progress) {}
+  Builder(const Points& input, WorkingSet& work, const detail::SupportSampler* index, const BuildOptions& options, double threshold,
+          double noise, detail::ProgressReporter& progress)
+      : input_(input),
+        work_(work),
+        points_(work.positions),
+        index_(index),
+        options_(options),
+        threshold_(threshold),
+        noise_(noise),
+        progress_(progress) {}
 
   void build(BuildNode& bn, std::span<std::uint32_t> range, std::uint32_t depth, std::uint64_t path_seed) const {
     progress_.check();
@@ -80,9 +114,11 @@ class Builder {
                                                         : detail::lloyd_split(points_, range, options_, mix(path_seed));
     }
     if (k == 0 || k >= range.size()) {
+      std::iota(range.begin(), range.end(), bn.begin);
       progress_.advance(range.size());
       return;
     }
+    work_.apply(bn.begin, range);
     bn.left = std::make_unique<BuildNode>();
     bn.right = std::make_unique<BuildNode>();
     bn.left->begin = bn.begin;
@@ -107,22 +143,25 @@ class Builder {
     const double r2 = node.support.radius * node.support.radius;
     if (!(r2 > 0)) return 0;
     thread_local std::vector<Neighbor> inside;
-    index_->radius_unsorted(node.support.center, node.support.radius, inside);
+    index_->inside(node.support.center, node.support.radius, kSupportPointsPerClusterPoint * node.point_count,
+                   kSupportSample, inside);
     // An evenly strided subset of at most kSupportSample points estimates the RMS well.
     const std::size_t stride = inside.size() / kSupportSample + 1;
     double sum = 0, weight = 0;
     for (std::size_t k = 0; k < inside.size(); k += stride) {
       const double t = 1 - inside[k].distance_squared / r2;
       const double w = t * t * t;
-      const double q = node.proxy.value(points_.row(inside[k].index).transpose());
+      const double q = node.proxy.value(input_.row(inside[k].index).transpose());
       sum += w * q * q;
       weight += w;
     }
     return weight > 0 ? std::sqrt(sum / weight) : 0;
   }
 
-  const Points& points_;
-  const KdTree* index_;
+  const Points& input_;   // the input, in input order (indexed by the k-d tree)
+  WorkingSet& work_;      // the input in cluster order; subtrees touch disjoint rows
+  const Points& points_;  // work_.positions
+  const detail::SupportSampler* index_;
   const BuildOptions& options_;
   double threshold_;
   double noise_;
@@ -219,19 +258,28 @@ ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& opti
     case ThresholdMode::Absolute: p.error_threshold = options.threshold; break;
     case ThresholdMode::Auto:
       if (options.progress && !options.progress("estimating noise", 0.0)) throw Cancelled();
-      p.noise_sigma = estimate_noise(cloud.positions);
-      p.error_threshold = std::max(options.threshold * diagonal, options.noise_factor * p.noise_sigma);
       break;
   }
-
-  std::vector<std::uint32_t> perm(static_cast<std::size_t>(cloud.size()));
-  std::iota(perm.begin(), perm.end(), 0u);
-  detail::ProgressReporter progress(options.progress, "building tree", perm.size());
+  // One k-d tree serves the noise estimate and the support check.
   std::optional<KdTree> index;
-  if (options.support_factor > 0) index.emplace(cloud.positions);
+  if (options.support_factor > 0 || options.threshold_mode == ThresholdMode::Auto) index.emplace(cloud.positions);
+  if (options.threshold_mode == ThresholdMode::Auto) {
+    p.noise_sigma = estimate_noise(cloud.positions, *index);
+    p.error_threshold = std::max(options.threshold * diagonal, options.noise_factor * p.noise_sigma);
+  }
+  std::optional<detail::SupportSampler> sampler;
+  if (options.support_factor > 0) sampler.emplace(cloud.positions, *index);
+
+  const auto n = static_cast<std::size_t>(cloud.size());
+  WorkingSet work{cloud.positions, std::vector<std::uint32_t>(n), std::vector<std::uint32_t>(n)};
+  std::iota(work.ids.begin(), work.ids.end(), 0u);
+  std::iota(work.local.begin(), work.local.end(), 0u);
+  detail::ProgressReporter progress(options.progress, "building tree", n);
   BuildNode root;
-  Builder(cloud.positions, index ? &*index : nullptr, options, p.error_threshold, p.noise_sigma, progress).build(root, perm, 0, options.seed);
+  Builder(cloud.positions, work, sampler ? &*sampler : nullptr, options, p.error_threshold, p.noise_sigma, progress)
+      .build(root, work.local, 0, options.seed);
   progress.finish();
+  const std::vector<std::uint32_t>& perm = work.ids;
 
   std::vector<std::uint32_t> begins;
   flatten(root, tree, options.keep_point_leaves ? &begins : nullptr);

@@ -104,30 +104,39 @@ Frame pca_frame(const Points& points, std::span<const std::uint32_t> indices) {
 }
 
 PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<const std::uint32_t> indices) {
-  // Direct least squares on the design matrix (complete orthogonal decomposition: the
-  // minimum-norm solution when rank-deficient), in coordinates scaled for conditioning.
-  const auto n = static_cast<Eigen::Index>(indices.size());
-  double scale = 0;
-  Eigen::Matrix<double, Eigen::Dynamic, 6> b(n, 6);
-  Eigen::VectorXd w(n);
-  std::vector<Eigen::Vector3d> local(static_cast<std::size_t>(n));
-  for (Eigen::Index k = 0; k < n; ++k) {
-    local[static_cast<std::size_t>(k)] = frame.to_local(points.row(indices[static_cast<std::size_t>(k)]).transpose());
-    scale += local[static_cast<std::size_t>(k)].head<2>().squaredNorm();
-  }
-  scale = n > 0 ? std::sqrt(scale / static_cast<double>(n)) : 0;
-  if (!(scale > 0) || !std::isfinite(scale)) scale = 1;
-  for (Eigen::Index k = 0; k < n; ++k) {
-    const Eigen::Vector3d l = local[static_cast<std::size_t>(k)] / scale;
-    b.row(k) << 1, l.x(), l.y(), l.x() * l.x(), l.x() * l.y(), l.y() * l.y();
-    w(k) = l.z();
-  }
+  // Direct least squares on the design matrix [1 u v u² uv v² | w], in coordinates scaled for
+  // conditioning, reduced block by block (R of [R; next rows] is R of all rows so far: memory
+  // stays O(block) however large the cluster); then the minimum-norm solution of the 6×6
+  // triangular system by a complete orthogonal decomposition when rank-deficient.
+  const std::size_t n = indices.size();
   PolyProxy p;
   p.frame = frame;
   if (n == 0) return p;
-  Eigen::CompleteOrthogonalDecomposition<Eigen::Matrix<double, Eigen::Dynamic, 6>> cod(b);
+  double scale = 0;
+  for (auto i : indices) scale += frame.to_local(points.row(i).transpose()).head<2>().squaredNorm();
+  scale = std::sqrt(scale / static_cast<double>(n));
+  if (!(scale > 0) || !std::isfinite(scale)) scale = 1;
+
+  constexpr Eigen::Index kBlock = 1024;
+  using Augmented = Eigen::Matrix<double, Eigen::Dynamic, 7>;
+  Augmented stack(std::min<Eigen::Index>(kBlock, static_cast<Eigen::Index>(n)) + 7, 7);
+  Eigen::Index reduced = 0;  // rows of R carried over from the previous blocks (0 or 7)
+  for (std::size_t first = 0; first < n;) {
+    Eigen::Index rows = reduced;
+    for (; first < n && rows < reduced + kBlock; ++first, ++rows) {
+      const Eigen::Vector3d l = frame.to_local(points.row(indices[first]).transpose()) / scale;
+      stack.row(rows) << 1, l.x(), l.y(), l.x() * l.x(), l.x() * l.y(), l.y() * l.y(), l.z();
+    }
+    const Eigen::HouseholderQR<Augmented> qr(stack.topRows(rows));
+    const Eigen::Index keep = std::min<Eigen::Index>(rows, 7);
+    const Eigen::Matrix<double, Eigen::Dynamic, 7> r = qr.matrixQR().topRows(keep).template triangularView<Eigen::Upper>();
+    stack.topRows(keep) = r;
+    reduced = keep;
+  }
+  const Eigen::Index k = std::min<Eigen::Index>(reduced, 6);
+  Eigen::CompleteOrthogonalDecomposition<Eigen::Matrix<double, Eigen::Dynamic, 6>> cod(stack.topLeftCorner(k, 6));
   cod.setThreshold(1e-10);
-  const Eigen::Matrix<double, 6, 1> c = cod.solve(w);
+  const Eigen::Matrix<double, 6, 1> c = cod.solve(stack.col(6).head(k));
   // Back to unscaled coordinates: w = s·c0 + c1 u + c2 v + (c3 u² + c4 uv + c5 v²) / s.
   p.coeffs = {scale * c(0), c(1), c(2), c(3) / scale, c(4) / scale, c(5) / scale};
   for (double& x : p.coeffs)

@@ -1,0 +1,41 @@
+#include "commands.hpp"
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/surface_sampling.hpp>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <iostream>
+
+namespace clustersurf::cli {
+
+int run_sample(Console& console, const SampleArgs& args) {
+  ReadOptions read;
+  read.warn = [&console](const std::string& message) { console.warn(message); };
+  const TriangleMesh mesh = read_triangle_mesh(args.mesh, read);
+  if (mesh.triangles.rows() == 0) throw InputError(args.mesh, {}, "the file has no triangles to sample");
+  SurfaceSamplingOptions options;
+  options.count = args.count;
+  options.noise = args.noise;
+  options.outliers = args.outliers;
+  options.seed = args.seed;
+  PointCloud cloud = sample_surface(mesh, options);
+  if (args.no_normals) cloud.normals.resize(0, 3);
+  PlyWriteOptions ply;
+  ply.binary = !args.ascii;
+  write_point_cloud(args.output, cloud, ply);
+  if (console.options().json) {
+    std::cout << nlohmann::json{{"mesh", args.mesh},       {"output", args.output}, {"points", cloud.size()},
+                                {"noise", args.noise},     {"outliers", args.outliers},
+                                {"seed", args.seed}}
+                     .dump(2)
+              << "\n";
+  } else {
+    console.print(fmt::format("wrote {} points sampled from {} to {}", cloud.size(), args.mesh, args.output));
+  }
+  return 0;
+}
+
+}  // namespace clustersurf::cli

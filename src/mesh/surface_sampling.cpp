@@ -1,0 +1,111 @@
+#include <clustersurf/errors.hpp>
+#include <clustersurf/surface_sampling.hpp>
+
+#include <Eigen/Geometry>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+namespace clustersurf {
+namespace {
+
+/// Uniform doubles in [0, 1) and standard normals from the raw bits of a 64-bit Mersenne
+/// twister (whose output sequence the C++ standard fixes), so samples are portable.
+class Random {
+ public:
+  explicit Random(std::uint64_t seed) : engine_(seed) {}
+  double uniform() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }
+  double normal() {
+    if (has_spare_) {
+      has_spare_ = false;
+      return spare_;
+    }
+    const double u = 1.0 - uniform();  // (0, 1]: log stays finite
+    const double v = uniform();
+    const double r = std::sqrt(-2.0 * std::log(u));
+    spare_ = r * std::sin(2 * std::numbers::pi * v);
+    has_spare_ = true;
+    return r * std::cos(2 * std::numbers::pi * v);
+  }
+  Eigen::Vector3d unit_vector() {
+    Eigen::Vector3d d;
+    do d = Eigen::Vector3d(normal(), normal(), normal());
+    while (d.squaredNorm() < 1e-12);
+    return d.normalized();
+  }
+
+ private:
+  std::mt19937_64 engine_;
+  double spare_ = 0;
+  bool has_spare_ = false;
+};
+
+}  // namespace
+
+PointCloud sample_surface(const TriangleMesh& mesh, const SurfaceSamplingOptions& options) {
+  if (!(options.noise >= 0) || !std::isfinite(options.noise))
+    throw OptionError(fmt::format("noise must be a finite fraction >= 0, got {}", options.noise));
+  if (!(options.outliers >= 0) || !std::isfinite(options.outliers))
+    throw OptionError(fmt::format("outlier fraction must be finite and >= 0, got {}", options.outliers));
+  const Eigen::Index vertex_count = mesh.vertices.rows();
+  const Eigen::Index triangle_count = mesh.triangles.rows();
+
+  // Cumulative areas; a triangle is drawn with probability proportional to its area.
+  std::vector<double> cumulative(static_cast<std::size_t>(triangle_count));
+  std::vector<Eigen::Vector3d> normals(static_cast<std::size_t>(triangle_count));
+  double total = 0;
+  for (Eigen::Index t = 0; t < triangle_count; ++t) {
+    const auto tri = mesh.triangles.row(t);
+    if ((tri.array() < 0).any() || (tri.array() >= vertex_count).any())
+      throw OptionError(fmt::format("triangle {} references a vertex outside 0..{}", t, vertex_count - 1));
+    const Eigen::Vector3d a = mesh.vertices.row(tri(0)), b = mesh.vertices.row(tri(1)), c = mesh.vertices.row(tri(2));
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    const double area = 0.5 * n.norm();
+    if (std::isfinite(area) && area > 0) {
+      total += area;
+      normals[static_cast<std::size_t>(t)] = n.normalized();
+    }
+    cumulative[static_cast<std::size_t>(t)] = total;
+  }
+  if (!(total > 0)) throw OptionError("the mesh has no triangle of positive area to sample");
+
+  BoundingBox box;
+  for (const auto& row : mesh.triangles.rowwise())
+    for (int k = 0; k < 3; ++k) box.extend(mesh.vertices.row(row(k)).transpose());
+  const double sigma = options.noise * box.diagonal();
+  const auto outlier_count = static_cast<std::size_t>(std::llround(options.outliers * static_cast<double>(options.count)));
+  const std::size_t n = options.count + outlier_count;
+
+  PointCloud cloud;
+  cloud.positions.resize(static_cast<Eigen::Index>(n), 3);
+  cloud.normals.resize(static_cast<Eigen::Index>(n), 3);
+  Random random(options.seed);
+  for (std::size_t i = 0; i < options.count; ++i) {
+    const double target = random.uniform() * total;
+    // First triangle whose cumulative area exceeds the target: never a zero-area one.
+    const auto it = std::upper_bound(cumulative.begin(), cumulative.end(), target);
+    const auto t = static_cast<Eigen::Index>(std::min<std::ptrdiff_t>(it - cumulative.begin(), triangle_count - 1));
+    const auto tri = mesh.triangles.row(t);
+    const Eigen::Vector3d a = mesh.vertices.row(tri(0)), b = mesh.vertices.row(tri(1)), c = mesh.vertices.row(tri(2));
+    // Uniform barycentric coordinates by the square-root map (Osada et al. 2002).
+    const double r1 = std::sqrt(random.uniform()), r2 = random.uniform();
+    Eigen::Vector3d p = (1 - r1) * a + r1 * (1 - r2) * b + r1 * r2 * c;
+    if (sigma > 0) p += sigma * Eigen::Vector3d(random.normal(), random.normal(), random.normal());
+    cloud.positions.row(static_cast<Eigen::Index>(i)) = p;
+    cloud.normals.row(static_cast<Eigen::Index>(i)) = normals[static_cast<std::size_t>(t)];
+  }
+  const Eigen::Vector3d margin = 0.05 * box.extent();
+  const Eigen::Vector3d lo = box.min - margin, span = box.extent() + 2 * margin;
+  for (std::size_t i = options.count; i < n; ++i) {
+    const Eigen::Vector3d u(random.uniform(), random.uniform(), random.uniform());
+    cloud.positions.row(static_cast<Eigen::Index>(i)) = lo + span.cwiseProduct(u);
+    cloud.normals.row(static_cast<Eigen::Index>(i)) = random.unit_vector();
+  }
+  return cloud;
+}
+
+}  // namespace clustersurf
