@@ -62,6 +62,7 @@ TEST(MeshExtraction, TorusIsAccurateWatertightGenusOne) {
   EXPECT_EQ(t.non_manifold_edges, 0u);
   EXPECT_EQ(t.boundary_edges, 0u);
   EXPECT_EQ(t.euler_characteristic, 0);
+  EXPECT_EQ(t.components, 1u);
   EXPECT_GT(t.signed_volume, 0);
 }
 

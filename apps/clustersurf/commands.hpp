@@ -90,4 +90,12 @@ struct SampleArgs {
 };
 int run_sample(Console& console, const SampleArgs& args);
 
+struct EvalArgs {
+  std::string reconstruction;
+  std::string reference;
+  std::size_t samples = 200000;
+  std::uint64_t seed = 1;
+};
+int run_eval(Console& console, const EvalArgs& args);
+
 }  // namespace clustersurf::cli

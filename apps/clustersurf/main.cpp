@@ -136,6 +136,13 @@ int main(int argc, char** argv) {
   sm->add_flag("--ascii", sample.ascii, "Write ascii PLY instead of binary");
   sm->add_flag("--no-normals", sample.no_normals, "Do not write the triangle normals");
 
+  EvalArgs eval;
+  auto* ev = app.add_subcommand("eval", "Accuracy of a reconstruction against a reference surface (mesh or cloud)");
+  ev->add_option("reconstruction", eval.reconstruction, "Reconstructed mesh or cloud (.ply, .obj, .xyz)")->required();
+  ev->add_option("-r,--reference", eval.reference, "Reference mesh or cloud (the ground truth)")->required();
+  ev->add_option("--samples", eval.samples, "Points sampled on each mesh surface")->check(CLI::PositiveNumber)->default_val(200000);
+  ev->add_option("--seed", eval.seed, "Random seed for the samples")->default_val(1);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -153,6 +160,7 @@ int main(int argc, char** argv) {
     if (i->parsed()) return run_info(console, info);
     if (m->parsed()) return run_mesh(console, meshcmd);
     if (sm->parsed()) return run_sample(console, sample);
+    if (ev->parsed()) return run_eval(console, eval);
     return kExitUsage;
   } catch (const clustersurf::InputError& e) {
     console.end_progress();

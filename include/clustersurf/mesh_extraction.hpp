@@ -49,9 +49,16 @@ struct MeshTopology {
   std::size_t non_manifold_edges = 0;  ///< edges with more than two triangles
   std::size_t inconsistent_edges = 0;  ///< interior edges traversed twice in the same direction
   long euler_characteristic = 0;       ///< V − E + F
+  std::size_t components = 0;          ///< connected components (triangles sharing a vertex)
   double signed_volume = 0;            ///< > 0 for closed outward-facing meshes
 };
 
+/// Edge and component counts of `mesh`, and its signed volume.
 MeshTopology mesh_topology(const TriangleMesh& mesh);
+
+/// Closed and edge-manifold: every edge has exactly two triangles (and there is at least one).
+inline bool is_watertight(const MeshTopology& t) noexcept {
+  return t.triangles > 0 && t.boundary_edges == 0 && t.non_manifold_edges == 0;
+}
 
 }  // namespace clustersurf

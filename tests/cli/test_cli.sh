@@ -274,6 +274,38 @@ else
   ok "no temporary files left anywhere"
 fi
 
+# --- sample and eval ---------------------------------------------------------------------------
+run --json sample "$bunny" -o "$tmp/sampled.ply" -n 5000 --seed 3
+expect_rc "sample exits 0" 0
+expect_eq "sample writes N points" "$(count "$tmp/sampled.ply")" 5000
+run -q sample "$bunny" -o "$tmp/sampled2.ply" -n 5000 --seed 3
+check "sample with the same seed gives the same bytes" cmp -s "$tmp/sampled.ply" "$tmp/sampled2.ply"
+run sample "$bunny" -o "$tmp/sampled3.ply" -n 5000 --noise -1
+expect_rc "sample --noise -1 is a usage error" 2
+run sample "$tmp/sampled.ply" -o "$tmp/sampled4.ply"
+expect_rc "sample of a cloud without faces: exit code 3" 3
+expect_contains "sample of a cloud names the file" "$err" "$tmp/sampled.ply"
+check "failed sample leaves no output" test ! -e "$tmp/sampled4.ply"
+run --json eval "$bunny" --reference "$bunny" --samples 20000
+expect_rc "eval of a mesh against itself exits 0" 0
+chamfer=$(json_field chamfer)
+if python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) < 1e-9 else 1)" "$chamfer"; then
+  ok "eval: a mesh against itself has chamfer 0 ($chamfer)"
+else
+  not_ok "eval: a mesh against itself has chamfer 0" "$chamfer"
+fi
+run --json eval "$tmp/sampled.ply" --reference "$bunny"
+expect_rc "eval of a sampled cloud against its mesh exits 0" 0
+acc=$(json_field accuracy)
+if python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) < 1e-6 else 1)" "$acc"; then
+  ok "eval: exact samples lie on the mesh (accuracy $acc)"
+else
+  not_ok "eval: exact samples lie on the mesh" "$acc"
+fi
+expect_contains "eval --json reports watertightness" "$out" '"watertight": true'
+run eval "$tmp/missing.ply" --reference "$bunny"
+expect_rc "eval of a missing file: exit code 4" 4
+
 # --- shared data (optional) ---------------------------------------------------------------------
 if [ -n "$shared" ] && [ -f "$shared/bunny/scans/bun000.ply" ]; then
   expect_eq "shared bun000.ply has 40256 points" "$(count "$shared/bunny/scans/bun000.ply")" 40256

@@ -1,0 +1,143 @@
+// Point-to-mesh distance and the reconstruction scores, against cases with known answers.
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/evaluation.hpp>
+#include <clustersurf/mesh_distance.hpp>
+#include <clustersurf/surface_sampling.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace clustersurf;
+
+namespace {
+
+/// A square [0, 1]² at height z, as two triangles, facing +z.
+TriangleMesh square(double z) {
+  TriangleMesh m;
+  m.vertices.resize(4, 3);
+  m.vertices << 0, 0, z, 1, 0, z, 1, 1, z, 0, 1, z;
+  m.triangles.resize(2, 3);
+  m.triangles << 0, 1, 2, 0, 2, 3;
+  return m;
+}
+
+/// Random triangles in the unit cube.
+TriangleMesh soup(int triangles, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  TriangleMesh m;
+  m.vertices.resize(3 * triangles, 3);
+  m.triangles.resize(triangles, 3);
+  for (int t = 0; t < triangles; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      m.vertices.row(3 * t + k) << u(rng), u(rng), u(rng);
+      m.triangles(t, k) = 3 * t + k;
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+TEST(MeshDistance, ClosestPointOnTriangleBeatsEveryPointOfTheTriangle) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1, 2);
+  const Eigen::Vector3d a(0, 0, 0), b(1, 0, 0.2), c(0.3, 1, -0.1);
+  for (int q = 0; q < 200; ++q) {
+    const Eigen::Vector3d p(u(rng), u(rng), u(rng));
+    const Eigen::Vector3d x = closest_point_on_triangle(p, a, b, c);
+    const double d = (p - x).norm();
+    for (int i = 0; i <= 40; ++i)
+      for (int j = 0; i + j <= 40; ++j) {
+        const Eigen::Vector3d y = a + (b - a) * (i / 40.0) + (c - a) * (j / 40.0);
+        ASSERT_LE(d, (p - y).norm() + 1e-12);
+      }
+  }
+}
+
+TEST(MeshDistance, EqualsBruteForceOverAllTriangles) {
+  const TriangleMesh m = soup(300, 5);
+  const MeshDistance md(m);
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(-0.5, 1.5);
+  for (int q = 0; q < 500; ++q) {
+    const Eigen::Vector3d p(u(rng), u(rng), u(rng));
+    double best = std::numeric_limits<double>::infinity();
+    for (Eigen::Index t = 0; t < m.triangles.rows(); ++t) {
+      const Eigen::Vector3d x =
+          closest_point_on_triangle(p, m.vertices.row(m.triangles(t, 0)).transpose(),
+                                    m.vertices.row(m.triangles(t, 1)).transpose(), m.vertices.row(m.triangles(t, 2)).transpose());
+      best = std::min(best, (x - p).squaredNorm());
+    }
+    const ClosestPoint c = md.closest(p);
+    ASSERT_GE(c.triangle, 0);
+    EXPECT_EQ(c.distance_squared, best);
+    EXPECT_NEAR((c.point - p).squaredNorm(), best, 1e-15);
+  }
+}
+
+TEST(Evaluation, IdenticalSurfacesScorePerfectly) {
+  const TriangleMesh m = square(0);
+  EvaluationOptions o;
+  o.samples = 20000;
+  const Evaluation e = evaluate_surfaces(m, m, o);
+  EXPECT_LT(e.chamfer, 1e-12);
+  EXPECT_LT(e.hausdorff, 1e-12);
+  EXPECT_NEAR(e.normal_consistency, 1.0, 1e-12);
+  for (const FScore& f : e.fscores) EXPECT_EQ(f.fscore, 1.0);
+}
+
+TEST(Evaluation, ParallelSquaresAreTheirOffsetApart) {
+  const double d = 0.004;
+  EvaluationOptions o;
+  o.samples = 20000;
+  const Evaluation e = evaluate_surfaces(square(d), square(0), o);
+  const double diagonal = std::sqrt(2.0);  // the reference's box is flat
+  EXPECT_NEAR(e.diagonal, diagonal, 1e-15);
+  EXPECT_NEAR(e.accuracy, d / diagonal, 1e-12);
+  EXPECT_NEAR(e.completeness, d / diagonal, 1e-12);
+  EXPECT_NEAR(e.chamfer, d / diagonal, 1e-12);
+  EXPECT_NEAR(e.hausdorff, d / diagonal, 1e-12);
+  ASSERT_EQ(e.fscores.size(), 2u);
+  EXPECT_EQ(e.fscores[0].fscore, 1.0);  // τ = 0.5 % of √2 ≈ 0.0071 > d
+  const Evaluation far = evaluate_surfaces(square(0.02), square(0), o);
+  EXPECT_EQ(far.fscores[1].fscore, 0.0);  // τ = 1 % of √2 ≈ 0.014 < 0.02
+}
+
+TEST(Evaluation, NoisyCloudAgainstItsMeshMeasuresTheNoise) {
+  const TriangleMesh m = square(0);
+  SurfaceSamplingOptions s;
+  s.count = 40000;
+  s.noise = 0.002;
+  s.seed = 4;
+  const PointCloud cloud = sample_surface(m, s);
+  TriangleMesh as_cloud;
+  as_cloud.vertices = cloud.positions;
+  EvaluationOptions o;
+  o.samples = 40000;
+  const Evaluation e = evaluate_surfaces(as_cloud, m, o);
+  // Mean |N(0, σ)| = σ √(2/π); σ = 0.002 of the diagonal.
+  EXPECT_NEAR(e.accuracy, 0.002 * std::sqrt(2 / M_PI), 0.03 * 0.002);
+  EXPECT_TRUE(std::isnan(e.normal_consistency));  // the cloud has no normals
+  EXPECT_EQ(e.reconstruction_topology.triangles, 0u);
+}
+
+TEST(Evaluation, FlippedNormalsStillConsistentButTopologyIsReported) {
+  TriangleMesh a = square(0);
+  a.triangles.col(1).swap(a.triangles.col(2));  // reversed winding: |n·n'| is unchanged
+  EvaluationOptions o;
+  o.samples = 5000;
+  const Evaluation e = evaluate_surfaces(a, square(0), o);
+  EXPECT_NEAR(e.normal_consistency, 1.0, 1e-12);
+  EXPECT_EQ(e.reference_topology.boundary_edges, 4u);
+  EXPECT_EQ(e.reference_topology.components, 1u);
+  EXPECT_FALSE(is_watertight(e.reference_topology));
+}
+
+TEST(Evaluation, EmptyInputsAreRefused) {
+  EXPECT_THROW(evaluate_surfaces(TriangleMesh{}, square(0)), OptionError);
+  EXPECT_THROW(evaluate_surfaces(square(0), TriangleMesh{}), OptionError);
+}
