@@ -24,6 +24,8 @@ class PlaneMoments {
   PlaneProxy fit() const;
   /// RMS point-to-plane distance of the least-squares plane, sqrt(λ_min).
   double rms_error() const;
+  /// Eigenvalues of the covariance, ascending: the squared spreads along the principal axes.
+  Eigen::Vector3d spreads() const;
 
  private:
   Eigen::Matrix3d covariance() const;

@@ -69,23 +69,52 @@ struct SideMoments {
   double rms_error() const { return poly ? std::min(plane.rms_error(), poly->rms_error()) : plane.rms_error(); }
 };
 
-/// Sweeps the candidate split positions of `sorted`; returns the one minimizing max(e+, e−).
+/// Elongation of a cluster: ratio of its two largest principal spreads (1 for a round patch).
+double elongation(const PlaneMoments& m) {
+  const Eigen::Vector3d s = m.spreads();
+  return s(1) > 0 ? std::sqrt(s(2) / s(1)) : std::numeric_limits<double>::infinity();
+}
+
+/// Children may be this elongated (or as elongated as their parent): thinner slivers make
+/// leaves whose support spheres reach far sideways of the strip their proxy was fitted to.
+constexpr double kMaxElongation = 3.0;
+
+/// Sweeps the candidate split positions of `sorted`; returns the one minimizing max(e+, e−)
+/// among the candidates that cut no sliver (among all candidates when each one does).
 std::size_t sweep(const Points& points, std::span<const std::uint32_t> sorted, const SideMoments& empty,
                   const std::vector<std::size_t>& candidates, double noise) {
   const std::size_t m = sorted.size();
   std::vector<double> left_error(candidates.size()), right_error(candidates.size());
+  std::vector<double> left_shape(candidates.size()), right_shape(candidates.size());
   SideMoments acc = empty;
   std::size_t c = 0;
   for (std::size_t i = 0; i < m && c < candidates.size(); ++i) {
     acc.add(points.row(sorted[i]).transpose());
-    while (c < candidates.size() && candidates[c] == i + 1) left_error[c++] = acc.rms_error();
+    while (c < candidates.size() && candidates[c] == i + 1) {
+      left_shape[c] = elongation(acc.plane);
+      left_error[c++] = acc.rms_error();
+    }
   }
   acc = empty;
   c = candidates.size();
   for (std::size_t i = m; i-- > 0 && c > 0;) {
     acc.add(points.row(sorted[i]).transpose());
-    while (c > 0 && candidates[c - 1] == i) right_error[--c] = acc.rms_error();
+    while (c > 0 && candidates[c - 1] == i) {
+      right_shape[--c] = elongation(acc.plane);
+      right_error[c] = acc.rms_error();
+    }
   }
+  SideMoments whole = empty;
+  for (auto i : sorted) whole.plane.add(points.row(i).transpose());
+  const double shape_limit = std::max(kMaxElongation, elongation(whole.plane));
+  std::vector<std::uint8_t> allowed(candidates.size());
+  bool any_allowed = false;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    allowed[k] = left_shape[k] <= shape_limit && right_shape[k] <= shape_limit;
+    any_allowed = any_allowed || allowed[k];
+  }
+  if (!any_allowed) std::fill(allowed.begin(), allowed.end(), 1);
+
   // Scores within 2 % of the best (or within the noise, whose part of the error no split can
   // remove) count as ties: among them take the most balanced split, so noise-dominated
   // clusters are halved instead of cut at an arbitrary position.
@@ -94,12 +123,12 @@ std::size_t sweep(const Points& points, std::span<const std::uint32_t> sorted, c
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     const double e = std::max(left_error[k], right_error[k]);
     score[k] = std::sqrt(std::max(0.0, e * e - noise * noise));
-    best_score = std::min(best_score, score[k]);
+    if (allowed[k]) best_score = std::min(best_score, score[k]);
   }
   std::size_t best = 0;
   double best_balance = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < candidates.size(); ++k) {
-    if (score[k] > best_score * 1.02) continue;
+    if (!allowed[k] || score[k] > best_score * 1.02) continue;
     const double balance = std::abs(2.0 * static_cast<double>(candidates[k]) - static_cast<double>(m));
     if (balance < best_balance) best_balance = balance, best = candidates[k];
   }

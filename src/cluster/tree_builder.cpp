@@ -25,6 +25,9 @@ namespace {
 constexpr std::size_t kParallelGrain = 2048;
 /// The support check evaluates at most about this many of the points inside a support.
 constexpr std::size_t kSupportSample = 2048;
+/// A leaf failing the support check shrinks its support by this factor, at most this often.
+constexpr double kSupportShrinkFactor = 0.8;
+constexpr int kSupportShrinkSteps = 6;
 /// A support sphere holds about this many times its cluster's points (measured on scans).
 constexpr std::size_t kSupportPointsPerClusterPoint = 8;
 
@@ -108,12 +111,26 @@ class Builder {
 
     const double e = options_.metric == ErrorMetric::Rms ? err.rms : err.max;
     const bool can_split = depth < options_.max_depth && range.size() >= 2 * std::size_t{options_.min_points};
+    const double support_limit = options_.support_factor * threshold_;
+    std::optional<double> support;  // the support check's error, once computed
     std::size_t k = 0;
-    if (can_split && (e > threshold_ || (index_ != nullptr && support_error(node) > options_.support_factor * threshold_))) {
+    if (can_split && (e > threshold_ || (index_ != nullptr && *(support = support_error(node)) > support_limit))) {
       k = options_.splitter == SplitterKind::SplitPlane ? detail::split_plane(points_, range, frame, options_, noise_)
                                                         : detail::lloyd_split(points_, range, options_, mix(path_seed));
     }
     if (k == 0 || k >= range.size()) {
+      // A leaf that cannot be split (too few points, or no split helps) but whose proxy is off
+      // over its support — typically a cluster of two small patches far apart — keeps only the
+      // part of its support where the proxy holds, so it does not blend nonsense into its
+      // neighbours' surface.
+      if (index_ != nullptr) {
+        if (!support) support = support_error(node);
+        for (int shrink = 0; shrink < kSupportShrinkSteps && *support > support_limit; ++shrink) {
+          node.support.radius *= kSupportShrinkFactor;
+          support = support_error(node);
+        }
+        node.bound = node.support;
+      }
       std::iota(range.begin(), range.end(), bn.begin);
       progress_.advance(range.size());
       return;

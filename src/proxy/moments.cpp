@@ -56,8 +56,13 @@ PlaneProxy PlaneMoments::fit() const {
 
 double PlaneMoments::rms_error() const {
   if (n_ <= 0) return 0;
+  return std::sqrt(std::max(0.0, spreads()(0)));
+}
+
+Eigen::Vector3d PlaneMoments::spreads() const {
+  if (n_ <= 0) return Eigen::Vector3d::Zero();
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(covariance(), Eigen::EigenvaluesOnly);
-  return std::sqrt(std::max(0.0, eig.eigenvalues()(0)));
+  return eig.eigenvalues().cwiseMax(0.0);
 }
 
 PolyMoments::PolyMoments(const Frame& frame, double scale) : frame_(frame), scale_(scale > 0 ? scale : 1.0) {}
