@@ -27,7 +27,7 @@ constexpr std::size_t kParallelGrain = 2048;
 constexpr std::size_t kSupportSample = 2048;
 /// A leaf failing the support check shrinks its support by this factor, at most this often.
 constexpr double kSupportShrinkFactor = 0.8;
-constexpr int kSupportShrinkSteps = 6;
+constexpr int kSupportShrinkSteps = 10;
 /// A support sphere holds about this many times its cluster's points (measured on scans).
 constexpr std::size_t kSupportPointsPerClusterPoint = 8;
 
