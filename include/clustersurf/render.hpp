@@ -65,6 +65,19 @@ struct RenderStats {
   double error_scale = 0;       ///< Error mode: distance shown full red
 };
 
+/// A surface point found along one ray.
+struct RayHit {
+  double t = 0;                                      ///< ray parameter (unit direction: distance)
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< unit, direction of ∇f (outside)
+  std::int32_t node = -1;                            ///< blended node of largest weight there
+};
+
+/// The first point of `tree`'s surface along `ray` (unit direction, t ≥ 0) as render_tree()
+/// finds it with options.mode, options.lod and options.min_weight. For single rays (it sets up
+/// the tree cut on every call).
+std::optional<RayHit> intersect_surface(const ClusterTree& tree, const Ray& ray, const RenderOptions& options = {});
+
 /// Renders `tree` (its implicit surface or one of the ShowMode views). Deterministic: the same
 /// picture for any thread count. Throws OptionError for invalid options, Cancelled.
 Image render_tree(const ClusterTree& tree, const RenderOptions& options, RenderStats* stats = nullptr);

@@ -179,6 +179,20 @@ class TreeTracer {
 
 }  // namespace
 
+std::optional<RayHit> intersect_surface(const ClusterTree& tree, const Ray& ray, const RenderOptions& options) {
+  const render::SupportIndex index(tree, options.lod);
+  const auto search = options.mode == IntersectMode::BruteForce ? render::SupportSearch::BruteForce : render::SupportSearch::Hierarchy;
+  std::vector<SupportSpan> spans;
+  index.collect(ray, 0, kInfinity, search, spans);
+  render::MarchSettings march;
+  march.min_weight = options.min_weight;
+  march.tolerance = 1e-6 * (tree.bbox.diagonal() > 0 ? tree.bbox.diagonal() : 1.0);
+  const auto hit = options.mode == IntersectMode::HitBlend ? render::blended_hit(tree, spans, ray, 0, kInfinity, options.min_weight)
+                                                           : render::first_zero(tree, spans, ray, 0, kInfinity, march);
+  if (!hit) return std::nullopt;
+  return RayHit{hit->t, hit->position, hit->normal, hit->dominant};
+}
+
 Image render_tree(const ClusterTree& tree, const RenderOptions& options, RenderStats* stats) {
   render::check_common_options(options);
   if (tree.nodes.empty()) throw OptionError("cannot render an empty tree");
@@ -213,7 +227,7 @@ Image render_tree(const ClusterTree& tree, const RenderOptions& options, RenderS
 
   Image image = render::trace_image(camera, options, [&] { return TreeTracer(scene); }, stats);
   if (options.show == ShowMode::Error) {
-    render::draw_color_legend(image, scene.error_scale, "distance to the nearest input point");
+    render::draw_color_legend(image, scene.error_scale, "distance to input");
     if (stats != nullptr) stats->error_scale = scene.error_scale;
   }
   return image;
