@@ -13,11 +13,12 @@
 
 namespace {
 
+/// stb's compressor hook: zlib level 6 (level 9 is several times slower for ~2 % smaller files).
 unsigned char* zlib_compress(unsigned char* data, int data_len, int* out_len, int /*quality*/) {
   uLongf size = compressBound(static_cast<uLong>(data_len));
   auto* out = static_cast<unsigned char*>(std::malloc(size));
   if (out == nullptr) return nullptr;
-  if (compress2(out, &size, data, static_cast<uLong>(data_len), Z_BEST_COMPRESSION) != Z_OK) {
+  if (compress2(out, &size, data, static_cast<uLong>(data_len), 6) != Z_OK) {
     std::free(out);
     return nullptr;
   }

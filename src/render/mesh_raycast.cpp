@@ -152,7 +152,7 @@ Image render_mesh(const TriangleMesh& mesh, const RenderOptions& options, Render
       base = (b0 * mesh.colors.row(tri(0)).cast<double>() + b1 * mesh.colors.row(tri(1)).cast<double>() +
               b2 * mesh.colors.row(tri(2)).cast<double>()).transpose() / 255.0;
   };
-  return render::trace_image(camera, options, [&] {
+  return render::trace_image(camera, options, [&](int, int, int, int) {
     return [&](const Ray& ray, std::uint64_t seed) { return splatter.trace(ray, seed, color_at); };
   }, stats);
 }
@@ -191,7 +191,7 @@ Image render_points(const PointCloud& cloud, const RenderOptions& options, Rende
   const auto color_at = [&](unsigned prim, float, float, Color& base, Eigen::Vector3d&) {
     if (cloud.has_colors()) base = cloud.colors.row(prim).cast<double>().transpose() / 255.0;
   };
-  return render::trace_image(camera, options, [&] {
+  return render::trace_image(camera, options, [&](int, int, int, int) {
     return [&](const Ray& ray, std::uint64_t seed) { return splatter.trace(ray, seed, color_at); };
   }, stats);
 }

@@ -25,8 +25,8 @@ struct SampleResult {
 /// Checks the options every renderer shares; throws OptionError.
 void check_common_options(const RenderOptions& options);
 
-/// Traces options.samples rays per pixel of `camera`. `make_tracer()` is called once per tile
-/// and returns a callable (const Ray&, std::uint64_t seed) → SampleResult owning its scratch
+/// Traces options.samples rays per pixel of `camera`. `make_tracer(x0, y0, x1, y1)` is called
+/// once per tile (pixels [x0, x1) × [y0, y1)) and returns a callable (const Ray&, std::uint64_t seed) → SampleResult owning its scratch
 /// memory. The picture does not depend on the thread count.
 template <class MakeTracer>
 Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer&& make_tracer, RenderStats* stats) {
@@ -40,7 +40,7 @@ Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer
   constexpr int kTile = 16;
   tbb::parallel_for(tbb::blocked_range2d<int>(0, h, kTile, 0, w, kTile), [&](const tbb::blocked_range2d<int>& tile) {
     progress.check();
-    auto trace = make_tracer();
+    auto trace = make_tracer(tile.cols().begin(), tile.rows().begin(), tile.cols().end(), tile.rows().end());
     std::uint64_t tile_hits = 0;
     for (int y = tile.rows().begin(); y != tile.rows().end(); ++y) {
       for (int x = tile.cols().begin(); x != tile.cols().end(); ++x) {

@@ -112,7 +112,69 @@ std::optional<std::pair<double, double>> ray_sphere(const Ray& ray, const Sphere
 
 SupportIndex::SupportIndex(const ClusterTree& tree, const LevelOfDetail& lod)
     : tree_(&tree), cut_(lod_cut(tree, lod)), in_cut_(tree.nodes.size(), 0) {
+  supports_.resize(tree.nodes.size());
+  for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
+    const Sphere& sp = tree.nodes[i].support;
+    supports_[i] = Eigen::Vector4d(sp.center.x(), sp.center.y(), sp.center.z(), sp.radius * sp.radius);
+  }
   for (auto i : cut_) in_cut_[static_cast<std::size_t>(i)] = 1;
+}
+
+namespace {
+
+/// Whether a sphere may meet the cone (apex, unit axis, half-angle), conservatively.
+bool sphere_meets_cone(const Sphere& sphere, const Eigen::Vector3d& apex, const Eigen::Vector3d& axis, double half_angle) {
+  const Eigen::Vector3d v = sphere.center - apex;
+  const double dist = v.norm();
+  if (dist <= sphere.radius) return true;
+  const double angle = std::acos(std::clamp(v.dot(axis) / dist, -1.0, 1.0));
+  return angle <= half_angle + std::asin(sphere.radius / dist) + 1e-9;
+}
+
+void sort_spans(std::vector<SupportSpan>& out) {
+  std::sort(out.begin(), out.end(), [](const SupportSpan& a, const SupportSpan& b) {
+    return a.t_enter < b.t_enter || (a.t_enter == b.t_enter && a.node < b.node);
+  });
+}
+
+}  // namespace
+
+void SupportIndex::collect_in_cone(const Eigen::Vector3d& eye, const Eigen::Vector3d& axis, double half_angle,
+                                   std::vector<std::int32_t>& out) const {
+  out.clear();
+  const auto& nodes = tree_->nodes;
+  if (nodes.empty()) return;
+  std::vector<std::int32_t> stack{0};
+  while (!stack.empty()) {
+    const std::int32_t i = stack.back();
+    stack.pop_back();
+    const ClusterNode& n = nodes[static_cast<std::size_t>(i)];
+    if (!sphere_meets_cone(n.bound, eye, axis, half_angle)) continue;
+    if (in_cut_[static_cast<std::size_t>(i)]) {
+      if (sphere_meets_cone(n.support, eye, axis, half_angle)) out.push_back(i);
+    } else if (!n.is_leaf()) {
+      stack.push_back(n.right);
+      stack.push_back(n.left);
+    }
+  }
+}
+
+void SupportIndex::collect_from(const Ray& ray, double t_min, double t_max, std::span<const std::int32_t> nodes,
+                                std::vector<SupportSpan>& out) const {
+  out.clear();
+  for (std::int32_t i : nodes) {
+    // ray_sphere() on the compact copy of the support (same arithmetic, same result).
+    const Eigen::Vector4d& sp = supports_[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d oc = ray.origin - sp.head<3>();
+    const double b = oc.dot(ray.direction);
+    const double disc = b * b - (oc.squaredNorm() - sp.w());
+    if (!(disc > 0)) continue;
+    const double root = std::sqrt(disc);
+    const double t0 = -b - root, t1 = -b + root;
+    if (t1 > t_min && t0 < t_max)
+      out.push_back(make_span(tree_->nodes[static_cast<std::size_t>(i)], i, ray, std::max(t0, t_min), std::min(t1, t_max)));
+  }
+  sort_spans(out);
 }
 
 void SupportIndex::collect(const Ray& ray, double t_min, double t_max, SupportSearch search,
@@ -144,9 +206,7 @@ void SupportIndex::collect(const Ray& ray, double t_min, double t_max, SupportSe
       }
     }
   }
-  std::sort(out.begin(), out.end(), [](const SupportSpan& a, const SupportSpan& b) {
-    return a.t_enter < b.t_enter || (a.t_enter == b.t_enter && a.node < b.node);
-  });
+  sort_spans(out);
 }
 
 }  // namespace clustersurf::render

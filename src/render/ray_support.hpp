@@ -6,6 +6,7 @@
 #include <clustersurf/implicit_surface.hpp>
 
 #include <optional>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -47,6 +48,15 @@ class SupportIndex {
   /// (t_enter, node) — the same list, in the same order, for both searches.
   void collect(const Ray& ray, double t_min, double t_max, SupportSearch search, std::vector<SupportSpan>& out) const;
 
+  /// The blended nodes whose support may meet a ray from `eye` within the cone of unit `axis`
+  /// and half-angle `half_angle` (radians): a conservative superset, in pre-order.
+  void collect_in_cone(const Eigen::Vector3d& eye, const Eigen::Vector3d& axis, double half_angle,
+                       std::vector<std::int32_t>& out) const;
+  /// As collect(), testing only the support of each node of `nodes` (every blended node when
+  /// the list is the whole cut: the brute-force search).
+  void collect_from(const Ray& ray, double t_min, double t_max, std::span<const std::int32_t> nodes,
+                    std::vector<SupportSpan>& out) const;
+
   const ClusterTree& tree() const { return *tree_; }
   const std::vector<std::int32_t>& cut() const { return cut_; }
   bool in_cut(std::int32_t node) const { return in_cut_[static_cast<std::size_t>(node)] != 0; }
@@ -55,6 +65,7 @@ class SupportIndex {
   const ClusterTree* tree_;
   std::vector<std::int32_t> cut_;
   std::vector<std::uint8_t> in_cut_;
+  std::vector<Eigen::Vector4d> supports_;  // per node: support center and squared radius (cache-friendly)
 };
 
 }  // namespace clustersurf::render

@@ -16,6 +16,7 @@
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <utility>
 
 namespace clustersurf {
 
@@ -78,10 +79,20 @@ std::optional<SurfaceHit> proxy_patch_hit(const Scene& scene, std::int32_t node,
 /// Traces one tile's rays; owns the tile's scratch memory.
 class TreeTracer {
  public:
-  explicit TreeTracer(const Scene& scene) : s_(scene) {}
+  /// The tracer of the pixels [x0, x1) × [y0, y1): the supports its rays may cross are found
+  /// once, through the hierarchy, from the cone of the tile's rays (brute force: all of them).
+  TreeTracer(const Scene& scene, const Camera& camera, int x0, int y0, int x1, int y1) : s_(scene) {
+    if (s_.search == render::SupportSearch::BruteForce) return;
+    const Eigen::Vector3d axis = camera.ray(0.5 * (x0 + x1), 0.5 * (y0 + y1)).direction;
+    double half_angle = 0;
+    for (const auto& [x, y] : {std::pair{x0, y0}, std::pair{x1, y0}, std::pair{x0, y1}, std::pair{x1, y1}})
+      half_angle = std::max(half_angle, std::acos(std::clamp(camera.ray(x, y).direction.dot(axis), -1.0, 1.0)));
+    s_.index.collect_in_cone(camera.eye, axis, half_angle, tile_nodes_);
+  }
 
   SampleResult operator()(const Ray& ray, std::uint64_t seed) {
-    s_.index.collect(ray, 0, kInfinity, s_.search, spans_);
+    if (s_.search == render::SupportSearch::BruteForce) s_.index.collect_from(ray, 0, kInfinity, s_.index.cut(), spans_);
+    else s_.index.collect_from(ray, 0, kInfinity, tile_nodes_, spans_);
     switch (s_.options.show) {
       case ShowMode::Spheres: return spheres(ray);
       case ShowMode::Proxies: return proxies(ray);
@@ -173,6 +184,7 @@ class TreeTracer {
   }
 
   const Scene& s_;
+  std::vector<std::int32_t> tile_nodes_;
   std::vector<SupportSpan> spans_;
   std::vector<SupportSpan> ao_spans_;
 };
@@ -225,7 +237,8 @@ Image render_tree(const ClusterTree& tree, const RenderOptions& options, RenderS
     scene.error_scale = options.error_scale.value_or(0.005 * scene.diagonal);
   }
 
-  Image image = render::trace_image(camera, options, [&] { return TreeTracer(scene); }, stats);
+  Image image = render::trace_image(
+      camera, options, [&](int x0, int y0, int x1, int y1) { return TreeTracer(scene, camera, x0, y0, x1, y1); }, stats);
   if (options.show == ShowMode::Error) {
     render::draw_color_legend(image, scene.error_scale, "distance to input");
     if (stats != nullptr) stats->error_scale = scene.error_scale;
