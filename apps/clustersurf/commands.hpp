@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace clustersurf::cli {
 
@@ -97,5 +98,32 @@ struct EvalArgs {
   std::uint64_t seed = 1;
 };
 int run_eval(Console& console, const EvalArgs& args);
+struct RenderArgs {
+  std::vector<std::string> inputs;  // tree files (.cstree), meshes or point clouds
+  std::string output;               // .png
+  int width = 1280;
+  int height = 960;
+  int samples = 1;
+  std::string mode = "implicit";    // implicit | hit-blend | brute-force
+  std::string show = "surface";     // surface | clusters | spheres | proxies | error
+  std::optional<std::uint32_t> level;
+  std::optional<std::int32_t> highlight;
+  std::string points;               // input cloud for --show error
+  std::optional<double> error_scale;
+  double azimuth = 30;
+  double elevation = 20;
+  std::optional<double> distance;
+  double fov = 35;
+  std::vector<double> eye, target, up;  // x,y,z each when given
+  std::string background = "white";     // transparent | white | black | #rrggbb
+  bool ambient_occlusion = false;
+  std::optional<std::uint32_t> lod_depth;
+  std::optional<double> lod_error;  // fraction of the bbox diagonal
+  double min_weight = 0.1;
+  double point_radius = 0;
+  bool grid = false;
+  int columns = 0;
+};
+int run_render(Console& console, const RenderArgs& args);
 
 }  // namespace clustersurf::cli

@@ -142,6 +142,48 @@ int main(int argc, char** argv) {
   ev->add_option("-r,--reference", eval.reference, "Reference mesh or cloud (the ground truth)")->required();
   ev->add_option("--samples", eval.samples, "Points sampled on each mesh surface")->check(CLI::PositiveNumber)->default_val(200000);
   ev->add_option("--seed", eval.seed, "Random seed for the samples")->default_val(1);
+  RenderArgs rnd;
+  auto* v = app.add_subcommand("render", "Ray-trace a picture of a tree's surface (or of meshes and point clouds)");
+  v->add_option("input", rnd.inputs, "Tree file (.cstree), mesh or point cloud; several with --grid")->required();
+  v->add_option("-o,--output", rnd.output, "Picture to write (.png)")->required();
+  v->add_option("--width", rnd.width, "Picture width in pixels")->check(CLI::Range(1, 32768))->default_val(1280);
+  v->add_option("--height", rnd.height, "Picture height in pixels")->check(CLI::Range(1, 32768))->default_val(960);
+  v->add_option("--samples", rnd.samples, "Rays per pixel (anti-aliasing)")->check(CLI::Range(1, 1024))->default_val(1);
+  v->add_option("--mode", rnd.mode,
+                "Intersection: implicit (first zero of f), hit-blend (blend the proxies' hits, thesis 5.1) or "
+                "brute-force (implicit without the hierarchy)")
+      ->check(CLI::IsMember({"implicit", "hit-blend", "brute-force"}))
+      ->default_val("implicit");
+  v->add_option("--show", rnd.show, "What to draw: surface, clusters, spheres, proxies or error")
+      ->check(CLI::IsMember({"surface", "clusters", "spheres", "proxies", "error"}))
+      ->default_val("surface");
+  v->add_option("--level", rnd.level, "clusters: color by the ancestor at this depth instead of the leaf");
+  v->add_option("--highlight", rnd.highlight, "Draw this node's cluster and proxy in red over the grey surface")
+      ->check(CLI::NonNegativeNumber);
+  v->add_option("--points", rnd.points, "The input cloud, for --show error");
+  v->add_option("--error-scale", rnd.error_scale, "error: distance drawn full red (default 0.005 x diagonal)")
+      ->check(CLI::PositiveNumber);
+  v->add_option("--azimuth", rnd.azimuth, "Camera turn around the up axis, degrees")->default_val(30);
+  v->add_option("--elevation", rnd.elevation, "Camera elevation, degrees")->check(CLI::Range(-89.9, 89.9))->default_val(20);
+  v->add_option("--distance", rnd.distance, "Camera distance to the target (default: the model fills the view)")
+      ->check(CLI::PositiveNumber);
+  v->add_option("--fov", rnd.fov, "Vertical field of view, degrees")->check(CLI::Range(1.0, 170.0))->default_val(35);
+  v->add_option("--eye", rnd.eye, "Explicit camera position x,y,z")->delimiter(',')->expected(3);
+  v->add_option("--target", rnd.target, "Point looked at x,y,z (default: bbox center)")->delimiter(',')->expected(3);
+  v->add_option("--up", rnd.up, "Up direction x,y,z (default 0,1,0)")->delimiter(',')->expected(3);
+  v->add_option("--background", rnd.background, "transparent, white, black or #rrggbb")->default_val("white");
+  v->add_flag("--ao", rnd.ambient_occlusion, "Ambient occlusion (8 short rays per hit)");
+  v->add_option("--lod-depth", rnd.lod_depth, "Blend the tree cut at this depth instead of the leaves");
+  v->add_option("--lod-error", rnd.lod_error, "Blend the shallowest nodes with error <= this fraction of the diagonal")
+      ->check(CLI::NonNegativeNumber);
+  v->add_option("--min-weight", rnd.min_weight, "Surface only where the total weight exceeds this (as the mesher)")
+      ->check(CLI::NonNegativeNumber)
+      ->default_val(0.1);
+  v->add_option("--point-radius", rnd.point_radius, "Point clouds: splat radius (0: 0.75 x mean spacing)")
+      ->check(CLI::NonNegativeNumber)
+      ->default_val(0);
+  v->add_flag("--grid", rnd.grid, "Render every input with the same camera into one labelled picture");
+  v->add_option("--columns", rnd.columns, "--grid: pictures per row (0: as square as possible)")->check(CLI::NonNegativeNumber);
 
   try {
     app.parse(argc, argv);
@@ -161,6 +203,7 @@ int main(int argc, char** argv) {
     if (m->parsed()) return run_mesh(console, meshcmd);
     if (sm->parsed()) return run_sample(console, sample);
     if (ev->parsed()) return run_eval(console, eval);
+    if (v->parsed()) return run_render(console, rnd);
     return kExitUsage;
   } catch (const clustersurf::InputError& e) {
     console.end_progress();

@@ -13,6 +13,9 @@ Colors colors_by_node(const TriangleMesh& mesh, const ImplicitSurface& surface);
 /// The RGB color of node `index` used by colors_by_node() (and the pictures).
 Eigen::Matrix<std::uint8_t, 3, 1> node_color(std::int32_t index);
 
+/// The color of `fraction` of the distance scale: green (0) → yellow (0.5) → red (≥ 1).
+Eigen::Matrix<std::uint8_t, 3, 1> distance_color(double fraction);
+
 /// Green (0) → yellow → red (≥ max_distance) by the distance from each vertex to the nearest
 /// point of `points`. Also returns the distances when `distances` is given.
 Colors colors_by_distance(const TriangleMesh& mesh, const Points& points, double max_distance,

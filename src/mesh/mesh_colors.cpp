@@ -28,6 +28,15 @@ Eigen::Matrix<std::uint8_t, 3, 1> node_color(std::int32_t index) {
           static_cast<std::uint8_t>(std::lround(255 * b))};
 }
 
+Eigen::Matrix<std::uint8_t, 3, 1> distance_color(double fraction) {
+  const double t = std::clamp(std::isfinite(fraction) ? fraction : 1.0, 0.0, 1.0);
+  // green (0, 200, 0) → yellow (230, 220, 0) → red (220, 0, 0)
+  const double red = t < 0.5 ? 460 * t : 230 - 20 * (t - 0.5);
+  const double green = t < 0.5 ? 200 + 40 * t : 440 * (1 - t);
+  return {static_cast<std::uint8_t>(std::lround(std::clamp(red, 0.0, 255.0))),
+          static_cast<std::uint8_t>(std::lround(std::clamp(green, 0.0, 255.0))), 0};
+}
+
 Colors colors_by_node(const TriangleMesh& mesh, const ImplicitSurface& surface) {
   Colors c(mesh.vertices.rows(), 3);
   tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, mesh.vertices.rows(), 512), [&](const auto& r) {
@@ -54,12 +63,8 @@ Colors colors_by_distance(const TriangleMesh& mesh, const Points& points, double
       tree.knn(mesh.vertices.row(v).transpose(), 1, nb);
       const double d = nb.empty() ? max_distance : std::sqrt(nb[0].distance_squared);
       if (distances != nullptr) (*distances)[static_cast<std::size_t>(v)] = d;
-      const double t = max_distance > 0 ? std::clamp(d / max_distance, 0.0, 1.0) : 0.0;
-      // green (0, 200, 0) → yellow (230, 220, 0) → red (220, 0, 0)
-      const double red = t < 0.5 ? 460 * t : 230 - 20 * (t - 0.5);
-      const double green = t < 0.5 ? 200 + 40 * t : 440 * (1 - t);
-      c.row(v) << static_cast<std::uint8_t>(std::lround(std::clamp(red, 0.0, 255.0))),
-          static_cast<std::uint8_t>(std::lround(std::clamp(green, 0.0, 255.0))), 0;
+      const double t = max_distance > 0 ? d / max_distance : 0.0;
+      c.row(v) = distance_color(t).transpose();
     }
   });
   return c;

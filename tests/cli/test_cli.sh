@@ -84,10 +84,10 @@ if [[ "$out" =~ ^clustersurf\ [0-9]+\.[0-9]+\.[0-9]+ ]]; then ok "--version prin
 
 run --help
 expect_rc "--help exits 0" 0
-for sub in convert stats reconstruct info mesh; do
+for sub in convert stats reconstruct info mesh render; do
   expect_contains "--help lists $sub" "$out" "$sub"
 done
-for sub in convert stats reconstruct info mesh; do
+for sub in convert stats reconstruct info mesh render; do
   run "$sub" --help
   expect_rc "$sub --help exits 0" 0
   expect_contains "$sub --help shows usage" "$out" "Usage:"
@@ -305,6 +305,36 @@ fi
 expect_contains "eval --json reports watertightness" "$out" '"watertight": true'
 run eval "$tmp/missing.ply" --reference "$bunny"
 expect_rc "eval of a missing file: exit code 4" 4
+# --- render -----------------------------------------------------------------------------------
+is_png() { [ "$(head -c 8 "$1" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ]; }
+run --json render "$tmp/b.cstree" -o "$tmp/r.png" --width 160 --height 120
+expect_rc "render exits 0" 0
+check "render writes a PNG (magic)" is_png "$tmp/r.png"
+rps=$(json_field rays_per_second)
+if [ -n "$rps" ] && python3 -c "import sys; sys.exit(0 if float('$rps') > 0 else 1)" 2>/dev/null; then ok "render --json reports rays/s"; else not_ok "render --json rays_per_second" "$out"; fi
+for show in clusters spheres proxies; do
+  run render "$tmp/b.cstree" -o "$tmp/r-$show.png" --width 96 --height 72 --show "$show"
+  expect_rc "render --show $show exits 0" 0
+  check "render --show $show writes a PNG" is_png "$tmp/r-$show.png"
+done
+run render "$tmp/b.cstree" -o "$tmp/r-err.png" --width 96 --height 72 --show error --points "$bunny"
+expect_rc "render --show error --points exits 0" 0
+run render "$tmp/b.cstree" -o "$tmp/r-hb.png" --width 96 --height 72 --mode hit-blend --highlight 1 --samples 2 --background transparent
+expect_rc "render --mode hit-blend --highlight exits 0" 0
+run render "$tmp/m.ply" "$bunny" "$tmp/b.cstree" --grid -o "$tmp/grid.png" --width 96 --height 72
+expect_rc "render --grid of a mesh, a cloud and a tree exits 0" 0
+check "render --grid writes a PNG" is_png "$tmp/grid.png"
+run render "$tmp/b.cstree" -o "$tmp/out/bad.png" --mode nonsense
+expect_rc "render with a bad --mode: exit code 2" 2
+run render "$tmp/b.cstree" -o "$tmp/out/bad.png" --show error
+expect_rc "render --show error without --points: exit code 2" 2
+run render "$tmp/b.cstree" -o "$tmp/out/bad.png" --highlight 999999
+expect_rc "render --highlight of a missing node: exit code 2" 2
+run render "$tmp/does-not-exist.cstree" -o "$tmp/out/bad.png"
+expect_rc "render of a missing input: exit code 4" 4
+run render "$tmp/trunc.cstree" -o "$tmp/out/bad.png"
+expect_rc "render of a corrupt tree: exit code 3" 3
+no_new_files "failed renders leave no output" "$tmp/out" "existing.ply"
 
 # --- shared data (optional) ---------------------------------------------------------------------
 if [ -n "$shared" ] && [ -f "$shared/bunny/scans/bun000.ply" ]; then

@@ -1,0 +1,183 @@
+#include "commands.hpp"
+#include "input.hpp"
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/render.hpp>
+#include <clustersurf/tree_file.hpp>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <variant>
+
+namespace clustersurf::cli {
+
+namespace {
+
+/// One input of the render command, by what its file holds.
+using Scene = std::variant<ClusterTree, TriangleMesh, PointCloud>;
+
+bool is_tree_file(const std::string& file) {
+  if (std::filesystem::path(file).extension() == ".cstree") return true;
+  std::ifstream in(file, std::ios::binary);
+  char magic[8] = {};
+  in.read(magic, sizeof magic);
+  return in.gcount() == 8 && std::string(magic, 8) == std::string("\x89" "CSTREE\n", 8);
+}
+
+Scene load_scene(Console& console, const std::string& file) {
+  if (is_tree_file(file)) return load_tree(file);
+  if (format_from_extension(file) != FileFormat::Xyz) {
+    ReadOptions options;
+    options.warn = [&console](const std::string& message) { console.warn(message); };
+    TriangleMesh mesh = read_triangle_mesh(file, options);
+    if (mesh.triangles.rows() > 0) return mesh;
+  }
+  return read_input(console, InputArgs{file, false});
+}
+
+BoundingBox scene_box(const Scene& scene) {
+  return std::visit(
+      [](const auto& s) -> BoundingBox {
+        using T = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<T, ClusterTree>) return s.bbox;
+        else if constexpr (std::is_same_v<T, TriangleMesh>) return bounding_box(s.vertices);
+        else return bounding_box(s.positions);
+      },
+      scene);
+}
+
+Rgba8 parse_background(const std::string& text) {
+  if (text == "transparent") return {255, 255, 255, 0};
+  if (text == "white") return {255, 255, 255, 255};
+  if (text == "black") return {0, 0, 0, 255};
+  unsigned r = 0, g = 0, b = 0;
+  char tail = 0;
+  if (text.size() == 7 && std::sscanf(text.c_str(), "#%2x%2x%2x%c", &r, &g, &b, &tail) == 3)
+    return {static_cast<std::uint8_t>(r), static_cast<std::uint8_t>(g), static_cast<std::uint8_t>(b), 255};
+  throw OptionError("--background must be transparent, white, black or #rrggbb, not \"" + text + "\"");
+}
+
+std::optional<Eigen::Vector3d> vector_option(const std::vector<double>& v, const char* name) {
+  if (v.empty()) return std::nullopt;
+  if (v.size() != 3) throw OptionError(std::string(name) + " takes x,y,z");
+  return Eigen::Vector3d(v[0], v[1], v[2]);
+}
+
+IntersectMode parse_mode(const std::string& s) {
+  if (s == "implicit") return IntersectMode::Implicit;
+  if (s == "hit-blend") return IntersectMode::HitBlend;
+  if (s == "brute-force") return IntersectMode::BruteForce;
+  throw OptionError("--mode must be implicit, hit-blend or brute-force, not \"" + s + "\"");
+}
+
+ShowMode parse_show(const std::string& s) {
+  for (ShowMode m : {ShowMode::Surface, ShowMode::Clusters, ShowMode::Spheres, ShowMode::Proxies, ShowMode::Error})
+    if (s == to_string(m)) return m;
+  throw OptionError("--show must be surface, clusters, spheres, proxies or error, not \"" + s + "\"");
+}
+
+}  // namespace
+
+int run_render(Console& console, const RenderArgs& args) {
+  if (args.inputs.size() > 1 && !args.grid) throw OptionError("several inputs need --grid");
+  if (std::filesystem::path(args.output).extension() != ".png") throw OptionError("the output must be a .png file");
+  RenderOptions options;
+  options.width = args.width;
+  options.height = args.height;
+  options.samples = args.samples;
+  options.mode = parse_mode(args.mode);
+  options.show = parse_show(args.show);
+  options.level = args.level;
+  options.highlight = args.highlight;
+  options.error_scale = args.error_scale;
+  options.camera.azimuth = args.azimuth;
+  options.camera.elevation = args.elevation;
+  options.camera.distance = args.distance;
+  options.camera.fov = args.fov;
+  options.camera.eye = vector_option(args.eye, "--eye");
+  options.camera.target = vector_option(args.target, "--target");
+  if (auto up = vector_option(args.up, "--up")) options.camera.up = *up;
+  options.background = parse_background(args.background);
+  options.ambient_occlusion = args.ambient_occlusion;
+  options.lod.max_depth = args.lod_depth;
+  options.min_weight = args.min_weight;
+  options.point_radius = args.point_radius;
+  if (options.show == ShowMode::Error && args.points.empty()) throw OptionError("--show error needs the input points (--points FILE)");
+
+  std::vector<Scene> scenes;
+  for (const std::string& file : args.inputs) scenes.push_back(load_scene(console, file));
+  PointCloud reference;
+  if (!args.points.empty()) {
+    reference = read_input(console, InputArgs{args.points, false});
+    options.reference_points = &reference.positions;
+  }
+  BoundingBox framing;
+  for (const Scene& s : scenes) {
+    const BoundingBox b = scene_box(s);
+    if (!b.empty()) framing.extend(b.min), framing.extend(b.max);
+  }
+  options.framing = framing;
+  options.progress = console.progress();
+
+  std::vector<Image> pictures;
+  std::vector<std::string> labels;
+  nlohmann::json renders = nlohmann::json::array();
+  RenderStats total;
+  for (std::size_t k = 0; k < scenes.size(); ++k) {
+    RenderStats stats;
+    std::string kind;
+    if (const auto* tree = std::get_if<ClusterTree>(&scenes[k])) {
+      RenderOptions o = options;
+      if (args.lod_error) o.lod.max_error = *args.lod_error * tree->bbox.diagonal();
+      pictures.push_back(render_tree(*tree, o, &stats));
+      kind = "tree";
+    } else {
+      if (options.show != ShowMode::Surface || options.highlight)
+        console.warn(args.inputs[k] + " is not a tree file: drawn as a plain surface");
+      RenderOptions o = options;
+      o.show = ShowMode::Surface;
+      if (const auto* mesh = std::get_if<TriangleMesh>(&scenes[k])) {
+        pictures.push_back(render_mesh(*mesh, o, &stats));
+        kind = "mesh";
+      } else {
+        pictures.push_back(render_points(std::get<PointCloud>(scenes[k]), o, &stats));
+        kind = "points";
+      }
+    }
+    console.end_progress();
+    labels.push_back(std::filesystem::path(args.inputs[k]).filename().string());
+    total.seconds += stats.seconds;
+    total.rays += stats.rays;
+    total.hits += stats.hits;
+    console.print(fmt::format("render          {} ({}): {}x{}, {} spp, {:.3f} s, {:.3g} rays/s, {:.1f} % hit", args.inputs[k], kind,
+                              args.width, args.height, args.samples, stats.seconds, stats.rays_per_second,
+                              stats.rays > 0 ? 100.0 * static_cast<double>(stats.hits) * args.samples / static_cast<double>(stats.rays) : 0.0));
+    nlohmann::json j = {{"input", args.inputs[k]}, {"kind", kind},       {"seconds", stats.seconds},
+                        {"rays", stats.rays},      {"hits", stats.hits}, {"rays_per_second", stats.rays_per_second}};
+    if (kind == "tree") j["mode"] = args.mode, j["show"] = args.show;
+    if (stats.error_scale > 0) j["error_scale"] = stats.error_scale;
+    renders.push_back(j);
+  }
+  const Image picture = args.grid ? compose_grid(pictures, labels, options.background, args.columns) : pictures.front();
+  write_png(args.output, picture);
+  console.print("wrote           " + args.output);
+  if (console.options().json) {
+    const nlohmann::json j = {{"file", args.output},
+                              {"width", picture.width},
+                              {"height", picture.height},
+                              {"samples", args.samples},
+                              {"seconds", total.seconds},
+                              {"rays", total.rays},
+                              {"rays_per_second", total.seconds > 0 ? static_cast<double>(total.rays) / total.seconds : 0.0},
+                              {"renders", renders}};
+    std::cout << j.dump(2) << "\n";
+  }
+  return 0;
+}
+
+}  // namespace clustersurf::cli

@@ -1,0 +1,199 @@
+// Pictures of triangle meshes and point clouds, so results of other tools can be shown with
+// the same camera as a tree. Ray casting uses Embree (Debian's libembree-dev): its BVHs are
+// the well-kept choice for triangles, and its oriented-disc and sphere points draw splats.
+
+#include <clustersurf/cloud_stats.hpp>
+#include <clustersurf/errors.hpp>
+#include <clustersurf/render.hpp>
+
+#include "render/pixel_loop.hpp"
+
+#include <embree3/rtcore.h>
+
+#include <limits>
+#include <string>
+
+namespace clustersurf {
+
+namespace {
+
+using render::Color;
+using render::SampleResult;
+
+const Color kSurface(0.80, 0.77, 0.72);
+constexpr int kOcclusionRays = 8;
+
+/// An Embree device and scene holding one geometry; released on destruction.
+class EmbreeScene {
+ public:
+  EmbreeScene() : device_(rtcNewDevice(nullptr)) {
+    if (device_ == nullptr) throw Error("Embree: cannot create a device");
+    scene_ = rtcNewScene(device_);
+  }
+  ~EmbreeScene() {
+    if (scene_ != nullptr) rtcReleaseScene(scene_);
+    rtcReleaseDevice(device_);
+  }
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  RTCDevice device() const { return device_; }
+  /// Attaches and commits `geometry` (taking it over), then commits the scene.
+  void commit(RTCGeometry geometry) {
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(scene_, geometry);
+    rtcReleaseGeometry(geometry);
+    rtcCommitScene(scene_);
+    if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) throw Error("Embree: building the scene failed");
+  }
+
+  /// The nearest hit along the ray, if any: (t, unnormalized normal, primitive, u, v).
+  bool intersect(const Ray& ray, float t_max, RTCRayHit& rh) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    set_ray(ray, t_max, rh.ray);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene_, &context, &rh);
+    return rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+  }
+  /// True when something lies along the ray before t_max.
+  bool occluded(const Ray& ray, float t_max) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay r;
+    set_ray(ray, t_max, r);
+    rtcOccluded1(scene_, &context, &r);
+    return r.tfar < 0;
+  }
+
+ private:
+  static void set_ray(const Ray& ray, float t_max, RTCRay& r) {
+    r.org_x = static_cast<float>(ray.origin.x()), r.org_y = static_cast<float>(ray.origin.y());
+    r.org_z = static_cast<float>(ray.origin.z());
+    r.dir_x = static_cast<float>(ray.direction.x()), r.dir_y = static_cast<float>(ray.direction.y());
+    r.dir_z = static_cast<float>(ray.direction.z());
+    r.tnear = 0, r.tfar = t_max, r.time = 0, r.mask = ~0u, r.id = 0, r.flags = 0;
+  }
+  RTCDevice device_;
+  RTCScene scene_ = nullptr;
+};
+
+/// Shading shared by meshes and clouds: the hit's color, optional occlusion.
+class Splatter {
+ public:
+  Splatter(const EmbreeScene& scene, const RenderOptions& options, const Camera& camera, double diagonal)
+      : scene_(scene), options_(options), lights_(render::camera_lighting(camera)), diagonal_(diagonal) {}
+
+  template <class ColorAt>
+  SampleResult trace(const Ray& ray, std::uint64_t seed, ColorAt&& color_at) const {
+    RTCRayHit rh;
+    if (!scene_.intersect(ray, std::numeric_limits<float>::infinity(), rh)) return {};
+    Eigen::Vector3d n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    Color base = kSurface;
+    color_at(rh.hit.primID, rh.hit.u, rh.hit.v, base, n);
+    n = n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d(-ray.direction);
+    double occlusion = 1;
+    if (options_.ambient_occlusion) {
+      const Eigen::Vector3d facing = n.dot(ray.direction) > 0 ? Eigen::Vector3d(-n) : n;
+      const Eigen::Vector3d x = ray.origin + static_cast<double>(rh.ray.tfar) * ray.direction + 1e-4 * diagonal_ * facing;
+      int open = 0;
+      for (int k = 0; k < kOcclusionRays; ++k) {
+        const std::uint64_t bits = render::mix_bits(seed + 0x9e37 * static_cast<std::uint64_t>(k + 1));
+        const Eigen::Vector3d d = render::cosine_direction(facing, render::unit_interval(bits), render::unit_interval(render::mix_bits(bits)));
+        if (!scene_.occluded({x, d}, static_cast<float>(0.08 * diagonal_))) ++open;
+      }
+      occlusion = 0.35 + 0.65 * open / kOcclusionRays;
+    }
+    return {render::shade(lights_, n, ray.direction, base, occlusion), 1.0};
+  }
+
+ private:
+  const EmbreeScene& scene_;
+  const RenderOptions& options_;
+  render::Lighting lights_;
+  double diagonal_;
+};
+
+BoundingBox framing_box(const RenderOptions& options, const Points& points) {
+  return options.framing.value_or(bounding_box(points));
+}
+
+}  // namespace
+
+Image render_mesh(const TriangleMesh& mesh, const RenderOptions& options, RenderStats* stats) {
+  render::check_common_options(options);
+  if (mesh.triangles.rows() == 0) throw OptionError("cannot render a mesh without triangles");
+  const Camera camera = make_camera(framing_box(options, mesh.vertices), options.camera, options.width, options.height);
+  EmbreeScene scene;
+  RTCGeometry geometry = rtcNewGeometry(scene.device(), RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                        3 * sizeof(float), static_cast<std::size_t>(mesh.vertices.rows())));
+  auto* f = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                           3 * sizeof(unsigned), static_cast<std::size_t>(mesh.triangles.rows())));
+  if (v == nullptr || f == nullptr) throw std::bad_alloc();
+  for (Eigen::Index i = 0; i < mesh.vertices.rows(); ++i)
+    for (int k = 0; k < 3; ++k) v[3 * i + k] = static_cast<float>(mesh.vertices(i, k));
+  for (Eigen::Index i = 0; i < mesh.triangles.rows(); ++i)
+    for (int k = 0; k < 3; ++k) f[3 * i + k] = static_cast<unsigned>(mesh.triangles(i, k));
+  scene.commit(geometry);
+  const bool smooth = mesh.normals.rows() == mesh.vertices.rows();
+  const bool colored = mesh.colors.rows() == mesh.vertices.rows();
+  const Splatter splatter(scene, options, camera, bounding_box(mesh.vertices).diagonal());
+  const auto color_at = [&](unsigned prim, float u, float w, Color& base, Eigen::Vector3d& normal) {
+    const auto tri = mesh.triangles.row(prim);
+    const double b0 = 1.0 - u - w, b1 = u, b2 = w;
+    if (smooth) {
+      const Eigen::Vector3d n = b0 * mesh.normals.row(tri(0)).transpose() + b1 * mesh.normals.row(tri(1)).transpose() +
+                                b2 * mesh.normals.row(tri(2)).transpose();
+      if (n.norm() > 0) normal = n;
+    }
+    if (colored)
+      base = (b0 * mesh.colors.row(tri(0)).cast<double>() + b1 * mesh.colors.row(tri(1)).cast<double>() +
+              b2 * mesh.colors.row(tri(2)).cast<double>()).transpose() / 255.0;
+  };
+  return render::trace_image(camera, options, [&](int, int, int, int) {
+    return [&](const Ray& ray, std::uint64_t seed) { return splatter.trace(ray, seed, color_at); };
+  }, stats);
+}
+
+Image render_points(const PointCloud& cloud, const RenderOptions& options, RenderStats* stats) {
+  render::check_common_options(options);
+  if (cloud.empty()) throw OptionError("cannot render an empty point cloud");
+  const Camera camera = make_camera(framing_box(options, cloud.positions), options.camera, options.width, options.height);
+  double radius = options.point_radius;
+  if (radius == 0) {
+    const CloudStats st = compute_stats(cloud, 20000);
+    radius = st.mean_spacing > 0 ? 0.75 * st.mean_spacing : 1e-3 * std::max(st.diagonal, 1e-9);
+  }
+  EmbreeScene scene;
+  const bool oriented = cloud.has_normals();
+  RTCGeometry geometry = rtcNewGeometry(scene.device(), oriented ? RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT : RTC_GEOMETRY_TYPE_SPHERE_POINT);
+  const auto n = static_cast<std::size_t>(cloud.size());
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), n));
+  if (v == nullptr) throw std::bad_alloc();
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) v[4 * i + static_cast<std::size_t>(k)] = static_cast<float>(cloud.positions(static_cast<Eigen::Index>(i), k));
+    v[4 * i + 3] = static_cast<float>(radius);
+  }
+  if (oriented) {
+    auto* nb = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), n));
+    if (nb == nullptr) throw std::bad_alloc();
+    for (std::size_t i = 0; i < n; ++i) {
+      Eigen::Vector3d nn = cloud.normals.row(static_cast<Eigen::Index>(i)).transpose();
+      if (!(nn.norm() > 0)) nn = Eigen::Vector3d::UnitZ();
+      nn.normalize();
+      for (int k = 0; k < 3; ++k) nb[3 * i + static_cast<std::size_t>(k)] = static_cast<float>(nn(k));
+    }
+  }
+  scene.commit(geometry);
+  const Splatter splatter(scene, options, camera, bounding_box(cloud.positions).diagonal());
+  const auto color_at = [&](unsigned prim, float, float, Color& base, Eigen::Vector3d&) {
+    if (cloud.has_colors()) base = cloud.colors.row(prim).cast<double>().transpose() / 255.0;
+  };
+  return render::trace_image(camera, options, [&](int, int, int, int) {
+    return [&](const Ray& ray, std::uint64_t seed) { return splatter.trace(ray, seed, color_at); };
+  }, stats);
+}
+
+}  // namespace clustersurf

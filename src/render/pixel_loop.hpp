@@ -1,0 +1,79 @@
+#pragma once
+// The tiled, parallel pixel loop shared by every renderer: deterministic sub-pixel jitter
+// seeded by the pixel index, compositing over the background, progress and cancellation.
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/render.hpp>
+
+#include "core/progress_reporter.hpp"
+#include "render/shading.hpp"
+
+#include <tbb/blocked_range2d.h>
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <chrono>
+
+namespace clustersurf::render {
+
+/// What one camera ray sees: a color with coverage `alpha` (0: background only).
+struct SampleResult {
+  Color rgb = Color::Zero();
+  double alpha = 0;
+};
+
+/// Checks the options every renderer shares; throws OptionError.
+void check_common_options(const RenderOptions& options);
+
+/// Traces options.samples rays per pixel of `camera`. `make_tracer(x0, y0, x1, y1)` is called
+/// once per tile (pixels [x0, x1) × [y0, y1)) and returns a callable (const Ray&, std::uint64_t seed) → SampleResult owning its scratch
+/// memory. The picture does not depend on the thread count.
+template <class MakeTracer>
+Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer&& make_tracer, RenderStats* stats) {
+  const int w = camera.width, h = camera.height, samples = options.samples;
+  Image image(w, h);
+  const Color background = to_color({options.background.r, options.background.g, options.background.b});
+  const double background_alpha = options.background.a / 255.0;
+  detail::ProgressReporter progress(options.progress, "ray tracing", static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h));
+  std::atomic<std::uint64_t> hits{0};
+  const auto start = std::chrono::steady_clock::now();
+  constexpr int kTile = 16;
+  tbb::parallel_for(tbb::blocked_range2d<int>(0, h, kTile, 0, w, kTile), [&](const tbb::blocked_range2d<int>& tile) {
+    progress.check();
+    auto trace = make_tracer(tile.cols().begin(), tile.rows().begin(), tile.cols().end(), tile.rows().end());
+    std::uint64_t tile_hits = 0;
+    for (int y = tile.rows().begin(); y != tile.rows().end(); ++y) {
+      for (int x = tile.cols().begin(); x != tile.cols().end(); ++x) {
+        const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(w) + static_cast<std::uint64_t>(x);
+        Color sum = Color::Zero();  // premultiplied
+        double coverage = 0;
+        for (int k = 0; k < samples; ++k) {
+          const std::uint64_t seed = mix_bits(pixel * 1024 + static_cast<std::uint64_t>(k));
+          double jx = 0.5, jy = 0.5;
+          if (samples > 1) jx = unit_interval(mix_bits(seed ^ 0x1234)), jy = unit_interval(mix_bits(seed ^ 0x5678));
+          const SampleResult r = trace(camera.ray(x + jx, y + jy), seed);
+          sum += r.alpha * r.rgb;
+          coverage += r.alpha;
+          if (k == 0 && r.alpha > 0) ++tile_hits;
+        }
+        sum /= samples;
+        coverage /= samples;
+        const Color premultiplied = sum + (1 - coverage) * background_alpha * background;
+        const double alpha = coverage + (1 - coverage) * background_alpha;
+        image.at(x, y) = alpha > 0 ? to_pixel(premultiplied / alpha, alpha) : Rgba8{0, 0, 0, 0};
+      }
+    }
+    hits += tile_hits;
+    progress.advance(tile.rows().size() * tile.cols().size());
+  });
+  progress.finish();
+  if (stats != nullptr) {
+    stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    stats->rays = static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h) * static_cast<std::uint64_t>(samples);
+    stats->hits = hits.load();
+    stats->rays_per_second = stats->seconds > 0 ? static_cast<double>(stats->rays) / stats->seconds : 0;
+  }
+  return image;
+}
+
+}  // namespace clustersurf::render

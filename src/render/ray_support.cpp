@@ -1,0 +1,212 @@
+// Supports along a ray: ray–sphere tests down the hierarchy (or over every blended node) and
+// each proxy restricted to the ray.
+
+#include "render/ray_support.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace clustersurf::render {
+
+namespace {
+
+template <class... F>
+struct Overloaded : F... {
+  using F::operator()...;
+};
+template <class... F>
+Overloaded(F...) -> Overloaded<F...>;
+
+constexpr double kTinyD = 1e-24;  // the square of the proxies' smallest gradient norm
+
+/// Writes N(t) and D(t) of `proxy` along `ray` into `span`.
+void restrict_proxy(const Proxy& proxy, const Ray& ray, SupportSpan& span) {
+  const Eigen::Vector3d& o = ray.origin;
+  const Eigen::Vector3d& d = ray.direction;
+  std::visit(Overloaded{
+                 [&](const PointProxy& p) {
+                   // Q = ‖x − c‖ = D / sqrt(D) with D = ‖x − c‖².
+                   const Eigen::Vector3d oc = o - p.center;
+                   span.d0 = span.n0 = oc.squaredNorm();
+                   span.d1 = span.n1 = 2 * oc.dot(d);
+                   span.d2 = span.n2 = d.squaredNorm();
+                 },
+                 [&](const PlaneProxy& p) {
+                   span.n0 = p.normal.dot(o - p.point);
+                   span.n1 = p.normal.dot(d);
+                   span.n2 = 0;
+                   span.d0 = 1, span.d1 = 0, span.d2 = 0;
+                 },
+                 [&](const PolyProxy& p) {
+                   const Eigen::Vector3d ol = p.frame.to_local(o);
+                   const Eigen::Vector3d dl = p.frame.axes.transpose() * d;
+                   const auto& c = p.coeffs;
+                   const double ou = ol.x(), ov = ol.y(), du = dl.x(), dv = dl.y();
+                   const double f0 = p.height(ou, ov);
+                   const double f1 = c[1] * du + c[2] * dv + 2 * c[3] * ou * du + c[4] * (ou * dv + ov * du) + 2 * c[5] * ov * dv;
+                   const double f2 = c[3] * du * du + c[4] * du * dv + c[5] * dv * dv;
+                   span.n0 = ol.z() - f0;
+                   span.n1 = dl.z() - f1;
+                   span.n2 = -f2;
+                   // fu = a0 + a1 t, fv = b0 + b1 t; D = 1 + fu² + fv².
+                   const double a0 = c[1] + 2 * c[3] * ou + c[4] * ov, a1 = 2 * c[3] * du + c[4] * dv;
+                   const double b0 = c[2] + c[4] * ou + 2 * c[5] * ov, b1 = c[4] * du + 2 * c[5] * dv;
+                   span.d0 = 1 + a0 * a0 + b0 * b0;
+                   span.d1 = 2 * (a0 * a1 + b0 * b1);
+                   span.d2 = a1 * a1 + b1 * b1;
+                 },
+                 [&](const QuadricProxy& p) {
+                   const auto& c = p.coeffs;
+                   Eigen::Matrix3d h;
+                   h << 2 * c[0], c[3], c[4], c[3], 2 * c[1], c[5], c[4], c[5], 2 * c[2];
+                   const Eigen::Vector3d b(c[6], c[7], c[8]);
+                   const Eigen::Vector3d y0 = (o - p.center) / p.scale;
+                   const Eigen::Vector3d e = d / p.scale;
+                   const double q0 = 0.5 * y0.dot(h * y0) + b.dot(y0) + c[9];
+                   // Q = scale · q / ‖∇q‖ = (scale · q) / sqrt(‖∇q‖²), ∇q = g0 + g1 t.
+                   span.n0 = p.scale * q0;
+                   span.n1 = p.scale * (y0.dot(h * e) + b.dot(e));
+                   span.n2 = p.scale * 0.5 * e.dot(h * e);
+                   const Eigen::Vector3d g0 = h * y0 + b, g1 = h * e;
+                   span.d0 = g0.squaredNorm();
+                   span.d1 = 2 * g0.dot(g1);
+                   span.d2 = g1.squaredNorm();
+                 },
+             },
+             proxy.variant());
+}
+
+/// Fills the span of `node` (whose support the ray meets on [t0, t1]).
+SupportSpan make_span(const ClusterNode& n, std::int32_t node, const Ray& ray, double t0, double t1) {
+  SupportSpan s;
+  s.node = node;
+  s.t_enter = t0;
+  s.t_exit = t1;
+  s.radius = n.support.radius;
+  const double inv_r2 = 1 / (n.support.radius * n.support.radius);
+  const Eigen::Vector3d oc = ray.origin - n.support.center;
+  s.s0 = oc.squaredNorm() * inv_r2;
+  s.s1 = 2 * oc.dot(ray.direction) * inv_r2;
+  s.s2 = ray.direction.squaredNorm() * inv_r2;
+  restrict_proxy(n.proxy, ray, s);
+  return s;
+}
+
+}  // namespace
+
+double SupportSpan::q(double t) const {
+  const double n = n0 + t * (n1 + t * n2);
+  const double d = d0 + t * (d1 + t * d2);
+  return n / std::sqrt(std::max(d, kTinyD));
+}
+
+std::optional<std::pair<double, double>> ray_sphere(const Ray& ray, const Sphere& sphere) {
+  const Eigen::Vector3d oc = ray.origin - sphere.center;
+  const double b = oc.dot(ray.direction);
+  const double c = oc.squaredNorm() - sphere.radius * sphere.radius;
+  const double disc = b * b - c;
+  if (!(disc > 0)) return std::nullopt;
+  const double root = std::sqrt(disc);
+  return std::pair{-b - root, -b + root};
+}
+
+SupportIndex::SupportIndex(const ClusterTree& tree, const LevelOfDetail& lod)
+    : tree_(&tree), cut_(lod_cut(tree, lod)), in_cut_(tree.nodes.size(), 0) {
+  supports_.resize(tree.nodes.size());
+  for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
+    const Sphere& sp = tree.nodes[i].support;
+    supports_[i] = Eigen::Vector4d(sp.center.x(), sp.center.y(), sp.center.z(), sp.radius * sp.radius);
+  }
+  for (auto i : cut_) in_cut_[static_cast<std::size_t>(i)] = 1;
+}
+
+namespace {
+
+/// Whether a sphere may meet the cone (apex, unit axis, half-angle), conservatively.
+bool sphere_meets_cone(const Sphere& sphere, const Eigen::Vector3d& apex, const Eigen::Vector3d& axis, double half_angle) {
+  const Eigen::Vector3d v = sphere.center - apex;
+  const double dist = v.norm();
+  if (dist <= sphere.radius) return true;
+  const double angle = std::acos(std::clamp(v.dot(axis) / dist, -1.0, 1.0));
+  return angle <= half_angle + std::asin(sphere.radius / dist) + 1e-9;
+}
+
+void sort_spans(std::vector<SupportSpan>& out) {
+  std::sort(out.begin(), out.end(), [](const SupportSpan& a, const SupportSpan& b) {
+    return a.t_enter < b.t_enter || (a.t_enter == b.t_enter && a.node < b.node);
+  });
+}
+
+}  // namespace
+
+void SupportIndex::collect_in_cone(const Eigen::Vector3d& eye, const Eigen::Vector3d& axis, double half_angle,
+                                   std::vector<std::int32_t>& out) const {
+  out.clear();
+  const auto& nodes = tree_->nodes;
+  if (nodes.empty()) return;
+  std::vector<std::int32_t> stack{0};
+  while (!stack.empty()) {
+    const std::int32_t i = stack.back();
+    stack.pop_back();
+    const ClusterNode& n = nodes[static_cast<std::size_t>(i)];
+    if (!sphere_meets_cone(n.bound, eye, axis, half_angle)) continue;
+    if (in_cut_[static_cast<std::size_t>(i)]) {
+      if (sphere_meets_cone(n.support, eye, axis, half_angle)) out.push_back(i);
+    } else if (!n.is_leaf()) {
+      stack.push_back(n.right);
+      stack.push_back(n.left);
+    }
+  }
+}
+
+void SupportIndex::collect_from(const Ray& ray, double t_min, double t_max, std::span<const std::int32_t> nodes,
+                                std::vector<SupportSpan>& out) const {
+  out.clear();
+  for (std::int32_t i : nodes) {
+    // ray_sphere() on the compact copy of the support (same arithmetic, same result).
+    const Eigen::Vector4d& sp = supports_[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d oc = ray.origin - sp.head<3>();
+    const double b = oc.dot(ray.direction);
+    const double disc = b * b - (oc.squaredNorm() - sp.w());
+    if (!(disc > 0)) continue;
+    const double root = std::sqrt(disc);
+    const double t0 = -b - root, t1 = -b + root;
+    if (t1 > t_min && t0 < t_max)
+      out.push_back(make_span(tree_->nodes[static_cast<std::size_t>(i)], i, ray, std::max(t0, t_min), std::min(t1, t_max)));
+  }
+  sort_spans(out);
+}
+
+void SupportIndex::collect(const Ray& ray, double t_min, double t_max, SupportSearch search,
+                           std::vector<SupportSpan>& out) const {
+  out.clear();
+  const auto& nodes = tree_->nodes;
+  if (nodes.empty()) return;
+  const auto consider = [&](std::int32_t i) {
+    const ClusterNode& n = nodes[static_cast<std::size_t>(i)];
+    const auto span = ray_sphere(ray, n.support);
+    if (span && span->second > t_min && span->first < t_max)
+      out.push_back(make_span(n, i, ray, std::max(span->first, t_min), std::min(span->second, t_max)));
+  };
+  if (search == SupportSearch::BruteForce) {
+    for (std::int32_t i : cut_) consider(i);
+  } else {
+    std::vector<std::int32_t> stack{0};
+    while (!stack.empty()) {
+      const std::int32_t i = stack.back();
+      stack.pop_back();
+      const ClusterNode& n = nodes[static_cast<std::size_t>(i)];
+      const auto bound = ray_sphere(ray, n.bound);
+      if (!bound || bound->second <= t_min || bound->first >= t_max) continue;
+      if (in_cut_[static_cast<std::size_t>(i)]) {
+        consider(i);
+      } else if (!n.is_leaf()) {
+        stack.push_back(n.right);
+        stack.push_back(n.left);
+      }
+    }
+  }
+  sort_spans(out);
+}
+
+}  // namespace clustersurf::render

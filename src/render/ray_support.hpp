@@ -1,0 +1,71 @@
+#pragma once
+// The supports a ray crosses, each with its blending weight and proxy written as functions of
+// the ray parameter t, so that f along the ray costs a few multiply-adds per support.
+
+#include <clustersurf/cluster_tree.hpp>
+#include <clustersurf/implicit_surface.hpp>
+
+#include <optional>
+#include <span>
+#include <utility>
+#include <vector>
+
+namespace clustersurf::render {
+
+/// A blended node whose support sphere the ray crosses on [t_enter, t_exit]. Along the ray,
+/// ‖x(t) − c‖² / r² = s0 + s1 t + s2 t² and the proxy's Q(x(t)) = N(t) / sqrt(D(t)) with N and
+/// D quadratics (exact for every proxy kind).
+struct SupportSpan {
+  std::int32_t node = -1;
+  double t_enter = 0, t_exit = 0;
+  double radius = 0;
+  double s0 = 0, s1 = 0, s2 = 0;
+  double n0 = 0, n1 = 0, n2 = 0;
+  double d0 = 1, d1 = 0, d2 = 0;
+
+  /// ‖x(t) − c‖² / r² (< 1 inside the support).
+  double s(double t) const { return s0 + t * (s1 + t * s2); }
+  /// The proxy's value at x(t).
+  double q(double t) const;
+};
+
+/// How the supports crossed by a ray are found.
+enum class SupportSearch {
+  Hierarchy,   ///< descend the bounding spheres of the tree
+  BruteForce,  ///< test the support of every blended node
+};
+
+/// The parameter interval where a ray (unit direction) is inside a sphere, if it meets it.
+std::optional<std::pair<double, double>> ray_sphere(const Ray& ray, const Sphere& sphere);
+
+/// The blended nodes (a cut of the tree) and how to find the supports along a ray.
+class SupportIndex {
+ public:
+  /// Keeps a reference to `tree`, which must outlive the index.
+  SupportIndex(const ClusterTree& tree, const LevelOfDetail& lod);
+
+  /// Every blended node whose support the ray crosses within [t_min, t_max], sorted by
+  /// (t_enter, node) — the same list, in the same order, for both searches.
+  void collect(const Ray& ray, double t_min, double t_max, SupportSearch search, std::vector<SupportSpan>& out) const;
+
+  /// The blended nodes whose support may meet a ray from `eye` within the cone of unit `axis`
+  /// and half-angle `half_angle` (radians): a conservative superset, in pre-order.
+  void collect_in_cone(const Eigen::Vector3d& eye, const Eigen::Vector3d& axis, double half_angle,
+                       std::vector<std::int32_t>& out) const;
+  /// As collect(), testing only the support of each node of `nodes` (every blended node when
+  /// the list is the whole cut: the brute-force search).
+  void collect_from(const Ray& ray, double t_min, double t_max, std::span<const std::int32_t> nodes,
+                    std::vector<SupportSpan>& out) const;
+
+  const ClusterTree& tree() const { return *tree_; }
+  const std::vector<std::int32_t>& cut() const { return cut_; }
+  bool in_cut(std::int32_t node) const { return in_cut_[static_cast<std::size_t>(node)] != 0; }
+
+ private:
+  const ClusterTree* tree_;
+  std::vector<std::int32_t> cut_;
+  std::vector<std::uint8_t> in_cut_;
+  std::vector<Eigen::Vector4d> supports_;  // per node: support center and squared radius (cache-friendly)
+};
+
+}  // namespace clustersurf::render

@@ -1,0 +1,249 @@
+// Pictures of a cluster tree: the surface and the views of its clusters, supports, proxies and
+// error, traced through the hierarchy of support spheres.
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/kd_tree.hpp>
+#include <clustersurf/mesh_colors.hpp>
+#include <clustersurf/render.hpp>
+
+#include "render/color_legend.hpp"
+#include "render/pixel_loop.hpp"
+#include "render/ray_support.hpp"
+#include "render/surface_intersection.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <numeric>
+#include <utility>
+
+namespace clustersurf {
+
+namespace {
+
+using render::Color;
+using render::SampleResult;
+using render::SupportSpan;
+using render::SurfaceHit;
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr int kOcclusionRays = 8;
+
+const Color kSurface(0.80, 0.77, 0.72);
+const Color kGrey(0.72, 0.72, 0.72);
+const Color kRed(0.90, 0.12, 0.10);
+
+/// Everything a tile's tracer reads, computed once per picture.
+struct Scene {
+  const ClusterTree& tree;
+  const RenderOptions& options;
+  render::SupportIndex index;
+  render::SupportSearch search;
+  render::MarchSettings march;
+  render::Lighting lights;
+  double diagonal = 1;
+  std::vector<double> radius_rank;  // Spheres: per node, rank of its radius among the cut in [0, 1]
+  std::unique_ptr<KdTree> points;   // Error
+  double error_scale = 0;
+  double clip_factor = 1;           // Proxies/highlight: patch radius = this × support radius
+};
+
+/// The node's ancestor at `depth` (the node itself when it is shallower).
+std::int32_t ancestor_at(const ClusterTree& tree, std::int32_t node, std::uint32_t depth) {
+  while (node > 0 && tree.nodes[static_cast<std::size_t>(node)].depth > depth) node = tree.nodes[static_cast<std::size_t>(node)].parent;
+  return node;
+}
+
+bool in_subtree(const ClusterTree& tree, std::int32_t node, std::int32_t root) {
+  while (node >= 0 && node != root) node = tree.nodes[static_cast<std::size_t>(node)].parent;
+  return node == root;
+}
+
+/// The nearest hit of `node`'s proxy clipped to its patch sphere, with the proxy's normal.
+std::optional<SurfaceHit> proxy_patch_hit(const Scene& scene, std::int32_t node, const Ray& ray) {
+  const ClusterNode& n = scene.tree.nodes[static_cast<std::size_t>(node)];
+  const auto clip = render::ray_sphere(ray, Sphere{n.support.center, scene.clip_factor * n.support.radius});
+  if (!clip || clip->second <= 0) return std::nullopt;
+  const auto t = n.proxy.intersect(ray, std::max(clip->first, 0.0), clip->second);
+  if (!t) return std::nullopt;
+  SurfaceHit hit;
+  hit.t = *t;
+  hit.position = ray.origin + *t * ray.direction;
+  const Eigen::Vector3d g = n.proxy.gradient(hit.position);
+  hit.normal = g.norm() > 0 ? Eigen::Vector3d(g.normalized()) : Eigen::Vector3d(-ray.direction);
+  hit.dominant = node;
+  return hit;
+}
+
+/// Traces one tile's rays; owns the tile's scratch memory.
+class TreeTracer {
+ public:
+  /// The tracer of the pixels [x0, x1) × [y0, y1): the supports its rays may cross are found
+  /// once, through the hierarchy, from the cone of the tile's rays (brute force: all of them).
+  TreeTracer(const Scene& scene, const Camera& camera, int x0, int y0, int x1, int y1) : s_(scene) {
+    if (s_.search == render::SupportSearch::BruteForce) return;
+    const Eigen::Vector3d axis = camera.ray(0.5 * (x0 + x1), 0.5 * (y0 + y1)).direction;
+    double half_angle = 0;
+    for (const auto& [x, y] : {std::pair{x0, y0}, std::pair{x1, y0}, std::pair{x0, y1}, std::pair{x1, y1}})
+      half_angle = std::max(half_angle, std::acos(std::clamp(camera.ray(x, y).direction.dot(axis), -1.0, 1.0)));
+    s_.index.collect_in_cone(camera.eye, axis, half_angle, tile_nodes_);
+  }
+
+  SampleResult operator()(const Ray& ray, std::uint64_t seed) {
+    if (s_.search == render::SupportSearch::BruteForce) s_.index.collect_from(ray, 0, kInfinity, s_.index.cut(), spans_);
+    else s_.index.collect_from(ray, 0, kInfinity, tile_nodes_, spans_);
+    switch (s_.options.show) {
+      case ShowMode::Spheres: return spheres(ray);
+      case ShowMode::Proxies: return proxies(ray);
+      default: return surface(ray, seed);
+    }
+  }
+
+ private:
+  std::optional<SurfaceHit> surface_hit(const Ray& ray, const std::vector<SupportSpan>& spans, double t_min, double t_max) {
+    if (s_.options.mode == IntersectMode::HitBlend) return render::blended_hit(s_.tree, spans, ray, t_min, t_max, s_.march.min_weight);
+    return render::first_zero(s_.tree, spans, ray, t_min, t_max, s_.march);
+  }
+
+  /// Fraction of short rays from the hit that escape (1: open).
+  double openness(const SurfaceHit& hit, const Ray& ray, std::uint64_t seed) {
+    Eigen::Vector3d n = hit.normal;
+    if (n.dot(ray.direction) > 0) n = -n;
+    const double reach = 0.08 * s_.diagonal;
+    int open = 0;
+    for (int k = 0; k < kOcclusionRays; ++k) {
+      const std::uint64_t bits = render::mix_bits(seed + 0x9e37 * static_cast<std::uint64_t>(k + 1));
+      const Eigen::Vector3d d = render::cosine_direction(n, render::unit_interval(bits), render::unit_interval(render::mix_bits(bits)));
+      const Ray r{hit.position + 1e-4 * s_.diagonal * n, d};
+      s_.index.collect(r, 0, reach, s_.search, ao_spans_);
+      if (!surface_hit(r, ao_spans_, 0, reach)) ++open;
+    }
+    return 0.35 + 0.65 * open / kOcclusionRays;
+  }
+
+  SampleResult surface(const Ray& ray, std::uint64_t seed) {
+    const auto hit = surface_hit(ray, spans_, 0, kInfinity);
+    std::optional<SurfaceHit> patch;
+    if (s_.options.highlight) patch = proxy_patch_hit(s_, *s_.options.highlight, ray);
+    SampleResult out;
+    if (hit) {
+      Color base = kSurface;
+      switch (s_.options.show) {
+        case ShowMode::Clusters: {
+          std::int32_t node = hit->dominant;
+          if (s_.options.level && node >= 0) node = ancestor_at(s_.tree, node, *s_.options.level);
+          base = node >= 0 ? render::to_color(node_color(node)) : kGrey;
+          break;
+        }
+        case ShowMode::Error: {
+          const auto nb = s_.points->knn(hit->position, 1);
+          base = render::to_color(distance_color(nb.empty() ? 1.0 : std::sqrt(nb[0].distance_squared) / s_.error_scale));
+          break;
+        }
+        default: break;
+      }
+      if (s_.options.highlight) base = hit->dominant >= 0 && in_subtree(s_.tree, hit->dominant, *s_.options.highlight) ? kRed : kGrey;
+      const double occlusion = s_.options.ambient_occlusion ? openness(*hit, ray, seed) : 1.0;
+      out = {render::shade(s_.lights, hit->normal, ray.direction, base, occlusion), 1.0};
+    }
+    if (patch && (!hit || patch->t < hit->t + 0.002 * s_.diagonal)) {
+      // The highlighted node's proxy, translucent over what is behind it.
+      const Color red = render::shade(s_.lights, patch->normal, ray.direction, Color(0.75, 0.05, 0.05));
+      constexpr double kPatchAlpha = 0.55;
+      const double alpha = kPatchAlpha + (1 - kPatchAlpha) * out.alpha;
+      out.rgb = (kPatchAlpha * red + (1 - kPatchAlpha) * out.alpha * out.rgb) / alpha;
+      out.alpha = alpha;
+    }
+    return out;
+  }
+
+  SampleResult spheres(const Ray& ray) const {
+    const SupportSpan* best = nullptr;
+    for (const SupportSpan& sp : spans_)  // sorted by entry: the first one entered from outside
+      if (sp.t_enter > 0) {
+        best = &sp;
+        break;
+      }
+    if (best == nullptr) return {};
+    const ClusterNode& n = s_.tree.nodes[static_cast<std::size_t>(best->node)];
+    const Eigen::Vector3d x = ray.origin + best->t_enter * ray.direction;
+    const Color base = render::rank_color(s_.radius_rank[static_cast<std::size_t>(best->node)]);
+    return {render::shade(s_.lights, (x - n.support.center).normalized(), ray.direction, base), 1.0};
+  }
+
+  SampleResult proxies(const Ray& ray) const {
+    std::optional<SurfaceHit> best;
+    for (const SupportSpan& sp : spans_) {
+      if (best && sp.t_enter > best->t) break;  // later supports cannot hold a nearer patch
+      const auto hit = proxy_patch_hit(s_, sp.node, ray);
+      if (hit && (!best || hit->t < best->t || (hit->t == best->t && hit->dominant < best->dominant))) best = hit;
+    }
+    if (!best) return {};
+    return {render::shade(s_.lights, best->normal, ray.direction, render::to_color(node_color(best->dominant))), 1.0};
+  }
+
+  const Scene& s_;
+  std::vector<std::int32_t> tile_nodes_;
+  std::vector<SupportSpan> spans_;
+  std::vector<SupportSpan> ao_spans_;
+};
+
+}  // namespace
+
+std::optional<RayHit> intersect_surface(const ClusterTree& tree, const Ray& ray, const RenderOptions& options) {
+  const render::SupportIndex index(tree, options.lod);
+  const auto search = options.mode == IntersectMode::BruteForce ? render::SupportSearch::BruteForce : render::SupportSearch::Hierarchy;
+  std::vector<SupportSpan> spans;
+  index.collect(ray, 0, kInfinity, search, spans);
+  render::MarchSettings march;
+  march.min_weight = options.min_weight;
+  march.tolerance = 1e-6 * (tree.bbox.diagonal() > 0 ? tree.bbox.diagonal() : 1.0);
+  const auto hit = options.mode == IntersectMode::HitBlend ? render::blended_hit(tree, spans, ray, 0, kInfinity, options.min_weight)
+                                                           : render::first_zero(tree, spans, ray, 0, kInfinity, march);
+  if (!hit) return std::nullopt;
+  return RayHit{hit->t, hit->position, hit->normal, hit->dominant};
+}
+
+Image render_tree(const ClusterTree& tree, const RenderOptions& options, RenderStats* stats) {
+  render::check_common_options(options);
+  if (tree.nodes.empty()) throw OptionError("cannot render an empty tree");
+  if (options.highlight && (*options.highlight < 0 || static_cast<std::size_t>(*options.highlight) >= tree.nodes.size()))
+    throw OptionError("--highlight: node " + std::to_string(*options.highlight) + " does not exist (the tree has " +
+                      std::to_string(tree.nodes.size()) + " nodes)");
+  if (options.show == ShowMode::Error && (options.reference_points == nullptr || options.reference_points->rows() == 0))
+    throw OptionError("the error view needs the input points (--points FILE)");
+
+  const BoundingBox box = options.framing.value_or(tree.bbox);
+  const Camera camera = make_camera(box, options.camera, options.width, options.height);
+  Scene scene{tree, options, render::SupportIndex(tree, options.lod),
+              options.mode == IntersectMode::BruteForce ? render::SupportSearch::BruteForce : render::SupportSearch::Hierarchy,
+              {}, render::camera_lighting(camera), {}, {}, {}, {}, {}};
+  scene.diagonal = tree.bbox.diagonal() > 0 ? tree.bbox.diagonal() : 1.0;
+  scene.march.min_weight = options.min_weight;
+  scene.march.tolerance = 1e-6 * scene.diagonal;
+  scene.clip_factor = tree.parameters.alpha > 0 ? std::min(1.0, 0.5 / tree.parameters.alpha) : 1.0;
+  if (options.show == ShowMode::Spheres) {
+    std::vector<std::int32_t> order = scene.index.cut();
+    std::stable_sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
+      return tree.nodes[static_cast<std::size_t>(a)].support.radius < tree.nodes[static_cast<std::size_t>(b)].support.radius;
+    });
+    scene.radius_rank.assign(tree.nodes.size(), 0.0);
+    for (std::size_t k = 0; k < order.size(); ++k)
+      scene.radius_rank[static_cast<std::size_t>(order[k])] = order.size() > 1 ? static_cast<double>(k) / static_cast<double>(order.size() - 1) : 0.5;
+  }
+  if (options.show == ShowMode::Error) {
+    scene.points = std::make_unique<KdTree>(*options.reference_points);
+    scene.error_scale = options.error_scale.value_or(0.005 * scene.diagonal);
+  }
+
+  Image image = render::trace_image(
+      camera, options, [&](int x0, int y0, int x1, int y1) { return TreeTracer(scene, camera, x0, y0, x1, y1); }, stats);
+  if (options.show == ShowMode::Error) {
+    render::draw_color_legend(image, scene.error_scale, "distance to input");
+    if (stats != nullptr) stats->error_scale = scene.error_scale;
+  }
+  return image;
+}
+
+}  // namespace clustersurf

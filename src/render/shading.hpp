@@ -1,0 +1,43 @@
+#pragma once
+// Shading of hits: camera-fixed key and fill lights, two-sided Lambert, color ramps, and the
+// deterministic per-pixel random numbers of anti-aliasing and ambient occlusion.
+
+#include <clustersurf/camera.hpp>
+#include <clustersurf/image.hpp>
+
+#include <Eigen/Core>
+
+#include <cstdint>
+
+namespace clustersurf::render {
+
+/// RGB in [0, 1].
+using Color = Eigen::Vector3d;
+
+/// Directions toward the lights, fixed relative to the camera (key: upper left, fill: right).
+struct Lighting {
+  Eigen::Vector3d key;
+  Eigen::Vector3d fill;
+};
+Lighting camera_lighting(const Camera& camera);
+
+/// Two-sided Lambert: the normal is turned toward the viewer; ambient + key + fill, times
+/// `occlusion` (1: open, 0: fully occluded) on the ambient and fill terms.
+Color shade(const Lighting& lights, Eigen::Vector3d normal, const Eigen::Vector3d& ray_direction, const Color& base,
+            double occlusion = 1);
+
+/// 8-bit RGB to Color.
+Color to_color(const Eigen::Matrix<std::uint8_t, 3, 1>& c);
+/// Red (0) → green (0.5) → blue (1).
+Color rank_color(double fraction);
+/// Color in [0, 1] (and alpha) to an 8-bit pixel.
+Rgba8 to_pixel(const Color& c, double alpha);
+
+/// A 64-bit hash (splitmix64 finalizer): seeds from pixel and sample indices.
+std::uint64_t mix_bits(std::uint64_t x);
+/// A number in [0, 1) from the top 53 bits of `bits`.
+double unit_interval(std::uint64_t bits);
+/// A cosine-distributed direction on the hemisphere around unit `normal` from two numbers in [0, 1).
+Eigen::Vector3d cosine_direction(const Eigen::Vector3d& normal, double u1, double u2);
+
+}  // namespace clustersurf::render

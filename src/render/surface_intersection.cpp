@@ -1,0 +1,205 @@
+// Ray–surface intersection over the supports a ray crosses.
+
+#include "render/surface_intersection.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace clustersurf::render {
+
+namespace {
+
+// Marching steps, as fractions of the smallest support radius at the current sample.
+constexpr double kDistanceFactor = 0.7;  // step = 0.7 |f| where f is defined ...
+constexpr double kMinStep = 0.02;        // ... but at least this ...
+constexpr double kMaxStep = 0.25;        // ... and at most this
+constexpr double kUndefinedStep = 0.1;   // step where f is undefined
+constexpr int kMaxRefine = 60;
+
+/// f along one ray from its spans. Spans are sorted by t_enter; those entered so far are
+/// [begin, end), `end` only grows with t.
+class RayFunction {
+ public:
+  struct Sample {
+    double f = 0;
+    double weight = 0;
+    double r_min = 0;  // smallest radius of the supports containing the sample (0: none)
+  };
+
+  explicit RayFunction(std::span<const SupportSpan> spans) : spans_(spans) {}
+
+  Sample at(double t) {
+    while (end_ < spans_.size() && spans_[end_].t_enter <= t) ++end_;
+    Sample out;
+    double a = 0;
+    double r_min = std::numeric_limits<double>::infinity();
+    for (std::size_t i = begin_; i < end_; ++i) {
+      const SupportSpan& sp = spans_[i];
+      if (sp.t_exit < t) continue;
+      const double s = sp.s(t);
+      if (s >= 1) continue;
+      const double om = 1 - s;
+      const double w = om * om * om;
+      a += w * sp.q(t);
+      out.weight += w;
+      r_min = std::min(r_min, sp.radius);
+    }
+    if (out.weight > 0) {
+      out.f = a / out.weight;
+      out.r_min = r_min;
+    }
+    return out;
+  }
+  /// Forgets leading spans that end before t (t must not decrease afterwards below it).
+  void drop_before(double t) {
+    while (begin_ < end_ && spans_[begin_].t_exit < t) ++begin_;
+  }
+  /// Parameter of the next span entry after the spans entered so far, or +inf.
+  double next_entry() const {
+    return end_ < spans_.size() ? spans_[end_].t_enter : std::numeric_limits<double>::infinity();
+  }
+
+ private:
+  std::span<const SupportSpan> spans_;
+  std::size_t begin_ = 0, end_ = 0;
+};
+
+}  // namespace
+
+void finish_hit(const ClusterTree& tree, std::span<const SupportSpan> spans, SurfaceHit& hit) {
+  // ∇f = (∇A − f ∇W) / W with A = Σ w Q, W = Σ w; only its direction is needed.
+  const Eigen::Vector3d& x = hit.position;
+  double a = 0, w_sum = 0, best_w = -1;
+  Eigen::Vector3d grad_a = Eigen::Vector3d::Zero(), grad_w = Eigen::Vector3d::Zero();
+  for (const SupportSpan& sp : spans) {
+    if (hit.t < sp.t_enter || hit.t > sp.t_exit) continue;
+    const ClusterNode& n = tree.nodes[static_cast<std::size_t>(sp.node)];
+    const Eigen::Vector3d dx = x - n.support.center;
+    const double r2 = n.support.radius * n.support.radius;
+    const double s = dx.squaredNorm() / r2;
+    if (s >= 1) continue;
+    const double om = 1 - s;
+    const double w = om * om * om;
+    const Eigen::Vector3d dw = (-6 * om * om / r2) * dx;
+    const double q = n.proxy.value(x);
+    a += w * q;
+    w_sum += w;
+    grad_a += dw * q + w * n.proxy.gradient(x);
+    grad_w += dw;
+    if (w > best_w || (w == best_w && sp.node < hit.dominant)) best_w = w, hit.dominant = sp.node;
+  }
+  if (!(w_sum > 0)) return;
+  const Eigen::Vector3d g = grad_a - (a / w_sum) * grad_w;
+  if (g.norm() > 0) hit.normal = g.normalized();
+}
+
+std::optional<SurfaceHit> first_zero(const ClusterTree& tree, std::span<const SupportSpan> spans, const Ray& ray,
+                                     double t_min, double t_max, const MarchSettings& settings) {
+  if (spans.empty()) return std::nullopt;
+  double t_end = t_min;
+  for (const SupportSpan& sp : spans) t_end = std::max(t_end, sp.t_exit);
+  t_end = std::min(t_end, t_max);
+  RayFunction f(spans);
+  const auto defined = [&](const RayFunction::Sample& s) { return s.weight > settings.min_weight; };
+  double t = std::max(t_min, spans.front().t_enter);
+  RayFunction::Sample prev = f.at(t);
+  while (t < t_end) {
+    if (prev.weight <= 0) {  // outside every support: jump to the next one
+      const double next = f.next_entry();
+      if (!(next < t_end)) break;
+      t = std::max(t, next);
+      f.drop_before(t);
+      prev = f.at(t);
+      continue;
+    }
+    const double r = prev.r_min;
+    const double h = defined(prev) ? std::clamp(kDistanceFactor * std::abs(prev.f), kMinStep * r, kMaxStep * r)
+                                   : kUndefinedStep * r;
+    const double t_next = std::min(t + h, t_end);
+    const RayFunction::Sample cur = f.at(t_next);
+    if (defined(prev) && defined(cur) && (prev.f > 0) != (cur.f > 0)) {
+      // Illinois (modified regula falsi) on [a, b].
+      double a = t, fa = prev.f, b = t_next, fb = cur.f;
+      int side = 0;
+      bool ok = true;
+      for (int it = 0; it < kMaxRefine && b - a > settings.tolerance; ++it) {
+        double c = (fa * b - fb * a) / (fa - fb);
+        if (!(c > a && c < b)) c = 0.5 * (a + b);
+        RayFunction::Sample sc = f.at(c);
+        if (!defined(sc)) {
+          c = 0.5 * (a + b);
+          sc = f.at(c);
+          if (!defined(sc)) {
+            ok = false;
+            break;
+          }
+        }
+        if ((sc.f > 0) == (fb > 0)) {
+          b = c, fb = sc.f;
+          if (side == -1) fa *= 0.5;
+          side = -1;
+        } else {
+          a = c, fa = sc.f;
+          if (side == 1) fb *= 0.5;
+          side = 1;
+        }
+      }
+      if (ok) {
+        SurfaceHit hit;
+        hit.t = fa != fb ? std::clamp((fa * b - fb * a) / (fa - fb), a, b) : 0.5 * (a + b);
+        hit.position = ray.origin + hit.t * ray.direction;
+        finish_hit(tree, spans, hit);
+        return hit;
+      }
+    }
+    t = t_next;
+    f.drop_before(t);
+    prev = cur;
+  }
+  return std::nullopt;
+}
+
+std::optional<SurfaceHit> blended_hit(const ClusterTree& tree, std::span<const SupportSpan> spans, const Ray& ray,
+                                      double t_min, double t_max, double min_weight) {
+  struct ProxyHit {
+    double t, w, radius;
+    std::int32_t node;
+  };
+  std::vector<ProxyHit> hits;
+  for (const SupportSpan& sp : spans) {
+    const ClusterNode& n = tree.nodes[static_cast<std::size_t>(sp.node)];
+    const auto t = n.proxy.intersect(ray, std::max(sp.t_enter, t_min), std::min(sp.t_exit, t_max));
+    if (!t) continue;
+    const double s = sp.s(*t);
+    if (s >= 1) continue;
+    const double om = 1 - s;
+    hits.push_back({*t, om * om * om, sp.radius, sp.node});
+  }
+  std::sort(hits.begin(), hits.end(), [](const ProxyHit& a, const ProxyHit& b) { return a.t < b.t || (a.t == b.t && a.node < b.node); });
+  for (std::size_t k = 0; k < hits.size(); ++k) {
+    const double window = 0.25 * hits[k].radius;
+    double w_sum = 0, tw = 0, best_w = -1;
+    std::int32_t best = -1;
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    for (std::size_t j = k; j < hits.size() && hits[j].t - hits[k].t <= window; ++j) {
+      const ClusterNode& n = tree.nodes[static_cast<std::size_t>(hits[j].node)];
+      const Eigen::Vector3d g = n.proxy.gradient(ray.origin + hits[j].t * ray.direction);
+      w_sum += hits[j].w;
+      tw += hits[j].w * hits[j].t;
+      if (g.norm() > 0) normal += hits[j].w * g.normalized();
+      if (hits[j].w > best_w) best_w = hits[j].w, best = hits[j].node;
+    }
+    if (!(w_sum > min_weight)) continue;
+    SurfaceHit hit;
+    hit.t = tw / w_sum;
+    hit.position = ray.origin + hit.t * ray.direction;
+    hit.normal = normal.norm() > 0 ? Eigen::Vector3d(normal.normalized()) : Eigen::Vector3d(-ray.direction);
+    hit.dominant = best;
+    return hit;
+  }
+  return std::nullopt;
+}
+
+}  // namespace clustersurf::render

@@ -1,0 +1,43 @@
+#pragma once
+// Where a ray meets the surface of a tree, given the supports it crosses: the first zero of
+// the blended f (implicit) or the blend of the proxies' own hits (hit-blend, thesis 5.1).
+
+#include "render/ray_support.hpp"
+
+#include <optional>
+#include <span>
+
+namespace clustersurf::render {
+
+/// A surface point found along a ray.
+struct SurfaceHit {
+  double t = 0;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< unit; direction of ∇f (outside)
+  std::int32_t dominant = -1;  ///< blended node of largest weight at the hit
+};
+
+/// Settings of the root finder.
+struct MarchSettings {
+  double min_weight = 0.1;  ///< f counts as defined only where the total weight exceeds this
+  double tolerance = 1e-9;  ///< refine the zero to this bracket width (input units)
+};
+
+/// The first zero of f along the ray in [t_min, t_max]: a sign change between two samples where
+/// f is defined, refined by the Illinois method. Steps follow |f| (an approximate distance),
+/// capped by a fraction of the smallest support radius around; `spans` as SupportIndex gives
+/// them.
+std::optional<SurfaceHit> first_zero(const ClusterTree& tree, std::span<const SupportSpan> spans, const Ray& ray,
+                                     double t_min, double t_max, const MarchSettings& settings);
+
+/// The thesis's hit blending: each support's proxy is intersected within its support; hits
+/// whose parameters agree within a quarter of the first's support radius are blended (depth and
+/// normal) with the weights at the hits; the nearest group whose weights sum above
+/// `min_weight` wins. `scratch` is working memory.
+std::optional<SurfaceHit> blended_hit(const ClusterTree& tree, std::span<const SupportSpan> spans, const Ray& ray,
+                                      double t_min, double t_max, double min_weight);
+
+/// ∇f direction and dominant node at x from the supports in `spans` that contain it.
+void finish_hit(const ClusterTree& tree, std::span<const SupportSpan> spans, SurfaceHit& hit);
+
+}  // namespace clustersurf::render
