@@ -188,3 +188,16 @@ def test_progress_and_cancellation(sphere):
 
     with pytest.raises(Stop, match="from the callback"):
         clustersurf.reconstruct(sphere[0], sphere[1], progress=fail)
+
+
+def test_ctrl_c_interrupts_a_build(sphere):
+    import os
+    import signal
+
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        # The first progress call comes from the calling thread: a SIGINT there is seen at once.
+        with pytest.raises(KeyboardInterrupt):
+            clustersurf.reconstruct(sphere[0], progress=lambda stage, fraction: os.kill(os.getpid(), signal.SIGINT))
+    finally:
+        signal.signal(signal.SIGINT, previous)
