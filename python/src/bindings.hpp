@@ -1,0 +1,81 @@
+#pragma once
+// Shared pieces of the Python bindings: numpy <-> Eigen conversions, option parsing helpers,
+// progress callbacks that check for Ctrl-C, and the functions that add each group of bindings
+// to the module.
+
+#include <clustersurf/cluster_tree.hpp>
+#include <clustersurf/point_cloud.hpp>
+#include <clustersurf/progress.hpp>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace clustersurf::python {
+
+namespace py = pybind11;
+
+/// Any array-like of shape (n, 3), converted to float64 rows (float32 and integer arrays are
+/// cast). Throws OptionError naming `name` when the shape is wrong.
+Points to_points(const py::handle& array, const char* name);
+/// Same for (n, 3) uint8 colors (values are cast, not rescaled).
+Colors to_colors(const py::handle& array, const char* name);
+/// Same for (m, 3) triangle indices; every index must be in [0, vertex_count).
+Triangles to_triangles(const py::handle& array, const char* name, Eigen::Index vertex_count);
+
+/// A (n, 3) numpy array owning `m`'s storage (moved, not copied).
+py::array_t<double> to_array(Points&& m);
+py::array_t<std::uint8_t> to_array(Colors&& m);
+py::array_t<std::int32_t> to_array(Triangles&& m);
+/// Like to_array, or None for an empty matrix (absent normals or colors).
+py::object to_array_or_none(Points&& m);
+py::object to_array_or_none(Colors&& m);
+
+/// A non-negative integer option that must fit `std::uint32_t`; throws OptionError naming it.
+std::uint32_t to_uint32(std::int64_t value, const char* name);
+
+/// The progress callback handed to long operations while the GIL is released. It takes the GIL
+/// to call the user's `progress(stage, fraction)` (when not None; a false return cancels) and to
+/// check for Ctrl-C. A Python exception raised there (KeyboardInterrupt included) cancels the
+/// operation and is re-raised by rethrow_if_interrupted() instead of clustersurf.Cancelled.
+class ProgressBridge {
+ public:
+  explicit ProgressBridge(py::object progress);
+  ProgressCallback callback();
+  /// Re-raises the Python exception that cancelled the operation, if one did.
+  void rethrow_if_interrupted();
+
+ private:
+  struct State;
+  std::shared_ptr<State> state_;
+};
+
+/// Runs `work` with the GIL released and a ProgressBridge for `progress`; a Python exception
+/// raised in the callback propagates unchanged.
+template <class Work>
+auto run_released(const py::object& progress, Work&& work) {
+  ProgressBridge bridge(progress);
+  try {
+    py::gil_scoped_release release;
+    return work(bridge.callback());
+  } catch (const std::exception&) {
+    bridge.rethrow_if_interrupted();
+    throw;
+  }
+}
+
+/// What a Python `Tree` holds: an immutable cluster tree shared with its `Node` views.
+struct TreeRef {
+  std::shared_ptr<const ClusterTree> tree;
+};
+
+/// Groups of bindings, one per source file.
+void bind_io(py::module_& m);
+void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class);
+void bind_render(py::class_<TreeRef>& tree_class);
+
+}  // namespace clustersurf::python

@@ -1,0 +1,123 @@
+// Tree.render(): the ray tracer of `clustersurf render` on one tree, into a numpy picture.
+
+#include "bindings.hpp"
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/render.hpp>
+
+#include <pybind11/stl.h>
+
+#include <cstdio>
+
+namespace clustersurf::python {
+
+namespace {
+
+Rgba8 parse_background(const std::string& text) {
+  if (text == "transparent") return {255, 255, 255, 0};
+  if (text == "white") return {255, 255, 255, 255};
+  if (text == "black") return {0, 0, 0, 255};
+  unsigned r = 0, g = 0, b = 0;
+  char tail = 0;
+  if (text.size() == 7 && std::sscanf(text.c_str(), "#%2x%2x%2x%c", &r, &g, &b, &tail) == 3)
+    return {static_cast<std::uint8_t>(r), static_cast<std::uint8_t>(g), static_cast<std::uint8_t>(b), 255};
+  throw OptionError("background must be transparent, white, black or #rrggbb, not \"" + text + "\"");
+}
+
+IntersectMode parse_mode(const std::string& s) {
+  for (IntersectMode m : {IntersectMode::Implicit, IntersectMode::HitBlend, IntersectMode::BruteForce})
+    if (s == to_string(m)) return m;
+  throw OptionError("mode must be implicit, hit-blend or brute-force, not \"" + s + "\"");
+}
+
+ShowMode parse_show(const std::string& s) {
+  for (ShowMode m : {ShowMode::Surface, ShowMode::Clusters, ShowMode::Spheres, ShowMode::Proxies, ShowMode::Error})
+    if (s == to_string(m)) return m;
+  throw OptionError("show must be surface, clusters, spheres, proxies or error, not \"" + s + "\"");
+}
+
+std::optional<Eigen::Vector3d> vector_option(const std::optional<std::vector<double>>& v, const char* name) {
+  if (!v) return std::nullopt;
+  if (v->size() != 3) throw OptionError(std::string(name) + " takes (x, y, z)");
+  return Eigen::Vector3d((*v)[0], (*v)[1], (*v)[2]);
+}
+
+}  // namespace
+
+void bind_render(py::class_<TreeRef>& tree_class) {
+  tree_class.def(
+      "render",
+      [](const TreeRef& t, int width, int height, int samples, const std::string& mode, const std::string& show,
+         std::optional<std::int64_t> level, std::optional<std::int64_t> highlight, const py::object& points,
+         std::optional<double> error_scale, double azimuth, double elevation, std::optional<double> distance, double fov,
+         const std::optional<std::vector<double>>& eye, const std::optional<std::vector<double>>& target,
+         const std::optional<std::vector<double>>& up, const std::string& background, bool ao,
+         std::optional<std::int64_t> lod_depth, std::optional<double> lod_error, double min_weight, const py::object& progress) {
+        const ClusterTree& tree = *t.tree;
+        RenderOptions o;
+        o.width = width;
+        o.height = height;
+        o.samples = samples;
+        o.mode = parse_mode(mode);
+        o.show = parse_show(show);
+        if (level) o.level = to_uint32(*level, "level");
+        if (highlight) {
+          if (*highlight < 0 || *highlight >= static_cast<std::int64_t>(tree.nodes.size()))
+            throw OptionError("highlight must be a node index in [0, " + std::to_string(tree.nodes.size()) + ")");
+          o.highlight = static_cast<std::int32_t>(*highlight);
+        }
+        o.error_scale = error_scale;
+        o.camera.azimuth = azimuth;
+        o.camera.elevation = elevation;
+        o.camera.distance = distance;
+        o.camera.fov = fov;
+        o.camera.eye = vector_option(eye, "eye");
+        o.camera.target = vector_option(target, "target");
+        if (auto u = vector_option(up, "up")) o.camera.up = *u;
+        o.background = parse_background(background);
+        o.ambient_occlusion = ao;
+        if (lod_depth) o.lod.max_depth = to_uint32(*lod_depth, "lod_depth");
+        if (lod_error) {
+          if (!(*lod_error >= 0)) throw OptionError("lod_error must be a non-negative fraction of the diagonal");
+          o.lod.max_error = *lod_error * tree.bbox.diagonal();
+        }
+        o.min_weight = min_weight;
+        o.framing = tree.bbox;
+        Points reference;
+        if (!points.is_none()) {
+          reference = to_points(py::hasattr(points, "positions") ? points.attr("positions") : points, "points");
+          o.reference_points = &reference;
+        }
+        if (o.show == ShowMode::Error && o.reference_points == nullptr)
+          throw OptionError("show=\"error\" needs the input points (points=...)");
+        auto image = std::make_unique<Image>(run_released(progress, [&](ProgressCallback callback) {
+          o.progress = std::move(callback);
+          return render_tree(tree, o);
+        }));
+        const py::ssize_t h = image->height, w = image->width;
+        static_assert(sizeof(Rgba8) == 4);
+        auto* data = reinterpret_cast<std::uint8_t*>(image->pixels.data());
+        py::capsule owner(image.release(), [](void* p) { delete static_cast<Image*>(p); });
+        return py::array_t<std::uint8_t>({h, w, py::ssize_t{4}}, data, owner);
+      },
+      py::kw_only(), py::arg("width") = 1280, py::arg("height") = 960, py::arg("samples") = 1, py::arg("mode") = "implicit",
+      py::arg("show") = "surface", py::arg("level") = py::none(), py::arg("highlight") = py::none(),
+      py::arg("points") = py::none(), py::arg("error_scale") = py::none(), py::arg("azimuth") = 30.0,
+      py::arg("elevation") = 20.0, py::arg("distance") = py::none(), py::arg("fov") = 35.0, py::arg("eye") = py::none(),
+      py::arg("target") = py::none(), py::arg("up") = py::none(), py::arg("background") = "white", py::arg("ao") = false,
+      py::arg("lod_depth") = py::none(), py::arg("lod_error") = py::none(), py::arg("min_weight") = 0.1,
+      py::arg("progress") = py::none(), R"doc(
+Ray-traces a picture of the tree, as ``clustersurf render`` does; returns an (height, width, 4)
+uint8 RGBA array (the pixels its PNG would hold).
+
+Options mirror the CLI: ``width``, ``height``, ``samples`` (rays per pixel); ``mode``
+"implicit", "hit-blend" or "brute-force"; ``show`` "surface", "clusters", "spheres", "proxies"
+or "error" (needs ``points``, an (n, 3) array or PointCloud; ``error_scale``); ``level``
+(clusters: color by the ancestor at this depth); ``highlight`` (a node index); the camera
+``azimuth``, ``elevation``, ``distance``, ``fov`` or ``eye``/``target``/``up`` as (x, y, z);
+``background`` "transparent", "white", "black" or "#rrggbb"; ``ao`` (ambient occlusion);
+``lod_depth``, ``lod_error``, ``min_weight``. ``progress`` as in reconstruct(). Runs on all
+cores without the GIL.)doc");
+}
+
+}  // namespace clustersurf::python

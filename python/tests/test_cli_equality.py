@@ -1,0 +1,98 @@
+"""The module gives the CLI's results on the same input: same tree bytes, mesh, info, figures
+and error messages."""
+
+import json
+import subprocess
+
+import numpy as np
+import pytest
+
+import clustersurf
+
+
+def run(cli, *args, check=True):
+    return subprocess.run([cli, "--quiet", *map(str, args)], capture_output=True, text=True, check=check)
+
+
+OPTION_SETS = [
+    ({}, []),
+    ({"proxy": "quadric", "max_error": 0.002, "min_points": 30},
+     ["--proxy", "quadric", "--max-error", "0.002", "--min-points", "30"]),
+    ({"proxy": "plane", "splitter": "lloyd", "absolute_error": 0.01, "alpha": 0.9, "seed": 7},
+     ["--proxy", "plane", "--splitter", "lloyd", "--absolute-error", "0.01", "--alpha", "0.9", "--seed", "7"]),
+]
+
+
+@pytest.mark.parametrize("kwargs, flags", OPTION_SETS)
+def test_tree_bytes_equal_the_cli(tmp_path, cli, bunny_file, kwargs, flags):
+    out = tmp_path / "cli.cstree"
+    run(cli, "reconstruct", bunny_file, "-o", out, *flags)
+    cloud = clustersurf.read_points(bunny_file)
+    tree = clustersurf.reconstruct(cloud.positions, cloud.normals, **kwargs)
+    assert tree.to_bytes() == out.read_bytes()
+    tree.save(tmp_path / "py.cstree")
+    assert (tmp_path / "py.cstree").read_bytes() == out.read_bytes()
+
+
+def test_info_equals_cli_json(tmp_path, cli, bunny_file):
+    out = tmp_path / "b.cstree"
+    run(cli, "reconstruct", bunny_file, "-o", out)
+    cli_info = json.loads(subprocess.run([cli, "--json", "info", str(out)], capture_output=True, text=True,
+                                         check=True).stdout)
+    info = clustersurf.load(out).info()
+    cli_info.pop("file")
+    info = json.loads(json.dumps(info))  # tuples become lists, as in the CLI's JSON
+    assert info == cli_info
+
+
+@pytest.mark.parametrize("kwargs, flags", [({"resolution": 64}, ["--resolution", "64"]),
+                                           ({"resolution": 48, "lod_depth": 5}, ["--resolution", "48", "--lod-depth", "5"])])
+def test_mesh_equals_the_cli(tmp_path, cli, bunny_file, kwargs, flags):
+    tree_file = tmp_path / "b.cstree"
+    run(cli, "reconstruct", bunny_file, "-o", tree_file)
+    run(cli, "mesh", tree_file, "-o", tmp_path / "cli.ply", *flags)
+    cli_mesh = clustersurf.read_mesh(tmp_path / "cli.ply")
+    vertices, faces, normals = clustersurf.load(tree_file).mesh(**kwargs)
+    # The CLI writes binary PLY with float32 coordinates.
+    np.testing.assert_array_equal(vertices.astype(np.float32).astype(np.float64), cli_mesh.vertices)
+    np.testing.assert_array_equal(normals.astype(np.float32).astype(np.float64), cli_mesh.normals)
+    np.testing.assert_array_equal(faces, cli_mesh.faces)
+    # And write_mesh writes the CLI's bytes.
+    clustersurf.write_mesh(tmp_path / "py.ply", vertices, faces, normals)
+    assert (tmp_path / "py.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
+
+
+def test_sample_and_eval_equal_the_cli(tmp_path, cli, bunny_file):
+    run(cli, "sample", bunny_file, "-o", tmp_path / "cli.ply", "-n", 3000, "--noise", 0.001, "--seed", 5)
+    mesh = clustersurf.read_mesh(bunny_file)
+    cloud = clustersurf.sample_surface(mesh.vertices, mesh.faces, n=3000, noise=0.001, seed=5)
+    clustersurf.write_points(tmp_path / "py.ply", cloud.positions, cloud.normals)
+    assert (tmp_path / "py.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
+
+    cli_eval = json.loads(subprocess.run([cli, "--json", "eval", str(tmp_path / "cli.ply"), "-r", str(bunny_file),
+                                          "--samples", "5000"], capture_output=True, text=True, check=True).stdout)
+    sampled = clustersurf.read_points(tmp_path / "cli.ply")
+    e = clustersurf.evaluate(sampled.positions, None, mesh.vertices, mesh.faces, recon_normals=sampled.normals,
+                             samples=5000)
+    for key in ("diagonal", "accuracy", "completeness", "chamfer", "hausdorff", "normal_consistency"):
+        assert e[key] == cli_eval[key], key
+    assert [f["fscore"] for f in e["fscore"]] == [f["fscore"] for f in cli_eval["fscore"]]
+
+
+def test_error_messages_equal_the_cli(tmp_path, cli):
+    bad = tmp_path / "bad.xyz"
+    bad.write_text("0 0 0\n1 2\n")
+    for path, error in ((bad, clustersurf.InputError), (tmp_path / "missing.ply", clustersurf.IoError)):
+        result = run(cli, "reconstruct", path, "-o", tmp_path / "x.cstree", check=False)
+        assert result.returncode in (3, 4)
+        with pytest.raises(error) as e:
+            clustersurf.read_points(path)
+        assert str(e.value) in result.stderr
+
+
+def test_real_scan_equals_the_cli(tmp_path, cli, shared_data):
+    scan = shared_data("bunny/scans/bun045.ply")
+    out = tmp_path / "cli.cstree"
+    run(cli, "reconstruct", scan, "-o", out)
+    tree = clustersurf.reconstruct(clustersurf.read_points(scan))
+    assert tree.to_bytes() == out.read_bytes()
