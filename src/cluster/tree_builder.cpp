@@ -125,7 +125,10 @@ class Builder {
       // neighbours' surface.
       if (index_ != nullptr) {
         if (!support) support = support_error(node);
-        for (int shrink = 0; shrink < kSupportShrinkSteps && *support > support_limit; ++shrink) {
+        // A leaf held at min_points may miss the threshold on its own points too; measure its
+        // support against what it achieves there.
+        const double limit = options_.support_factor * std::max(threshold_, e);
+        for (int shrink = 0; shrink < kSupportShrinkSteps && *support > limit; ++shrink) {
           node.support.radius *= kSupportShrinkFactor;
           support = support_error(node);
         }
