@@ -88,7 +88,8 @@ function start() {
   pointGeometry.setAttribute('position', new THREE.BufferAttribute(blobs.positions, 3));
   const colorAttribute = new THREE.BufferAttribute(pointColors, 3, true);
   pointGeometry.setAttribute('color', colorAttribute);
-  const pointMaterial = new THREE.PointsMaterial({ size: 2, sizeAttenuation: false, vertexColors: true });
+  const pointSize = pointCount < 200000 ? 4 : 2;  // pixels; sparse clouds get larger dots
+  const pointMaterial = new THREE.PointsMaterial({ size: pointSize, sizeAttenuation: false, vertexColors: true });
   const points = new THREE.Points(pointGeometry, pointMaterial);
   points.frustumCulled = false;
   scene.add(points);
@@ -115,7 +116,7 @@ function start() {
   const patchMaterial = new THREE.MeshLambertMaterial({ vertexColors: true, side: THREE.DoubleSide });
   let leafPatches = null;  // built on first use
   const selectedPatch = new THREE.Mesh(new THREE.BufferGeometry(),
-    new THREE.MeshLambertMaterial({ color: HIGHLIGHT, side: THREE.DoubleSide, transparent: true, opacity: 0.85 }));
+    new THREE.MeshLambertMaterial({ color: HIGHLIGHT, side: THREE.DoubleSide, transparent: true, opacity: 0.5, depthWrite: false }));
   selectedPatch.frustumCulled = false;
   scene.add(selectedPatch);
 
@@ -245,6 +246,7 @@ function start() {
     if (leafPatches) leafPatches.visible = on;
   });
   const sizeSlider = document.getElementById('cs-point-size');
+  sizeSlider.value = String(pointSize);
   sizeSlider.addEventListener('input', () => { pointMaterial.size = Number(sizeSlider.value); requestRender(); });
   window.addEventListener('keydown', (event) => { if (event.key === 'Escape') selectNode(-1); });
 
