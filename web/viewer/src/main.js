@@ -51,7 +51,7 @@ function start() {
 
   // Large clouds: frames drawn while things change show a prefix of the points (the CLI stores
   // them so that every prefix is an even subsample); the full cloud follows once idle.
-  const previewPoints = Math.min(meta.points, 250000);
+  const previewPoints = Math.min(meta.points, 100000);
   let frameRequested = false, idleTimer = 0, pointGeometry = null;
   const draw = (full) => {
     if (pointGeometry) pointGeometry.setDrawRange(0, full ? meta.points : previewPoints);
