@@ -126,4 +126,13 @@ struct RenderArgs {
 };
 int run_render(Console& console, const RenderArgs& args);
 
+struct ViewArgs {
+  std::string tree;              // .cstree
+  std::string output;            // .html
+  std::string points;            // the tree's input cloud (optional: without it, no points are shown)
+  std::string mesh;              // .ply/.obj (optional)
+  std::size_t max_points = 2000000;  // 0: all
+};
+int run_view(Console& console, const ViewArgs& args);
+
 }  // namespace clustersurf::cli

@@ -185,6 +185,16 @@ int main(int argc, char** argv) {
   v->add_flag("--grid", rnd.grid, "Render every input with the same camera into one labelled picture");
   v->add_option("--columns", rnd.columns, "--grid: pictures per row (0: as square as possible)")->check(CLI::NonNegativeNumber);
 
+  ViewArgs view;
+  auto* vw = app.add_subcommand("view", "Write an interactive HTML viewer of a tree: clusters, proxies, spheres, mesh");
+  vw->add_option("tree", view.tree, "Tree file (.cstree)")->required();
+  vw->add_option("-o,--output", view.output, "Page to write (.html, self-contained: open it in a browser)")->required();
+  vw->add_option("--points", view.points, "The cloud the tree was built from (tree files do not hold the positions)");
+  vw->add_option("--mesh", view.mesh, "A mesh to show as well (.ply or .obj)");
+  vw->add_option("--max-points", view.max_points, "Embed at most this many points, evenly spread over the input (0: all)")
+      ->check(CLI::NonNegativeNumber)
+      ->default_val(2000000);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -204,6 +214,7 @@ int main(int argc, char** argv) {
     if (sm->parsed()) return run_sample(console, sample);
     if (ev->parsed()) return run_eval(console, eval);
     if (v->parsed()) return run_render(console, rnd);
+    if (vw->parsed()) return run_view(console, view);
     return kExitUsage;
   } catch (const clustersurf::InputError& e) {
     console.end_progress();

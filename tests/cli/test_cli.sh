@@ -84,10 +84,10 @@ if [[ "$out" =~ ^clustersurf\ [0-9]+\.[0-9]+\.[0-9]+ ]]; then ok "--version prin
 
 run --help
 expect_rc "--help exits 0" 0
-for sub in convert stats reconstruct info mesh render; do
+for sub in convert stats reconstruct info mesh render view; do
   expect_contains "--help lists $sub" "$out" "$sub"
 done
-for sub in convert stats reconstruct info mesh render; do
+for sub in convert stats reconstruct info mesh render view; do
   run "$sub" --help
   expect_rc "$sub --help exits 0" 0
   expect_contains "$sub --help shows usage" "$out" "Usage:"
@@ -335,6 +335,28 @@ expect_rc "render of a missing input: exit code 4" 4
 run render "$tmp/trunc.cstree" -o "$tmp/out/bad.png"
 expect_rc "render of a corrupt tree: exit code 3" 3
 no_new_files "failed renders leave no output" "$tmp/out" "existing.ply"
+
+# --- view -------------------------------------------------------------------------------------
+run --json view "$tmp/b.cstree" -o "$tmp/v.html" --points "$bunny" --mesh "$tmp/m.ply"
+expect_rc "view exits 0" 0
+expect_eq "view embeds every point" "$(json_field points)" "$(count "$bunny")"
+check "view writes one HTML page with the data inside" grep -q 'id="cs-blob-positions"' "$tmp/v.html"
+check "the page needs no other file (no src= or href= to files)" bash -c "! grep -Eq '(src|href)=\"[^\"#]' '$tmp/v.html'"
+run -q view "$tmp/b.cstree" -o "$tmp/v2.html" --points "$bunny" --mesh "$tmp/m.ply"
+check "same inputs give the same page bytes" cmp -s "$tmp/v.html" "$tmp/v2.html"
+run --json view "$tmp/b.cstree" -o "$tmp/v-small.html" --points "$bunny" --max-points 1000
+expect_eq "view --max-points 1000 embeds 1000 points" "$(json_field points)" 1000
+run view "$tmp/b.cstree" -o "$tmp/v-tree.html"
+expect_rc "view without --points exits 0" 0
+expect_contains "view without --points says the points are not shown" "$err" "--points"
+run view "$tmp/b.cstree" -o "$tmp/out/bad.html" --points "$tmp/s1.ply"
+expect_rc "view with another cloud: exit code 2" 2
+expect_contains "view with another cloud: the message says the counts differ" "$err" "was built from"
+run view "$tmp/b.cstree" -o "$tmp/out/bad.png" --points "$bunny"
+expect_rc "view to a non-.html file: exit code 2" 2
+run view "$tmp/trunc.cstree" -o "$tmp/out/bad.html"
+expect_rc "view of a corrupt tree: exit code 3" 3
+no_new_files "failed views leave no output" "$tmp/out" "existing.ply"
 
 # --- shared data (optional) ---------------------------------------------------------------------
 if [ -n "$shared" ] && [ -f "$shared/bunny/scans/bun000.ply" ]; then

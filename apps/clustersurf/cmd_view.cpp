@@ -1,0 +1,59 @@
+#include "commands.hpp"
+#include "input.hpp"
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/html_viewer.hpp>
+#include <clustersurf/tree_file.hpp>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+
+namespace clustersurf::cli {
+
+int run_view(Console& console, const ViewArgs& args) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto extension = std::filesystem::path(args.output).extension();
+  if (extension != ".html" && extension != ".htm") throw OptionError("the output must be an .html file");
+  const ClusterTree tree = load_tree(args.tree);
+
+  PointCloud cloud;
+  if (args.points.empty()) {
+    console.warn("no --points: the page shows the tree's proxies and spheres only (tree files do not hold the "
+                 "positions; pass the cloud the tree was built from to see the points)");
+  } else {
+    cloud = read_input(console, InputArgs{args.points, false});
+    if (static_cast<std::uint64_t>(cloud.size()) != tree.input_points)
+      throw OptionError(fmt::format("--points {} has {} points but {} was built from {}: pass the tree's input cloud", args.points,
+                                    cloud.size(), args.tree, tree.input_points));
+  }
+  TriangleMesh mesh;
+  if (!args.mesh.empty()) {
+    ReadOptions options;
+    options.warn = [&console](const std::string& message) { console.warn(message); };
+    mesh = read_triangle_mesh(args.mesh, options);
+  }
+
+  ViewerOptions options;
+  options.max_points = args.max_points;
+  options.title = std::filesystem::path(args.tree).filename().string();
+  const ViewerStats stats = write_viewer_html(args.output, tree, args.points.empty() ? nullptr : &cloud,
+                                              args.mesh.empty() ? nullptr : &mesh, options);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (stats.points < static_cast<std::size_t>(cloud.size()))
+    console.print(fmt::format("points          {} of {} embedded (--max-points)", stats.points, cloud.size()));
+  console.print(fmt::format("wrote           {} ({:.1f} MB: {} nodes, {} points, {} triangles) in {:.2f} s", args.output,
+                            static_cast<double>(stats.bytes) / 1e6, stats.nodes, stats.points, stats.triangles, seconds));
+  if (console.options().json) {
+    const nlohmann::json j = {{"file", args.output},     {"bytes", stats.bytes},         {"nodes", stats.nodes},
+                              {"points", stats.points},  {"input_points", cloud.size()}, {"triangles", stats.triangles},
+                              {"seconds", seconds}};
+    std::cout << j.dump(2) << "\n";
+  }
+  return 0;
+}
+
+}  // namespace clustersurf::cli

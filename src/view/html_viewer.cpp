@@ -1,0 +1,323 @@
+#include "io/atomic_file.hpp"
+#include "view/viewer_template.hpp"
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/html_viewer.hpp>
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <numeric>
+#include <optional>
+#include <string>
+#include <type_traits>
+#include <variant>
+#include <vector>
+
+namespace clustersurf {
+
+namespace {
+
+/// A binary block of the page: little-endian bytes and how the viewer types them.
+struct Blob {
+  std::string name;
+  std::string type;  // f32 | f64 | i32 | u32 | u8
+  std::size_t length = 0;
+  std::vector<unsigned char> bytes;
+};
+
+template <class T>
+constexpr const char* type_name() {
+  if constexpr (std::is_same_v<T, float>) return "f32";
+  else if constexpr (std::is_same_v<T, double>) return "f64";
+  else if constexpr (std::is_same_v<T, std::int32_t>) return "i32";
+  else if constexpr (std::is_same_v<T, std::uint32_t>) return "u32";
+  else {
+    static_assert(std::is_same_v<T, std::uint8_t>);
+    return "u8";
+  }
+}
+
+template <class T>
+Blob make_blob(std::string name, const std::vector<T>& values) {
+  Blob b{std::move(name), type_name<T>(), values.size(), std::vector<unsigned char>(values.size() * sizeof(T))};
+  if (!values.empty()) std::memcpy(b.bytes.data(), values.data(), b.bytes.size());
+  if constexpr (std::endian::native == std::endian::big && sizeof(T) > 1)
+    for (std::size_t i = 0; i < b.bytes.size(); i += sizeof(T)) std::reverse(b.bytes.begin() + i, b.bytes.begin() + i + sizeof(T));
+  return b;
+}
+
+/// Writes `bytes` as base64 (RFC 4648, padded) in chunks.
+void write_base64(io::AtomicFile& out, const std::vector<unsigned char>& bytes) {
+  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  constexpr std::size_t kChunk = 3 * 65536;
+  std::string text;
+  text.reserve(kChunk / 3 * 4);
+  for (std::size_t start = 0; start < bytes.size(); start += kChunk) {
+    const std::size_t stop = std::min(bytes.size(), start + kChunk);
+    text.clear();
+    std::size_t i = start;
+    for (; i + 3 <= stop; i += 3) {
+      const std::uint32_t v = (std::uint32_t{bytes[i]} << 16) | (std::uint32_t{bytes[i + 1]} << 8) | bytes[i + 2];
+      text += kAlphabet[(v >> 18) & 63], text += kAlphabet[(v >> 12) & 63];
+      text += kAlphabet[(v >> 6) & 63], text += kAlphabet[v & 63];
+    }
+    if (i < stop) {  // only in the last chunk (kChunk is a multiple of 3)
+      const bool two = i + 1 < stop;
+      const std::uint32_t v = (std::uint32_t{bytes[i]} << 16) | (two ? std::uint32_t{bytes[i + 1]} << 8 : 0u);
+      text += kAlphabet[(v >> 18) & 63], text += kAlphabet[(v >> 12) & 63];
+      text += two ? kAlphabet[(v >> 6) & 63] : '=';
+      text += '=';
+    }
+    out.write(text);
+  }
+}
+
+/// The frame a node's patch is drawn in, or nothing for point proxies.
+struct PatchFrame {
+  Eigen::Vector3d origin;
+  Eigen::Matrix3d axes;  // columns e1, e2, e3
+};
+
+Eigen::Matrix3d basis_around(const Eigen::Vector3d& normal) {
+  const Eigen::Vector3d n = normal.normalized();
+  const Eigen::Vector3d a = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d e1 = (a - a.dot(n) * n).normalized();
+  Eigen::Matrix3d axes;
+  axes << e1, n.cross(e1), n;
+  return axes;
+}
+
+std::optional<PatchFrame> patch_frame(const ClusterNode& node) {
+  const Proxy::Variant& v = node.proxy.variant();
+  if (const auto* poly = std::get_if<PolyProxy>(&v)) return PatchFrame{poly->frame.origin, poly->frame.axes};
+  if (const auto* plane = std::get_if<PlaneProxy>(&v)) {
+    const Eigen::Vector3d c = node.support.center;
+    return PatchFrame{c - plane->normal.dot(c - plane->point) * plane->normal, basis_around(plane->normal)};
+  }
+  if (std::holds_alternative<QuadricProxy>(v)) return PatchFrame{node.support.center, basis_around(node.proxy.normal())};
+  return std::nullopt;
+}
+
+/// [umin, umax] × [vmin, vmax] of a cluster's points in its patch frame.
+struct Extent {
+  double umin = std::numeric_limits<double>::infinity(), umax = -std::numeric_limits<double>::infinity();
+  double vmin = std::numeric_limits<double>::infinity(), vmax = -std::numeric_limits<double>::infinity();
+  void extend(double u, double v) {
+    umin = std::min(umin, u), umax = std::max(umax, u);
+    vmin = std::min(vmin, v), vmax = std::max(vmax, v);
+  }
+  void merge(const Extent& e) {
+    umin = std::min(umin, e.umin), umax = std::max(umax, e.umax);
+    vmin = std::min(vmin, e.vmin), vmax = std::max(vmax, e.vmax);
+  }
+};
+
+std::vector<Extent> cluster_extents(const ClusterTree& tree, const Points& positions,
+                                    const std::vector<std::optional<PatchFrame>>& frames) {
+  const std::size_t n = tree.nodes.size();
+  tbb::combinable<std::vector<Extent>> partial([n] { return std::vector<Extent>(n); });
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, positions.rows(), 4096), [&](const auto& r) {
+    std::vector<Extent>& extents = partial.local();
+    for (Eigen::Index p = r.begin(); p != r.end(); ++p) {
+      const Eigen::Vector3d x = positions.row(p).transpose();
+      for (std::int32_t i = tree.point_leaf[static_cast<std::size_t>(p)]; i >= 0; i = tree.nodes[static_cast<std::size_t>(i)].parent) {
+        const auto& f = frames[static_cast<std::size_t>(i)];
+        if (!f) continue;
+        const Eigen::Vector3d d = x - f->origin;
+        extents[static_cast<std::size_t>(i)].extend(f->axes.col(0).dot(d), f->axes.col(1).dot(d));
+      }
+    }
+  });
+  std::vector<Extent> extents(n);  // min/max: the merge order does not change the result
+  partial.combine_each([&](const std::vector<Extent>& e) {
+    for (std::size_t i = 0; i < n; ++i) extents[i].merge(e[i]);
+  });
+  return extents;
+}
+
+/// Height of the node's proxy above (u, v) in its patch frame, NaN where it has none within
+/// the support radius.
+float patch_height(const ClusterNode& node, const PatchFrame& f, double u, double v) {
+  constexpr float kNone = std::numeric_limits<float>::quiet_NaN();
+  const double radius = node.support.radius;
+  const Proxy::Variant& proxy = node.proxy.variant();
+  double h = 0;
+  if (const auto* poly = std::get_if<PolyProxy>(&proxy)) {
+    h = poly->height(u, v);
+  } else if (std::holds_alternative<QuadricProxy>(proxy)) {
+    const Eigen::Vector3d x = f.origin + u * f.axes.col(0) + v * f.axes.col(1);
+    const Eigen::Vector3d e3 = f.axes.col(2);
+    const auto up = node.proxy.intersect(Ray{x, e3}, 0, radius);
+    const auto down = node.proxy.intersect(Ray{x, -e3}, 0, radius);
+    if (!up && !down) return kNone;
+    h = up && (!down || *up <= *down) ? *up : -*down;
+  }
+  return std::isfinite(h) && std::abs(h) <= radius ? static_cast<float>(h) : kNone;
+}
+
+/// Indices of the embedded points, in the order they are stored. The kept points are all, or
+/// floor(k·n / max) for k < max; they are stored in the order j·stride mod m (stride ≈ 0.618 m,
+/// coprime with m), so every prefix is spread evenly over the input.
+std::vector<std::size_t> embedded_points(std::size_t n, std::size_t max_points) {
+  const std::size_t m = max_points == 0 ? n : std::min(n, max_points);
+  std::size_t stride = std::max<std::size_t>(1, static_cast<std::size_t>(0.6180339887498949 * static_cast<double>(m)));
+  while (std::gcd(stride, m) != 1) ++stride;
+  std::vector<std::size_t> keep(m);
+  std::size_t k = 0;
+  for (std::size_t j = 0; j < m; ++j, k = (k + stride) % m)
+    keep[j] = k * (n / m) + k * (n % m) / m;  // floor(k·n / m) without overflow for m < 2³²
+  return keep;
+}
+
+}  // namespace
+
+ViewerStats write_viewer_html(const std::filesystem::path& file, const ClusterTree& tree, const PointCloud* cloud,
+                              const TriangleMesh* mesh, const ViewerOptions& options) {
+  if (options.patch_grid < 2) throw OptionError("the proxy patch grid needs at least 2 vertices per side");
+  if (tree.nodes.empty()) throw OptionError("the tree has no nodes");
+  if (cloud != nullptr) {
+    if (static_cast<std::uint64_t>(cloud->size()) != tree.input_points)
+      throw OptionError("the point cloud has " + std::to_string(cloud->size()) + " points but the tree was built from " +
+                        std::to_string(tree.input_points) + ": pass the tree's input cloud");
+    if (tree.point_leaf.size() != static_cast<std::size_t>(cloud->size()))
+      throw OptionError("the tree holds no point-to-leaf table (it was built with --no-point-leaves): rebuild it without");
+  }
+  const std::string_view page = view::viewer_template();
+  const std::size_t marker = page.find(view::kDataMarker);
+  if (marker == std::string_view::npos) throw IoError("internal error: the viewer template has no data marker");
+
+  const Eigen::Vector3d center = tree.bbox.empty() ? Eigen::Vector3d::Zero() : Eigen::Vector3d(0.5 * (tree.bbox.min + tree.bbox.max));
+  const std::size_t n = tree.nodes.size();
+  std::vector<Blob> blobs;
+  ViewerStats stats;
+  stats.nodes = n;
+
+  // Points: float32 positions relative to the bbox center and the leaf of each.
+  std::vector<float> positions;
+  std::vector<std::int32_t> leaves;
+  if (cloud != nullptr) {
+    const std::vector<std::size_t> keep = embedded_points(static_cast<std::size_t>(cloud->size()), options.max_points);
+    positions.resize(3 * keep.size());
+    leaves.resize(keep.size());
+    for (std::size_t k = 0; k < keep.size(); ++k) {
+      for (int c = 0; c < 3; ++c)
+        positions[3 * k + static_cast<std::size_t>(c)] = static_cast<float>(cloud->positions(static_cast<Eigen::Index>(keep[k]), c) - center[c]);
+      leaves[k] = tree.point_leaf[keep[k]];
+    }
+    stats.points = keep.size();
+  }
+  blobs.push_back(make_blob("positions", positions));
+  blobs.push_back(make_blob("point_leaf", leaves));
+
+  // Node table.
+  std::vector<std::int32_t> ints(5 * n);
+  std::vector<std::uint8_t> kinds(n);
+  std::vector<double> floats(6 * n);
+  std::size_t leaf_count = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const ClusterNode& node = tree.nodes[i];
+    ints[5 * i] = node.parent, ints[5 * i + 1] = node.left, ints[5 * i + 2] = node.right;
+    ints[5 * i + 3] = static_cast<std::int32_t>(node.depth), ints[5 * i + 4] = static_cast<std::int32_t>(node.point_count);
+    kinds[i] = static_cast<std::uint8_t>(node.proxy.kind());
+    const Eigen::Vector3d c = node.support.center - center;
+    const double values[6] = {node.rms_error, node.max_error, c.x(), c.y(), c.z(), node.support.radius};
+    std::copy(std::begin(values), std::end(values), floats.begin() + static_cast<std::ptrdiff_t>(6 * i));
+    leaf_count += node.is_leaf() ? 1 : 0;
+  }
+  blobs.push_back(make_blob("node_int", ints));
+  blobs.push_back(make_blob("node_kind", kinds));
+  blobs.push_back(make_blob("node_float", floats));
+
+  // Proxy patches: frame (origin, e1, e2, e3) relative to the center, extent, grid heights.
+  std::vector<std::optional<PatchFrame>> frames(n);
+  for (std::size_t i = 0; i < n; ++i) frames[i] = patch_frame(tree.nodes[i]);
+  std::vector<Extent> extents(n);
+  if (cloud != nullptr) extents = cluster_extents(tree, cloud->positions, frames);
+  const std::size_t g = options.patch_grid;
+  std::vector<float> patch_frames(16 * n, 0.0f);
+  std::vector<float> heights(g * g * n, std::numeric_limits<float>::quiet_NaN());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      const auto& f = frames[i];
+      Extent e = extents[i];
+      if (cloud == nullptr && f) {  // no points: a square of the support's size
+        const double s = 0.5 * tree.nodes[i].support.radius;
+        e = Extent{-s, s, -s, s};
+      }
+      if (!f || !(e.umax > e.umin) || !(e.vmax > e.vmin)) continue;
+      float* out = patch_frames.data() + 16 * i;
+      for (int c = 0; c < 3; ++c) {
+        out[c] = static_cast<float>(f->origin[c] - center[c]);
+        for (int a = 0; a < 3; ++a) out[3 + 3 * a + c] = static_cast<float>(f->axes(c, a));
+      }
+      out[12] = static_cast<float>(e.umin), out[13] = static_cast<float>(e.umax);
+      out[14] = static_cast<float>(e.vmin), out[15] = static_cast<float>(e.vmax);
+      for (std::size_t a = 0; a < g; ++a)
+        for (std::size_t b = 0; b < g; ++b) {
+          const double u = e.umin + (e.umax - e.umin) * static_cast<double>(a) / static_cast<double>(g - 1);
+          const double v = e.vmin + (e.vmax - e.vmin) * static_cast<double>(b) / static_cast<double>(g - 1);
+          heights[g * g * i + a * g + b] = patch_height(tree.nodes[i], *f, u, v);
+        }
+    }
+  });
+  blobs.push_back(make_blob("patch_frame", patch_frames));
+  blobs.push_back(make_blob("patch_height", heights));
+
+  nlohmann::json mesh_info = nullptr;
+  if (mesh != nullptr) {
+    std::vector<float> vertices(3 * static_cast<std::size_t>(mesh->vertices.rows()));
+    for (Eigen::Index v = 0; v < mesh->vertices.rows(); ++v)
+      for (int c = 0; c < 3; ++c) vertices[3 * static_cast<std::size_t>(v) + static_cast<std::size_t>(c)] = static_cast<float>(mesh->vertices(v, c) - center[c]);
+    std::vector<std::uint32_t> triangles(3 * static_cast<std::size_t>(mesh->triangles.rows()));
+    for (Eigen::Index t = 0; t < mesh->triangles.rows(); ++t)
+      for (int c = 0; c < 3; ++c) triangles[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(c)] = static_cast<std::uint32_t>(mesh->triangles(t, c));
+    blobs.push_back(make_blob("mesh_vertices", vertices));
+    blobs.push_back(make_blob("mesh_triangles", triangles));
+    mesh_info = {{"vertices", mesh->vertices.rows()}, {"triangles", mesh->triangles.rows()}};
+    stats.triangles = static_cast<std::size_t>(mesh->triangles.rows());
+  }
+
+  nlohmann::json blob_info = nlohmann::json::object();
+  for (const Blob& b : blobs) blob_info[b.name] = {{"type", b.type}, {"length", b.length}};
+  const nlohmann::json meta = {{"version", 1},
+                               {"title", options.title},
+                               {"center", {center.x(), center.y(), center.z()}},
+                               {"diagonal", tree.bbox.diagonal()},
+                               {"nodes", n},
+                               {"leaves", leaf_count},
+                               {"points", stats.points},
+                               {"input_points", tree.input_points},
+                               {"patch_grid", g},
+                               {"error_threshold", tree.parameters.error_threshold},
+                               {"mesh", mesh_info},
+                               {"blobs", blob_info}};
+  std::string meta_text = meta.dump(-1, ' ', true);  // ASCII: "</script>" can only come from '<'
+  for (std::size_t at = 0; (at = meta_text.find('<', at)) != std::string::npos;) meta_text.replace(at, 1, "\\u003c");
+
+  io::AtomicFile out(file);
+  out.write(page.substr(0, marker));
+  out.write("<script type=\"application/json\" id=\"cs-meta\">");
+  out.write(meta_text);
+  out.write("</script>\n");
+  for (const Blob& b : blobs) {
+    out.write("<script type=\"application/octet-stream\" id=\"cs-blob-" + b.name + "\">");
+    write_base64(out, b.bytes);
+    out.write("</script>\n");
+  }
+  out.write(page.substr(marker + view::kDataMarker.size()));
+  out.commit();
+  std::error_code ec;
+  stats.bytes = std::filesystem::file_size(file, ec);
+  return stats;
+}
+
+}  // namespace clustersurf

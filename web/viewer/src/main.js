@@ -1,0 +1,325 @@
+// The clustersurf viewer: input points colored by cluster at a tree level, the mesh, proxy
+// patches and support spheres (three.js), next to the collapsible cluster tree. Everything it
+// shows comes from the data the CLI embedded in the page (see data.js). Rendering is on demand:
+// a frame is drawn only when something changed.
+
+import * as THREE from 'three';
+import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
+import { loadData, nodeTable, PROXY_NAMES } from './data.js';
+import { nodePalette } from './colors.js';
+import { patchGeometry, hasPatch } from './patches.js';
+import { TreePanel } from './tree_panel.js';
+
+const GREY = [205, 205, 205];
+const HIGHLIGHT = 0xe02020;
+
+function formatLength(x, diagonal) {
+  return `${x.toPrecision(4)} (${((100 * x) / diagonal).toPrecision(3)} % of diagonal)`;
+}
+
+function start() {
+  const timings = { start: performance.now() };
+  const { meta, blobs } = loadData(document);
+  timings.decoded = performance.now();
+  const nodes = nodeTable(meta, blobs);
+  const palette = nodePalette(nodes.n);
+  const diagonal = meta.diagonal > 0 ? meta.diagonal : 1;
+  document.title = `${meta.title} · clustersurf view`;
+  document.getElementById('cs-title').textContent = meta.title;
+  document.getElementById('cs-summary').textContent =
+    `${nodes.n} nodes, ${meta.leaves} leaves, depth ${nodes.maxDepth}; ` +
+    `${meta.points} of ${meta.input_points} points shown${meta.mesh ? `; mesh ${meta.mesh.triangles} triangles` : ''}`;
+
+  // --- renderer, camera, lights ------------------------------------------------------------
+  const view = document.getElementById('cs-view');
+  const renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
+  renderer.setPixelRatio(window.devicePixelRatio);
+  renderer.setClearColor(0xffffff);
+  view.prepend(renderer.domElement);
+  const scene = new THREE.Scene();
+  const camera = new THREE.PerspectiveCamera(35, 1, diagonal / 1000, diagonal * 20);
+  const distance = diagonal / 2 / Math.sin(THREE.MathUtils.degToRad(35 / 2));
+  const az = THREE.MathUtils.degToRad(30), el = THREE.MathUtils.degToRad(20);
+  camera.position.set(Math.sin(az) * Math.cos(el), Math.sin(el), Math.cos(az) * Math.cos(el)).multiplyScalar(distance);
+  scene.add(camera);
+  scene.add(new THREE.HemisphereLight(0xffffff, 0x606060, 1.6));
+  const headlight = new THREE.DirectionalLight(0xffffff, 1.8);
+  headlight.position.set(0.3, 0.5, 1);
+  camera.add(headlight);
+  const controls = new OrbitControls(camera, renderer.domElement);
+  controls.enableDamping = false;
+
+  // Large clouds: frames drawn while things change show a prefix of the points (the CLI stores
+  // them so that every prefix is an even subsample); the full cloud follows once idle.
+  const previewPoints = Math.min(meta.points, 100000);
+  let frameRequested = false, idleTimer = 0, pointGeometry = null;
+  const draw = (full) => {
+    if (pointGeometry) pointGeometry.setDrawRange(0, full ? meta.points : previewPoints);
+    renderer.render(scene, camera);
+  };
+  const requestRender = () => {
+    if (frameRequested) return;
+    frameRequested = true;
+    requestAnimationFrame(() => {
+      frameRequested = false;
+      draw(previewPoints === meta.points);
+      if (previewPoints < meta.points) {
+        clearTimeout(idleTimer);
+        idleTimer = setTimeout(() => draw(true), 300);
+      }
+    });
+  };
+  controls.addEventListener('change', requestRender);
+  const resize = () => {
+    const w = Math.max(1, view.clientWidth), h = Math.max(1, view.clientHeight);
+    renderer.setSize(w, h);
+    camera.aspect = w / h;
+    camera.updateProjectionMatrix();
+    requestRender();
+  };
+  new ResizeObserver(resize).observe(view);
+  resize();
+
+  // --- points --------------------------------------------------------------------------------
+  const pointCount = meta.points;
+  const leafOf = blobs.point_leaf;
+  const pointColors = new Uint8Array(3 * pointCount);
+  pointGeometry = new THREE.BufferGeometry();
+  pointGeometry.setAttribute('position', new THREE.BufferAttribute(blobs.positions, 3));
+  const colorAttribute = new THREE.BufferAttribute(pointColors, 3, true);
+  pointGeometry.setAttribute('color', colorAttribute);
+  const pointSize = pointCount < 200000 ? 4 : 2;  // pixels; sparse clouds get larger dots
+  const pointMaterial = new THREE.PointsMaterial({ size: pointSize, sizeAttenuation: false, vertexColors: true });
+  const points = new THREE.Points(pointGeometry, pointMaterial);
+  points.frustumCulled = false;
+  scene.add(points);
+
+  // --- mesh ----------------------------------------------------------------------------------
+  let mesh = null;
+  if (meta.mesh) {
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.BufferAttribute(blobs.mesh_vertices, 3));
+    g.setIndex(new THREE.BufferAttribute(blobs.mesh_triangles, 1));
+    g.computeVertexNormals();
+    mesh = new THREE.Mesh(g, new THREE.MeshStandardMaterial({
+      color: 0xd8d8d8, roughness: 0.8, side: THREE.DoubleSide, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,
+    }));
+    scene.add(mesh);
+  } else {
+    const box = document.getElementById('cs-show-mesh');
+    box.checked = false;
+    box.disabled = true;
+  }
+
+  // --- proxies and spheres -------------------------------------------------------------------
+  const frames = blobs.patch_frame, heights = blobs.patch_height, grid = meta.patch_grid;
+  const patchMaterial = new THREE.MeshLambertMaterial({ vertexColors: true, side: THREE.DoubleSide });
+  let leafPatches = null;  // built on first use
+  const selectedPatch = new THREE.Mesh(new THREE.BufferGeometry(),
+    new THREE.MeshLambertMaterial({ color: HIGHLIGHT, side: THREE.DoubleSide, transparent: true, opacity: 0.5, depthWrite: false }));
+  selectedPatch.frustumCulled = false;
+  scene.add(selectedPatch);
+
+  const sphereWire = new THREE.WireframeGeometry(new THREE.SphereGeometry(1, 20, 12));
+  const selectedSphere = new THREE.LineSegments(sphereWire,
+    new THREE.LineBasicMaterial({ color: HIGHLIGHT, transparent: true, opacity: 0.6 }));
+  selectedSphere.visible = false;
+  scene.add(selectedSphere);
+  let cutSpheres = null;
+
+  // --- state ---------------------------------------------------------------------------------
+  let level = nodes.maxDepth;
+  let selected = -1;
+  const ancestor = new Int32Array(nodes.n);  // ancestor of each node at depth min(level, depth)
+
+  const recolor = () => {
+    for (let i = 0; i < nodes.n; ++i) ancestor[i] = nodes.depth[i] <= level ? i : ancestor[nodes.parent[i]];
+    const lo = selected >= 0 ? selected : 0, hi = selected >= 0 ? nodes.end[selected] : nodes.n;
+    for (let p = 0; p < pointCount; ++p) {
+      const leaf = leafOf[p];
+      const o = 3 * p;
+      if (leaf >= lo && leaf < hi) {
+        const c = 3 * ancestor[leaf];
+        pointColors[o] = palette[c]; pointColors[o + 1] = palette[c + 1]; pointColors[o + 2] = palette[c + 2];
+      } else {
+        pointColors[o] = GREY[0]; pointColors[o + 1] = GREY[1]; pointColors[o + 2] = GREY[2];
+      }
+    }
+    colorAttribute.needsUpdate = true;
+  };
+
+  const levelCut = () => {
+    const cut = [];
+    for (let i = 0; i < nodes.n; ++i) if (nodes.depth[i] === level || (nodes.left[i] < 0 && nodes.depth[i] < level)) cut.push(i);
+    return cut;
+  };
+
+  const updateSpheres = () => {
+    if (cutSpheres) { scene.remove(cutSpheres); cutSpheres.dispose(); cutSpheres = null; }
+    if (!document.getElementById('cs-show-spheres').checked) return;
+    const cut = levelCut();
+    cutSpheres = new THREE.InstancedMesh(new THREE.SphereGeometry(1, 16, 10),
+      new THREE.MeshBasicMaterial({ wireframe: true, transparent: true, opacity: 0.18, vertexColors: false }), cut.length);
+    const m = new THREE.Matrix4(), color = new THREE.Color();
+    cut.forEach((i, k) => {
+      const [x, y, z, r] = nodes.sphere(i);
+      m.makeScale(r, r, r).setPosition(x, y, z);
+      cutSpheres.setMatrixAt(k, m);
+      cutSpheres.setColorAt(k, color.setRGB(palette[3 * i] / 255, palette[3 * i + 1] / 255, palette[3 * i + 2] / 255, THREE.SRGBColorSpace));
+    });
+    cutSpheres.frustumCulled = false;
+    scene.add(cutSpheres);
+  };
+
+  const info = document.getElementById('cs-info');
+  const showInfo = (i) => {
+    const rows = i < 0
+      ? [['', 'no node selected', 'none']]
+      : [
+          ['node', `#${i}${nodes.left[i] < 0 ? ' (leaf)' : ''}`, 'node'],
+          ['depth', String(nodes.depth[i]), 'depth'],
+          ['points', String(nodes.count[i]), 'point_count'],
+          ['proxy', PROXY_NAMES[nodes.kind[i]] ?? '?', 'proxy'],
+          ['rms error', formatLength(nodes.rms(i), diagonal), 'rms_error'],
+          ['max error', formatLength(nodes.max(i), diagonal), 'max_error'],
+          ['support r', formatLength(nodes.sphere(i)[3], diagonal), 'support_radius'],
+          ['parent', nodes.parent[i] >= 0 ? `#${nodes.parent[i]}` : '—', 'parent'],
+        ];
+    info.replaceChildren(...rows.flatMap(([label, value, field]) => {
+      const dt = document.createElement('dt'), dd = document.createElement('dd');
+      dt.textContent = label;
+      dd.textContent = value;
+      dd.dataset.field = field;
+      return [dt, dd];
+    }));
+  };
+
+  const panel = new TreePanel(document.getElementById('cs-tree'), nodes, (i) => selectNode(i === selected ? -1 : i));
+
+  function selectNode(i) {
+    selected = i >= 0 && i < nodes.n ? i : -1;
+    panel.select(selected);
+    showInfo(selected);
+    selectedPatch.geometry.dispose();
+    selectedPatch.geometry = selected >= 0 && hasPatch(frames, selected)
+      ? patchGeometry([selected], frames, heights, grid, () => [255, 255, 255])
+      : new THREE.BufferGeometry();
+    if (selected >= 0) {
+      const [x, y, z, r] = nodes.sphere(selected);
+      selectedSphere.position.set(x, y, z);
+      selectedSphere.scale.setScalar(r);
+    }
+    selectedSphere.visible = selected >= 0;
+    recolor();
+    requestRender();
+  }
+
+  function setLevel(l) {
+    level = Math.max(0, Math.min(nodes.maxDepth, Math.round(l)));
+    slider.value = String(level);
+    document.getElementById('cs-level-value').textContent = String(level);
+    recolor();
+    updateSpheres();
+    requestRender();
+  }
+
+  // --- controls ------------------------------------------------------------------------------
+  const slider = document.getElementById('cs-level');
+  slider.max = String(nodes.maxDepth);
+  slider.addEventListener('input', () => setLevel(Number(slider.value)));
+  const bindToggle = (id, apply) => {
+    const box = document.getElementById(id);
+    box.addEventListener('change', () => { apply(box.checked); requestRender(); });
+    apply(box.checked);
+  };
+  bindToggle('cs-show-points', (on) => { points.visible = on; });
+  bindToggle('cs-show-mesh', (on) => { if (mesh) mesh.visible = on; });
+  bindToggle('cs-show-spheres', () => updateSpheres());
+  bindToggle('cs-show-proxies', (on) => {
+    if (on && !leafPatches) {
+      const leaves = [];
+      for (let i = 0; i < nodes.n; ++i) if (nodes.left[i] < 0) leaves.push(i);
+      leafPatches = new THREE.Mesh(patchGeometry(leaves, frames, heights, grid, (i) => palette.subarray(3 * i, 3 * i + 3)), patchMaterial);
+      leafPatches.frustumCulled = false;
+      scene.add(leafPatches);
+    }
+    if (leafPatches) leafPatches.visible = on;
+  });
+  const sizeSlider = document.getElementById('cs-point-size');
+  sizeSlider.value = String(pointSize);
+  sizeSlider.addEventListener('input', () => { pointMaterial.size = Number(sizeSlider.value); requestRender(); });
+  window.addEventListener('keydown', (event) => { if (event.key === 'Escape') selectNode(-1); });
+
+  // A click (not a drag) on a point selects its cluster at the current level.
+  const raycaster = new THREE.Raycaster();
+  raycaster.params.Points.threshold = diagonal * 0.004;
+  let downAt = null;
+  renderer.domElement.addEventListener('pointerdown', (e) => { downAt = [e.clientX, e.clientY]; });
+  renderer.domElement.addEventListener('pointerup', (e) => {
+    if (!downAt || Math.hypot(e.clientX - downAt[0], e.clientY - downAt[1]) > 4 || !points.visible || pointCount === 0) return;
+    const rect = renderer.domElement.getBoundingClientRect();
+    raycaster.setFromCamera(new THREE.Vector2(((e.clientX - rect.left) / rect.width) * 2 - 1, -((e.clientY - rect.top) / rect.height) * 2 + 1), camera);
+    const hit = raycaster.intersectObject(points)[0];
+    if (hit && leafOf[hit.index] >= 0) selectNode(ancestor[leafOf[hit.index]]);
+  });
+
+  slider.value = String(level);
+  document.getElementById('cs-level-value').textContent = String(level);
+  showInfo(-1);
+  timings.built = performance.now();
+  recolor();
+  timings.colored = performance.now();
+
+  // --- test and scripting hook ---------------------------------------------------------------
+  const hook = {
+    ready: false,  // true once the first frame is drawn (a preview of large clouds)
+    readyMs: 0,
+    fullDetail: false,  // true once a frame with every point is drawn
+    nodeCount: nodes.n,
+    timings,  // performance.now() at the start, after decoding, building, coloring, the first and the first full frame
+    selectNode,
+    setLevel,
+    /// Draws one frame and waits for it; returns the milliseconds it took (benchmarks).
+    timeFrame: () => {
+      const t = performance.now();
+      draw(true);
+      finish();
+      return performance.now() - t;
+    },
+    selected: () => selected,
+    node: (i) => ({ index: i, depth: nodes.depth[i], point_count: nodes.count[i], proxy: PROXY_NAMES[nodes.kind[i]],
+                    rms_error: nodes.rms(i), max_error: nodes.max(i), parent: nodes.parent[i], left: nodes.left[i], right: nodes.right[i] }),
+  };
+  window.clustersurfViewer = hook;
+  const finish = () => {  // waits for the frame drawn
+    const gl = renderer.getContext();
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
+  };
+  requestAnimationFrame(() => {
+    draw(previewPoints === meta.points);
+    finish();
+    hook.readyMs = performance.now();
+    timings.rendered = hook.readyMs;
+    hook.ready = true;
+    document.body.dataset.ready = 'true';
+    setTimeout(() => {
+      if (previewPoints < meta.points) {
+        draw(true);
+        finish();
+      }
+      timings.fullDetail = performance.now();
+      hook.fullDetail = true;
+    }, 0);
+  });
+}
+
+try {
+  start();
+} catch (error) {
+  const box = document.createElement('div');
+  box.id = 'cs-error';
+  box.textContent = `clustersurf view: ${error.message}`;
+  document.getElementById('cs-view').appendChild(box);
+  window.clustersurfViewer = { ready: false, error: String(error.message) };
+  throw error;
+}
