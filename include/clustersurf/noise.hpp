@@ -8,7 +8,7 @@ namespace clustersurf {
 
 /// Options of estimate_noise().
 struct NoiseOptions {
-  std::size_t neighbors = 12;     ///< points per local fit (few: curvature must not pass for noise)
+  std::size_t neighbors = 96;     ///< points per local fit: enough that the fit cannot follow the noise
   std::size_t samples = 4000;     ///< local fits (evenly strided points, deterministic)
 };
 
