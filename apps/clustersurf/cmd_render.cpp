@@ -51,34 +51,10 @@ BoundingBox scene_box(const Scene& scene) {
       scene);
 }
 
-Rgba8 parse_background(const std::string& text) {
-  if (text == "transparent") return {255, 255, 255, 0};
-  if (text == "white") return {255, 255, 255, 255};
-  if (text == "black") return {0, 0, 0, 255};
-  unsigned r = 0, g = 0, b = 0;
-  char tail = 0;
-  if (text.size() == 7 && std::sscanf(text.c_str(), "#%2x%2x%2x%c", &r, &g, &b, &tail) == 3)
-    return {static_cast<std::uint8_t>(r), static_cast<std::uint8_t>(g), static_cast<std::uint8_t>(b), 255};
-  throw OptionError("--background must be transparent, white, black or #rrggbb, not \"" + text + "\"");
-}
-
 std::optional<Eigen::Vector3d> vector_option(const std::vector<double>& v, const char* name) {
   if (v.empty()) return std::nullopt;
   if (v.size() != 3) throw OptionError(std::string(name) + " takes x,y,z");
   return Eigen::Vector3d(v[0], v[1], v[2]);
-}
-
-IntersectMode parse_mode(const std::string& s) {
-  if (s == "implicit") return IntersectMode::Implicit;
-  if (s == "hit-blend") return IntersectMode::HitBlend;
-  if (s == "brute-force") return IntersectMode::BruteForce;
-  throw OptionError("--mode must be implicit, hit-blend or brute-force, not \"" + s + "\"");
-}
-
-ShowMode parse_show(const std::string& s) {
-  for (ShowMode m : {ShowMode::Surface, ShowMode::Clusters, ShowMode::Spheres, ShowMode::Proxies, ShowMode::Error})
-    if (s == to_string(m)) return m;
-  throw OptionError("--show must be surface, clusters, spheres, proxies or error, not \"" + s + "\"");
 }
 
 }  // namespace
@@ -90,8 +66,8 @@ int run_render(Console& console, const RenderArgs& args) {
   options.width = args.width;
   options.height = args.height;
   options.samples = args.samples;
-  options.mode = parse_mode(args.mode);
-  options.show = parse_show(args.show);
+  options.mode = parse_intersect_mode(args.mode);
+  options.show = parse_show_mode(args.show);
   options.level = args.level;
   options.highlight = args.highlight;
   options.error_scale = args.error_scale;

@@ -31,6 +31,12 @@ enum class ShowMode : std::uint8_t {
 
 const char* to_string(IntersectMode mode);
 const char* to_string(ShowMode mode);
+/// The mode named by to_string(); throws OptionError for any other name.
+IntersectMode parse_intersect_mode(const std::string& name);
+/// The view named by to_string(); throws OptionError for any other name.
+ShowMode parse_show_mode(const std::string& name);
+/// A background: "transparent", "white", "black" or "#rrggbb"; throws OptionError otherwise.
+Rgba8 parse_background(const std::string& text);
 
 /// Options of the renderers; the defaults make a 1280 × 960 picture of the surface.
 struct RenderOptions {

@@ -13,29 +13,6 @@ namespace clustersurf::python {
 
 namespace {
 
-Rgba8 parse_background(const std::string& text) {
-  if (text == "transparent") return {255, 255, 255, 0};
-  if (text == "white") return {255, 255, 255, 255};
-  if (text == "black") return {0, 0, 0, 255};
-  unsigned r = 0, g = 0, b = 0;
-  char tail = 0;
-  if (text.size() == 7 && std::sscanf(text.c_str(), "#%2x%2x%2x%c", &r, &g, &b, &tail) == 3)
-    return {static_cast<std::uint8_t>(r), static_cast<std::uint8_t>(g), static_cast<std::uint8_t>(b), 255};
-  throw OptionError("background must be transparent, white, black or #rrggbb, not \"" + text + "\"");
-}
-
-IntersectMode parse_mode(const std::string& s) {
-  for (IntersectMode m : {IntersectMode::Implicit, IntersectMode::HitBlend, IntersectMode::BruteForce})
-    if (s == to_string(m)) return m;
-  throw OptionError("mode must be implicit, hit-blend or brute-force, not \"" + s + "\"");
-}
-
-ShowMode parse_show(const std::string& s) {
-  for (ShowMode m : {ShowMode::Surface, ShowMode::Clusters, ShowMode::Spheres, ShowMode::Proxies, ShowMode::Error})
-    if (s == to_string(m)) return m;
-  throw OptionError("show must be surface, clusters, spheres, proxies or error, not \"" + s + "\"");
-}
-
 std::optional<Eigen::Vector3d> vector_option(const std::optional<std::vector<double>>& v, const char* name) {
   if (!v) return std::nullopt;
   if (v->size() != 3) throw OptionError(std::string(name) + " takes (x, y, z)");
@@ -58,8 +35,8 @@ void bind_render(py::class_<TreeRef>& tree_class) {
         o.width = width;
         o.height = height;
         o.samples = samples;
-        o.mode = parse_mode(mode);
-        o.show = parse_show(show);
+        o.mode = parse_intersect_mode(mode);
+        o.show = parse_show_mode(show);
         if (level) o.level = to_uint32(*level, "level");
         if (highlight) {
           if (*highlight < 0 || *highlight >= static_cast<std::int64_t>(tree.nodes.size()))

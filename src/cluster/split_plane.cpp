@@ -88,13 +88,14 @@ std::size_t sweep(const Points& points, std::span<const std::uint32_t> sorted, c
   std::vector<double> left_shape(candidates.size()), right_shape(candidates.size());
   SideMoments acc = empty;
   std::size_t c = 0;
-  for (std::size_t i = 0; i < m && c < candidates.size(); ++i) {
+  for (std::size_t i = 0; i < m; ++i) {  // to the end: the whole cluster's shape is needed below
     acc.add(points.row(sorted[i]).transpose());
     while (c < candidates.size() && candidates[c] == i + 1) {
       left_shape[c] = elongation(acc.plane);
       left_error[c++] = acc.rms_error();
     }
   }
+  const double shape_limit = std::max(kMaxElongation, elongation(acc.plane));
   acc = empty;
   c = candidates.size();
   for (std::size_t i = m; i-- > 0 && c > 0;) {
@@ -104,9 +105,6 @@ std::size_t sweep(const Points& points, std::span<const std::uint32_t> sorted, c
       right_error[c] = acc.rms_error();
     }
   }
-  SideMoments whole = empty;
-  for (auto i : sorted) whole.plane.add(points.row(i).transpose());
-  const double shape_limit = std::max(kMaxElongation, elongation(whole.plane));
   std::vector<std::uint8_t> allowed(candidates.size());
   bool any_allowed = false;
   for (std::size_t k = 0; k < candidates.size(); ++k) {

@@ -1,4 +1,5 @@
 #include "cluster/support_sampler.hpp"
+#include "core/splitmix.hpp"
 
 #include <tbb/parallel_for.h>
 
@@ -9,13 +10,6 @@ namespace {
 /// Levels stop when they would hold fewer points than this.
 constexpr std::size_t kMinLevelSize = 4096;
 
-std::uint64_t hash_index(std::uint64_t x) {  // splitmix64 finalizer
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
 }  // namespace
 
 SupportSampler::SupportSampler(const Points& points, const KdTree& full) : full_(full) {
@@ -24,7 +18,7 @@ SupportSampler::SupportSampler(const Points& points, const KdTree& full) : full_
     const std::uint64_t mask = (std::uint64_t{1} << (2 * level)) - 1;
     Level l;
     for (std::size_t i = 0; i < n; ++i)
-      if ((hash_index(i) & mask) == 0) l.ids.push_back(static_cast<std::uint32_t>(i));
+      if ((detail::splitmix64(i) & mask) == 0) l.ids.push_back(static_cast<std::uint32_t>(i));
     l.points.resize(static_cast<Eigen::Index>(l.ids.size()), 3);
     for (std::size_t k = 0; k < l.ids.size(); ++k) l.points.row(static_cast<Eigen::Index>(k)) = points.row(l.ids[k]);
     levels_.push_back(std::move(l));

@@ -5,6 +5,7 @@
 #include <clustersurf/kd_tree.hpp>
 #include <clustersurf/noise.hpp>
 
+#include "core/splitmix.hpp"
 #include "cluster/splitters.hpp"
 #include "cluster/support_sampler.hpp"
 #include "core/progress_reporter.hpp"
@@ -72,13 +73,6 @@ Sphere enclose(const Sphere& a, const Sphere& b) {
   return Sphere{a.center + d * ((r - a.radius) / dist), r * (1 + 1e-12)};
 }
 
-std::uint64_t mix(std::uint64_t x) {  // splitmix64 finalizer
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
 class Builder {
  public:
   Builder(const Points& input, WorkingSet& work, const detail::SupportSampler* index, const BuildOptions& options, double threshold,
@@ -116,7 +110,7 @@ class Builder {
     std::size_t k = 0;
     if (can_split && (e > threshold_ || (index_ != nullptr && *(support = support_error(node)) > support_limit))) {
       k = options_.splitter == SplitterKind::SplitPlane ? detail::split_plane(points_, range, frame, options_, noise_)
-                                                        : detail::lloyd_split(points_, range, options_, mix(path_seed));
+                                                        : detail::lloyd_split(points_, range, options_, detail::splitmix64(path_seed));
     }
     if (k == 0 || k >= range.size()) {
       // A leaf that cannot be split (too few points, or no split helps) but whose proxy is off
@@ -145,7 +139,7 @@ class Builder {
     bn.right->begin = bn.begin + static_cast<std::uint32_t>(k);
     const auto left_range = range.subspan(0, k);
     const auto right_range = range.subspan(k);
-    const std::uint64_t ls = mix(path_seed * 2 + 1), rs = mix(path_seed * 2 + 2);
+    const std::uint64_t ls = detail::splitmix64(path_seed * 2 + 1), rs = detail::splitmix64(path_seed * 2 + 2);
     if (range.size() >= kParallelGrain) {
       tbb::parallel_invoke([&] { build(*bn.left, left_range, depth + 1, ls); },
                            [&] { build(*bn.right, right_range, depth + 1, rs); });

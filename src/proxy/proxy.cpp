@@ -2,6 +2,7 @@
 
 #include <clustersurf/proxy.hpp>
 
+#include "core/overloaded.hpp"
 #include "proxy/linear_algebra.hpp"
 
 #include <algorithm>
@@ -10,13 +11,6 @@
 namespace clustersurf {
 
 namespace {
-
-template <class... F>
-struct Overloaded : F... {
-  using F::operator()...;
-};
-template <class... F>
-Overloaded(F...) -> Overloaded<F...>;
 
 /// Height-field pieces of a polynomial at local (u, v): f, fu, fv.
 struct PolyLocal {
@@ -58,7 +52,7 @@ const char* to_string(ProxyKind kind) {
 
 double Proxy::value(const Eigen::Vector3d& x) const {
   return std::visit(
-      Overloaded{
+      detail::Overloaded{
           [&](const PointProxy& p) { return (x - p.center).norm(); },
           [&](const PlaneProxy& p) { return p.normal.dot(x - p.point); },
           [&](const PolyProxy& p) {
@@ -77,7 +71,7 @@ double Proxy::value(const Eigen::Vector3d& x) const {
 
 Eigen::Vector3d Proxy::gradient(const Eigen::Vector3d& x) const {
   return std::visit(
-      Overloaded{
+      detail::Overloaded{
           [&](const PointProxy& p) -> Eigen::Vector3d {
             const Eigen::Vector3d d = x - p.center;
             const double n = d.norm();
@@ -110,7 +104,7 @@ Eigen::Vector3d Proxy::gradient(const Eigen::Vector3d& x) const {
 
 std::optional<double> Proxy::intersect(const Ray& ray, double t_min, double t_max) const {
   return std::visit(
-      Overloaded{
+      detail::Overloaded{
           [&](const PointProxy&) -> std::optional<double> { return std::nullopt; },
           [&](const PlaneProxy& p) -> std::optional<double> {
             return detail::smallest_root(0, p.normal.dot(ray.direction), p.normal.dot(ray.origin - p.point), t_min, t_max);
@@ -137,7 +131,7 @@ std::optional<double> Proxy::intersect(const Ray& ray, double t_min, double t_ma
 }
 
 void Proxy::flip() {
-  std::visit(Overloaded{
+  std::visit(detail::Overloaded{
                  [](PointProxy&) {},
                  [](PlaneProxy& p) { p.normal = -p.normal; },
                  [](PolyProxy& p) {
@@ -156,7 +150,7 @@ void Proxy::flip() {
 }
 
 Eigen::Vector3d Proxy::normal() const {
-  return std::visit(Overloaded{
+  return std::visit(detail::Overloaded{
                         [](const PointProxy&) -> Eigen::Vector3d { return Eigen::Vector3d::UnitZ(); },
                         [](const PlaneProxy& p) -> Eigen::Vector3d { return p.normal; },
                         [](const PolyProxy& p) -> Eigen::Vector3d {

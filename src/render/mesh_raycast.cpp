@@ -99,8 +99,8 @@ class Splatter {
       const Eigen::Vector3d x = ray.origin + static_cast<double>(rh.ray.tfar) * ray.direction + 1e-4 * diagonal_ * facing;
       int open = 0;
       for (int k = 0; k < kOcclusionRays; ++k) {
-        const std::uint64_t bits = render::mix_bits(seed + 0x9e37 * static_cast<std::uint64_t>(k + 1));
-        const Eigen::Vector3d d = render::cosine_direction(facing, render::unit_interval(bits), render::unit_interval(render::mix_bits(bits)));
+        const std::uint64_t bits = detail::splitmix64(seed + 0x9e37 * static_cast<std::uint64_t>(k + 1));
+        const Eigen::Vector3d d = render::cosine_direction(facing, render::unit_interval(bits), render::unit_interval(detail::splitmix64(bits)));
         if (!scene_.occluded({x, d}, static_cast<float>(0.08 * diagonal_))) ++open;
       }
       occlusion = 0.35 + 0.65 * open / kOcclusionRays;

@@ -48,9 +48,9 @@ Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer
         Color sum = Color::Zero();  // premultiplied
         double coverage = 0;
         for (int k = 0; k < samples; ++k) {
-          const std::uint64_t seed = mix_bits(pixel * 1024 + static_cast<std::uint64_t>(k));
+          const std::uint64_t seed = detail::splitmix64(pixel * 1024 + static_cast<std::uint64_t>(k));
           double jx = 0.5, jy = 0.5;
-          if (samples > 1) jx = unit_interval(mix_bits(seed ^ 0x1234)), jy = unit_interval(mix_bits(seed ^ 0x5678));
+          if (samples > 1) jx = unit_interval(detail::splitmix64(seed ^ 0x1234)), jy = unit_interval(detail::splitmix64(seed ^ 0x5678));
           const SampleResult r = trace(camera.ray(x + jx, y + jy), seed);
           sum += r.alpha * r.rgb;
           coverage += r.alpha;

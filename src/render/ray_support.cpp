@@ -1,6 +1,7 @@
 // Supports along a ray: ray–sphere tests down the hierarchy (or over every blended node) and
 // each proxy restricted to the ray.
 
+#include "core/overloaded.hpp"
 #include "render/ray_support.hpp"
 
 #include <algorithm>
@@ -10,20 +11,13 @@ namespace clustersurf::render {
 
 namespace {
 
-template <class... F>
-struct Overloaded : F... {
-  using F::operator()...;
-};
-template <class... F>
-Overloaded(F...) -> Overloaded<F...>;
-
 constexpr double kTinyD = 1e-24;  // the square of the proxies' smallest gradient norm
 
 /// Writes N(t) and D(t) of `proxy` along `ray` into `span`.
 void restrict_proxy(const Proxy& proxy, const Ray& ray, SupportSpan& span) {
   const Eigen::Vector3d& o = ray.origin;
   const Eigen::Vector3d& d = ray.direction;
-  std::visit(Overloaded{
+  std::visit(detail::Overloaded{
                  [&](const PointProxy& p) {
                    // Q = ‖x − c‖ = D / sqrt(D) with D = ‖x − c‖².
                    const Eigen::Vector3d oc = o - p.center;

@@ -113,8 +113,8 @@ class TreeTracer {
     const double reach = 0.08 * s_.diagonal;
     int open = 0;
     for (int k = 0; k < kOcclusionRays; ++k) {
-      const std::uint64_t bits = render::mix_bits(seed + 0x9e37 * static_cast<std::uint64_t>(k + 1));
-      const Eigen::Vector3d d = render::cosine_direction(n, render::unit_interval(bits), render::unit_interval(render::mix_bits(bits)));
+      const std::uint64_t bits = detail::splitmix64(seed + 0x9e37 * static_cast<std::uint64_t>(k + 1));
+      const Eigen::Vector3d d = render::cosine_direction(n, render::unit_interval(bits), render::unit_interval(detail::splitmix64(bits)));
       const Ray r{hit.position + 1e-4 * s_.diagonal * n, d};
       s_.index.collect(r, 0, reach, s_.search, ao_spans_);
       if (!surface_hit(r, ao_spans_, 0, reach)) ++open;

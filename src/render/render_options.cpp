@@ -6,6 +6,7 @@
 #include "render/pixel_loop.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 namespace clustersurf {
 
@@ -27,6 +28,29 @@ const char* to_string(ShowMode mode) {
     case ShowMode::Error: return "error";
   }
   return "unknown";
+}
+
+IntersectMode parse_intersect_mode(const std::string& name) {
+  for (IntersectMode m : {IntersectMode::Implicit, IntersectMode::HitBlend, IntersectMode::BruteForce})
+    if (name == to_string(m)) return m;
+  throw OptionError("mode must be implicit, hit-blend or brute-force, not \"" + name + "\"");
+}
+
+ShowMode parse_show_mode(const std::string& name) {
+  for (ShowMode m : {ShowMode::Surface, ShowMode::Clusters, ShowMode::Spheres, ShowMode::Proxies, ShowMode::Error})
+    if (name == to_string(m)) return m;
+  throw OptionError("show must be surface, clusters, spheres, proxies or error, not \"" + name + "\"");
+}
+
+Rgba8 parse_background(const std::string& text) {
+  if (text == "transparent") return {255, 255, 255, 0};
+  if (text == "white") return {255, 255, 255, 255};
+  if (text == "black") return {0, 0, 0, 255};
+  unsigned r = 0, g = 0, b = 0;
+  char tail = 0;
+  if (text.size() == 7 && std::sscanf(text.c_str(), "#%2x%2x%2x%c", &r, &g, &b, &tail) == 3)
+    return {static_cast<std::uint8_t>(r), static_cast<std::uint8_t>(g), static_cast<std::uint8_t>(b), 255};
+  throw OptionError("background must be transparent, white, black or #rrggbb, not \"" + text + "\"");
 }
 
 namespace render {

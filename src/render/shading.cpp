@@ -40,13 +40,6 @@ Rgba8 to_pixel(const Color& c, double alpha) {
   return {byte(c.x()), byte(c.y()), byte(c.z()), byte(alpha)};
 }
 
-std::uint64_t mix_bits(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
 double unit_interval(std::uint64_t bits) { return static_cast<double>(bits >> 11) * 0x1.0p-53; }
 
 Eigen::Vector3d cosine_direction(const Eigen::Vector3d& normal, double u1, double u2) {

@@ -5,6 +5,8 @@
 #include <clustersurf/camera.hpp>
 #include <clustersurf/image.hpp>
 
+#include "core/splitmix.hpp"
+
 #include <Eigen/Core>
 
 #include <cstdint>
@@ -33,8 +35,6 @@ Color rank_color(double fraction);
 /// Color in [0, 1] (and alpha) to an 8-bit pixel.
 Rgba8 to_pixel(const Color& c, double alpha);
 
-/// A 64-bit hash (splitmix64 finalizer): seeds from pixel and sample indices.
-std::uint64_t mix_bits(std::uint64_t x);
 /// A number in [0, 1) from the top 53 bits of `bits`.
 double unit_interval(std::uint64_t bits);
 /// A cosine-distributed direction on the hemisphere around unit `normal` from two numbers in [0, 1).

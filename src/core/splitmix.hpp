@@ -1,0 +1,17 @@
+#pragma once
+// The splitmix64 finalizer: a fast bijective mix of 64-bit integers, for seeds and hashes that
+// must be the same on every machine.
+
+#include <cstdint>
+
+namespace clustersurf::detail {
+
+/// Mixes the bits of x (Steele, Lea & Flood 2014); consecutive inputs give unrelated outputs.
+constexpr std::uint64_t splitmix64(std::uint64_t x) noexcept {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+}  // namespace clustersurf::detail
