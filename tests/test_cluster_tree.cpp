@@ -31,12 +31,7 @@ PointCloud sine_heightmap(int n) {
   return c;
 }
 
-void add_noise(PointCloud& c, double sigma, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> g(0, sigma);
-  for (Eigen::Index i = 0; i < c.size(); ++i)
-    c.positions.row(i) += g(rng) * c.normals.row(i);
-}
+void add_noise(PointCloud& c, double sigma, std::uint64_t seed) { test::add_normal_noise(c, sigma, seed); }
 
 /// Checks the tree's structural invariants and that point_leaf partitions the input.
 void expect_valid_partition(const ClusterTree& t, const BuildOptions& o) {
@@ -157,14 +152,15 @@ TEST(ClusterTree, NoiseEstimateRecoversGaussianNoise) {
 
 TEST(ClusterTree, NoiseEstimateHoldsWhenSamplingIsDenseRelativeToTheNoise) {
   // 400k points on a unit sphere are ~3 mm apart, noise 10 mm: a dozen neighbours span less
-  // than the noise and a local fit follows it (the estimate then fell to a third of the truth).
+  // than the noise and a local fit follows it (the estimate then fell to a third of the truth);
+  // 96 neighbours span 2.7 σ and still fell 20 % short before the estimate coarsened the sample.
   PointCloud c = test::sample_sphere(400000, 1.0);
   add_noise(c, 0.01, 5);
-  EXPECT_NEAR(estimate_noise(c.positions), 0.01, 0.003);
+  EXPECT_NEAR(estimate_noise(c.positions), 0.01, 0.0007);
 }
 
 TEST(ClusterTree, AutoThresholdDoesNotShatterNoisyScans) {
-  // 0.25 %-of-diagonal noise: a fixed 0.1 % threshold splits down to min_points, the
+  // 0.25 %-of-diagonal noise: a noise-blind threshold splits down to min_points, the
   // noise-aware threshold keeps clusters large.
   PointCloud c = test::sample_sphere(40000, 1.0);
   add_noise(c, 0.0025 * 2 * std::sqrt(3.0), 4);
@@ -175,7 +171,7 @@ TEST(ClusterTree, AutoThresholdDoesNotShatterNoisyScans) {
   const ClusterTree calm = build_cluster_tree(c, aware);
   const TreeSummary a = summarize(shattered), b = summarize(calm);
   EXPECT_LT(a.leaf_size_percentiles[2], 2.0 * fixed.min_points);
-  EXPECT_GT(b.leaf_size_percentiles[2], 5.0 * aware.min_points);
+  EXPECT_GT(b.leaf_size_percentiles[2], 3.0 * aware.min_points);
   EXPECT_LT(b.leaves * 5, a.leaves);
   EXPECT_GT(calm.parameters.noise_sigma, 0);
 }

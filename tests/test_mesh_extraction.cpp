@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
+#include <iostream>
+
 #include "test_support.hpp"
 
 using namespace clustersurf;
@@ -45,6 +47,29 @@ TEST(MeshExtraction, SphereIsAccurateWatertightGenusZeroAndOutward) {
   EXPECT_NEAR(t.signed_volume, 4.0 / 3.0 * M_PI, 0.01 * 4.0 / 3.0 * M_PI);
   // Normals point away from the center.
   for (Eigen::Index v = 0; v < m.vertices.rows(); v += 17) EXPECT_GT(m.normals.row(v).dot(m.vertices.row(v)), 0.99);
+}
+
+TEST(MeshExtraction, NoisySphereMeshAveragesTheNoise) {
+  // Noise of 0.25 % of the diagonal along the normals: the mesh lies much closer to the true
+  // sphere than the points do (each proxy is fitted to its whole weighted support), and stays
+  // one closed surface.
+  PointCloud c = test::sample_sphere(40000, 1.0);
+  const double sigma = 0.0025 * diagonal(c);
+  test::add_normal_noise(c, sigma, 11);
+  const TriangleMesh m = mesh_of(c, 128);
+  double sum = 0, worst = 0;
+  for (Eigen::Index v = 0; v < m.vertices.rows(); ++v) {
+    const double d = std::abs(m.vertices.row(v).norm() - 1.0);
+    sum += d;
+    worst = std::max(worst, d);
+  }
+  const double mean = sum / static_cast<double>(m.vertices.rows());
+  std::cout << "noisy sphere: mean distance " << mean / sigma << " sigma, worst " << worst / sigma << " sigma\n";
+  EXPECT_LT(mean, 0.15 * sigma);
+  EXPECT_LT(worst, 2.0 * sigma);
+  const MeshTopology t = mesh_topology(m);
+  EXPECT_EQ(t.boundary_edges, 0u);
+  EXPECT_EQ(t.euler_characteristic, 2);
 }
 
 TEST(MeshExtraction, TorusIsAccurateWatertightGenusOne) {

@@ -94,4 +94,10 @@ PointCloud sample_plane(int nx, int ny) {
   return c;
 }
 
+void add_normal_noise(PointCloud& c, double sigma, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0, sigma);
+  for (Eigen::Index i = 0; i < c.size(); ++i) c.positions.row(i) += g(rng) * c.normals.row(i);
+}
+
 }  // namespace clustersurf::test

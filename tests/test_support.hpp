@@ -37,5 +37,7 @@ PointCloud sample_sphere(int n, double radius = 1.0, const Eigen::Vector3d& cent
 PointCloud sample_torus(int n, double R = 1.0, double r = 0.35);
 /// A grid of nx x ny points on the plane z = 0 over [0,1]^2, normals +z.
 PointCloud sample_plane(int nx, int ny);
+/// Moves every point along its normal by Gaussian noise of standard deviation `sigma` (seeded).
+void add_normal_noise(PointCloud& c, double sigma, std::uint64_t seed);
 
 }  // namespace clustersurf::test

@@ -35,10 +35,12 @@ BuildOptions build_options(const ReconstructArgs& a) {
   if (a.absolute_error) {
     o.threshold_mode = ThresholdMode::Absolute;
     o.threshold = *a.absolute_error;
-  } else if (a.max_error == "auto") {
-    o.threshold_mode = ThresholdMode::Auto;
   } else {
-    o.threshold_mode = ThresholdMode::Relative;
+    // The tolerance on top of the estimated noise; a noise factor of 0 ignores the noise.
+    o.threshold_mode = a.noise_factor > 0 ? ThresholdMode::Auto : ThresholdMode::Relative;
+    if (a.noise_factor > 0) o.noise_factor = a.noise_factor;
+  }
+  if (!a.absolute_error && a.max_error != "auto") {
     std::size_t used = 0;
     try {
       o.threshold = std::stod(a.max_error, &used);

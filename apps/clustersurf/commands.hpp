@@ -61,6 +61,7 @@ struct ReconstructArgs {
   std::uint32_t lloyd_restarts = 4;
   std::uint32_t proxy_lloyd = 0;
   double support_factor = 2.0;
+  double noise_factor = 1.0;
   std::uint64_t seed = 1;
   bool no_point_leaves = false;
   bool ignore_normals = false;
@@ -119,7 +120,7 @@ struct RenderArgs {
   bool ambient_occlusion = false;
   std::optional<std::uint32_t> lod_depth;
   std::optional<double> lod_error;  // fraction of the bbox diagonal
-  double min_weight = 0.1;
+  double min_weight = 0.02;
   double point_radius = 0;
   bool grid = false;
   int columns = 0;

@@ -88,8 +88,8 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"split-plane", "lloyd"}))
       ->default_val("split-plane");
   r->add_option("--max-error", rec.max_error,
-                "Leaf error threshold as a fraction of the bbox diagonal, or \"auto\" (noise-aware: the larger of "
-                "0.001 x diagonal and 1.5 x estimated noise)")
+                "Tolerance: the error a leaf may keep beyond the estimated scanner noise, as a fraction of the bbox "
+                "diagonal (a leaf's RMS error must be <= hypot(tolerance, noise)); \"auto\" = 0.0005")
       ->default_val("auto");
   r->add_option("--absolute-error", rec.absolute_error, "Leaf error threshold in the input's units (overrides --max-error)")
       ->check(CLI::NonNegativeNumber);
@@ -102,6 +102,10 @@ int main(int argc, char** argv) {
   r->add_option("--kstep", rec.kstep, "Split-plane sweep step (0: at most 64 candidates per split)")->default_val(0);
   r->add_option("--lloyd-restarts", rec.lloyd_restarts, "Lloyd splitter: 2-means restarts")->check(CLI::Range(1, 1000))->default_val(4);
   r->add_option("--proxy-lloyd", rec.proxy_lloyd, "Lloyd splitter: proxy-Lloyd refinement rounds")->default_val(0);
+  r->add_option("--noise-factor", rec.noise_factor,
+                "Noise counted in the threshold = this x the estimated noise (0: ignore the noise, no estimate)")
+      ->check(CLI::NonNegativeNumber)
+      ->default_val(1.0);
   r->add_option("--support-factor", rec.support_factor,
                 "A leaf's weighted RMS error over the points in its support sphere must be <= this x the threshold "
                 "(0: no check)")
@@ -178,7 +182,7 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   v->add_option("--min-weight", rnd.min_weight, "Surface only where the total weight exceeds this (as the mesher)")
       ->check(CLI::NonNegativeNumber)
-      ->default_val(0.1);
+      ->default_val(0.02);
   v->add_option("--point-radius", rnd.point_radius, "Point clouds: splat radius (0: 0.75 x mean spacing)")
       ->check(CLI::NonNegativeNumber)
       ->default_val(0);

@@ -19,7 +19,7 @@ enum class ErrorMetric : std::uint8_t { Rms = 0, Max = 1 };
 enum class ThresholdMode : std::uint8_t {
   Relative = 0,  ///< value × bounding-box diagonal of the input
   Absolute = 1,  ///< value, in the input's units
-  Auto = 2,      ///< max(value × diagonal, noise_factor × estimated noise)
+  Auto = 2,      ///< hypot(value × diagonal, noise_factor × estimated noise): the noise plus a tolerance
 };
 
 const char* to_string(SplitterKind kind);
@@ -32,8 +32,10 @@ struct BuildOptions {
   SplitterKind splitter = SplitterKind::SplitPlane;
   ErrorMetric metric = ErrorMetric::Rms;         ///< RMS: max never drops below scanner noise
   ThresholdMode threshold_mode = ThresholdMode::Auto;
-  double threshold = 0.001;                      ///< relative (fraction of diagonal) or absolute
-  double noise_factor = 1.5;                     ///< Auto: leaves may keep this × noise as error
+  /// The tolerance: the error a leaf may keep on top of the noise; relative (fraction of the
+  /// diagonal) or absolute. A cluster is a leaf when its error is ≤ hypot(tolerance, noise).
+  double threshold = 0.0005;
+  double noise_factor = 1.0;                     ///< Auto: the noise counted is this × the estimate
   std::uint32_t min_points = 20;                 ///< no child below this many points
   std::uint32_t max_depth = 200;                 ///< nodes at this depth are leaves (root: 0)
   double alpha = 0.75;                           ///< support radius = alpha × cluster bbox diagonal
@@ -42,9 +44,11 @@ struct BuildOptions {
   std::uint32_t proxy_lloyd_iterations = 0;      ///< Lloyd splitter: proxy refinement rounds
   std::uint64_t seed = 1;                        ///< seeds every random choice (Lloyd seeding)
   /// A leaf must also fit the input points inside its support sphere: the RMS of |Q| over
-  /// them, weighted by the blending weight, must be at most support_factor × the threshold
-  /// (MPU's rule). Keeps the blend accurate where supports overlap and stops large clusters
-  /// from extrapolating across the model. 0 turns the check off.
+  /// them, weighted by the blending weight, must be at most hypot(noise, support_factor ×
+  /// tolerance) (MPU's rule). Polynomial proxies are refitted to those weighted points (MPU's
+  /// local fit), so they hold wherever the blend uses them and average the noise over the whole
+  /// support. Keeps the blend accurate where supports overlap and stops large clusters from
+  /// extrapolating across the model. 0 turns the check and the refit off.
   double support_factor = 2.0;
   bool keep_point_leaves = true;                 ///< store the leaf of every input point
   ProgressCallback progress;                     ///< progress and cancellation (may be empty)
@@ -80,8 +84,8 @@ struct TreeParameters {
   SplitterKind splitter = SplitterKind::SplitPlane;
   ErrorMetric metric = ErrorMetric::Rms;
   ThresholdMode threshold_mode = ThresholdMode::Auto;
-  double threshold = 0.001;
-  double noise_factor = 1.5;
+  double threshold = 0.0005;
+  double noise_factor = 1.0;
   std::uint32_t min_points = 20;
   std::uint32_t max_depth = 200;
   double alpha = 0.75;

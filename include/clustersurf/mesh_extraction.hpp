@@ -18,9 +18,9 @@ struct MeshOptions {
   /// Newton steps projecting each vertex onto f = 0 along ∇f.
   int newton_steps = 2;
   /// Grid points whose total blending weight Σwᵢ is at most this count as undefined, so the
-  /// mesh stops where only the outer rim of a support reaches (w = 0.1 is 73 % of a radius
+  /// mesh stops where only the outer rim of a support reaches (w = 0.02 is 85 % of a radius
   /// from a lone center): there a single proxy extrapolates away from its data.
-  double min_weight = 0.1;
+  double min_weight = 0.02;
   ProgressCallback progress;
 };
 

@@ -120,6 +120,11 @@ Proxy fit_proxy(ProxyKind kind, const Points& points, std::span<const std::uint3
 /// Fits a bivariate polynomial over a given frame (the frame is kept; only coefficients fit).
 PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<const std::uint32_t> indices);
 
+/// Weighted least squares: minimizes Σ weights[k] · (w_k − f(u_k, v_k))² over points[indices[k]]
+/// (weights ≥ 0, one per index).
+PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<const std::uint32_t> indices,
+                            std::span<const double> weights);
+
 /// RMS and max of |Q| over points[indices] (zero for no points).
 ProxyError proxy_error(const Proxy& proxy, const Points& points, std::span<const std::uint32_t> indices);
 

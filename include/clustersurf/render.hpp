@@ -51,7 +51,7 @@ struct RenderOptions {
   LevelOfDetail lod;  ///< which tree nodes are blended (default: the leaves)
   /// Surface defined only where the total weight exceeds this (as MeshOptions::min_weight, so
   /// the picture matches the mesh).
-  double min_weight = 0.1;
+  double min_weight = 0.02;
   std::optional<std::uint32_t> level;    ///< Clusters: color by the ancestor at this depth
   std::optional<std::int32_t> highlight;  ///< draw this node's cluster and proxy in red
   const Points* reference_points = nullptr;  ///< Error: the input points (required)

@@ -82,7 +82,7 @@ void bind_render(py::class_<TreeRef>& tree_class) {
       py::arg("points") = py::none(), py::arg("error_scale") = py::none(), py::arg("azimuth") = 30.0,
       py::arg("elevation") = 20.0, py::arg("distance") = py::none(), py::arg("fov") = 35.0, py::arg("eye") = py::none(),
       py::arg("target") = py::none(), py::arg("up") = py::none(), py::arg("background") = "white", py::arg("ao") = false,
-      py::arg("lod_depth") = py::none(), py::arg("lod_error") = py::none(), py::arg("min_weight") = 0.1,
+      py::arg("lod_depth") = py::none(), py::arg("lod_error") = py::none(), py::arg("min_weight") = 0.02,
       py::arg("progress") = py::none(), R"doc(
 Ray-traces a picture of the tree, as ``clustersurf render`` does; returns an (height, width, 4)
 uint8 RGBA array (the pixels its PNG would hold).

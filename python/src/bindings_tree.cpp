@@ -42,31 +42,31 @@ ProxyKind parse_proxy(const std::string& s) {
   throw OptionError("proxy must be plane, poly or quadric, not \"" + s + "\"");
 }
 
-/// The threshold of `max_error`: "auto", a fraction of the diagonal as a number, or as text.
-void parse_max_error(const py::handle& value, BuildOptions& o) {
+/// The tolerance of `max_error` ("auto", or a fraction of the diagonal as a number or text) on
+/// top of noise_factor × the estimated noise (0: the noise is ignored), as the CLI's.
+void parse_max_error(const py::handle& value, double noise_factor, BuildOptions& o) {
+  if (!(noise_factor >= 0) || !std::isfinite(noise_factor)) throw OptionError("noise_factor must be >= 0");
+  o.threshold_mode = noise_factor > 0 ? ThresholdMode::Auto : ThresholdMode::Relative;
+  if (noise_factor > 0) o.noise_factor = noise_factor;
+  constexpr const char* kWhat = "max_error must be \"auto\" or a non-negative fraction of the diagonal";
   if (py::isinstance<py::str>(value)) {
     const auto text = value.cast<std::string>();
-    if (text == "auto") {
-      o.threshold_mode = ThresholdMode::Auto;
-      return;
-    }
+    if (text == "auto") return;
     std::size_t used = 0;
     try {
       o.threshold = std::stod(text, &used);
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used != text.size() || !(o.threshold >= 0))
-      throw OptionError("max_error must be \"auto\" or a non-negative fraction of the diagonal, not \"" + text + "\"");
+    if (used != text.size() || !(o.threshold >= 0)) throw OptionError(std::string(kWhat) + ", not \"" + text + "\"");
   } else {
     try {
       o.threshold = py::cast<double>(value);
     } catch (const py::cast_error&) {
-      throw OptionError("max_error must be \"auto\" or a non-negative fraction of the diagonal");
+      throw OptionError(kWhat);
     }
-    if (!(o.threshold >= 0)) throw OptionError("max_error must be \"auto\" or a non-negative fraction of the diagonal");
+    if (!(o.threshold >= 0)) throw OptionError(kWhat);
   }
-  o.threshold_mode = ThresholdMode::Relative;
 }
 
 LevelOfDetail make_lod(const ClusterTree& tree, std::optional<std::int64_t> lod_depth, std::optional<double> lod_error) {
@@ -263,7 +263,7 @@ void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class) {
       [](const py::object& points, const py::object& normals, const std::string& proxy, const std::string& splitter,
          const py::object& max_error, std::optional<double> absolute_error, const std::string& error, std::int64_t min_points,
          std::int64_t max_depth, double alpha, std::int64_t kstep, std::int64_t lloyd_restarts, std::int64_t proxy_lloyd,
-         double support_factor, std::uint64_t seed, bool ignore_normals, bool no_point_leaves, const py::object& progress) {
+         double noise_factor, double support_factor, std::uint64_t seed, bool ignore_normals, bool no_point_leaves, const py::object& progress) {
         BuildOptions o;
         o.proxy = parse_proxy(proxy);
         if (splitter == "split-plane") o.splitter = SplitterKind::SplitPlane;
@@ -277,7 +277,7 @@ void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class) {
           o.threshold_mode = ThresholdMode::Absolute;
           o.threshold = *absolute_error;
         } else {
-          parse_max_error(max_error, o);
+          parse_max_error(max_error, noise_factor, o);
         }
         o.min_points = to_uint32(min_points, "min_points");
         if (o.min_points < 1) throw OptionError("min_points must be at least 1");
@@ -316,7 +316,8 @@ void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class) {
       py::arg("points"), py::arg("normals") = py::none(), py::kw_only(), py::arg("proxy") = "poly",
       py::arg("splitter") = "split-plane", py::arg("max_error") = "auto", py::arg("absolute_error") = py::none(),
       py::arg("error") = "rms", py::arg("min_points") = 20, py::arg("max_depth") = 200, py::arg("alpha") = 0.75,
-      py::arg("kstep") = 0, py::arg("lloyd_restarts") = 4, py::arg("proxy_lloyd") = 0, py::arg("support_factor") = 2.0,
+      py::arg("kstep") = 0, py::arg("lloyd_restarts") = 4, py::arg("proxy_lloyd") = 0, py::arg("noise_factor") = 1.0,
+      py::arg("support_factor") = 2.0,
       py::arg("seed") = 1, py::arg("ignore_normals") = false, py::arg("no_point_leaves") = false,
       py::arg("progress") = py::none(), R"doc(
 Builds and orients the cluster tree of a point cloud, as ``clustersurf reconstruct`` does.
@@ -326,8 +327,9 @@ are used unless ``normals`` is given). ``normals``: optional (n, 3) array orient
 without them the orientation propagates between touching clusters.
 
 Options mirror the CLI's (same names with ``_`` for ``-``, same defaults): ``proxy`` "plane",
-"poly" or "quadric"; ``splitter`` "split-plane" or "lloyd"; ``max_error`` "auto" (noise-aware)
-or a fraction of the bounding-box diagonal; ``absolute_error`` in input units (overrides
+"poly" or "quadric"; ``splitter`` "split-plane" or "lloyd"; ``max_error`` the tolerance a leaf
+may keep beyond the estimated noise, a fraction of the bounding-box diagonal or "auto" (0.0005);
+``noise_factor`` (the noise counted; 0 ignores it); ``absolute_error`` in input units (overrides
 max_error); ``error`` "rms" or "max"; ``min_points``; ``max_depth``; ``alpha`` (support radius =
 alpha x cluster bbox diagonal); ``kstep``; ``lloyd_restarts``; ``proxy_lloyd``;
 ``support_factor``; ``seed``; ``ignore_normals``; ``no_point_leaves``.

@@ -138,8 +138,11 @@ def test_point_cloud_object_and_options(sphere):
     assert a.to_bytes() == b.to_bytes()
     info = a.info()
     assert info["parameters"]["proxy"] == "quadric"
-    assert info["parameters"]["threshold_mode"] == "relative"
+    assert info["parameters"]["threshold_mode"] == "auto"  # the tolerance on top of the noise
     assert info["parameters"]["threshold"] == 0.002
+    blind = clustersurf.reconstruct(sphere[0], sphere[1], max_error=0.002, noise_factor=0)
+    assert blind.info()["parameters"]["threshold_mode"] == "relative"
+    assert blind.info()["noise_sigma"] == 0
     c = clustersurf.reconstruct(sphere[0], absolute_error=0.001, splitter="lloyd", error="max")
     assert c.info()["parameters"]["threshold_mode"] == "absolute"
     assert c.info()["parameters"]["splitter"] == "lloyd"

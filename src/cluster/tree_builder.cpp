@@ -31,6 +31,10 @@ constexpr double kSupportShrinkFactor = 0.8;
 constexpr int kSupportShrinkSteps = 10;
 /// A support sphere holds about this many times its cluster's points (measured on scans).
 constexpr std::size_t kSupportPointsPerClusterPoint = 8;
+/// The support fit leaves out points farther than this many thresholds from the cluster's fit.
+constexpr double kSupportFitReach = 3;
+/// Fewer support points than this keep the cluster's own fit.
+constexpr std::size_t kMinSupportFitPoints = 12;
 
 struct BuildNode {
   ClusterNode node;
@@ -75,15 +79,18 @@ Sphere enclose(const Sphere& a, const Sphere& b) {
 
 class Builder {
  public:
-  Builder(const Points& input, WorkingSet& work, const detail::SupportSampler* index, const BuildOptions& options, double threshold,
-          double noise, detail::ProgressReporter& progress)
+  /// `tolerance`: the error a leaf may keep beyond the noise; `noise`: the noise level the
+  /// leaves may keep (0 when the threshold ignores noise). Both in the input's units.
+  Builder(const Points& input, WorkingSet& work, const detail::SupportSampler* index, const BuildOptions& options,
+          double tolerance, double noise, detail::ProgressReporter& progress)
       : input_(input),
         work_(work),
         points_(work.positions),
         index_(index),
         options_(options),
-        threshold_(threshold),
+        tolerance_(tolerance),
         noise_(noise),
+        threshold_(std::hypot(tolerance, noise)),
         progress_(progress) {}
 
   void build(BuildNode& bn, std::span<std::uint32_t> range, std::uint32_t depth, std::uint64_t path_seed) const {
@@ -105,10 +112,11 @@ class Builder {
 
     const double e = options_.metric == ErrorMetric::Rms ? err.rms : err.max;
     const bool can_split = depth < options_.max_depth && range.size() >= 2 * std::size_t{options_.min_points};
-    const double support_limit = options_.support_factor * threshold_;
+    // Over its support a proxy may keep the noise plus support_factor times the tolerance.
+    const double support_limit = std::hypot(noise_, options_.support_factor * tolerance_);
     std::optional<double> support;  // the support check's error, once computed
     std::size_t k = 0;
-    if (can_split && (e > threshold_ || (index_ != nullptr && *(support = support_error(node)) > support_limit))) {
+    if (can_split && (e > threshold_ || (index_ != nullptr && *(support = check_support(node, range)) > support_limit))) {
       k = options_.splitter == SplitterKind::SplitPlane ? detail::split_plane(points_, range, frame, options_, noise_)
                                                         : detail::lloyd_split(points_, range, options_, detail::splitmix64(path_seed));
     }
@@ -118,13 +126,14 @@ class Builder {
       // part of its support where the proxy holds, so it does not blend nonsense into its
       // neighbours' surface.
       if (index_ != nullptr) {
-        if (!support) support = support_error(node);
+        if (!support) support = check_support(node, range);
         // A leaf held at min_points may miss the threshold on its own points too; measure its
         // support against what it achieves there.
-        const double limit = options_.support_factor * std::max(threshold_, e);
+        const double own = std::sqrt(std::max(0.0, e * e - noise_ * noise_));
+        const double limit = std::hypot(noise_, options_.support_factor * std::max(tolerance_, own));
         for (int shrink = 0; shrink < kSupportShrinkSteps && *support > limit; ++shrink) {
           node.support.radius *= kSupportShrinkFactor;
-          support = support_error(node);
+          support = check_support(node, range);
         }
         node.bound = node.support;
       }
@@ -151,25 +160,60 @@ class Builder {
   }
 
  private:
-  /// RMS of |Q| over the input points inside the node's support, weighted by the blending
-  /// weight (1 − d²/r²)³.
-  double support_error(const ClusterNode& node) const {
+  /// The support check: a bounded sample of the input points inside the node's support; a
+  /// polynomial proxy is refitted to them (below); returns the weighted RMS of |Q| over them.
+  double check_support(ClusterNode& node, std::span<const std::uint32_t> range) const {
     const double r2 = node.support.radius * node.support.radius;
     if (!(r2 > 0)) return 0;
     thread_local std::vector<Neighbor> inside;
     index_->inside(node.support.center, node.support.radius, kSupportPointsPerClusterPoint * node.point_count,
                    kSupportSample, inside);
-    // An evenly strided subset of at most kSupportSample points estimates the RMS well.
-    const std::size_t stride = inside.size() / kSupportSample + 1;
+    if (std::holds_alternative<PolyProxy>(node.proxy.variant())) fit_to_support(node, range, inside);
     double sum = 0, weight = 0;
-    for (std::size_t k = 0; k < inside.size(); k += stride) {
-      const double t = 1 - inside[k].distance_squared / r2;
-      const double w = t * t * t;
-      const double q = node.proxy.value(input_.row(inside[k].index).transpose());
+    for (const auto& nb : inside) {
+      const double w = blend_weight(nb.distance_squared / r2);
+      const double q = node.proxy.value(input_.row(nb.index).transpose());
       sum += w * q * q;
       weight += w;
     }
     return weight > 0 ? std::sqrt(sum / weight) : 0;
+  }
+
+  /// Refits a polynomial proxy, in its cluster's frame, to the support points weighted by the
+  /// blending weight (as in MPU): the proxy is then accurate wherever the blend uses it, and
+  /// averages the noise over its whole support. Points beyond kSupportFitReach times the
+  /// threshold or the cluster's own error from the cluster's fit (another sheet, outliers) are
+  /// left out. The node's errors are re-measured on its own points.
+  void fit_to_support(ClusterNode& node, std::span<const std::uint32_t> range, std::span<const Neighbor> inside) const {
+    const PolyProxy& cluster_fit = std::get<PolyProxy>(node.proxy.variant());
+    const double r2 = node.support.radius * node.support.radius;
+    const double reach = kSupportFitReach * std::max(threshold_, node.rms_error);
+    thread_local std::vector<std::uint32_t> ids;
+    thread_local std::vector<double> weights;
+    ids.clear();
+    weights.clear();
+    for (const auto& nb : inside) {
+      if (!(std::abs(node.proxy.value(input_.row(nb.index).transpose())) <= reach)) continue;
+      ids.push_back(nb.index);
+      weights.push_back(blend_weight(nb.distance_squared / r2));
+    }
+    if (ids.size() < kMinSupportFitPoints) return;
+    Proxy support_fit = fit_poly_in_frame(cluster_fit.frame, input_, ids, weights);
+    const ProxyError err = proxy_error(support_fit, points_, range);
+    // Kept only while the cluster's own points still meet the threshold (or what the cluster's
+    // fit achieved): a leaf's error on its points stays within the threshold.
+    const double e = options_.metric == ErrorMetric::Rms ? err.rms : err.max;
+    const double own = options_.metric == ErrorMetric::Rms ? node.rms_error : node.max_error;
+    if (!(e <= std::max(threshold_, own))) return;
+    node.proxy = std::move(support_fit);
+    node.rms_error = err.rms;
+    node.max_error = err.max;
+  }
+
+  /// The blending weight (1 − s)³ at s = d²/r² (the implicit surface's).
+  static double blend_weight(double s) {
+    const double t = 1 - s;
+    return t * t * t;
   }
 
   const Points& input_;   // the input, in input order (indexed by the k-d tree)
@@ -177,8 +221,9 @@ class Builder {
   const Points& points_;  // work_.positions
   const detail::SupportSampler* index_;
   const BuildOptions& options_;
-  double threshold_;
+  double tolerance_;
   double noise_;
+  double threshold_;  // a cluster's error threshold: hypot(tolerance, noise)
   detail::ProgressReporter& progress_;
 };
 
@@ -267,20 +312,17 @@ ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& opti
   p.support_factor = options.support_factor;
   p.seed = options.seed;
   const double diagonal = tree.bbox.diagonal();
-  switch (options.threshold_mode) {
-    case ThresholdMode::Relative: p.error_threshold = options.threshold * diagonal; break;
-    case ThresholdMode::Absolute: p.error_threshold = options.threshold; break;
-    case ThresholdMode::Auto:
-      if (options.progress && !options.progress("estimating noise", 0.0)) throw Cancelled();
-      break;
-  }
+  const double tolerance = options.threshold_mode == ThresholdMode::Absolute ? options.threshold : options.threshold * diagonal;
+  double noise = 0;  // the noise the leaves may keep on top of the tolerance
   // One k-d tree serves the noise estimate and the support check.
   std::optional<KdTree> index;
   if (options.support_factor > 0 || options.threshold_mode == ThresholdMode::Auto) index.emplace(cloud.positions);
   if (options.threshold_mode == ThresholdMode::Auto) {
+    if (options.progress && !options.progress("estimating noise", 0.0)) throw Cancelled();
     p.noise_sigma = estimate_noise(cloud.positions, *index);
-    p.error_threshold = std::max(options.threshold * diagonal, options.noise_factor * p.noise_sigma);
+    noise = options.noise_factor * p.noise_sigma;
   }
+  p.error_threshold = std::hypot(tolerance, noise);
   std::optional<detail::SupportSampler> sampler;
   if (options.support_factor > 0) sampler.emplace(cloud.positions, *index);
 
@@ -290,7 +332,7 @@ ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& opti
   std::iota(work.local.begin(), work.local.end(), 0u);
   detail::ProgressReporter progress(options.progress, "building tree", n);
   BuildNode root;
-  Builder(cloud.positions, work, sampler ? &*sampler : nullptr, options, p.error_threshold, p.noise_sigma, progress)
+  Builder(cloud.positions, work, sampler ? &*sampler : nullptr, options, tolerance, noise, progress)
       .build(root, work.local, 0, options.seed);
   progress.finish();
   const std::vector<std::uint32_t>& perm = work.ids;

@@ -104,6 +104,11 @@ Frame pca_frame(const Points& points, std::span<const std::uint32_t> indices) {
 }
 
 PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<const std::uint32_t> indices) {
+  return fit_poly_in_frame(frame, points, indices, {});
+}
+
+PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<const std::uint32_t> indices,
+                            std::span<const double> weights) {
   // Direct least squares on the design matrix [1 u v u² uv v² | w], in coordinates scaled for
   // conditioning, reduced block by block (R of [R; next rows] is R of all rows so far: memory
   // stays O(block) however large the cluster); then the minimum-norm solution of the 6×6
@@ -126,6 +131,7 @@ PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<
     for (; first < n && rows < reduced + kBlock; ++first, ++rows) {
       const Eigen::Vector3d l = frame.to_local(points.row(indices[first]).transpose()) / scale;
       stack.row(rows) << 1, l.x(), l.y(), l.x() * l.x(), l.x() * l.y(), l.y() * l.y(), l.z();
+      if (!weights.empty()) stack.row(rows) *= std::sqrt(weights[first]);
     }
     const Eigen::HouseholderQR<Augmented> qr(stack.topRows(rows));
     const Eigen::Index keep = std::min<Eigen::Index>(rows, 7);
