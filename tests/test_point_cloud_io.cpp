@@ -800,6 +800,45 @@ TEST(MalformedFileExtra, EmptyOutputNameAndUnwritableTarget) {
   EXPECT_THROW(write_ply("", c), IoError);
 }
 
+/// A file that is one endless line (the "5 GB line") is refused once the line passes 1 MiB,
+/// with the line's number, whatever the format; the bytes after the limit are never looked at
+/// (here: 64 MiB of them, read in far less time than a scan would take under the sanitizers).
+TEST(MalformedFileExtra, EndlessLineIsRefusedAtTheLimit) {
+  constexpr std::size_t kLimit = std::size_t{1} << 20;
+  const std::string endless(64 * kLimit, '7');
+  const std::string spaces(2 * kLimit, ' ');
+  struct Case {
+    std::string name, bytes;
+    std::uint64_t line;
+  };
+  const std::vector<Case> cases = {
+      {"digits.xyz", "1 2 3\n" + endless, 2},
+      {"comment.xyz", "1 2 3\n#" + endless + "\n4 5 6\n", 2},
+      {"spaces.xyz", "1 2 3\n" + spaces + "4 5 6\n", 2},
+      {"vertex.obj", "v 0 0 0\nv 1 " + endless, 2},
+      {"header.ply", "ply\nformat ascii 1.0\ncomment " + endless + "\nend_header\n", 3},
+      {"token.ply", kAsciiXyzHeader + "1 2 3\n4 5 " + endless, 9},
+      {"blank.ply", kAsciiXyzHeader + "1 2 3\n4 5" + spaces + "6\n", 9},
+  };
+  TempDir dir;
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    write_file(dir / c.name, c.bytes);
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      (void)read_point_cloud(dir / c.name);
+      ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(e.message().find("line is longer than 1048576 bytes"), std::string::npos) << e.what();
+      EXPECT_EQ(e.where().line, c.line) << e.what();
+    }
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
+  }
+  // A line just under the limit is fine.
+  write_file(dir / "long.xyz", "1 2 3 # " + std::string(kLimit - 9, 'x') + "\n4 5 6\n");
+  EXPECT_EQ(read_point_cloud(dir / "long.xyz").size(), 2);
+}
+
 /// The files with non-finite values of the table, read with drop_non_finite: they load without
 /// the bad points and the warning reports the count.
 TEST(NonFinite, DroppedOnRequestWithAWarning) {

@@ -7,6 +7,7 @@
 #include <clustersurf/orientation.hpp>
 #include <clustersurf/tree_file.hpp>
 
+#include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
 #include <chrono>
@@ -62,6 +63,24 @@ BuildOptions build_options(const ReconstructArgs& a) {
   return o;
 }
 
+/// Refuses a cloud that spans no surface: every point at one place, or all on one line (the
+/// spread across the main direction vanishes next to the spread along it). Computed about the
+/// centroid, so a cloud far from the origin is judged as one near it.
+void require_surface_extent(const std::string& file, const PointCloud& cloud) {
+  const Eigen::RowVector3d mean = cloud.positions.colwise().mean();
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (Eigen::Index i = 0; i < cloud.positions.rows(); ++i) {
+    const Eigen::Vector3d d = (cloud.positions.row(i) - mean).transpose();
+    covariance.noalias() += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(covariance, Eigen::EigenvaluesOnly);
+  const Eigen::Vector3d spread = eig.eigenvalues();  // ascending
+  const std::string n = std::to_string(cloud.size());
+  if (!(spread(2) > 0)) throw InputError(file, {}, "all " + n + " points coincide: there is no surface to reconstruct");
+  if (!(spread(1) > 1e-18 * spread(2)))
+    throw InputError(file, {}, "all " + n + " points lie on one line: there is no surface to reconstruct");
+}
+
 }  // namespace
 
 int run_reconstruct(Console& console, const ReconstructArgs& args) {
@@ -70,6 +89,7 @@ int run_reconstruct(Console& console, const ReconstructArgs& args) {
   BuildOptions options = build_options(args);
   const auto t0 = std::chrono::steady_clock::now();
   const PointCloud cloud = read_input(console, args.input);
+  require_surface_extent(args.input.file, cloud);
   const auto t1 = std::chrono::steady_clock::now();
   options.progress = console.progress();
   ClusterTree tree = build_cluster_tree(cloud, options);
@@ -78,7 +98,8 @@ int run_reconstruct(Console& console, const ReconstructArgs& args) {
   if (args.ignore_normals) positions_only.positions = cloud.positions;
   const OrientationReport orientation = orient_tree(tree, args.ignore_normals ? positions_only : cloud);
   const auto t2 = std::chrono::steady_clock::now();
-  if (!args.tree_output.empty()) save_tree(args.tree_output, tree);
+  // Every long step (build, mesh) runs before any file is written, so an interrupted run leaves
+  // no output at all.
   const auto seconds = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
   const std::string oriented =
       orientation.used_normals ? std::string("by input normals")
@@ -93,14 +114,18 @@ int run_reconstruct(Console& console, const ReconstructArgs& args) {
     j["orientation"] = {{"used_normals", orientation.used_normals}, {"components", orientation.components},
                         {"flipped", orientation.flipped}};
     if (!args.mesh_output.empty()) j["mesh"] = write_tree_mesh(console, tree, args.mesh, args.mesh_output, &cloud);
+    if (!args.tree_output.empty()) save_tree(args.tree_output, tree);
     std::cout << j.dump(2) << "\n";
     return 0;
   }
   for (const auto& line : tree_report_lines(tree)) console.print(line);
   console.print("orientation     " + oriented);
   console.print(fmt::format("time            read {:.3f} s, build {:.3f} s", seconds(t0, t1), seconds(t1, t2)));
-  if (!args.tree_output.empty()) console.print("wrote           " + args.tree_output);
   if (!args.mesh_output.empty()) write_tree_mesh(console, tree, args.mesh, args.mesh_output, &cloud);
+  if (!args.tree_output.empty()) {
+    save_tree(args.tree_output, tree);
+    console.print("wrote           " + args.tree_output);
+  }
   return 0;
 }
 

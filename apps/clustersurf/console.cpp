@@ -1,4 +1,5 @@
 #include "console.hpp"
+#include "interrupt.hpp"
 
 #include <fmt/format.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
@@ -29,8 +30,9 @@ void Console::print(const std::string& line) const {
 void Console::warn(const std::string& message) const { spdlog::warn("{}", message); }
 
 ProgressCallback Console::progress() {
-  if (!bar_) return {};
+  if (!bar_) return [](std::string_view, double) { return !interrupt_requested(); };
   return [this](std::string_view stage, double fraction) {
+    if (interrupt_requested()) return false;
     const std::lock_guard lock(mutex_);
     const int permille = static_cast<int>(fraction * 1000.0);
     const auto now = std::chrono::steady_clock::now();

@@ -28,7 +28,8 @@ class Console {
   void print(const std::string& line) const;
   /// Prints a warning on stderr (suppressed by --quiet).
   void warn(const std::string& message) const;
-  /// A progress callback drawing a bar on stderr, or a no-op callback when no bar is wanted.
+  /// A progress callback drawing a bar on stderr (when one is wanted) that asks the operation to
+  /// stop once Ctrl-C or SIGTERM has arrived (interrupt.hpp).
   ProgressCallback progress();
   /// Erases the progress bar line, if one is shown.
   void end_progress();

@@ -2,6 +2,7 @@
 // place where errors become messages and exit codes.
 
 #include "commands.hpp"
+#include "interrupt.hpp"
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/version.hpp>
@@ -209,6 +210,7 @@ int main(int argc, char** argv) {
   const int threads = global.threads > 0 ? global.threads : static_cast<int>(tbb::info::default_concurrency());
   tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
   Console console(global);
+  install_interrupt_handlers();
   try {
     if (c->parsed()) return run_convert(console, convert);
     if (s->parsed()) return run_stats(console, stats);
@@ -234,7 +236,8 @@ int main(int argc, char** argv) {
     return kExitUsage;
   } catch (const clustersurf::Cancelled&) {
     console.end_progress();
-    spdlog::error("cancelled");
+    spdlog::error("{}", interrupt_requested() ? "interrupted: stopped before writing any output (files already there are unchanged)"
+                                              : "cancelled");
     return kExitCancelled;
   } catch (const std::bad_alloc&) {
     console.end_progress();

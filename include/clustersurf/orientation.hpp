@@ -21,7 +21,8 @@ struct OrientationReport {
 /// where they meet) or, without a point-leaf table, when their supports overlap. Each connected
 /// component starts from the leaf reaching farthest in +x, whose outward side is certain.
 /// Internal nodes then follow the point-weighted mean of their leaves' normals.
-/// Pass an empty cloud (or one without normals) to force propagation.
+/// Pass an empty cloud (or one without normals) to force propagation. Non-finite input normals
+/// are ignored (each leaf follows the finite normals of its points).
 OrientationReport orient_tree(ClusterTree& tree, const PointCloud& cloud);
 
 }  // namespace clustersurf

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <string_view>
 
 namespace clustersurf {
 
@@ -35,6 +36,15 @@ PointCloud read_point_cloud(const std::filesystem::path& file, const ReadOptions
 /// Reads a triangle mesh from PLY or OBJ (polygons are fan-triangulated). Throws like
 /// read_point_cloud, and InputError when a face index is out of range.
 TriangleMesh read_triangle_mesh(const std::filesystem::path& file, const ReadOptions& options = {});
+
+/// Parses a whole file's bytes already in memory, in `format` (bytes starting with the PLY magic
+/// are PLY whatever `format` says); `name` names them in errors. Validates and throws exactly
+/// like read_point_cloud (InputError), which reads a file through it.
+PointCloud parse_point_cloud(std::string_view bytes, FileFormat format, const std::filesystem::path& name = "<memory>",
+                             const ReadOptions& options = {});
+/// Parses a triangle mesh's bytes in `format` (PLY or OBJ), as read_triangle_mesh.
+TriangleMesh parse_triangle_mesh(std::string_view bytes, FileFormat format,
+                                 const std::filesystem::path& name = "<memory>", const ReadOptions& options = {});
 
 /// Options for writing PLY files.
 struct PlyWriteOptions {

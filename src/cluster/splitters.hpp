@@ -34,4 +34,12 @@ std::size_t split_plane(const Points& points, std::span<std::uint32_t> range, co
 std::size_t lloyd_split(const Points& points, std::span<std::uint32_t> range, const BuildOptions& options,
                         std::uint64_t node_seed);
 
+/// Splits a cluster made of two parts far apart: along the frame's first axis (largest
+/// spread), at the widest empty slab between consecutive points, when that slab is wider than
+/// either side's extent along the axis and both sides keep min_points. Returns k as the other
+/// splitters, or 0 when there is no such gap. A proxy fitted across such a gap can meet an
+/// error threshold that scales with the model's size while describing neither part.
+std::size_t split_at_gap(const Points& points, std::span<std::uint32_t> range, const Frame& frame,
+                         std::uint32_t min_points);
+
 }  // namespace clustersurf::detail

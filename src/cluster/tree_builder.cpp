@@ -119,6 +119,9 @@ class Builder {
     if (can_split && (e > threshold_ || (index_ != nullptr && *(support = check_support(node, range)) > support_limit))) {
       k = options_.splitter == SplitterKind::SplitPlane ? detail::split_plane(points_, range, frame, options_, noise_)
                                                         : detail::lloyd_split(points_, range, options_, detail::splitmix64(path_seed));
+    } else if (can_split) {
+      // The proxy fits, but the cluster may be two parts with empty space between them.
+      k = detail::split_at_gap(points_, range, frame, options_.min_points);
     }
     if (k == 0 || k >= range.size()) {
       // A leaf that cannot be split (too few points, or no split helps) but whose proxy is off

@@ -16,7 +16,7 @@
 namespace clustersurf::io {
 
 ParsedFile read_obj(const std::filesystem::path& file, std::string_view bytes, bool want_faces) {
-  TextCursor cur(bytes);
+  TextCursor cur(bytes, file);
   std::vector<std::string_view> fields;
   std::vector<double> pos, nrm;
   std::vector<std::uint8_t> rgb;

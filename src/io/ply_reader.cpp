@@ -105,7 +105,8 @@ Header parse_header(const std::filesystem::path& file, std::string_view bytes) {
   std::vector<std::string_view> tok;
   auto next_line = [&](std::string_view& line) -> bool {
     if (pos >= bytes.size() || pos > kMaxHeader) return false;
-    const std::size_t nl = bytes.find('\n', pos);
+    const std::size_t nl = bytes.substr(0, pos + kMaxLineBytes + 1).find('\n', pos);
+    if (nl == std::string_view::npos && bytes.size() - pos > kMaxLineBytes) fail_long_line(file, line_no + 1);
     if (nl == std::string_view::npos) return false;
     line = bytes.substr(pos, nl - pos);
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
@@ -433,7 +434,7 @@ ParsedFile read_binary(const std::filesystem::path& file, std::string_view bytes
 
 ParsedFile read_ascii(const std::filesystem::path& file, std::string_view bytes, const Header& h, bool want_faces) {
   ParsedFile out;
-  TextCursor cur(bytes.substr(h.data_offset), h.data_line);
+  TextCursor cur(bytes.substr(h.data_offset), file, h.data_line);
   bool seen_vertex = false;
   const std::int64_t vertex_count = declared_vertices(h);
   FaceSink faces;

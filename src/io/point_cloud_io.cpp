@@ -21,10 +21,7 @@ std::string lower_extension(const std::filesystem::path& file) {
   return ext;
 }
 
-FileFormat detect(const std::filesystem::path& file, std::string_view bytes) {
-  if (bytes.substr(0, 4) == "ply\n" || bytes.substr(0, 5) == "ply\r\n") return FileFormat::Ply;
-  return format_from_extension(file);
-}
+bool has_ply_magic(std::string_view bytes) { return bytes.substr(0, 4) == "ply\n" || bytes.substr(0, 5) == "ply\r\n"; }
 
 /// Rejects (or drops, by option) points with a non-finite coordinate or normal.
 void check_finite(const std::filesystem::path& file, io::ParsedFile& parsed, const ReadOptions& options) {
@@ -58,12 +55,11 @@ void check_finite(const std::filesystem::path& file, io::ParsedFile& parsed, con
   c = std::move(out);
 }
 
-io::ParsedFile parse(const std::filesystem::path& file, const ReadOptions& options, bool want_faces) {
-  io::MappedFile mapped(file);
-  const std::string_view bytes = mapped.view();
+io::ParsedFile parse(std::string_view bytes, FileFormat format, const std::filesystem::path& file,
+                     const ReadOptions& options, bool want_faces) {
   if (bytes.empty()) throw InputError(file, {}, "file is empty");
   io::ParsedFile parsed;
-  switch (detect(file, bytes)) {
+  switch (has_ply_magic(bytes) ? FileFormat::Ply : format) {
     case FileFormat::Ply: parsed = io::read_ply(file, bytes, want_faces); break;
     case FileFormat::Obj: parsed = io::read_obj(file, bytes, want_faces); break;
     case FileFormat::Xyz:
@@ -74,6 +70,24 @@ io::ParsedFile parse(const std::filesystem::path& file, const ReadOptions& optio
   check_finite(file, parsed, options);
   if (parsed.cloud.empty()) throw InputError(file, {}, "file holds no points");
   return parsed;
+}
+
+io::ParsedFile read(const std::filesystem::path& file, const ReadOptions& options, bool want_faces) {
+  const io::MappedFile mapped(file);
+  const std::string_view bytes = mapped.view();
+  // The magic decides before the extension (a PLY file named .xyz is still read), and an empty
+  // file is reported as such whatever its name.
+  const FileFormat format = bytes.empty() || has_ply_magic(bytes) ? FileFormat::Ply : format_from_extension(file);
+  return parse(bytes, format, file, options, want_faces);
+}
+
+TriangleMesh to_mesh(io::ParsedFile&& parsed) {
+  TriangleMesh mesh;
+  mesh.vertices = std::move(parsed.cloud.positions);
+  mesh.normals = std::move(parsed.cloud.normals);
+  mesh.colors = std::move(parsed.cloud.colors);
+  mesh.triangles = std::move(parsed.triangles);
+  return mesh;
 }
 
 }  // namespace
@@ -87,17 +101,21 @@ FileFormat format_from_extension(const std::filesystem::path& file) {
 }
 
 PointCloud read_point_cloud(const std::filesystem::path& file, const ReadOptions& options) {
-  return parse(file, options, false).cloud;
+  return read(file, options, false).cloud;
 }
 
 TriangleMesh read_triangle_mesh(const std::filesystem::path& file, const ReadOptions& options) {
-  io::ParsedFile parsed = parse(file, options, true);
-  TriangleMesh mesh;
-  mesh.vertices = std::move(parsed.cloud.positions);
-  mesh.normals = std::move(parsed.cloud.normals);
-  mesh.colors = std::move(parsed.cloud.colors);
-  mesh.triangles = std::move(parsed.triangles);
-  return mesh;
+  return to_mesh(read(file, options, true));
+}
+
+PointCloud parse_point_cloud(std::string_view bytes, FileFormat format, const std::filesystem::path& name,
+                             const ReadOptions& options) {
+  return parse(bytes, format, name, options, false).cloud;
+}
+
+TriangleMesh parse_triangle_mesh(std::string_view bytes, FileFormat format, const std::filesystem::path& name,
+                                 const ReadOptions& options) {
+  return to_mesh(parse(bytes, format, name, options, true));
 }
 
 void write_point_cloud(const std::filesystem::path& file, const PointCloud& cloud, const PlyWriteOptions& ply) {

@@ -72,6 +72,8 @@ TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& opt
   const double longest = box.extent().maxCoeff();
   double h = options.voxel_size ? *options.voxel_size
                                 : (options.resolution > 0 ? longest / options.resolution : 0.0);
+  if (!(longest > 0) && !options.voxel_size)
+    throw OptionError("the surface has no extent (all input points coincide): there is nothing to mesh");
   if (!(h > 0) || !std::isfinite(h)) throw OptionError("mesh voxel size must be positive (check --resolution/--voxel-size)");
   if (!(options.min_weight >= 0) || !std::isfinite(options.min_weight)) throw OptionError("mesh min_weight must be >= 0");
   if (longest / h > 500000) throw OptionError("mesh grid too fine: more than 500000 cells along the bounding box");
@@ -173,8 +175,10 @@ TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& opt
   // 3. OpenVDB: the evaluated corners as voxel values, the surface cells as the mask.
   openvdb::initialize();
   auto grid = openvdb::FloatGrid::create(static_cast<float>(3 * h));
+  // The grid's space is relative to `origin` (no translation in the transform): OpenVDB returns
+  // vertices as floats, which would lose every detail of a model far from the world origin
+  // (coordinates near 1e8 keep only ~8 units). Offsets within the box keep float precision.
   grid->setTransform(openvdb::math::Transform::createLinearTransform(h));
-  grid->transform().postTranslate(openvdb::Vec3d(origin.x(), origin.y(), origin.z()));
   auto mask = openvdb::BoolGrid::create(false);
   mask->setTransform(grid->transform().copy());
   {
@@ -202,7 +206,7 @@ TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& opt
   tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, nv, 256), [&](const auto& r) {
     for (Eigen::Index v = r.begin(); v != r.end(); ++v) {
       const auto& p = pts[static_cast<std::size_t>(v)];
-      Eigen::Vector3d x(p.x(), p.y(), p.z());
+      Eigen::Vector3d x = origin + Eigen::Vector3d(p.x(), p.y(), p.z());
       Eigen::Vector3d y = x;
       if (options.newton_steps > 0 && project(surface, y, options.newton_steps, h, 1e-6 * h)) x = y;
       const SurfaceSample s = surface.sample(x);

@@ -54,8 +54,12 @@ OrientationReport orient_by_normals(ClusterTree& tree, const PointCloud& cloud) 
   OrientationReport report;
   report.used_normals = true;
   std::vector<Eigen::Vector3d> sum(tree.nodes.size(), Eigen::Vector3d::Zero());
-  for (std::size_t p = 0; p < tree.point_leaf.size(); ++p)
-    sum[static_cast<std::size_t>(tree.point_leaf[p])] += cloud.normals.row(static_cast<Eigen::Index>(p)).transpose();
+  // A NaN or infinite normal (the readers refuse them; a caller may not) carries no direction:
+  // it is skipped rather than allowed to poison its leaf's sum.
+  for (std::size_t p = 0; p < tree.point_leaf.size(); ++p) {
+    const auto normal = cloud.normals.row(static_cast<Eigen::Index>(p));
+    if (normal.allFinite()) sum[static_cast<std::size_t>(tree.point_leaf[p])] += normal.transpose();
+  }
   for (std::size_t i = tree.nodes.size(); i-- > 0;) {
     ClusterNode& n = tree.nodes[i];
     if (!n.is_leaf()) sum[i] = sum[static_cast<std::size_t>(n.left)] + sum[static_cast<std::size_t>(n.right)];

@@ -242,6 +242,21 @@ expect_rc "--drop-non-finite: exit code 0" 0
 expect_eq "--drop-non-finite keeps 2 points" "$(json_field points)" 2
 expect_contains "--drop-non-finite warns with the count" "$err" "dropped 1 of 3"
 
+# The hostile-input table (tests/data/bad/expected.tsv): each file refused with exit code 3 and
+# its message, no output written.
+hostile="$(cd "$(dirname "$0")/../data/bad" && pwd)"
+while IFS=$'\t' read -r name how message; do
+  case "$name" in ''|'#'*) continue ;; esac
+  case "$how" in
+    cloud) run convert "$hostile/$name" "$tmp/out/x.ply" ;;
+    mesh) run sample "$hostile/$name" -o "$tmp/out/x.ply" -n 10 ;;
+    tree) run mesh "$hostile/$name" -o "$tmp/out/x.ply" ;;
+  esac
+  expect_rc "hostile $name: exit code 3" 3
+  expect_contains "hostile $name: message" "$err" "$message"
+  no_new_files "hostile $name: no output file" "$tmp/out" "existing.ply"
+done <"$hostile/expected.tsv"
+
 # --- reconstruct, info, mesh -------------------------------------------------------------------
 run -q reconstruct "$bunny" -o "$tmp/b.cstree" --mesh "$tmp/m.ply"
 expect_rc "reconstruct exits 0" 0
@@ -357,6 +372,58 @@ expect_rc "view to a non-.html file: exit code 2" 2
 run view "$tmp/trunc.cstree" -o "$tmp/out/bad.html"
 expect_rc "view of a corrupt tree: exit code 3" 3
 no_new_files "failed views leave no output" "$tmp/out" "existing.ply"
+
+# --- degenerate geometry: a clear error, or a valid result -------------------------------------
+mkdir "$tmp/deg"
+for i in $(seq 1 50); do echo "1.5 2.5 3.5"; done >"$tmp/deg/same.xyz"
+for i in $(seq 1 50); do echo "$i $((2 * i)) $((3 * i))"; done >"$tmp/deg/line.xyz"
+run reconstruct "$tmp/deg/same.xyz" -o "$tmp/deg/same.cstree" --mesh "$tmp/deg/same.ply"
+expect_rc "identical points: exit code 3" 3
+expect_contains "identical points: message" "$err" "all 50 points coincide: there is no surface to reconstruct"
+run reconstruct "$tmp/deg/line.xyz" -o "$tmp/deg/line.cstree"
+expect_rc "collinear points: exit code 3" 3
+expect_contains "collinear points: message" "$err" "all 50 points lie on one line"
+no_new_files "degenerate clouds: no output" "$tmp/deg" "$(printf 'line.xyz\nsame.xyz')"
+# The bunny moved to 1e8: meshed as well as where it was.
+run convert "$bunny" "$tmp/bunny.xyz"
+python3 -c '
+import sys
+for line in open(sys.argv[1]):
+    x, y, z = map(float, line.split()[:3])
+    print(f"{x + 1e8:.17g} {y - 1e8:.17g} {z + 1e8:.17g}")' "$tmp/bunny.xyz" >"$tmp/deg/far.xyz" 2>/dev/null
+if [ -s "$tmp/deg/far.xyz" ]; then
+  run --json reconstruct "$tmp/bunny.xyz" -o "$tmp/deg/near.cstree" --mesh "$tmp/deg/near.ply" --resolution 64
+  near_tris=$(python3 -c 'import json,sys; print(json.loads(sys.stdin.read())["mesh"]["triangles"])' <<<"$out")
+  run --json reconstruct "$tmp/deg/far.xyz" -o "$tmp/deg/far.cstree" --mesh "$tmp/deg/far.ply" --resolution 64
+  expect_rc "bunny at 1e8: exit code 0" 0
+  far_tris=$(python3 -c 'import json,sys; print(json.loads(sys.stdin.read())["mesh"]["triangles"])' <<<"$out")
+  if [ -n "$near_tris" ] && [ -n "$far_tris" ] && [ "$far_tris" -gt $((near_tris * 9 / 10)) ] && [ "$far_tris" -lt $((near_tris * 11 / 10)) ]; then
+    ok "bunny at 1e8: as many triangles as at the origin ($far_tris vs $near_tris)"
+  else
+    not_ok "bunny at 1e8: triangles" "far $far_tris, near $near_tris"
+  fi
+else
+  not_ok "bunny at 1e8: input" "$tmp/bunny.xyz missing"
+fi
+
+# --- interrupt (SIGINT): no output, a clear message, existing files untouched -------------------
+big="$tmp/big.ply"
+run sample "$bunny" -o "$big" -n 2000000 --seed 3
+expect_rc "sample a large cloud for the interrupt test" 0
+mkdir "$tmp/int"
+printf 'a good tree\n' >"$tmp/int/keep.cstree"
+before=$(cksum <"$tmp/int/keep.cstree")
+"$cli" reconstruct "$big" -o "$tmp/int/keep.cstree" --mesh "$tmp/int/new.ply" >"$tmp/stdout" 2>"$tmp/stderr" &
+pid=$!
+sleep 2
+kill -INT "$pid"
+wait "$pid"
+rc=$?
+err=$(cat "$tmp/stderr")
+expect_rc "SIGINT during reconstruct: exit code 130" 130
+expect_contains "SIGINT: the message says so" "$err" "interrupted: stopped before writing any output"
+expect_eq "SIGINT: the existing tree file is untouched" "$(cksum <"$tmp/int/keep.cstree")" "$before"
+no_new_files "SIGINT: no mesh, no temporary file" "$tmp/int" "keep.cstree"
 
 # --- shared data (optional) ---------------------------------------------------------------------
 if [ -n "$shared" ] && [ -f "$shared/bunny/scans/bun000.ply" ]; then
