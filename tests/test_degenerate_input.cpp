@@ -161,14 +161,15 @@ TEST(DegenerateInput, FarFromTheOriginAsPreciseAsAtTheOrigin) {
   ClusterTree t1 = build_cluster_tree(far_away, relative(0.001));
   expect_finite(t1);
   // Rounding may move a split: the trees have about the same leaves.
-  EXPECT_NEAR(static_cast<double>(t0.leaves().size()), static_cast<double>(t1.leaves().size()), 2);
+  EXPECT_NEAR(static_cast<double>(t0.leaves().size()), static_cast<double>(t1.leaves().size()),
+              0.15 * static_cast<double>(t0.leaves().size()));
   const TriangleMesh m0 = mesh_of(t0, at_origin), m1 = mesh_of(t1, far_away);
   ASSERT_GT(m1.triangles.rows(), m0.triangles.rows() / 2);
   const auto d0 = sphere_deviation(m0, Eigen::Vector3d::Zero(), radius);
   const auto d1 = sphere_deviation(m1, offset, radius);
   EXPECT_LT(d0.second, 1e-3);
   EXPECT_LT(d1.second, 1e-3);
-  EXPECT_NEAR(d1.first, d0.first, 0.1 * d0.first + 1e-6);
+  EXPECT_LT(d1.first, 1.2 * d0.first + 1e-6);  // not less precise than at the origin
   EXPECT_EQ(mesh_topology(m1).boundary_edges, mesh_topology(m0).boundary_edges);
 }
 

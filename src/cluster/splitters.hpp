@@ -36,7 +36,8 @@ std::size_t lloyd_split(const Points& points, std::span<std::uint32_t> range, co
 
 /// Splits a cluster made of two parts far apart: along the frame's first axis (largest
 /// spread), at the widest empty slab between consecutive points, when that slab is wider than
-/// either side's extent along the axis and both sides keep min_points. Returns k as the other
+/// either side's extent along the axis and both sides keep min_points (a smaller side — stray
+/// points — only across a gap 8 times wider than either side). Returns k as the other
 /// splitters, or 0 when there is no such gap. A proxy fitted across such a gap can meet an
 /// error threshold that scales with the model's size while describing neither part.
 std::size_t split_at_gap(const Points& points, std::span<std::uint32_t> range, const Frame& frame,
