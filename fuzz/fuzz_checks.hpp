@@ -2,7 +2,13 @@
 // Properties every successful parse must have, checked by the fuzz targets (a violation aborts,
 // which libFuzzer reports as a crash with the input that caused it).
 
+#include <clustersurf/errors.hpp>
 #include <clustersurf/point_cloud.hpp>
+#include <clustersurf/point_cloud_io.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
 
 #include <cstdlib>
 
@@ -25,6 +31,25 @@ inline void check_cloud(const PointCloud& c) {
 inline void check_mesh(const TriangleMesh& m) {
   require(m.vertices.rows() > 0 && m.vertices.allFinite());
   require(m.triangles.size() == 0 || (m.triangles.minCoeff() >= 0 && m.triangles.maxCoeff() < m.vertices.rows()));
+}
+
+/// One fuzz input through the readers of a text or PLY format: as a point cloud, then, dropping
+/// non-finite values, as a triangle mesh (formats with faces) or as a cloud again. Only
+/// InputError may leave a reader, and every successful parse must pass the checks above.
+inline int parse_everything(const std::uint8_t* data, std::size_t size, FileFormat format, const char* name, bool has_faces) {
+  const std::string_view bytes(reinterpret_cast<const char*>(data), size);
+  try {
+    check_cloud(parse_point_cloud(bytes, format, name));
+  } catch (const InputError&) {
+  }
+  ReadOptions drop;
+  drop.drop_non_finite = true;
+  try {
+    if (has_faces) check_mesh(parse_triangle_mesh(bytes, format, name, drop));
+    else check_cloud(parse_point_cloud(bytes, format, name, drop));
+  } catch (const InputError&) {
+  }
+  return 0;
 }
 
 }  // namespace clustersurf::fuzz

@@ -57,11 +57,12 @@ LocalNoise local_noise(const Points& points, const KdTree& tree, const NoiseOpti
   return {median(sigma), median(width)};
 }
 
-/// Every point whose index hashes to a multiple of 4 (about a quarter, deterministic).
-Points quarter(const Points& points) {
+/// The points of the nested subsample of `level` (about 4^-level of them; the support
+/// sampler's levels).
+Points subsample(const Points& points, unsigned level) {
   std::vector<Eigen::Index> keep;
   for (Eigen::Index i = 0; i < points.rows(); ++i)
-    if ((detail::splitmix64(static_cast<std::uint64_t>(i)) & 3u) == 0) keep.push_back(i);
+    if (detail::in_subsample(static_cast<std::uint64_t>(i), level)) keep.push_back(i);
   Points out(static_cast<Eigen::Index>(keep.size()), 3);
   for (std::size_t j = 0; j < keep.size(); ++j) out.row(static_cast<Eigen::Index>(j)) = points.row(keep[j]);
   return out;
@@ -81,11 +82,8 @@ double estimate_noise(const Points& points, const KdTree& tree, const NoiseOptio
   LocalNoise est = local_noise(points, tree, options);
   // Dense samples of a noisy surface: the neighbourhoods are thin slabs of noise, and the
   // local fit follows it. Coarsen until the neighbourhoods are wide compared with the noise.
-  Points coarse;
-  const Points* current = &points;
-  while (est.width < options.min_width_ratio * est.sigma && static_cast<std::size_t>(current->rows()) / 4 >= kMinCoarsePoints) {
-    coarse = quarter(*current);
-    current = &coarse;
+  for (unsigned level = 1; est.width < options.min_width_ratio * est.sigma && (n >> (2 * level)) >= kMinCoarsePoints; ++level) {
+    const Points coarse = subsample(points, level);
     est = local_noise(coarse, KdTree(coarse), options);
   }
   return est.sigma;

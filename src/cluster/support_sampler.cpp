@@ -15,10 +15,9 @@ constexpr std::size_t kMinLevelSize = 4096;
 SupportSampler::SupportSampler(const Points& points, const KdTree& full) : full_(full) {
   const auto n = static_cast<std::size_t>(points.rows());
   for (std::size_t level = 1, kept = n / 4; kept >= kMinLevelSize && level < 31; ++level, kept /= 4) {
-    const std::uint64_t mask = (std::uint64_t{1} << (2 * level)) - 1;
     Level l;
     for (std::size_t i = 0; i < n; ++i)
-      if ((detail::splitmix64(i) & mask) == 0) l.ids.push_back(static_cast<std::uint32_t>(i));
+      if (in_subsample(i, static_cast<unsigned>(level))) l.ids.push_back(static_cast<std::uint32_t>(i));
     l.points.resize(static_cast<Eigen::Index>(l.ids.size()), 3);
     for (std::size_t k = 0; k < l.ids.size(); ++k) l.points.row(static_cast<Eigen::Index>(k)) = points.row(l.ids[k]);
     levels_.push_back(std::move(l));

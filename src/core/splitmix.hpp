@@ -14,4 +14,10 @@ constexpr std::uint64_t splitmix64(std::uint64_t x) noexcept {
   return x ^ (x >> 31);
 }
 
+/// Whether point `index` belongs to the nested random subsample of level `level`: about 4^-level
+/// of the points, each level inside the previous one (the same subsets everywhere they are used).
+constexpr bool in_subsample(std::uint64_t index, unsigned level) noexcept {
+  return (splitmix64(index) & ((std::uint64_t{1} << (2 * level)) - 1)) == 0;
+}
+
 }  // namespace clustersurf::detail
