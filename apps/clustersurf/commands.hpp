@@ -24,7 +24,8 @@ struct MeshArgs {
   std::optional<std::uint32_t> lod_depth;
   std::optional<double> lod_error;  // fraction of the bbox diagonal
   std::string color = "none";       // none | leaf | distance
-  std::string points;               // input cloud for --color distance (mesh command)
+  std::string points;               // input cloud for --trim and --color distance (mesh command)
+  double trim = 2.0;                // TrimOptions::spread_factor; 0: off
   bool ascii = false;
 };
 
@@ -64,6 +65,7 @@ struct ReconstructArgs {
   double noise_factor = 1.0;
   std::uint64_t seed = 1;
   bool no_point_leaves = false;
+  bool keep_outliers = false;
   bool ignore_normals = false;
 };
 int run_reconstruct(Console& console, const ReconstructArgs& args);

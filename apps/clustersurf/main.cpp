@@ -43,6 +43,12 @@ void add_mesh_options(CLI::App& cmd, clustersurf::cli::MeshArgs& m) {
   cmd.add_option("--color", m.color, "Vertex colors: none, leaf (per blended node) or distance (to the input points)")
       ->check(CLI::IsMember({"none", "leaf", "distance"}))
       ->default_val("none");
+  cmd.add_option("--trim", m.trim,
+                 "Drop triangles farther from the input points than this x the nearest point's spread "
+                 "(mean distance to its 8 neighbours), where the data stops; needs the points "
+                 "(reconstruct: always; mesh: --points). 0 keeps every triangle")
+      ->check(CLI::NonNegativeNumber)
+      ->default_val(2.0);
   cmd.add_flag("--mesh-ascii", m.ascii, "Write the mesh as ascii PLY instead of binary");
 }
 
@@ -90,7 +96,7 @@ int main(int argc, char** argv) {
       ->default_val("split-plane");
   r->add_option("--max-error", rec.max_error,
                 "Tolerance: the error a leaf may keep beyond the estimated scanner noise, as a fraction of the bbox "
-                "diagonal (a leaf's RMS error must be <= hypot(tolerance, noise)); \"auto\" = 0.0005")
+                "diagonal (a leaf's RMS error must be <= hypot(tolerance, noise)); \"auto\" = 0.0002")
       ->default_val("auto");
   r->add_option("--absolute-error", rec.absolute_error, "Leaf error threshold in the input's units (overrides --max-error)")
       ->check(CLI::NonNegativeNumber);
@@ -113,6 +119,9 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber)
       ->default_val(2.0);
   r->add_option("--seed", rec.seed, "Seed for every random choice")->default_val(1);
+  r->add_flag("--keep-outliers", rec.keep_outliers,
+              "Cluster every input point; by default isolated points (mean distance to their 8 nearest "
+              "neighbours over 3x their neighbours' or 6x the cloud's median) are left out");
   r->add_flag("--no-point-leaves", rec.no_point_leaves, "Do not store each point's leaf in the tree file");
 
   InfoArgs info;
@@ -123,7 +132,7 @@ int main(int argc, char** argv) {
   auto* m = app.add_subcommand("mesh", "Mesh the implicit surface of a tree file");
   m->add_option("tree", meshcmd.tree, "Tree file (.cstree)")->required();
   m->add_option("-o,--output", meshcmd.output, "Mesh file to write (.ply or .obj)")->required();
-  m->add_option("--points", meshcmd.mesh.points, "The input cloud, for --color distance");
+  m->add_option("--points", meshcmd.mesh.points, "The tree's input cloud, for --trim and --color distance");
   add_mesh_options(*m, meshcmd.mesh);
 
   SampleArgs sample;

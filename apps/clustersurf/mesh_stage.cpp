@@ -4,6 +4,7 @@
 #include <clustersurf/implicit_surface.hpp>
 #include <clustersurf/mesh_colors.hpp>
 #include <clustersurf/mesh_extraction.hpp>
+#include <clustersurf/mesh_trim.hpp>
 #include <clustersurf/point_cloud_io.hpp>
 
 #include <fmt/format.h>
@@ -30,6 +31,20 @@ nlohmann::json write_tree_mesh(Console& console, const ClusterTree& tree, const 
   MeshReport report;
   TriangleMesh mesh = extract_mesh(surface, options, &report);
   console.end_progress();
+  // Trimmed to the clustered points: an outlier next to an extrapolated flap must not keep it.
+  TrimReport trimmed;
+  if (cloud != nullptr && args.trim > 0) {
+    TrimOptions trim;
+    trim.spread_factor = args.trim;
+    if (tree.point_leaf.size() == static_cast<std::size_t>(cloud->size()) && tree.outliers() > 0) {
+      std::vector<Eigen::Index> clustered;
+      for (std::size_t i = 0; i < tree.point_leaf.size(); ++i)
+        if (tree.point_leaf[i] >= 0) clustered.push_back(static_cast<Eigen::Index>(i));
+      mesh = trim_to_points(mesh, cloud->positions(clustered, Eigen::all), trim, &trimmed);
+    } else {
+      mesh = trim_to_points(mesh, cloud->positions, trim, &trimmed);
+    }
+  }
   if (args.color == "leaf") mesh.colors = colors_by_node(mesh, surface);
   if (args.color == "distance") mesh.colors = colors_by_distance(mesh, cloud->positions, 0.005 * tree.bbox.diagonal());
   const auto t1 = std::chrono::steady_clock::now();
@@ -42,6 +57,8 @@ nlohmann::json write_tree_mesh(Console& console, const ClusterTree& tree, const 
                             "{} non-manifold edges",
                             topo.vertices, topo.triangles, surface.cut().size(), report.voxel_size, topo.boundary_edges,
                             topo.non_manifold_edges));
+  if (trimmed.removed_triangles > 0)
+    console.print(fmt::format("trimmed         {} triangles beyond the data", trimmed.removed_triangles));
   console.print(fmt::format("mesh time       {:.3f} s", seconds));
   console.print("wrote           " + output);
   return {{"file", output},
@@ -54,6 +71,7 @@ nlohmann::json write_tree_mesh(Console& console, const ClusterTree& tree, const 
           {"voxel_size", report.voxel_size},
           {"surface_cells", report.surface_cells},
           {"evaluated_corners", report.evaluated_corners},
+          {"trimmed_triangles", trimmed.removed_triangles},
           {"mesh_seconds", seconds}};
 }
 

@@ -17,6 +17,7 @@ nlohmann::json tree_report_json(const ClusterTree& tree) {
       {"leaves", s.leaves},
       {"depth", s.depth},
       {"input_points", tree.input_points},
+      {"outliers", tree.outliers()},
       {"has_point_leaves", !tree.point_leaf.empty()},
       {"bbox_min", {tree.bbox.min.x(), tree.bbox.min.y(), tree.bbox.min.z()}},
       {"bbox_max", {tree.bbox.max.x(), tree.bbox.max.y(), tree.bbox.max.z()}},
@@ -50,7 +51,8 @@ std::vector<std::string> tree_report_lines(const ClusterTree& tree) {
   const TreeParameters& p = tree.parameters;
   const double diag = tree.bbox.diagonal();
   std::vector<std::string> out;
-  out.push_back(fmt::format("points          {}", tree.input_points));
+  out.push_back(tree.outliers() == 0 ? fmt::format("points          {}", tree.input_points)
+                                     : fmt::format("points          {} ({} outliers left out)", tree.input_points, tree.outliers()));
   out.push_back(fmt::format("nodes           {} ({} leaves), depth {}", s.nodes, s.leaves, s.depth));
   std::string hist;
   for (int k = 0; k < 4; ++k)

@@ -2,6 +2,7 @@
 // The cluster tree: a binary tree of point clusters, each with a fitted proxy and support
 // sphere (thesis ch. 3, METHOD.md "Cluster tree").
 
+#include <clustersurf/outliers.hpp>
 #include <clustersurf/point_cloud.hpp>
 #include <clustersurf/progress.hpp>
 #include <clustersurf/proxy.hpp>
@@ -33,10 +34,11 @@ struct BuildOptions {
   ErrorMetric metric = ErrorMetric::Rms;         ///< RMS: max never drops below scanner noise
   ThresholdMode threshold_mode = ThresholdMode::Auto;
   /// The tolerance: the error a leaf may keep on top of the noise; relative (fraction of the
-  /// diagonal) or absolute. A cluster is a leaf when its error is ≤ hypot(tolerance, noise).
-  double threshold = 0.0005;
+  /// diagonal) or absolute. A cluster is a leaf when its error is ≤ hypot(tolerance, noise)
+  /// (the noise with a margin for small clusters: cluster_error_threshold()).
+  double threshold = 0.0002;
   double noise_factor = 1.0;                     ///< Auto: the noise counted is this × the estimate
-  std::uint32_t min_points = 20;                 ///< no child below this many points
+  std::uint32_t min_points = 20;                 ///< no child below this many points (but strays cut off across a gap)
   std::uint32_t max_depth = 200;                 ///< nodes at this depth are leaves (root: 0)
   double alpha = 0.75;                           ///< support radius = alpha × cluster bbox diagonal
   std::uint32_t kstep = 0;                       ///< split-plane sweep step; 0: ≤ 64 candidates
@@ -50,6 +52,10 @@ struct BuildOptions {
   /// support. Keeps the blend accurate where supports overlap and stops large clusters from
   /// extrapolating across the model. 0 turns the check and the refit off.
   double support_factor = 2.0;
+  /// Leave isolated points (find_outliers(): scanner strays, points in the air) out of every
+  /// cluster, the noise estimate and the support checks; their point_leaf is -1.
+  bool remove_outliers = true;
+  OutlierOptions outliers;                       ///< the outlier test
   bool keep_point_leaves = true;                 ///< store the leaf of every input point
   ProgressCallback progress;                     ///< progress and cancellation (may be empty)
 };
@@ -84,7 +90,7 @@ struct TreeParameters {
   SplitterKind splitter = SplitterKind::SplitPlane;
   ErrorMetric metric = ErrorMetric::Rms;
   ThresholdMode threshold_mode = ThresholdMode::Auto;
-  double threshold = 0.0005;
+  double threshold = 0.0002;
   double noise_factor = 1.0;
   std::uint32_t min_points = 20;
   std::uint32_t max_depth = 200;
@@ -103,16 +109,24 @@ struct TreeParameters {
 /// A built (or loaded) cluster tree.
 struct ClusterTree {
   TreeParameters parameters;
-  BoundingBox bbox;                      ///< of the input points
-  std::uint64_t input_points = 0;
+  BoundingBox bbox;                      ///< of the clustered points (the input without outliers)
+  std::uint64_t input_points = 0;        ///< all input points; the root holds those not outliers
   std::vector<ClusterNode> nodes;        ///< pre-order, nodes[0] is the root
-  std::vector<std::int32_t> point_leaf;  ///< node index of each input point's leaf, or empty
+  /// Node index of each input point's leaf (-1 for an outlier), or empty.
+  std::vector<std::int32_t> point_leaf;
 
   /// Indices of the leaves, in pre-order.
   std::vector<std::int32_t> leaves() const;
   /// Largest node depth (root: 0).
   std::uint32_t depth() const;
+  /// Input points left out of every cluster as outliers.
+  std::uint64_t outliers() const { return nodes.empty() ? 0 : input_points - nodes[0].point_count; }
 };
+
+/// The error a cluster of `points` points may keep in `p`'s tree: hypot(tolerance, noise), the
+/// noise allowed a margin for the spread of an RMS over that many points (σ² (1 + 2 √(2/n))), so
+/// that noise alone does not split a cluster. Equals p.error_threshold without noise.
+double cluster_error_threshold(const TreeParameters& p, double points);
 
 /// Builds the tree. Deterministic: the same cloud and options give the same tree for any
 /// thread count. Throws OptionError for invalid options, Cancelled when `progress` says stop.
@@ -126,7 +140,7 @@ struct TreeSummary {
   std::array<std::size_t, 4> proxy_histogram{};  ///< leaves per ProxyKind
   std::array<double, 5> leaf_size_percentiles{};  ///< 0, 25, 50, 75, 100 %
   std::array<double, 5> leaf_rms_percentiles{};   ///< 0, 25, 50, 75, 100 %
-  std::size_t leaves_over_threshold = 0;          ///< leaves whose error exceeds the threshold
+  std::size_t leaves_over_threshold = 0;          ///< leaves whose error exceeds cluster_error_threshold()
 };
 
 TreeSummary summarize(const ClusterTree& tree);

@@ -96,7 +96,7 @@ py::dict info_dict(const ClusterTree& tree) {
                       "max_depth"_a = p.max_depth, "alpha"_a = p.alpha, "kstep"_a = p.kstep,
                       "lloyd_restarts"_a = p.lloyd_restarts, "proxy_lloyd_iterations"_a = p.proxy_lloyd_iterations,
                       "support_factor"_a = p.support_factor, "seed"_a = p.seed);
-  return py::dict("nodes"_a = s.nodes, "leaves"_a = s.leaves, "depth"_a = s.depth, "input_points"_a = tree.input_points,
+  return py::dict("nodes"_a = s.nodes, "leaves"_a = s.leaves, "depth"_a = s.depth, "input_points"_a = tree.input_points, "outliers"_a = tree.outliers(),
                   "has_point_leaves"_a = !tree.point_leaf.empty(), "bbox_min"_a = vec(tree.bbox.min),
                   "bbox_max"_a = vec(tree.bbox.max), "diagonal"_a = tree.bbox.diagonal(), "leaf_proxies"_a = hist,
                   "leaf_size"_a = percentiles(s.leaf_size_percentiles),
@@ -263,7 +263,7 @@ void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class) {
       [](const py::object& points, const py::object& normals, const std::string& proxy, const std::string& splitter,
          const py::object& max_error, std::optional<double> absolute_error, const std::string& error, std::int64_t min_points,
          std::int64_t max_depth, double alpha, std::int64_t kstep, std::int64_t lloyd_restarts, std::int64_t proxy_lloyd,
-         double noise_factor, double support_factor, std::uint64_t seed, bool ignore_normals, bool no_point_leaves, const py::object& progress) {
+         double noise_factor, double support_factor, std::uint64_t seed, bool ignore_normals, bool no_point_leaves, bool keep_outliers, const py::object& progress) {
         BuildOptions o;
         o.proxy = parse_proxy(proxy);
         if (splitter == "split-plane") o.splitter = SplitterKind::SplitPlane;
@@ -290,6 +290,7 @@ void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class) {
         o.support_factor = support_factor;
         o.seed = seed;
         o.keep_point_leaves = !no_point_leaves;
+        o.remove_outliers = !keep_outliers;
 
         PointCloud cloud;
         py::object given_normals = normals;
@@ -319,7 +320,7 @@ void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class) {
       py::arg("kstep") = 0, py::arg("lloyd_restarts") = 4, py::arg("proxy_lloyd") = 0, py::arg("noise_factor") = 1.0,
       py::arg("support_factor") = 2.0,
       py::arg("seed") = 1, py::arg("ignore_normals") = false, py::arg("no_point_leaves") = false,
-      py::arg("progress") = py::none(), R"doc(
+      py::arg("keep_outliers") = false, py::arg("progress") = py::none(), R"doc(
 Builds and orients the cluster tree of a point cloud, as ``clustersurf reconstruct`` does.
 
 ``points``: (n, 3) array (float32 or float64), or a PointCloud from read_points() (its normals
@@ -328,11 +329,12 @@ without them the orientation propagates between touching clusters.
 
 Options mirror the CLI's (same names with ``_`` for ``-``, same defaults): ``proxy`` "plane",
 "poly" or "quadric"; ``splitter`` "split-plane" or "lloyd"; ``max_error`` the tolerance a leaf
-may keep beyond the estimated noise, a fraction of the bounding-box diagonal or "auto" (0.0005);
+may keep beyond the estimated noise, a fraction of the bounding-box diagonal or "auto" (0.0002);
 ``noise_factor`` (the noise counted; 0 ignores it); ``absolute_error`` in input units (overrides
 max_error); ``error`` "rms" or "max"; ``min_points``; ``max_depth``; ``alpha`` (support radius =
 alpha x cluster bbox diagonal); ``kstep``; ``lloyd_restarts``; ``proxy_lloyd``;
-``support_factor``; ``seed``; ``ignore_normals``; ``no_point_leaves``.
+``support_factor``; ``seed``; ``ignore_normals``; ``no_point_leaves``; ``keep_outliers`` (isolated points
+are left out of every cluster unless set; their ``point_leaf`` is -1).
 
 ``progress``: optional callable (stage: str, fraction: float) -> bool; returning False raises
 Cancelled. Ctrl-C interrupts the build. The GIL is released while building. The result is
@@ -371,7 +373,7 @@ the same tree for any thread count, byte-identical to the CLI's when saved.)doc"
                       [](const py::bytes& bytes) { return TreeRef{std::make_shared<const ClusterTree>(deserialize_tree(std::string_view(bytes)))}; }))
       .def("info", [](const TreeRef& t) { return info_dict(*t.tree); }, R"doc(
 Figures and parameters of the tree, with the keys of ``clustersurf --json info``: nodes,
-leaves, depth, input_points, has_point_leaves, bbox_min, bbox_max, diagonal, leaf_proxies,
+leaves, depth, input_points, outliers, has_point_leaves, bbox_min, bbox_max, diagonal, leaf_proxies,
 leaf_size, leaf_rms_error, leaves_over_threshold, noise_sigma, error_threshold, parameters.)doc")
       .def("__len__", [](const TreeRef& t) { return t.tree->nodes.size(); }, "Number of nodes.")
       .def("node", &node_at, py::arg("index"), "The node at `index` (pre-order; negative counts from the end).")
@@ -407,7 +409,7 @@ leaf_size, leaf_rms_error, leaves_over_threshold, noise_sigma, error_threshold, 
             std::copy(t.tree->point_leaf.begin(), t.tree->point_leaf.end(), a.mutable_data());
             return a;
           },
-          "The leaf node index of every input point, in input order (int32 array).")
+          "The leaf node index of every input point, in input order (int32 array; -1 for an outlier).")
       .def(
           "evaluate",
           [](const TreeRef& t, const py::handle& xyz, double min_weight, std::optional<std::int64_t> lod_depth,

@@ -21,6 +21,8 @@ class SupportSampler {
   /// `expected` input points. Deterministic; thread-safe.
   void inside(const Eigen::Vector3d& center, double radius, std::size_t expected, std::size_t wanted,
               std::vector<Neighbor>& out) const;
+  /// The k-d tree of every point (level 0).
+  const KdTree& full() const noexcept { return full_; }
 
  private:
   struct Level {

@@ -35,6 +35,22 @@ constexpr std::size_t kSupportPointsPerClusterPoint = 8;
 constexpr double kSupportFitReach = 3;
 /// Fewer support points than this keep the cluster's own fit.
 constexpr std::size_t kMinSupportFitPoints = 12;
+/// A support sphere holds at least this many input points (MPU's N_min): the supports of small
+/// clusters overlap their neighbours' instead of leaving gaps between them, and their refit
+/// rests on enough points. It grows to at most kMaxSupportGrowth times its alpha radius, so a
+/// few stray points never reach across a gap.
+constexpr std::size_t kMinSupportPoints = 30;
+/// The noise a test allows is σ² (1 + kNoiseMargin √(2/n)) for an RMS over n (effective)
+/// points: the RMS² of pure noise varies by a relative √(2/n), so a cluster or a support is not
+/// split or shrunk for noise alone (about 2 standard deviations of margin).
+constexpr double kNoiseMargin = 2;
+constexpr double kMaxSupportGrowth = 4;
+
+/// The error a test over n points allows: the tolerance plus the noise with its margin.
+double allowed_error(double tolerance, double noise, double n) {
+  const double margin = n > 0 ? 1 + kNoiseMargin * std::sqrt(2 / n) : 1;
+  return std::sqrt(tolerance * tolerance + noise * noise * margin);
+}
 
 struct BuildNode {
   ClusterNode node;
@@ -90,7 +106,6 @@ class Builder {
         options_(options),
         tolerance_(tolerance),
         noise_(noise),
-        threshold_(std::hypot(tolerance, noise)),
         progress_(progress) {}
 
   void build(BuildNode& bn, std::span<std::uint32_t> range, std::uint32_t depth, std::uint64_t path_seed) const {
@@ -108,19 +123,25 @@ class Builder {
     BoundingBox box;
     for (auto i : range) box.extend(points_.row(i).transpose());
     node.support = Sphere{frame.origin, options_.alpha * box.diagonal()};
+    const double cover = std::min(coverage_radius(frame.origin), kMaxSupportGrowth * node.support.radius);
+    node.support.radius = std::max(node.support.radius, cover);
     node.bound = node.support;
 
     const double e = options_.metric == ErrorMetric::Rms ? err.rms : err.max;
     const bool can_split = depth < options_.max_depth && range.size() >= 2 * std::size_t{options_.min_points};
+    const double threshold = allowed(tolerance_, static_cast<double>(range.size()));
     // Over its support a proxy may keep the noise plus support_factor times the tolerance.
-    const double support_limit = std::hypot(noise_, options_.support_factor * tolerance_);
-    std::optional<double> support;  // the support check's error, once computed
+    const auto support_fails = [&](const SupportError& s, double tolerance) {
+      return s.rms > allowed(options_.support_factor * tolerance, s.effective_points);
+    };
+    std::optional<SupportError> support;  // the support check's error, once computed
     std::size_t k = 0;
-    if (can_split && (e > threshold_ || (index_ != nullptr && *(support = check_support(node, range)) > support_limit))) {
+    if (can_split && (e > threshold || (index_ != nullptr && support_fails(*(support = check_support(node, range)), tolerance_)))) {
       k = options_.splitter == SplitterKind::SplitPlane ? detail::split_plane(points_, range, frame, options_, noise_)
                                                         : detail::lloyd_split(points_, range, options_, detail::splitmix64(path_seed));
-    } else if (can_split) {
-      // The proxy fits, but the cluster may be two parts with empty space between them.
+    } else if (range.size() >= 2) {
+      // The proxy fits, but the cluster may be two parts with empty space between them (below
+      // 2 × min_points only stray points across a wide gap are cut off).
       k = detail::split_at_gap(points_, range, frame, options_.min_points);
     }
     if (k == 0 || k >= range.size()) {
@@ -133,9 +154,9 @@ class Builder {
         // A leaf held at min_points may miss the threshold on its own points too; measure its
         // support against what it achieves there.
         const double own = std::sqrt(std::max(0.0, e * e - noise_ * noise_));
-        const double limit = std::hypot(noise_, options_.support_factor * std::max(tolerance_, own));
-        for (int shrink = 0; shrink < kSupportShrinkSteps && *support > limit; ++shrink) {
-          node.support.radius *= kSupportShrinkFactor;
+        const double tolerance = std::max(tolerance_, own);
+        for (int shrink = 0; shrink < kSupportShrinkSteps && support_fails(*support, tolerance) && node.support.radius > cover; ++shrink) {
+          node.support.radius = std::max(cover, node.support.radius * kSupportShrinkFactor);
           support = check_support(node, range);
         }
         node.bound = node.support;
@@ -163,23 +184,42 @@ class Builder {
   }
 
  private:
+  /// The radius around `center` that holds kMinSupportPoints input points (0 without an index).
+  double coverage_radius(const Eigen::Vector3d& center) const {
+    if (index_ == nullptr) return 0;
+    thread_local std::vector<Neighbor> nearest;
+    index_->full().knn(center, kMinSupportPoints, nearest);
+    return nearest.empty() ? 0 : std::sqrt(nearest.back().distance_squared);
+  }
+
+  double allowed(double tolerance, double n) const { return allowed_error(tolerance, noise_, n); }
+
+  /// The weighted RMS of |Q| over a support and the effective number of points behind it,
+  /// (Σw)² / Σw².
+  struct SupportError {
+    double rms = 0;
+    double effective_points = 0;
+  };
+
   /// The support check: a bounded sample of the input points inside the node's support; a
   /// polynomial proxy is refitted to them (below); returns the weighted RMS of |Q| over them.
-  double check_support(ClusterNode& node, std::span<const std::uint32_t> range) const {
+  SupportError check_support(ClusterNode& node, std::span<const std::uint32_t> range) const {
     const double r2 = node.support.radius * node.support.radius;
-    if (!(r2 > 0)) return 0;
+    if (!(r2 > 0)) return {};
     thread_local std::vector<Neighbor> inside;
     index_->inside(node.support.center, node.support.radius, kSupportPointsPerClusterPoint * node.point_count,
                    kSupportSample, inside);
     if (std::holds_alternative<PolyProxy>(node.proxy.variant())) fit_to_support(node, range, inside);
-    double sum = 0, weight = 0;
+    double sum = 0, weight = 0, weight2 = 0;
     for (const auto& nb : inside) {
       const double w = blend_weight(nb.distance_squared / r2);
       const double q = node.proxy.value(input_.row(nb.index).transpose());
       sum += w * q * q;
       weight += w;
+      weight2 += w * w;
     }
-    return weight > 0 ? std::sqrt(sum / weight) : 0;
+    if (!(weight > 0)) return {};
+    return {std::sqrt(sum / weight), weight * weight / weight2};
   }
 
   /// Refits a polynomial proxy, in its cluster's frame, to the support points weighted by the
@@ -190,7 +230,8 @@ class Builder {
   void fit_to_support(ClusterNode& node, std::span<const std::uint32_t> range, std::span<const Neighbor> inside) const {
     const PolyProxy& cluster_fit = std::get<PolyProxy>(node.proxy.variant());
     const double r2 = node.support.radius * node.support.radius;
-    const double reach = kSupportFitReach * std::max(threshold_, node.rms_error);
+    const double threshold = allowed(tolerance_, static_cast<double>(range.size()));
+    const double reach = kSupportFitReach * std::max(threshold, node.rms_error);
     thread_local std::vector<std::uint32_t> ids;
     thread_local std::vector<double> weights;
     ids.clear();
@@ -207,7 +248,7 @@ class Builder {
     // fit achieved): a leaf's error on its points stays within the threshold.
     const double e = options_.metric == ErrorMetric::Rms ? err.rms : err.max;
     const double own = options_.metric == ErrorMetric::Rms ? node.rms_error : node.max_error;
-    if (!(e <= std::max(threshold_, own))) return;
+    if (!(e <= std::max(threshold, own))) return;
     node.proxy = std::move(support_fit);
     node.rms_error = err.rms;
     node.max_error = err.max;
@@ -219,14 +260,13 @@ class Builder {
     return t * t * t;
   }
 
-  const Points& input_;   // the input, in input order (indexed by the k-d tree)
+  const Points& input_;   // the clustered points in input order (indexed by the k-d tree)
   WorkingSet& work_;      // the input in cluster order; subtrees touch disjoint rows
   const Points& points_;  // work_.positions
   const detail::SupportSampler* index_;
   const BuildOptions& options_;
   double tolerance_;
   double noise_;
-  double threshold_;  // a cluster's error threshold: hypot(tolerance, noise)
   detail::ProgressReporter& progress_;
 };
 
@@ -281,6 +321,12 @@ const char* to_string(ThresholdMode mode) {
   return "unknown";
 }
 
+double cluster_error_threshold(const TreeParameters& p, double points) {
+  const double noise = p.threshold_mode == ThresholdMode::Auto ? p.noise_factor * p.noise_sigma : 0.0;
+  const double tolerance = std::sqrt(std::max(0.0, p.error_threshold * p.error_threshold - noise * noise));
+  return allowed_error(tolerance, noise, points);
+}
+
 std::vector<std::int32_t> ClusterTree::leaves() const {
   std::vector<std::int32_t> out;
   for (std::size_t i = 0; i < nodes.size(); ++i)
@@ -297,7 +343,6 @@ std::uint32_t ClusterTree::depth() const {
 ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& options) {
   validate(cloud, options);
   ClusterTree tree;
-  tree.bbox = bounding_box(cloud.positions);
   tree.input_points = static_cast<std::uint64_t>(cloud.size());
   TreeParameters& p = tree.parameters;
   p.proxy = options.proxy;
@@ -314,28 +359,51 @@ ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& opti
   p.proxy_lloyd_iterations = options.proxy_lloyd_iterations;
   p.support_factor = options.support_factor;
   p.seed = options.seed;
+
+  // The points clustered: the input, or the input without its outliers. One k-d tree of them
+  // serves the noise estimate and the support check.
+  const bool need_index = options.support_factor > 0 || options.threshold_mode == ThresholdMode::Auto;
+  std::optional<KdTree> index;
+  Points kept_positions;
+  std::vector<std::uint32_t> ids;  // input index of each clustered point
+  const Points* points = &cloud.positions;
+  if (options.remove_outliers) {
+    if (options.progress && !options.progress("finding outliers", 0.0)) throw Cancelled();
+    KdTree all(cloud.positions);
+    const OutlierReport found = find_outliers(cloud.positions, all, options.outliers);
+    if (!found.outliers.empty() && !found.kept.empty()) {
+      kept_positions = cloud.positions(found.kept, Eigen::all);
+      points = &kept_positions;
+      ids.assign(found.kept.begin(), found.kept.end());
+    } else if (need_index) {
+      index.emplace(std::move(all));
+    }
+  }
+  if (ids.empty()) {
+    ids.resize(static_cast<std::size_t>(cloud.size()));
+    std::iota(ids.begin(), ids.end(), 0u);
+  }
+  if (need_index && !index) index.emplace(*points);
+
+  tree.bbox = bounding_box(*points);
   const double diagonal = tree.bbox.diagonal();
   const double tolerance = options.threshold_mode == ThresholdMode::Absolute ? options.threshold : options.threshold * diagonal;
   double noise = 0;  // the noise the leaves may keep on top of the tolerance
-  // One k-d tree serves the noise estimate and the support check.
-  std::optional<KdTree> index;
-  if (options.support_factor > 0 || options.threshold_mode == ThresholdMode::Auto) index.emplace(cloud.positions);
   if (options.threshold_mode == ThresholdMode::Auto) {
     if (options.progress && !options.progress("estimating noise", 0.0)) throw Cancelled();
-    p.noise_sigma = estimate_noise(cloud.positions, *index);
+    p.noise_sigma = estimate_noise(*points, *index);
     noise = options.noise_factor * p.noise_sigma;
   }
   p.error_threshold = std::hypot(tolerance, noise);
   std::optional<detail::SupportSampler> sampler;
-  if (options.support_factor > 0) sampler.emplace(cloud.positions, *index);
+  if (options.support_factor > 0) sampler.emplace(*points, *index);
 
-  const auto n = static_cast<std::size_t>(cloud.size());
-  WorkingSet work{cloud.positions, std::vector<std::uint32_t>(n), std::vector<std::uint32_t>(n)};
-  std::iota(work.ids.begin(), work.ids.end(), 0u);
+  const auto n = ids.size();
+  WorkingSet work{*points, std::move(ids), std::vector<std::uint32_t>(n)};
   std::iota(work.local.begin(), work.local.end(), 0u);
   detail::ProgressReporter progress(options.progress, "building tree", n);
   BuildNode root;
-  Builder(cloud.positions, work, sampler ? &*sampler : nullptr, options, tolerance, noise, progress)
+  Builder(*points, work, sampler ? &*sampler : nullptr, options, tolerance, noise, progress)
       .build(root, work.local, 0, options.seed);
   progress.finish();
   const std::vector<std::uint32_t>& perm = work.ids;
@@ -343,7 +411,7 @@ ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& opti
   std::vector<std::uint32_t> begins;
   flatten(root, tree, options.keep_point_leaves ? &begins : nullptr);
   if (options.keep_point_leaves) {
-    tree.point_leaf.assign(perm.size(), -1);
+    tree.point_leaf.assign(static_cast<std::size_t>(cloud.size()), -1);
     for (std::size_t n = 0; n < tree.nodes.size(); ++n) {
       if (!tree.nodes[n].is_leaf()) continue;
       for (std::uint32_t k = 0; k < tree.nodes[n].point_count; ++k)

@@ -291,9 +291,9 @@ ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path
                                                          std::to_string(n.point_count) + " points but its children " +
                                                          std::to_string(sum));
   }
-  if (tree.nodes[0].point_count != tree.input_points)
+  if (tree.nodes[0].point_count > tree.input_points)
     r.fail_at(node_at[0], "root counts " + std::to_string(tree.nodes[0].point_count) + " points but the header says " +
-                              std::to_string(tree.input_points));
+                              std::to_string(tree.input_points) + " input points");
 
   const std::size_t leaf_at = r.pos();
   const auto leaf_count = r.get<std::uint64_t>("point-leaf count");
@@ -303,13 +303,21 @@ ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path
   if (leaf_count > (r.remaining() - 4) / 4) r.fail_at(leaf_at, "file is truncated inside the point-leaf table");
   tree.point_leaf.resize(leaf_count);
   std::vector<std::uint32_t> per_leaf(leaf_count != 0 ? node_count : 0, 0);
+  std::uint64_t outliers = 0;  // entries -1: input points in no cluster
   for (auto& leaf : tree.point_leaf) {
     const std::size_t at = r.pos();
     leaf = r.get<std::int32_t>("point leaf");
+    if (leaf == -1) {
+      ++outliers;
+      continue;
+    }
     if (leaf < 0 || leaf >= nodes || !tree.nodes[static_cast<std::size_t>(leaf)].is_leaf())
-      r.fail_at(at, "point-leaf entry " + std::to_string(leaf) + " is not a leaf");
+      r.fail_at(at, "point-leaf entry " + std::to_string(leaf) + " is neither a leaf nor -1 (outlier)");
     ++per_leaf[static_cast<std::size_t>(leaf)];
   }
+  if (leaf_count != 0 && outliers != tree.input_points - tree.nodes[0].point_count)
+    r.fail_at(leaf_at, "point-leaf table marks " + std::to_string(outliers) + " outliers but the root leaves out " +
+                           std::to_string(tree.input_points - tree.nodes[0].point_count) + " input points");
   for (std::size_t i = 0; i < per_leaf.size(); ++i)
     if (tree.nodes[i].is_leaf() && per_leaf[i] != tree.nodes[i].point_count)
       r.fail_at(leaf_at, "leaf " + std::to_string(i) + " has " + std::to_string(tree.nodes[i].point_count) +

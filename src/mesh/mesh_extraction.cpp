@@ -1,13 +1,12 @@
-// Surface-following sparse grid + OpenVDB's volumeToMesh. OpenVDB is confined to this file
-// (it is slow to compile).
+// Surface-following sparse grid walk, then polygonization (cell_polygonizer: OpenVDB) and
+// projection of the vertices onto f = 0.
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/mesh_extraction.hpp>
 
 #include "core/progress_reporter.hpp"
+#include "mesh/cell_polygonizer.hpp"
 
-#include <openvdb/openvdb.h>
-#include <openvdb/tools/VolumeToMesh.h>
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Geometry>
@@ -172,41 +171,27 @@ TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& opt
   }
   std::sort(surface_cells.begin(), surface_cells.end());
 
-  // 3. OpenVDB: the evaluated corners as voxel values, the surface cells as the mask.
-  openvdb::initialize();
-  auto grid = openvdb::FloatGrid::create(static_cast<float>(3 * h));
-  // The grid's space is relative to `origin` (no translation in the transform): OpenVDB returns
-  // vertices as floats, which would lose every detail of a model far from the world origin
-  // (coordinates near 1e8 keep only ~8 units). Offsets within the box keep float precision.
-  grid->setTransform(openvdb::math::Transform::createLinearTransform(h));
-  auto mask = openvdb::BoolGrid::create(false);
-  mask->setTransform(grid->transform().copy());
-  {
-    auto acc = grid->getAccessor();
-    auto macc = mask->getAccessor();
-    for (Key cell : surface_cells) {
-      const auto [i, j, k] = unpack(cell);
-      macc.setValueOn(openvdb::Coord(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k)), true);
-      for (const auto& c : kCorner) {
-        const float value = corner_value.at(pack(i + c[0], j + c[1], k + c[2]));
-        acc.setValueOn(openvdb::Coord(static_cast<int>(i + c[0]), static_cast<int>(j + c[1]), static_cast<int>(k + c[2])), value);
-      }
-    }
+  // 3. Polygons of f = 0 in the surface cells. The grid is relative to `origin`: the
+  //    polygonizer's float vertices keep full precision for models far from the world origin
+  //    (coordinates near 1e8 would keep only ~8 units).
+  std::vector<detail::SurfaceCell> cells(surface_cells.size());
+  for (std::size_t c = 0; c < surface_cells.size(); ++c) {
+    const auto [i, j, k] = unpack(surface_cells[c]);
+    cells[c].corner = {static_cast<std::int32_t>(i), static_cast<std::int32_t>(j), static_cast<std::int32_t>(k)};
+    for (int q = 0; q < 8; ++q)
+      cells[c].values[static_cast<std::size_t>(q)] = corner_value.at(pack(i + kCorner[q][0], j + kCorner[q][1], k + kCorner[q][2]));
   }
-  openvdb::tools::VolumeToMesh mesher(0.0, 0.0);
-  mesher.setSurfaceMask(mask, false);
-  mesher(*grid);
+  const detail::CellPolygons polygons = detail::polygonize_cells(cells, static_cast<float>(3 * h));
 
   // 4. Vertices projected onto f = 0 (kept where the projection fails), normals from ∇f.
   TriangleMesh mesh;
-  const auto nv = static_cast<Eigen::Index>(mesher.pointListSize());
+  const auto nv = static_cast<Eigen::Index>(polygons.vertices.size());
   mesh.vertices.resize(nv, 3);
   mesh.normals.resize(nv, 3);
-  const auto& pts = mesher.pointList();
   tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, nv, 256), [&](const auto& r) {
     for (Eigen::Index v = r.begin(); v != r.end(); ++v) {
-      const auto& p = pts[static_cast<std::size_t>(v)];
-      Eigen::Vector3d x = origin + Eigen::Vector3d(p.x(), p.y(), p.z());
+      const auto& p = polygons.vertices[static_cast<std::size_t>(v)];
+      Eigen::Vector3d x = origin + h * Eigen::Vector3d(p[0], p[1], p[2]);
       Eigen::Vector3d y = x;
       if (options.newton_steps > 0 && project(surface, y, options.newton_steps, h, 1e-6 * h)) x = y;
       const SurfaceSample s = surface.sample(x);
@@ -216,8 +201,8 @@ TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& opt
     }
   });
 
-  // 5. Triangles: quads split along the shorter diagonal; degenerate ones dropped. OpenVDB
-  //    orients polygons for "negative inside", which is ours.
+  // 5. Triangles: quads split along the shorter diagonal; degenerate ones dropped. The
+  //    polygons face positive f (outside), as ours.
   std::vector<std::array<std::int32_t, 3>> tris;
   auto add = [&](std::int32_t a, std::int32_t b, std::int32_t c) {
     if (a == b || b == c || a == c) return;
@@ -226,23 +211,16 @@ TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& opt
     if ((pb - pa).cross(pc - pa).norm() <= 1e-12 * h * h) return;
     tris.push_back({a, b, c});
   };
-  const auto& pools = mesher.polygonPoolList();
-  for (std::size_t n = 0; n < mesher.polygonPoolListSize(); ++n) {
-    const auto& pool = pools[n];
-    for (std::size_t q = 0; q < pool.numQuads(); ++q) {
-      const auto& quad = pool.quad(q);
-      const auto a = static_cast<std::int32_t>(quad[0]), b = static_cast<std::int32_t>(quad[1]),
-                 c = static_cast<std::int32_t>(quad[2]), d = static_cast<std::int32_t>(quad[3]);
-      const double ac = (mesh.vertices.row(a) - mesh.vertices.row(c)).squaredNorm();
-      const double bd = (mesh.vertices.row(b) - mesh.vertices.row(d)).squaredNorm();
-      if (ac <= bd) add(a, b, c), add(a, c, d);
-      else add(a, b, d), add(b, c, d);
-    }
-    for (std::size_t t = 0; t < pool.numTriangles(); ++t) {
-      const auto& tri = pool.triangle(t);
-      add(static_cast<std::int32_t>(tri[0]), static_cast<std::int32_t>(tri[1]), static_cast<std::int32_t>(tri[2]));
-    }
+  for (const auto& quad : polygons.quads) {
+    const auto a = static_cast<std::int32_t>(quad[0]), b = static_cast<std::int32_t>(quad[1]),
+               c = static_cast<std::int32_t>(quad[2]), d = static_cast<std::int32_t>(quad[3]);
+    const double ac = (mesh.vertices.row(a) - mesh.vertices.row(c)).squaredNorm();
+    const double bd = (mesh.vertices.row(b) - mesh.vertices.row(d)).squaredNorm();
+    if (ac <= bd) add(a, b, c), add(a, c, d);
+    else add(a, b, d), add(b, c, d);
   }
+  for (const auto& tri : polygons.triangles)
+    add(static_cast<std::int32_t>(tri[0]), static_cast<std::int32_t>(tri[1]), static_cast<std::int32_t>(tri[2]));
 
   // 6. Drop unreferenced vertices, keeping order.
   std::vector<std::int32_t> remap(static_cast<std::size_t>(nv), -1);

@@ -58,7 +58,7 @@ OrientationReport orient_by_normals(ClusterTree& tree, const PointCloud& cloud) 
   // it is skipped rather than allowed to poison its leaf's sum.
   for (std::size_t p = 0; p < tree.point_leaf.size(); ++p) {
     const auto normal = cloud.normals.row(static_cast<Eigen::Index>(p));
-    if (normal.allFinite()) sum[static_cast<std::size_t>(tree.point_leaf[p])] += normal.transpose();
+    if (tree.point_leaf[p] >= 0 && normal.allFinite()) sum[static_cast<std::size_t>(tree.point_leaf[p])] += normal.transpose();
   }
   for (std::size_t i = tree.nodes.size(); i-- > 0;) {
     ClusterNode& n = tree.nodes[i];
@@ -96,9 +96,10 @@ std::vector<Edge> cluster_adjacency(const ClusterTree& tree, const Points& point
       const Eigen::Vector3d x = points.row(static_cast<Eigen::Index>(p)).transpose();
       index.knn(x, k + 1, nb);
       const std::int32_t lp = tree.point_leaf[p];
+      if (lp < 0) continue;  // an outlier
       for (const Neighbor& q : nb) {
         const std::int32_t lq = tree.point_leaf[q.index];
-        if (lq <= lp) continue;  // each unordered leaf pair once per point pair direction
+        if (lq <= lp) continue;  // each unordered leaf pair once per point pair direction; outliers (-1)
         const Eigen::Vector3d mid = 0.5 * (x + points.row(q.index).transpose());
         const Eigen::Vector3d ga = tree.nodes[static_cast<std::size_t>(lp)].proxy.gradient(mid);
         const Eigen::Vector3d gb = tree.nodes[static_cast<std::size_t>(lq)].proxy.gradient(mid);

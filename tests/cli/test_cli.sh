@@ -318,6 +318,19 @@ else
   not_ok "eval: exact samples lie on the mesh" "$acc"
 fi
 expect_contains "eval --json reports watertightness" "$out" '"watertight": true'
+# Outliers: 1 % uniform in the box are left out, and the surface is as if they were not there.
+run -q sample "$bunny" -o "$tmp/outl.ply" -n 20000 --seed 4 --outliers 0.01
+run --json reconstruct "$tmp/outl.ply" --mesh "$tmp/outl_mesh.ply"
+expect_rc "reconstruct of a cloud with 1 % outliers exits 0" 0
+n_out=$(json_field outliers)
+if [ -n "$n_out" ] && [ "$n_out" -ge 150 ] && [ "$n_out" -le 260 ]; then ok "reconstruct leaves out the outliers ($n_out of 200)"; else not_ok "reconstruct leaves out about 200 outliers" "$n_out"; fi
+run --json eval "$tmp/outl_mesh.ply" --reference "$bunny" --samples 50000
+chamfer=$(json_field chamfer)
+if python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) < 1.5e-3 else 1)" "$chamfer"; then
+  ok "reconstruct with outliers stays on the bunny (chamfer $chamfer)"
+else
+  not_ok "reconstruct with outliers stays on the bunny (chamfer < 1.5e-3)" "$chamfer"
+fi
 run eval "$tmp/missing.ply" --reference "$bunny"
 expect_rc "eval of a missing file: exit code 4" 4
 # --- render -----------------------------------------------------------------------------------

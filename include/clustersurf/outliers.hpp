@@ -1,0 +1,41 @@
+#pragma once
+// Finding isolated points (scanner strays, points in the air) before the tree is built.
+
+#include <clustersurf/kd_tree.hpp>
+#include <clustersurf/point_cloud.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace clustersurf {
+
+/// Options of find_outliers(). A point's spread d̄ is its mean distance to its k nearest
+/// neighbours; surface samples have spreads like their neighbours', isolated points do not.
+struct OutlierOptions {
+  std::size_t neighbors = 8;  ///< k
+  /// An outlier has a spread this many times its neighbours' median spread (a point standing
+  /// off the surface, next to surface points); the reference is at least half the cloud's
+  /// median spread, so a point beside a dense patch is not judged by the patch alone.
+  double local_ratio = 3;
+  /// ... or this many times the cloud's median spread (points in the air, whose neighbours are
+  /// other isolated points). Real scans vary in density far less (36× in point density).
+  double global_ratio = 6;
+  /// Clouds with fewer points are left whole: too few for the statistics.
+  std::size_t min_points = 100;
+};
+
+/// What find_outliers() found.
+struct OutlierReport {
+  std::vector<Eigen::Index> kept;      ///< rows that are not outliers, ascending
+  std::vector<Eigen::Index> outliers;  ///< rows that are, ascending
+  double median_spread = 0;            ///< the cloud's median d̄
+};
+
+/// Splits the rows of `points` into outliers and the rest by the two spread tests above.
+/// Deterministic and independent of the thread count. Clouds below `min_points` flag nothing;
+/// a ratio of 0 turns its test off.
+OutlierReport find_outliers(const Points& points, const OutlierOptions& options = {});
+/// The same with a k-d tree of `points` the caller already has.
+OutlierReport find_outliers(const Points& points, const KdTree& index, const OutlierOptions& options = {});
+
+}  // namespace clustersurf

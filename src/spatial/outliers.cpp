@@ -1,0 +1,85 @@
+// Isolated points by their k-nearest-neighbour spread, against their neighbours' and the cloud's.
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/outliers.hpp>
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace clustersurf {
+
+namespace {
+
+/// The median of `values` (reordered).
+double median_of(std::vector<double>& values) {
+  if (values.empty()) return 0;
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
+}
+
+OutlierReport nothing_flagged(std::size_t n) {
+  OutlierReport report;
+  report.kept.resize(n);
+  for (std::size_t i = 0; i < n; ++i) report.kept[i] = static_cast<Eigen::Index>(i);
+  return report;
+}
+
+}  // namespace
+
+OutlierReport find_outliers(const Points& points, const OutlierOptions& options) {
+  if (points.rows() < static_cast<Eigen::Index>(std::max(options.min_points, options.neighbors + 2))) return nothing_flagged(static_cast<std::size_t>(points.rows()));
+  return find_outliers(points, KdTree(points), options);
+}
+
+OutlierReport find_outliers(const Points& points, const KdTree& index, const OutlierOptions& options) {
+  if (options.neighbors < 1) throw OptionError("outlier test: neighbors must be at least 1");
+  if (!(options.local_ratio >= 0) || !(options.global_ratio >= 0) || !std::isfinite(options.local_ratio) ||
+      !std::isfinite(options.global_ratio))
+    throw OptionError("outlier test: ratios must be finite and >= 0 (0 turns a test off)");
+  const auto n = static_cast<std::size_t>(points.rows());
+  const std::size_t k = options.neighbors;
+  if (index.size() != n) throw OptionError("outlier test: the k-d tree is not one of these points");
+  if (n < std::max(options.min_points, k + 2)) return nothing_flagged(n);
+  OutlierReport report;
+  // Spread of every point, and its k neighbours (the query itself, at distance 0, left out).
+  std::vector<double> spread(n);
+  std::vector<std::uint32_t> neighbors(n * k);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& r) {
+    std::vector<Neighbor> nb;
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      index.knn(points.row(static_cast<Eigen::Index>(i)).transpose(), k + 1, nb);
+      double sum = 0;
+      std::size_t taken = 0;
+      for (const auto& q : nb) {
+        if (q.index == i || taken == k) continue;
+        neighbors[i * k + taken++] = q.index;
+        sum += std::sqrt(q.distance_squared);
+      }
+      for (; taken < k; ++taken) neighbors[i * k + taken] = static_cast<std::uint32_t>(i);  // duplicates of i
+      spread[i] = sum / static_cast<double>(k);
+    }
+  });
+  std::vector<double> sorted = spread;
+  report.median_spread = median_of(sorted);
+  const double global_limit = options.global_ratio > 0 && report.median_spread > 0
+                                  ? options.global_ratio * report.median_spread
+                                  : std::numeric_limits<double>::infinity();
+  std::vector<std::uint8_t> outlier(n, 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& r) {
+    std::vector<double> around(k);
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      for (std::size_t j = 0; j < k; ++j) around[j] = spread[neighbors[i * k + j]];
+      const double reference = std::max(median_of(around), 0.5 * report.median_spread);
+      const bool local = options.local_ratio > 0 && reference > 0 && spread[i] > options.local_ratio * reference;
+      outlier[i] = local || spread[i] > global_limit;
+    }
+  });
+  for (std::size_t i = 0; i < n; ++i) (outlier[i] ? report.outliers : report.kept).push_back(static_cast<Eigen::Index>(i));
+  return report;
+}
+
+}  // namespace clustersurf
