@@ -36,14 +36,7 @@ nlohmann::json write_tree_mesh(Console& console, const ClusterTree& tree, const 
   if (cloud != nullptr && args.trim > 0) {
     TrimOptions trim;
     trim.spread_factor = args.trim;
-    if (tree.point_leaf.size() == static_cast<std::size_t>(cloud->size()) && tree.outliers() > 0) {
-      std::vector<Eigen::Index> clustered;
-      for (std::size_t i = 0; i < tree.point_leaf.size(); ++i)
-        if (tree.point_leaf[i] >= 0) clustered.push_back(static_cast<Eigen::Index>(i));
-      mesh = trim_to_points(mesh, cloud->positions(clustered, Eigen::all), trim, &trimmed);
-    } else {
-      mesh = trim_to_points(mesh, cloud->positions, trim, &trimmed);
-    }
+    mesh = trim_to_points(mesh, clustered_points(tree, cloud->positions), trim, &trimmed);
   }
   if (args.color == "leaf") mesh.colors = colors_by_node(mesh, surface);
   if (args.color == "distance") mesh.colors = colors_by_distance(mesh, cloud->positions, 0.005 * tree.bbox.diagonal());

@@ -132,6 +132,10 @@ double cluster_error_threshold(const TreeParameters& p, double points);
 /// thread count. Throws OptionError for invalid options, Cancelled when `progress` says stop.
 ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& options = {});
 
+/// The rows of `input` (the tree's input points) that the tree clusters: all but its outliers;
+/// all of them when the tree holds no point-leaf table or `input` is not its input.
+Points clustered_points(const ClusterTree& tree, const Points& input);
+
 /// Figures of a tree for reports (`clustersurf info`).
 struct TreeSummary {
   std::size_t nodes = 0;

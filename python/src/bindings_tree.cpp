@@ -5,6 +5,7 @@
 #include <clustersurf/errors.hpp>
 #include <clustersurf/implicit_surface.hpp>
 #include <clustersurf/mesh_extraction.hpp>
+#include <clustersurf/mesh_trim.hpp>
 #include <clustersurf/orientation.hpp>
 #include <clustersurf/tree_file.hpp>
 
@@ -430,8 +431,11 @@ coarser cut of the tree, as in mesh(). Runs in parallel without the GIL.)doc")
       .def(
           "mesh",
           [](const TreeRef& t, std::int64_t resolution, std::optional<double> voxel_size, std::optional<std::int64_t> lod_depth,
-             std::optional<double> lod_error, const py::object& progress) {
+             std::optional<double> lod_error, const py::object& points, double trim, const py::object& progress) {
             if (resolution < 2 || resolution > 100000) throw OptionError("resolution must be in [2, 100000]");
+            std::optional<Points> input;
+            if (!points.is_none())
+              input = to_points(py::hasattr(points, "positions") ? py::object(points.attr("positions")) : points, "points");
             if (voxel_size && !(*voxel_size > 0)) throw OptionError("voxel_size must be positive");
             const LevelOfDetail lod = make_lod(*t.tree, lod_depth, lod_error);
             TriangleMesh mesh = run_released(progress, [&](ProgressCallback callback) {
@@ -440,18 +444,25 @@ coarser cut of the tree, as in mesh(). Runs in parallel without the GIL.)doc")
               options.resolution = static_cast<std::uint32_t>(resolution);
               options.voxel_size = voxel_size;
               options.progress = std::move(callback);
-              return extract_mesh(surface, options);
+              TriangleMesh m = extract_mesh(surface, options);
+              if (!input || trim == 0) return m;
+              TrimOptions trimming;
+              trimming.spread_factor = trim;
+              return trim_to_points(m, clustered_points(*t.tree, *input), trimming);
             });
             return py::make_tuple(to_array(std::move(mesh.vertices)), to_array(std::move(mesh.triangles)),
                                   to_array(std::move(mesh.normals)));
           },
           py::kw_only(), py::arg("resolution") = 256, py::arg("voxel_size") = py::none(), py::arg("lod_depth") = py::none(),
-          py::arg("lod_error") = py::none(), py::arg("progress") = py::none(), R"doc(
+          py::arg("lod_error") = py::none(), py::arg("points") = py::none(), py::arg("trim") = 2.0,
+          py::arg("progress") = py::none(), R"doc(
 Meshes the surface f = 0, as ``clustersurf mesh`` does (same options, same mesh).
 
 ``resolution``: grid cells along the longest bbox side; ``voxel_size`` (input units) overrides
 it; ``lod_depth``: blend the cut at this depth instead of the leaves; ``lod_error``: blend the
-shallowest nodes whose error is at most this fraction of the diagonal. ``progress`` as in
+shallowest nodes whose error is at most this fraction of the diagonal; ``points``: the tree's
+input ((n, 3) array or PointCloud), to drop the triangles farther from it than ``trim`` × the
+local spread, as ``clustersurf reconstruct --mesh`` does (0: keep all). ``progress`` as in
 reconstruct(). Returns (vertices (n, 3) float64, faces (m, 3) int32, normals (n, 3) float64),
 triangles facing outward.)doc")
       .def("__repr__", [](const TreeRef& t) {

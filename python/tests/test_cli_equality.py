@@ -62,6 +62,18 @@ def test_mesh_equals_the_cli(tmp_path, cli, bunny_file, kwargs, flags):
     assert (tmp_path / "py.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
 
 
+def test_trimmed_mesh_equals_reconstruct(tmp_path, cli, bunny_file):
+    # reconstruct --mesh trims the mesh to the input points; mesh(points=...) does the same.
+    run(cli, "reconstruct", bunny_file, "-o", tmp_path / "b.cstree", "--mesh", tmp_path / "cli.ply", "--resolution", "64")
+    cli_mesh = clustersurf.read_mesh(tmp_path / "cli.ply")
+    cloud = clustersurf.read_points(bunny_file)
+    vertices, faces, normals = clustersurf.load(tmp_path / "b.cstree").mesh(resolution=64, points=cloud)
+    np.testing.assert_array_equal(vertices.astype(np.float32).astype(np.float64), cli_mesh.vertices)
+    np.testing.assert_array_equal(faces, cli_mesh.faces)
+    untrimmed = clustersurf.load(tmp_path / "b.cstree").mesh(resolution=64)
+    assert len(untrimmed[1]) >= len(faces)
+
+
 def test_sample_and_eval_equal_the_cli(tmp_path, cli, bunny_file):
     run(cli, "sample", bunny_file, "-o", tmp_path / "cli.ply", "-n", 3000, "--noise", 0.001, "--seed", 5)
     mesh = clustersurf.read_mesh(bunny_file)
