@@ -29,6 +29,9 @@ class KdTree {
   std::vector<Neighbor> knn(const Eigen::Vector3d& query, std::size_t k) const;
   /// Same as knn() but reuses `out` to avoid allocation in loops.
   void knn(const Eigen::Vector3d& query, std::size_t k, std::vector<Neighbor>& out) const;
+  /// The min(k, size() − 1) points nearest to point `row` of points(), the point itself left
+  /// out (its duplicates stay in, at distance 0), nearest first.
+  void neighbors_of(Eigen::Index row, std::size_t k, std::vector<Neighbor>& out) const;
   /// All points within distance `radius` of `query` (inclusive), nearest first.
   std::vector<Neighbor> radius(const Eigen::Vector3d& query, double radius) const;
   /// Same set as radius(), into `out`, in the tree's traversal order (deterministic for a given

@@ -40,11 +40,11 @@ constexpr std::size_t kMinSupportFitPoints = 12;
 /// rests on enough points. It grows to at most kMaxSupportGrowth times its alpha radius, so a
 /// few stray points never reach across a gap.
 constexpr std::size_t kMinSupportPoints = 30;
+constexpr double kMaxSupportGrowth = 4;
 /// The noise a test allows is σ² (1 + kNoiseMargin √(2/n)) for an RMS over n (effective)
 /// points: the RMS² of pure noise varies by a relative √(2/n), so a cluster or a support is not
 /// split or shrunk for noise alone (about 2 standard deviations of margin).
 constexpr double kNoiseMargin = 2;
-constexpr double kMaxSupportGrowth = 4;
 
 /// The error a test over n points allows: the tolerance plus the noise with its margin.
 double allowed_error(double tolerance, double noise, double n) {

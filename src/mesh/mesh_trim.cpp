@@ -19,22 +19,34 @@ TriangleMesh trim_to_points(const TriangleMesh& mesh, const Points& points, cons
   if (options.spread_factor == 0 || points.rows() <= static_cast<Eigen::Index>(options.neighbors) || mesh.triangles.rows() == 0)
     return mesh;
 
-  // Which vertices are within reach of the data.
+  // The nearest input point of every vertex, then the spread of each such point (once per
+  // point: many vertices share one), then which vertices are within reach of the data.
   const KdTree index(points);
   const Eigen::Index nv = mesh.vertices.rows();
-  std::vector<std::uint8_t> near(static_cast<std::size_t>(nv), 0);
+  std::vector<Neighbor> nearest(static_cast<std::size_t>(nv));
   tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, nv, 512), [&](const auto& r) {
-    std::vector<Neighbor> nearest, around;
+    std::vector<Neighbor> nb;
     for (Eigen::Index v = r.begin(); v != r.end(); ++v) {
-      index.knn(mesh.vertices.row(v).transpose(), 1, nearest);
-      const std::uint32_t p = nearest[0].index;
-      index.knn(points.row(p).transpose(), options.neighbors + 1, around);
-      double spread = 0;
-      for (std::size_t k = 1; k < around.size(); ++k) spread += std::sqrt(around[k].distance_squared);
-      spread /= static_cast<double>(around.size() - 1);
-      near[static_cast<std::size_t>(v)] = std::sqrt(nearest[0].distance_squared) <= options.spread_factor * spread;
+      index.knn(mesh.vertices.row(v).transpose(), 1, nb);
+      nearest[static_cast<std::size_t>(v)] = nb[0];
     }
   });
+  std::vector<double> spread(static_cast<std::size_t>(points.rows()), -1);
+  std::vector<std::uint32_t> used;
+  for (const auto& n : nearest)
+    if (spread[n.index] < 0) spread[n.index] = 0, used.push_back(n.index);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, used.size(), 256), [&](const auto& r) {
+    std::vector<Neighbor> around;
+    for (std::size_t u = r.begin(); u != r.end(); ++u) {
+      index.neighbors_of(used[u], options.neighbors, around);
+      double sum = 0;
+      for (const auto& q : around) sum += std::sqrt(q.distance_squared);
+      spread[used[u]] = sum / static_cast<double>(around.size());
+    }
+  });
+  std::vector<std::uint8_t> near(static_cast<std::size_t>(nv));
+  for (std::size_t v = 0; v < near.size(); ++v)
+    near[v] = std::sqrt(nearest[v].distance_squared) <= options.spread_factor * spread[nearest[v].index];
 
   // Keep the triangles whose three vertices are near, then the vertices they use.
   std::vector<Eigen::Index> kept_triangles;

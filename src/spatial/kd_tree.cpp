@@ -89,6 +89,13 @@ void KdTree::knn(const Eigen::Vector3d& query, std::size_t k, std::vector<Neighb
   out.resize(std::min(k, out.size()));
 }
 
+void KdTree::neighbors_of(Eigen::Index row, std::size_t k, std::vector<Neighbor>& out) const {
+  knn(points().row(row).transpose(), k + 1, out);
+  const auto self = std::find_if(out.begin(), out.end(), [&](const Neighbor& n) { return n.index == static_cast<std::uint32_t>(row); });
+  if (self != out.end()) out.erase(self);
+  else if (out.size() > k) out.pop_back();  // the point is among more than k duplicates of itself
+}
+
 std::vector<Neighbor> KdTree::knn(const Eigen::Vector3d& query, std::size_t k) const {
   std::vector<Neighbor> out;
   knn(query, k, out);

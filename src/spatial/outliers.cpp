@@ -83,15 +83,12 @@ OutlierReport find_outliers(const Points& points, const KdTree& index, const Out
     std::vector<Neighbor> nb;
     for (std::size_t o = r.begin(); o != r.end(); ++o) {
       const std::size_t i = order[o];
-      index.knn(points.row(static_cast<Eigen::Index>(i)).transpose(), k + 1, nb);
+      index.neighbors_of(static_cast<Eigen::Index>(i), k, nb);
       double sum = 0;
-      std::size_t taken = 0;
-      for (const auto& q : nb) {
-        if (q.index == i || taken == k) continue;
-        neighbors[i * k + taken++] = q.index;
-        sum += std::sqrt(q.distance_squared);
+      for (std::size_t j = 0; j < k; ++j) {
+        neighbors[i * k + j] = nb[j].index;
+        sum += std::sqrt(nb[j].distance_squared);
       }
-      for (; taken < k; ++taken) neighbors[i * k + taken] = static_cast<std::uint32_t>(i);  // duplicates of i
       spread[i] = sum / static_cast<double>(k);
     }
   });
