@@ -151,22 +151,6 @@ TEST(ClusterTree, SameTreeForOneAndTwoThreads) {
   }
 }
 
-TEST(ClusterTree, NoiseEstimateRecoversGaussianNoise) {
-  PointCloud c = test::sample_sphere(40000, 1.0);
-  EXPECT_LT(estimate_noise(c.positions), 1e-4);  // smooth and noise-free
-  add_noise(c, 0.004, 3);
-  EXPECT_NEAR(estimate_noise(c.positions), 0.004, 0.0008);
-}
-
-TEST(ClusterTree, NoiseEstimateHoldsWhenSamplingIsDenseRelativeToTheNoise) {
-  // 400k points on a unit sphere are ~3 mm apart, noise 10 mm: a dozen neighbours span less
-  // than the noise and a local fit follows it (the estimate then fell to a third of the truth);
-  // 96 neighbours span 2.7 σ and still fell 20 % short before the estimate coarsened the sample.
-  PointCloud c = test::sample_sphere(400000, 1.0);
-  add_noise(c, 0.01, 5);
-  EXPECT_NEAR(estimate_noise(c.positions), 0.01, 0.0007);
-}
-
 TEST(ClusterTree, AutoThresholdDoesNotShatterNoisyScans) {
   // 0.25 %-of-diagonal noise: a noise-blind threshold splits down to min_points, the
   // noise-aware threshold keeps clusters large.

@@ -129,3 +129,31 @@ TEST(MeshExtraction, SameMeshForOneAndTwoThreads) {
   EXPECT_EQ(a.vertices, b.vertices);
   EXPECT_EQ(a.triangles, b.triangles);
 }
+
+TEST(MeshExtraction, FineLeavesMeshWithoutPinholes) {
+  // A fine tree of a dense sphere: leaves of 8-16 points, supports a few grid cells wide. A
+  // cell the surface crosses can then have a corner (up to √3 cells off the surface) outside
+  // every support; without the fill band such cells are left out as pinholes.
+  const PointCloud c = test::sample_sphere(50000, 1.0);
+  BuildOptions b;
+  b.threshold_mode = ThresholdMode::Absolute;
+  b.threshold = 1e-6;
+  b.min_points = 8;
+  ClusterTree t = build_cluster_tree(c, b);
+  orient_tree(t, c);
+  const ImplicitSurface f(t);
+  MeshOptions o;
+  o.resolution = 48;
+  o.fill_cells = 0;
+  const MeshTopology unfilled = mesh_topology(extract_mesh(f, o));
+  std::cout << "no fill: " << unfilled.boundary_edges << " boundary edges\n";
+  EXPECT_GT(unfilled.boundary_edges, 0u);  // the case the fill is for
+  o.fill_cells = MeshOptions{}.fill_cells;
+  const TriangleMesh m = extract_mesh(f, o);
+  const MeshTopology t2 = mesh_topology(m);
+  EXPECT_TRUE(is_watertight(t2)) << t2.boundary_edges << " boundary edges";
+  EXPECT_EQ(t2.euler_characteristic, 2);
+  double worst = 0;
+  for (Eigen::Index v = 0; v < m.vertices.rows(); ++v) worst = std::max(worst, std::abs(m.vertices.row(v).norm() - 1.0));
+  EXPECT_LT(worst, 0.002 * diagonal(c));
+}

@@ -1,7 +1,9 @@
 #pragma once
 // The partition-of-unity implicit function of a cluster tree:
 // f(x) = Σ wᵢ(x) Qᵢ(x) / Σ wᵢ(x) over the nodes of a cut of the tree (the leaves by default),
-// with wᵢ = (1 − ‖x − cᵢ‖² / rᵢ²)³ inside node i's support sphere and 0 outside.
+// with wᵢ = (1 − ‖x − cᵢ‖² / rᵢ²)³ inside node i's support sphere and 0 outside. A blend may
+// grow every radius by a margin (rᵢ = support radius + margin): the mesher does, only where f
+// is otherwise undefined, to close gaps narrower than its grid cells.
 
 #include <clustersurf/cluster_tree.hpp>
 
@@ -38,6 +40,14 @@ class ImplicitSurface {
  public:
   explicit ImplicitSurface(const ClusterTree& tree, const LevelOfDetail& lod = {});
 
+  /// The same cut blended with every support radius grown by `margin` (≥ 0): f is then
+  /// defined up to `margin` beyond every support, and the proxies extrapolate that far.
+  ImplicitSurface with_margin(double margin) const;
+  /// The radius margin (0 unless set by with_margin()).
+  double margin() const noexcept { return margin_; }
+  /// The blending radius of node i: its support radius + margin().
+  double radius(std::int32_t i) const noexcept { return tree_->nodes[static_cast<std::size_t>(i)].support.radius + margin_; }
+
   /// f and ∇f at x (exact analytic gradient of the blend).
   SurfaceSample sample(const Eigen::Vector3d& x) const;
   /// f at x, or nullopt where undefined: where the total weight is 0, or not above
@@ -46,7 +56,8 @@ class ImplicitSurface {
   std::optional<double> value(const Eigen::Vector3d& x, double min_weight = 0) const;
   /// Samples every row of `points` in parallel; results in row order.
   std::vector<SurfaceSample> sample_all(const Points& points) const;
-  /// Calls visit(node index, weight) for every cut node whose support contains x.
+  /// Calls visit(node index, s = ‖x − c‖² / radius²) for every cut node whose support (grown
+  /// by the margin) contains x.
   template <class Visit>
   void for_each_support(const Eigen::Vector3d& x, Visit&& visit) const;
 
@@ -58,6 +69,7 @@ class ImplicitSurface {
   const ClusterTree* tree_;
   std::vector<std::int32_t> cut_;
   std::vector<std::uint8_t> in_cut_;  // per node
+  double margin_ = 0;
 };
 
 template <class Visit>
@@ -76,9 +88,11 @@ void ImplicitSurface::for_each_support(const Eigen::Vector3d& x, Visit&& visit) 
       i = stack[--top];
     }
     const ClusterNode& n = nodes[static_cast<std::size_t>(i)];
-    if (!n.bound.contains(x)) continue;
+    const double reach = n.bound.radius + margin_;
+    if ((x - n.bound.center).squaredNorm() >= reach * reach) continue;
     if (in_cut_[static_cast<std::size_t>(i)]) {
-      const double s = (x - n.support.center).squaredNorm() / (n.support.radius * n.support.radius);
+      const double r = n.support.radius + margin_;
+      const double s = (x - n.support.center).squaredNorm() / (r * r);
       if (s < 1) visit(i, s);
       continue;
     }

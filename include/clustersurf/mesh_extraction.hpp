@@ -21,6 +21,15 @@ struct MeshOptions {
   /// mesh stops where only the outer rim of a support reaches (w = 0.02 is 85 % of a radius
   /// from a lone center): there a single proxy extrapolates away from its data.
   double min_weight = 0.02;
+  /// Grid points where f is undefined (or below min_weight) take the value of the blend with
+  /// every support radius grown by this many cells (ImplicitSurface::with_margin), and
+  /// vertices whose projection fails there are projected onto that blend's zero set. Fine
+  /// leaves have supports a few cells wide: a cell their data crosses can have a corner
+  /// (up to √3 cells off the surface) outside every support, and without this fill the cell
+  /// is left out as a pinhole. Only a band this wide beyond the supports is filled, so real
+  /// gaps in the data stay holes (and trim_to_points() cuts the band back to the data).
+  /// 0 = no fill.
+  double fill_cells = 2;
   ProgressCallback progress;
 };
 
@@ -33,8 +42,8 @@ struct MeshReport {
 
 /// Meshes f = 0 on a sparse grid that follows the surface from seeds on every blended proxy:
 /// only cells crossed by the surface (and their corners) are visited, so the cost follows the
-/// surface area. Cells with a corner where f is undefined (or below min_weight) are not
-/// meshed, so missing data gives a hole with a boundary, never a wall. Polygons come from OpenVDB's volumeToMesh (manifold,
+/// surface area. Cells with a corner where f is undefined (or below min_weight), beyond the
+/// fill band, are not meshed, so missing data gives a hole with a boundary, never a wall. Polygons come from OpenVDB's volumeToMesh (manifold,
 /// one or more vertices per cell); vertices are then moved onto f = 0 by Newton steps along ∇f
 /// and get ∇f as normal; quads are split along their shorter diagonal; degenerate triangles
 /// and unused vertices are removed. Triangles face outward (towards f > 0). Deterministic.

@@ -14,12 +14,20 @@ struct NoiseOptions {
   /// noise (the estimate then falls short); the estimate is repeated on every 4th point (twice
   /// as wide neighbourhoods) until the neighbourhoods are this wide.
   double min_width_ratio = 6;
+  /// The fits are repeated on the nearest half and quarter of each neighbourhood. A narrower
+  /// fit whose median residual is below this fraction of the wider one's measured the model's
+  /// detail, not noise (noise leaves the same residual at every width); it is taken instead,
+  /// if its neighbourhoods are still min_width_ratio times wider than that residual.
+  double detail_ratio = 0.6;
 };
 
 /// Robust estimate of the standard deviation of the points' normal-direction noise: the median
 /// over sampled neighbourhoods of the RMS residual of a local quadratic height-field fit,
 /// corrected for the fit's degrees of freedom, taken on a subsample coarse enough that the
-/// neighbourhoods are wide relative to the noise. Smooth noise-free samples give a value near 0.
+/// neighbourhoods are wide relative to the noise, and at the narrowest of three widths where
+/// the residual is still shrinking (detail, not noise). Smooth noise-free samples give a value
+/// near 0; clean scans of detailed models a value well below their detail's misfit at the
+/// widest scale.
 double estimate_noise(const Points& points, const NoiseOptions& options = {});
 /// The same estimate with a k-d tree of `points` the caller already has.
 double estimate_noise(const Points& points, const KdTree& index, const NoiseOptions& options = {});

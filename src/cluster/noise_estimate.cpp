@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 
@@ -17,44 +18,72 @@ namespace {
 /// The sampled neighbourhoods never come from fewer points than this.
 constexpr std::size_t kMinCoarsePoints = 4096;
 
+/// The local fits' medians at one neighbourhood size.
 struct LocalNoise {
   double sigma = 0;  // median RMS residual of the local fits
   double width = 0;  // median neighbourhood radius
 };
 
-/// Median noise and neighbourhood radius over evenly strided points of `points`.
-LocalNoise local_noise(const Points& points, const KdTree& tree, const NoiseOptions& options) {
+/// RMS residual of the quadratic height-field fit to points[idx], corrected for the fit's six
+/// degrees of freedom (E[ss] = (k − 6) σ² for k points of noise σ).
+double fit_residual(const Points& points, const std::vector<std::uint32_t>& idx) {
+  const Frame frame = pca_frame(points, idx);
+  const PolyProxy poly = fit_poly_in_frame(frame, points, idx);
+  double ss = 0;
+  for (auto j : idx) {
+    const Eigen::Vector3d l = frame.to_local(points.row(j).transpose());
+    const double f = poly.height(l.x(), l.y());
+    ss += (l.z() - f) * (l.z() - f);
+  }
+  return std::sqrt(ss / static_cast<double>(idx.size() - 6));
+}
+
+/// Median noise and neighbourhood radius over evenly strided points of `points`, for the
+/// neighbourhood sizes options.neighbors, /2, /4 (nested: the nearest of one query).
+std::array<LocalNoise, 3> local_noise(const Points& points, const KdTree& tree, const NoiseOptions& options) {
   const auto n = static_cast<std::size_t>(points.rows());
   const std::size_t k = std::min(options.neighbors, n);
   const std::size_t samples = std::min(options.samples, n);
   const double stride = static_cast<double>(n) / static_cast<double>(samples);
-  std::vector<double> sigma(samples), width(samples);
+  std::array<std::vector<double>, 3> sigma, width;
+  for (auto& v : sigma) v.resize(samples);
+  for (auto& v : width) v.resize(samples);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples), [&](const auto& r) {
     std::vector<Neighbor> nb;
     std::vector<std::uint32_t> idx;
     for (std::size_t s = r.begin(); s != r.end(); ++s) {
       const auto i = static_cast<Eigen::Index>(static_cast<double>(s) * stride);
       tree.knn(points.row(i).transpose(), k, nb);
-      idx.clear();
-      for (const auto& m : nb) idx.push_back(m.index);
-      width[s] = nb.empty() ? 0 : std::sqrt(nb.back().distance_squared);
-      const Frame frame = pca_frame(points, idx);
-      const PolyProxy poly = fit_poly_in_frame(frame, points, idx);
-      double ss = 0;
-      for (auto j : idx) {
-        const Eigen::Vector3d l = frame.to_local(points.row(j).transpose());
-        const double f = poly.height(l.x(), l.y());
-        ss += (l.z() - f) * (l.z() - f);
+      for (std::size_t scale = 0; scale < 3; ++scale) {
+        const std::size_t m = std::max<std::size_t>(nb.size() >> scale, 10);
+        idx.clear();
+        for (std::size_t j = 0; j < std::min(m, nb.size()); ++j) idx.push_back(nb[j].index);
+        width[scale][s] = idx.empty() ? 0 : std::sqrt(nb[idx.size() - 1].distance_squared);
+        sigma[scale][s] = idx.size() > 6 ? fit_residual(points, idx) : 0;
       }
-      // Six coefficients are fitted from k residuals: E[ss] = (k − 6) σ².
-      sigma[s] = std::sqrt(ss / static_cast<double>(k - 6));
     }
   });
   const auto median = [&](std::vector<double>& v) {
     std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(samples / 2), v.end());
     return v[samples / 2];
   };
-  return {median(sigma), median(width)};
+  std::array<LocalNoise, 3> out;
+  for (std::size_t scale = 0; scale < 3; ++scale) out[scale] = {median(sigma[scale]), median(width[scale])};
+  return out;
+}
+
+/// The noise among the three scales: noise leaves the same residual at every width, while
+/// the model's detail (what a quadratic cannot follow) leaves one that shrinks with the
+/// width. A narrower scale is taken while its residual is clearly smaller (the wider one
+/// measured detail) and its neighbourhoods are still wide compared with it.
+double pick_scale(const std::array<LocalNoise, 3>& est, const NoiseOptions& options) {
+  double sigma = est[0].sigma;
+  for (std::size_t scale = 1; scale < 3; ++scale) {
+    const LocalNoise& e = est[scale];
+    if (!(e.sigma < options.detail_ratio * sigma) || e.width < options.min_width_ratio * e.sigma) break;
+    sigma = e.sigma;
+  }
+  return sigma;
 }
 
 /// The points of the nested subsample of `level` (about 4^-level of them; the support
@@ -79,14 +108,14 @@ double estimate_noise(const Points& points, const NoiseOptions& options) {
 double estimate_noise(const Points& points, const KdTree& tree, const NoiseOptions& options) {
   const auto n = static_cast<std::size_t>(points.rows());
   if (std::min(options.neighbors, n) < 10 || options.samples == 0) return 0;
-  LocalNoise est = local_noise(points, tree, options);
+  auto est = local_noise(points, tree, options);
   // Dense samples of a noisy surface: the neighbourhoods are thin slabs of noise, and the
   // local fit follows it. Coarsen until the neighbourhoods are wide compared with the noise.
-  for (unsigned level = 1; est.width < options.min_width_ratio * est.sigma && (n >> (2 * level)) >= kMinCoarsePoints; ++level) {
+  for (unsigned level = 1; est[0].width < options.min_width_ratio * est[0].sigma && (n >> (2 * level)) >= kMinCoarsePoints; ++level) {
     const Points coarse = subsample(points, level);
     est = local_noise(coarse, KdTree(coarse), options);
   }
-  return est.sigma;
+  return pick_scale(est, options);
 }
 
 }  // namespace clustersurf

@@ -65,8 +65,8 @@ Eigen::Vector3d any_tangent(const Eigen::Vector3d& n) {
 
 }  // namespace
 
-TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& options, MeshReport* report) {
-  const ClusterTree& tree = surface.tree();
+TriangleMesh extract_mesh(const ImplicitSurface& blend, const MeshOptions& options, MeshReport* report) {
+  const ClusterTree& tree = blend.tree();
   const BoundingBox box = tree.bbox;
   const double longest = box.extent().maxCoeff();
   double h = options.voxel_size ? *options.voxel_size
@@ -76,6 +76,11 @@ TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& opt
   if (!(h > 0) || !std::isfinite(h)) throw OptionError("mesh voxel size must be positive (check --resolution/--voxel-size)");
   if (!(options.min_weight >= 0) || !std::isfinite(options.min_weight)) throw OptionError("mesh min_weight must be >= 0");
   if (longest / h > 500000) throw OptionError("mesh grid too fine: more than 500000 cells along the bounding box");
+  if (!(options.fill_cells >= 0) || !std::isfinite(options.fill_cells)) throw OptionError("mesh fill_cells must be >= 0");
+  const ImplicitSurface& surface = blend;
+  // Where `surface` is undefined: the same blend with supports fill_cells cells wider.
+  const ImplicitSurface wide = blend.with_margin(blend.margin() + options.fill_cells * h);
+  const bool fill = options.fill_cells > 0;
   const Eigen::Vector3d origin = box.min;
   auto corner_position = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
     return Eigen::Vector3d(origin + h * Eigen::Vector3d(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k)));
@@ -136,7 +141,9 @@ TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& opt
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 64), [&](const auto& r) {
       for (std::size_t t = r.begin(); t != r.end(); ++t) {
         const auto [i, j, k] = unpack(todo[t]);
-        const auto v = surface.value(corner_position(i, j, k), options.min_weight);
+        const Eigen::Vector3d x = corner_position(i, j, k);
+        auto v = surface.value(x, options.min_weight);
+        if (!v && fill) v = wide.value(x, options.min_weight);
         values[t] = v ? static_cast<float>(*v) : std::numeric_limits<float>::quiet_NaN();
       }
     });
@@ -193,8 +200,12 @@ TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& opt
       const auto& p = polygons.vertices[static_cast<std::size_t>(v)];
       Eigen::Vector3d x = origin + h * Eigen::Vector3d(p[0], p[1], p[2]);
       Eigen::Vector3d y = x;
-      if (options.newton_steps > 0 && project(surface, y, options.newton_steps, h, 1e-6 * h)) x = y;
-      const SurfaceSample s = surface.sample(x);
+      if (options.newton_steps > 0) {
+        if (project(surface, y, options.newton_steps, h, 1e-6 * h)) x = y;
+        else if (fill && project(wide, y = x, options.newton_steps, h, 1e-6 * h)) x = y;
+      }
+      SurfaceSample s = surface.sample(x);
+      if (!s.defined && fill) s = wide.sample(x);
       mesh.vertices.row(v) = x.transpose();
       const double g = s.gradient.norm();
       mesh.normals.row(v) = (g > 0 ? Eigen::Vector3d(s.gradient / g) : Eigen::Vector3d::UnitZ()).transpose();

@@ -32,6 +32,12 @@ ImplicitSurface::ImplicitSurface(const ClusterTree& tree, const LevelOfDetail& l
   for (auto i : cut_) in_cut_[static_cast<std::size_t>(i)] = 1;
 }
 
+ImplicitSurface ImplicitSurface::with_margin(double margin) const {
+  ImplicitSurface out = *this;
+  out.margin_ = std::max(margin, 0.0);
+  return out;
+}
+
 SurfaceSample ImplicitSurface::sample(const Eigen::Vector3d& x) const {
   // f = A / W with A = Σ w Q and W = Σ w; ∇f = (∇A − f ∇W) / W.
   double a = 0, w_sum = 0;
@@ -40,7 +46,8 @@ SurfaceSample ImplicitSurface::sample(const Eigen::Vector3d& x) const {
     const ClusterNode& n = tree_->nodes[static_cast<std::size_t>(i)];
     const double one_minus = 1 - s;
     const double w = one_minus * one_minus * one_minus;
-    const Eigen::Vector3d dw = (-6 * one_minus * one_minus / (n.support.radius * n.support.radius)) * (x - n.support.center);
+    const double r = radius(i);
+    const Eigen::Vector3d dw = (-6 * one_minus * one_minus / (r * r)) * (x - n.support.center);
     const double q = n.proxy.value(x);
     a += w * q;
     w_sum += w;
