@@ -96,7 +96,7 @@ int main(int argc, char** argv) {
       ->default_val("split-plane");
   r->add_option("--max-error", rec.max_error,
                 "Tolerance: the error a leaf may keep beyond the estimated scanner noise, as a fraction of the bbox "
-                "diagonal (a leaf's RMS error must be <= hypot(tolerance, noise)); \"auto\" = 0.0002")
+                "diagonal (a leaf's RMS error must be <= hypot(tolerance, noise)); \"auto\" = 0.00005")
       ->default_val("auto");
   r->add_option("--absolute-error", rec.absolute_error, "Leaf error threshold in the input's units (overrides --max-error)")
       ->check(CLI::NonNegativeNumber);

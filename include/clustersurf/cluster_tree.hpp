@@ -36,7 +36,7 @@ struct BuildOptions {
   /// The tolerance: the error a leaf may keep on top of the noise; relative (fraction of the
   /// diagonal) or absolute. A cluster is a leaf when its error is ≤ hypot(tolerance, noise)
   /// (the noise with a margin for small clusters: cluster_error_threshold()).
-  double threshold = 0.0002;
+  double threshold = 0.00005;
   double noise_factor = 1.0;                     ///< Auto: the noise counted is this × the estimate
   std::uint32_t min_points = 20;                 ///< no child below this many points (but strays cut off across a gap)
   std::uint32_t max_depth = 200;                 ///< nodes at this depth are leaves (root: 0)
@@ -76,8 +76,10 @@ struct ClusterNode {
   std::uint32_t depth = 0;
   std::uint32_t point_count = 0;
   Proxy proxy;
-  double rms_error = 0;  ///< RMS of |Q| over the cluster
-  double max_error = 0;  ///< max of |Q| over the cluster
+  /// RMS and max of |Q| over the cluster (a leaf's: but the few stray points its support fit
+  /// trimmed as outliers of the local surface)
+  double rms_error = 0;
+  double max_error = 0;
   Sphere support;        ///< center = cluster mean, radius = alpha × cluster bbox diagonal
   Sphere bound;          ///< encloses `support` and every support in the subtree
 
@@ -90,7 +92,7 @@ struct TreeParameters {
   SplitterKind splitter = SplitterKind::SplitPlane;
   ErrorMetric metric = ErrorMetric::Rms;
   ThresholdMode threshold_mode = ThresholdMode::Auto;
-  double threshold = 0.0002;
+  double threshold = 0.00005;
   double noise_factor = 1.0;
   std::uint32_t min_points = 20;
   std::uint32_t max_depth = 200;

@@ -330,7 +330,7 @@ without them the orientation propagates between touching clusters.
 
 Options mirror the CLI's (same names with ``_`` for ``-``, same defaults): ``proxy`` "plane",
 "poly" or "quadric"; ``splitter`` "split-plane" or "lloyd"; ``max_error`` the tolerance a leaf
-may keep beyond the estimated noise, a fraction of the bounding-box diagonal or "auto" (0.0002);
+may keep beyond the estimated noise, a fraction of the bounding-box diagonal or "auto" (0.00005);
 ``noise_factor`` (the noise counted; 0 ignores it); ``absolute_error`` in input units (overrides
 max_error); ``error`` "rms" or "max"; ``min_points``; ``max_depth``; ``alpha`` (support radius =
 alpha x cluster bbox diagonal); ``kstep``; ``lloyd_restarts``; ``proxy_lloyd``;

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numeric>
 #include <optional>
@@ -35,6 +36,12 @@ constexpr std::size_t kSupportPointsPerClusterPoint = 8;
 constexpr double kSupportFitReach = 3;
 /// Fewer support points than this keep the cluster's own fit.
 constexpr std::size_t kMinSupportFitPoints = 12;
+/// Rounds of the trimmed support fit: points farther than kSupportFitReach times the fit's
+/// weighted RMS (or the threshold) from it are left out and the rest refitted, as long as they
+/// are isolated strays: at most kMaxTrimmedShare of the points (or one; more is a second sheet
+/// or real detail, which the split and the support checks deal with).
+constexpr int kTrimRounds = 2;
+constexpr double kMaxTrimmedShare = 0.05;
 /// A support sphere holds at least this many input points (MPU's N_min): the supports of small
 /// clusters overlap their neighbours' instead of leaving gaps between them, and their refit
 /// rests on enough points. It grows to at most kMaxSupportGrowth times its alpha radius, so a
@@ -226,7 +233,10 @@ class Builder {
   /// blending weight (as in MPU): the proxy is then accurate wherever the blend uses it, and
   /// averages the noise over its whole support. Points beyond kSupportFitReach times the
   /// threshold or the cluster's own error from the cluster's fit (another sheet, outliers) are
-  /// left out. The node's errors are re-measured on its own points.
+  /// left out; then, kTrimRounds times, those beyond kSupportFitReach times the support fit's
+  /// own weighted RMS (a stray point near the surface that bent the cluster's fit) are left out
+  /// and the rest refitted. The node's errors are re-measured on its own points, but for a few
+  /// strays beyond that reach.
   void fit_to_support(ClusterNode& node, std::span<const std::uint32_t> range, std::span<const Neighbor> inside) const {
     const PolyProxy& cluster_fit = std::get<PolyProxy>(node.proxy.variant());
     const double r2 = node.support.radius * node.support.radius;
@@ -242,16 +252,60 @@ class Builder {
       weights.push_back(blend_weight(nb.distance_squared / r2));
     }
     if (ids.size() < kMinSupportFitPoints) return;
-    Proxy support_fit = fit_poly_in_frame(cluster_fit.frame, input_, ids, weights);
-    const ProxyError err = proxy_error(support_fit, points_, range);
+    Proxy fit = fit_poly_in_frame(cluster_fit.frame, input_, ids, weights);
+    // The residual beyond which a point is a stray of the support fit.
+    const auto stray_cut = [&] {
+      double sum = 0, weight = 0;
+      for (std::size_t j = 0; j < ids.size(); ++j) {
+        const double q = fit.value(input_.row(ids[j]).transpose());
+        sum += weights[j] * q * q;
+        weight += weights[j];
+      }
+      return kSupportFitReach * std::max(threshold, weight > 0 ? std::sqrt(sum / weight) : 0.0);
+    };
+    const auto few = [](std::size_t strays, std::size_t total) {
+      return static_cast<double>(strays) <= std::max(1.0, kMaxTrimmedShare * static_cast<double>(total));
+    };
+    const std::size_t support_points = ids.size();
+    for (int round = 0; round < kTrimRounds; ++round) {
+      const double cut = stray_cut();
+      std::size_t kept = 0;
+      for (std::size_t j = 0; j < ids.size(); ++j) kept += std::abs(fit.value(input_.row(ids[j]).transpose())) <= cut;
+      if (kept == ids.size() || kept < kMinSupportFitPoints || !few(support_points - kept, support_points)) break;
+      kept = 0;
+      for (std::size_t j = 0; j < ids.size(); ++j) {
+        if (!(std::abs(fit.value(input_.row(ids[j]).transpose())) <= cut)) continue;
+        ids[kept] = ids[j];
+        weights[kept++] = weights[j];
+      }
+      ids.resize(kept);
+      weights.resize(kept);
+      fit = fit_poly_in_frame(cluster_fit.frame, input_, ids, weights);
+    }
     // Kept only while the cluster's own points still meet the threshold (or what the cluster's
-    // fit achieved): a leaf's error on its points stays within the threshold.
-    const double e = options_.metric == ErrorMetric::Rms ? err.rms : err.max;
+    // fit achieved): a leaf's error on its points stays within the threshold. A few own points
+    // beyond the stray cut (a stray that bent the cluster's fit) are not counted.
+    const double cut = stray_cut();
+    double inlier_sum = 0, inlier_max = 0, all_sum = 0, all_max = 0;
+    std::size_t inliers = 0;
+    for (auto i : range) {
+      const double q = std::abs(fit.value(points_.row(i).transpose()));
+      all_sum += q * q;
+      all_max = std::max(all_max, q);
+      if (!(q <= cut)) continue;
+      inlier_sum += q * q;
+      inlier_max = std::max(inlier_max, q);
+      ++inliers;
+    }
+    const bool trim = inliers > 0 && few(range.size() - inliers, range.size());
+    const double rms = trim ? std::sqrt(inlier_sum / static_cast<double>(inliers)) : std::sqrt(all_sum / static_cast<double>(range.size()));
+    const double max = trim ? inlier_max : all_max;
+    const double e = options_.metric == ErrorMetric::Rms ? rms : max;
     const double own = options_.metric == ErrorMetric::Rms ? node.rms_error : node.max_error;
     if (!(e <= std::max(threshold, own))) return;
-    node.proxy = std::move(support_fit);
-    node.rms_error = err.rms;
-    node.max_error = err.max;
+    node.proxy = std::move(fit);
+    node.rms_error = rms;
+    node.max_error = max;
   }
 
   /// The blending weight (1 − s)³ at s = d²/r² (the implicit surface's).
