@@ -419,7 +419,7 @@ leaf_size, leaf_rms_error, leaves_over_threshold, noise_sigma, error_threshold, 
           py::arg("lod_error") = py::none(), R"doc(
 The implicit function f (approximate signed distance, positive outside) at each row of xyz
 (n, 3); a float64 array of n values, NaN where f is undefined: no support reaches, or the total
-weight is not above ``min_weight`` (0.1, as the mesher). ``lod_depth`` / ``lod_error`` blend a
+weight is not above ``min_weight`` (0.1, a stricter floor than the mesher's 0.02). ``lod_depth`` / ``lod_error`` blend a
 coarser cut of the tree, as in mesh(). Runs in parallel without the GIL.)doc")
       .def(
           "gradient",
