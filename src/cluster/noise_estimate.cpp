@@ -55,11 +55,12 @@ std::array<LocalNoise, 3> local_noise(const Points& points, const KdTree& tree, 
       const auto i = static_cast<Eigen::Index>(static_cast<double>(s) * stride);
       tree.knn(points.row(i).transpose(), k, nb);
       for (std::size_t scale = 0; scale < 3; ++scale) {
+        // At least 10 points per fit (estimate_noise() needs k ≥ 10, so nb holds them).
         const std::size_t m = std::max<std::size_t>(nb.size() >> scale, 10);
         idx.clear();
-        for (std::size_t j = 0; j < std::min(m, nb.size()); ++j) idx.push_back(nb[j].index);
-        width[scale][s] = idx.empty() ? 0 : std::sqrt(nb[idx.size() - 1].distance_squared);
-        sigma[scale][s] = idx.size() > 6 ? fit_residual(points, idx) : 0;
+        for (std::size_t j = 0; j < m; ++j) idx.push_back(nb[j].index);
+        width[scale][s] = std::sqrt(nb[m - 1].distance_squared);
+        sigma[scale][s] = fit_residual(points, idx);
       }
     }
   });

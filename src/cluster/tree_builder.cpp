@@ -253,12 +253,14 @@ class Builder {
     }
     if (ids.size() < kMinSupportFitPoints) return;
     Proxy fit = fit_poly_in_frame(cluster_fit.frame, input_, ids, weights);
-    // The residual beyond which a point is a stray of the support fit.
-    const auto stray_cut = [&] {
+    // |Q| of `fit` at every support point, and the residual beyond which a point is a stray.
+    thread_local std::vector<double> residual;
+    const auto measure = [&] {
+      residual.resize(ids.size());
       double sum = 0, weight = 0;
       for (std::size_t j = 0; j < ids.size(); ++j) {
-        const double q = fit.value(input_.row(ids[j]).transpose());
-        sum += weights[j] * q * q;
+        residual[j] = std::abs(fit.value(input_.row(ids[j]).transpose()));
+        sum += weights[j] * residual[j] * residual[j];
         weight += weights[j];
       }
       return kSupportFitReach * std::max(threshold, weight > 0 ? std::sqrt(sum / weight) : 0.0);
@@ -267,25 +269,24 @@ class Builder {
       return static_cast<double>(strays) <= std::max(1.0, kMaxTrimmedShare * static_cast<double>(total));
     };
     const std::size_t support_points = ids.size();
+    double cut = measure();
     for (int round = 0; round < kTrimRounds; ++round) {
-      const double cut = stray_cut();
-      std::size_t kept = 0;
-      for (std::size_t j = 0; j < ids.size(); ++j) kept += std::abs(fit.value(input_.row(ids[j]).transpose())) <= cut;
+      const auto kept = static_cast<std::size_t>(std::count_if(residual.begin(), residual.end(), [&](double q) { return q <= cut; }));
       if (kept == ids.size() || kept < kMinSupportFitPoints || !few(support_points - kept, support_points)) break;
-      kept = 0;
+      std::size_t k = 0;
       for (std::size_t j = 0; j < ids.size(); ++j) {
-        if (!(std::abs(fit.value(input_.row(ids[j]).transpose())) <= cut)) continue;
-        ids[kept] = ids[j];
-        weights[kept++] = weights[j];
+        if (!(residual[j] <= cut)) continue;
+        ids[k] = ids[j];
+        weights[k++] = weights[j];
       }
-      ids.resize(kept);
-      weights.resize(kept);
+      ids.resize(k);
+      weights.resize(k);
       fit = fit_poly_in_frame(cluster_fit.frame, input_, ids, weights);
+      cut = measure();
     }
     // Kept only while the cluster's own points still meet the threshold (or what the cluster's
     // fit achieved): a leaf's error on its points stays within the threshold. A few own points
     // beyond the stray cut (a stray that bent the cluster's fit) are not counted.
-    const double cut = stray_cut();
     double inlier_sum = 0, inlier_max = 0, all_sum = 0, all_max = 0;
     std::size_t inliers = 0;
     for (auto i : range) {

@@ -65,8 +65,8 @@ Eigen::Vector3d any_tangent(const Eigen::Vector3d& n) {
 
 }  // namespace
 
-TriangleMesh extract_mesh(const ImplicitSurface& blend, const MeshOptions& options, MeshReport* report) {
-  const ClusterTree& tree = blend.tree();
+TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& options, MeshReport* report) {
+  const ClusterTree& tree = surface.tree();
   const BoundingBox box = tree.bbox;
   const double longest = box.extent().maxCoeff();
   double h = options.voxel_size ? *options.voxel_size
@@ -77,9 +77,8 @@ TriangleMesh extract_mesh(const ImplicitSurface& blend, const MeshOptions& optio
   if (!(options.min_weight >= 0) || !std::isfinite(options.min_weight)) throw OptionError("mesh min_weight must be >= 0");
   if (longest / h > 500000) throw OptionError("mesh grid too fine: more than 500000 cells along the bounding box");
   if (!(options.fill_cells >= 0) || !std::isfinite(options.fill_cells)) throw OptionError("mesh fill_cells must be >= 0");
-  const ImplicitSurface& surface = blend;
   // Where `surface` is undefined: the same blend with supports fill_cells cells wider.
-  const ImplicitSurface wide = blend.with_margin(blend.margin() + options.fill_cells * h);
+  const ImplicitSurface wide = surface.with_margin(surface.margin() + options.fill_cells * h);
   const bool fill = options.fill_cells > 0;
   const Eigen::Vector3d origin = box.min;
   auto corner_position = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
