@@ -19,7 +19,7 @@ struct InputArgs {
 
 /// Options of the mesh stage, shared by `mesh` and `reconstruct --mesh`.
 struct MeshArgs {
-  std::uint32_t resolution = 256;
+  std::string resolution = "256";   // cells along the longest side, or "auto" (from the points)
   std::optional<double> voxel_size;
   std::optional<std::uint32_t> lod_depth;
   std::optional<double> lod_error;  // fraction of the bbox diagonal

@@ -13,6 +13,24 @@
 
 namespace clustersurf::cli {
 
+namespace {
+
+/// --resolution's number (CLI11 checked the range already; this guards other callers).
+std::uint32_t parse_resolution(const std::string& text) {
+  std::size_t used = 0;
+  unsigned long value = 0;
+  try {
+    value = std::stoul(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || value < 2 || value > 100000)
+    throw OptionError("--resolution must be a whole number from 2 to 100000 or \"auto\", not \"" + text + "\"");
+  return static_cast<std::uint32_t>(value);
+}
+
+}  // namespace
+
 nlohmann::json write_tree_mesh(Console& console, const ClusterTree& tree, const MeshArgs& args, const std::string& output,
                                const PointCloud* cloud) {
   if (args.color != "none" && args.color != "leaf" && args.color != "distance")
@@ -25,8 +43,13 @@ nlohmann::json write_tree_mesh(Console& console, const ClusterTree& tree, const 
   if (args.lod_error) lod.max_error = *args.lod_error * tree.bbox.diagonal();
   const ImplicitSurface surface(tree, lod);
   MeshOptions options;
-  options.resolution = args.resolution;
   options.voxel_size = args.voxel_size;
+  if (args.resolution == "auto") {
+    if (cloud == nullptr) throw OptionError("--resolution auto needs the input points (--points FILE)");
+    if (!options.voxel_size) options.voxel_size = cell_size_for_points(*cloud);
+  } else {
+    options.resolution = parse_resolution(args.resolution);
+  }
   options.progress = console.progress();
   MeshReport report;
   TriangleMesh mesh = extract_mesh(surface, options, &report);

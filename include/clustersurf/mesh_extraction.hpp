@@ -9,6 +9,11 @@
 
 namespace clustersurf {
 
+/// cell_size_for_points()'s default: cells this many median point spacings wide. On Igea
+/// sampled at 100 k and 1 M points (docs/benchmarks.md) finer grids gained nothing (100 k: a 256
+/// grid beat 512) and coarser ones lost detail.
+inline constexpr double kSpacingsPerCell = 2.0;
+
 /// Options of extract_mesh().
 struct MeshOptions {
   /// Grid cells along the longest side of the tree's bounding box (ignored with voxel_size).
@@ -48,6 +53,12 @@ struct MeshReport {
 /// and get ∇f as normal; quads are split along their shorter diagonal; degenerate triangles
 /// and unused vertices are removed. Triangles face outward (towards f > 0). Deterministic.
 TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& options = {}, MeshReport* report = nullptr);
+
+/// A mesh grid cell size matched to how densely `cloud` samples the surface: `spacing_factor`
+/// times the median distance from a point to its nearest neighbour (compute_stats()). A grid
+/// much finer than the samples adds triangles, not accuracy; a coarser one loses the detail
+/// the leaves fit. Throws OptionError when the median spacing is 0.
+double cell_size_for_points(const PointCloud& cloud, double spacing_factor = kSpacingsPerCell);
 
 /// Edge-manifoldness, boundary and Euler characteristic of a mesh.
 struct MeshTopology {

@@ -430,18 +430,28 @@ coarser cut of the tree, as in mesh(). Runs in parallel without the GIL.)doc")
           "The exact gradient of f at each row of xyz: an (n, 3) array, NaN rows where f is undefined (see evaluate).")
       .def(
           "mesh",
-          [](const TreeRef& t, std::int64_t resolution, std::optional<double> voxel_size, std::optional<std::int64_t> lod_depth,
-             std::optional<double> lod_error, const py::object& points, double trim, const py::object& progress) {
-            if (resolution < 2 || resolution > 100000) throw OptionError("resolution must be in [2, 100000]");
+          [](const TreeRef& t, const std::variant<std::int64_t, std::string>& resolution, std::optional<double> voxel_size,
+             std::optional<std::int64_t> lod_depth, std::optional<double> lod_error, const py::object& points, double trim,
+             const py::object& progress) {
+            const auto* cells = std::get_if<std::int64_t>(&resolution);
+            if (cells == nullptr && std::get<std::string>(resolution) != "auto")
+              throw OptionError("resolution must be a number of cells or \"auto\", not \"" + std::get<std::string>(resolution) + "\"");
+            if (cells != nullptr && (*cells < 2 || *cells > 100000)) throw OptionError("resolution must be in [2, 100000]");
             std::optional<Points> input;
             if (!points.is_none())
               input = to_points(py::hasattr(points, "positions") ? py::object(points.attr("positions")) : points, "points");
             if (voxel_size && !(*voxel_size > 0)) throw OptionError("voxel_size must be positive");
+            if (cells == nullptr && !voxel_size) {
+              if (!input) throw OptionError("resolution=\"auto\" needs the input points (points=...)");
+              PointCloud cloud;
+              cloud.positions = *input;
+              voxel_size = cell_size_for_points(cloud);
+            }
             const LevelOfDetail lod = make_lod(*t.tree, lod_depth, lod_error);
             TriangleMesh mesh = run_released(progress, [&](ProgressCallback callback) {
               const ImplicitSurface surface(*t.tree, lod);
               MeshOptions options;
-              options.resolution = static_cast<std::uint32_t>(resolution);
+              if (cells != nullptr) options.resolution = static_cast<std::uint32_t>(*cells);
               options.voxel_size = voxel_size;
               options.progress = std::move(callback);
               TriangleMesh m = extract_mesh(surface, options);
@@ -458,8 +468,8 @@ coarser cut of the tree, as in mesh(). Runs in parallel without the GIL.)doc")
           py::arg("progress") = py::none(), R"doc(
 Meshes the surface f = 0, as ``clustersurf mesh`` does (same options, same mesh).
 
-``resolution``: grid cells along the longest bbox side; ``voxel_size`` (input units) overrides
-it; ``lod_depth``: blend the cut at this depth instead of the leaves; ``lod_error``: blend the
+``resolution``: grid cells along the longest bbox side, or ``"auto"``: cells two median point
+spacings of ``points`` wide; ``voxel_size`` (input units) overrides it; ``lod_depth``: blend the cut at this depth instead of the leaves; ``lod_error``: blend the
 shallowest nodes whose error is at most this fraction of the diagonal; ``points``: the tree's
 input ((n, 3) array or PointCloud), to drop the triangles farther from it than ``trim`` × the
 local spread, as ``clustersurf reconstruct --mesh`` does (0: keep all). ``progress`` as in

@@ -74,6 +74,20 @@ def test_trimmed_mesh_equals_reconstruct(tmp_path, cli, bunny_file):
     assert len(untrimmed[1]) >= len(faces)
 
 
+def test_auto_resolution_equals_the_cli(tmp_path, cli, bunny_file):
+    # The grid matched to the points' spacing: the same mesh from both, and none without points.
+    run(cli, "reconstruct", bunny_file, "-o", tmp_path / "b.cstree", "--mesh", tmp_path / "cli.ply", "--resolution", "auto")
+    cli_mesh = clustersurf.read_mesh(tmp_path / "cli.ply")
+    tree = clustersurf.load(tmp_path / "b.cstree")
+    vertices, faces, normals = tree.mesh(resolution="auto", points=clustersurf.read_points(bunny_file))
+    np.testing.assert_array_equal(vertices.astype(np.float32).astype(np.float64), cli_mesh.vertices)
+    np.testing.assert_array_equal(faces, cli_mesh.faces)
+    with pytest.raises(clustersurf.OptionError, match="needs the input points"):
+        tree.mesh(resolution="auto")
+    with pytest.raises(clustersurf.OptionError, match="not \"fine\""):
+        tree.mesh(resolution="fine")
+
+
 def test_sample_and_eval_equal_the_cli(tmp_path, cli, bunny_file):
     run(cli, "sample", bunny_file, "-o", tmp_path / "cli.ply", "-n", 3000, "--noise", 0.001, "--seed", 5)
     mesh = clustersurf.read_mesh(bunny_file)

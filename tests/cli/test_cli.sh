@@ -274,6 +274,23 @@ run --json mesh "$tmp/b.cstree" -o "$tmp/m2.obj" --resolution 64
 expect_rc "mesh exits 0" 0
 tris=$(json_field triangles)
 if [ -n "$tris" ] && [ "$tris" -gt 1000 ]; then ok "mesh --json reports triangles ($tris)"; else not_ok "mesh --json triangles" "$out"; fi
+# --resolution auto: cells two median point spacings wide (the spacing `stats` reports).
+run --json stats "$bunny"
+spacing=$(json_field median_spacing)
+run --json mesh "$tmp/b.cstree" -o "$tmp/m3.ply" --resolution auto --points "$bunny"
+expect_rc "mesh --resolution auto exits 0" 0
+voxel=$(json_field voxel_size)
+if awk -v v="$voxel" -v s="$spacing" 'BEGIN { d = v - 2 * s; exit !(s > 0 && d <= 1e-9 * s && -d <= 1e-9 * s) }'; then
+  ok "mesh --resolution auto: voxel size = 2 x median spacing ($voxel)"
+else
+  not_ok "mesh --resolution auto voxel size" "voxel '$voxel', median spacing '$spacing'"
+fi
+run mesh "$tmp/b.cstree" -o "$tmp/m4.ply" --resolution auto
+expect_rc "mesh --resolution auto without --points: exit code 2" 2
+expect_contains "mesh --resolution auto without --points: the message asks for them" "$err" "--points"
+check "mesh --resolution auto without --points writes nothing" test ! -e "$tmp/m4.ply"
+run mesh "$tmp/b.cstree" -o "$tmp/m4.ply" --resolution fine
+expect_rc "mesh --resolution fine: exit code 2" 2
 head -c 100 "$tmp/b.cstree" >"$tmp/trunc.cstree"
 run info "$tmp/trunc.cstree"
 expect_rc "truncated tree file: exit code 3" 3
