@@ -469,7 +469,8 @@ coarser cut of the tree, as in mesh(). Runs in parallel without the GIL.)doc")
 Meshes the surface f = 0, as ``clustersurf mesh`` does (same options, same mesh).
 
 ``resolution``: grid cells along the longest bbox side, or ``"auto"``: cells two median point
-spacings of ``points`` wide; ``voxel_size`` (input units) overrides it; ``lod_depth``: blend the cut at this depth instead of the leaves; ``lod_error``: blend the
+spacings of ``points`` wide; ``voxel_size`` (input units) overrides it; ``lod_depth``: blend
+the cut at this depth instead of the leaves; ``lod_error``: blend the
 shallowest nodes whose error is at most this fraction of the diagonal; ``points``: the tree's
 input ((n, 3) array or PointCloud), to drop the triangles farther from it than ``trim`` × the
 local spread, as ``clustersurf reconstruct --mesh`` does (0: keep all). ``progress`` as in
