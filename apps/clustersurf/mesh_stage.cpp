@@ -45,8 +45,10 @@ nlohmann::json write_tree_mesh(Console& console, const ClusterTree& tree, const 
   MeshOptions options;
   options.voxel_size = args.voxel_size;
   if (args.resolution == "auto") {
-    if (cloud == nullptr) throw OptionError("--resolution auto needs the input points (--points FILE)");
-    if (!options.voxel_size) options.voxel_size = cell_size_for_points(*cloud);
+    if (!options.voxel_size) {  // --voxel-size overrides --resolution, auto included
+      if (cloud == nullptr) throw OptionError("--resolution auto needs the input points (--points FILE)");
+      options.voxel_size = cell_size_for_points(*cloud);
+    }
   } else {
     options.resolution = parse_resolution(args.resolution);
   }

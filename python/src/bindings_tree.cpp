@@ -437,15 +437,16 @@ coarser cut of the tree, as in mesh(). Runs in parallel without the GIL.)doc")
             if (cells == nullptr && std::get<std::string>(resolution) != "auto")
               throw OptionError("resolution must be a number of cells or \"auto\", not \"" + std::get<std::string>(resolution) + "\"");
             if (cells != nullptr && (*cells < 2 || *cells > 100000)) throw OptionError("resolution must be in [2, 100000]");
-            std::optional<Points> input;
-            if (!points.is_none())
-              input = to_points(py::hasattr(points, "positions") ? py::object(points.attr("positions")) : points, "points");
+            std::optional<PointCloud> input;
+            if (!points.is_none()) {
+              input.emplace();
+              input->positions =
+                  to_points(py::hasattr(points, "positions") ? py::object(points.attr("positions")) : points, "points");
+            }
             if (voxel_size && !(*voxel_size > 0)) throw OptionError("voxel_size must be positive");
             if (cells == nullptr && !voxel_size) {
               if (!input) throw OptionError("resolution=\"auto\" needs the input points (points=...)");
-              PointCloud cloud;
-              cloud.positions = *input;
-              voxel_size = cell_size_for_points(cloud);
+              voxel_size = cell_size_for_points(*input);
             }
             const LevelOfDetail lod = make_lod(*t.tree, lod_depth, lod_error);
             TriangleMesh mesh = run_released(progress, [&](ProgressCallback callback) {
@@ -458,7 +459,7 @@ coarser cut of the tree, as in mesh(). Runs in parallel without the GIL.)doc")
               if (!input || trim == 0) return m;
               TrimOptions trimming;
               trimming.spread_factor = trim;
-              return trim_to_points(m, clustered_points(*t.tree, *input), trimming);
+              return trim_to_points(m, clustered_points(*t.tree, input->positions), trimming);
             });
             return py::make_tuple(to_array(std::move(mesh.vertices)), to_array(std::move(mesh.triangles)),
                                   to_array(std::move(mesh.normals)));

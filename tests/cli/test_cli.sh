@@ -289,6 +289,8 @@ run mesh "$tmp/b.cstree" -o "$tmp/m4.ply" --resolution auto
 expect_rc "mesh --resolution auto without --points: exit code 2" 2
 expect_contains "mesh --resolution auto without --points: the message asks for them" "$err" "--points"
 check "mesh --resolution auto without --points writes nothing" test ! -e "$tmp/m4.ply"
+run -q mesh "$tmp/b.cstree" -o "$tmp/m5.ply" --resolution auto --voxel-size "$voxel"
+expect_rc "mesh --resolution auto with --voxel-size needs no points (the voxel size wins)" 0
 run mesh "$tmp/b.cstree" -o "$tmp/m4.ply" --resolution fine
 expect_rc "mesh --resolution fine: exit code 2" 2
 head -c 100 "$tmp/b.cstree" >"$tmp/trunc.cstree"
