@@ -76,3 +76,67 @@ TEST(MeshTrim, DataEverywhereOrFactorZeroKeepsTheMeshAsItIs) {
   bad.spread_factor = -1;
   EXPECT_THROW(trim_to_points(full, c.positions, bad), OptionError);
 }
+
+namespace {
+
+/// `mesh` with a copy of itself scaled by `scale` and moved to `offset` appended: a second,
+/// disjoint component.
+TriangleMesh with_fragment(const TriangleMesh& mesh, double scale, const Eigen::Vector3d& offset) {
+  TriangleMesh out = mesh;
+  const Eigen::Index nv = mesh.vertices.rows(), nt = mesh.triangles.rows();
+  out.vertices.conservativeResize(2 * nv, 3);
+  out.normals.conservativeResize(2 * nv, 3);
+  out.triangles.conservativeResize(2 * nt, 3);
+  for (Eigen::Index v = 0; v < nv; ++v) {
+    out.vertices.row(nv + v) = scale * mesh.vertices.row(v) + offset.transpose();
+    out.normals.row(nv + v) = mesh.normals.row(v);
+  }
+  out.triangles.bottomRows(nt) = mesh.triangles.array() + static_cast<std::int32_t>(nv);
+  return out;
+}
+
+/// The sphere's samples plus `extra` points on a sphere of radius `radius` around `center`.
+Points sphere_points_and(int extra, double radius, const Eigen::Vector3d& center) {
+  const PointCloud c = test::sample_sphere(20000);
+  const PointCloud e = test::sample_sphere(extra, radius, center);
+  Points p(c.size() + e.size(), 3);
+  p << c.positions, e.positions;
+  return p;
+}
+
+}  // namespace
+
+TEST(MeshTrim, DropsAFragmentTheDataDoesNotSupport) {
+  const TriangleMesh sphere = sphere_mesh();
+  const Eigen::Vector3d far(3, 0, 0);
+  const TriangleMesh two = with_fragment(sphere, 0.1, far);
+  ASSERT_EQ(mesh_topology(two).components, 2u);
+  // Debris: a few stray points near the small shell, fewer than any proxy rests on.
+  TrimReport report;
+  const TriangleMesh cleaned = trim_to_points(two, sphere_points_and(12, 0.1, far), {}, &report);
+  EXPECT_EQ(report.removed_components, 1u);
+  EXPECT_EQ(mesh_topology(cleaned).components, 1u);
+  EXPECT_EQ(cleaned.triangles, sphere.triangles);
+  EXPECT_EQ(cleaned.vertices, sphere.vertices);
+  // A small real part, sampled as densely as the rest, stays.
+  const TriangleMesh kept = trim_to_points(two, sphere_points_and(200, 0.1, far), {}, &report);
+  EXPECT_EQ(report.removed_components, 0u);
+  EXPECT_EQ(kept.triangles.rows(), two.triangles.rows());
+  // 0 keeps every fragment.
+  TrimOptions all;
+  all.min_component_points = 0;
+  EXPECT_EQ(trim_to_points(two, sphere_points_and(12, 0.1, far), all).triangles.rows(), two.triangles.rows());
+}
+
+TEST(MeshTrim, TheBestSupportedComponentAlwaysStays) {
+  // Fewer input points than a fragment needs: the component they lie on is still the surface.
+  const TriangleMesh sphere = sphere_mesh();
+  const TriangleMesh two = with_fragment(sphere, 0.1, Eigen::Vector3d(3, 0, 0));
+  const PointCloud few = test::sample_sphere(20);
+  TrimOptions no_spread;
+  no_spread.spread_factor = 0;
+  TrimReport report;
+  const TriangleMesh kept = trim_to_points(two, few.positions, no_spread, &report);
+  EXPECT_EQ(report.removed_components, 1u);
+  EXPECT_EQ(kept.triangles, sphere.triangles);
+}

@@ -4,6 +4,8 @@
 
 #include "console.hpp"
 
+#include <clustersurf/mesh_trim.hpp>
+
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -25,7 +27,8 @@ struct MeshArgs {
   std::optional<double> lod_error;  // fraction of the bbox diagonal
   std::string color = "none";       // none | leaf | distance
   std::string points;               // input cloud for --trim and --color distance (mesh command)
-  double trim = 2.0;                // TrimOptions::spread_factor; 0: off
+  double trim = TrimOptions{}.spread_factor;  // 0: off
+  std::size_t min_component_points = TrimOptions{}.min_component_points;  // 0: keep every fragment
   bool ascii = false;
 };
 

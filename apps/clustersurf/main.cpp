@@ -50,7 +50,11 @@ void add_mesh_options(CLI::App& cmd, clustersurf::cli::MeshArgs& m) {
                  "(mean distance to its 8 neighbours), where the data stops; needs the points "
                  "(reconstruct: always; mesh: --points). 0 keeps every triangle")
       ->check(CLI::NonNegativeNumber)
-      ->default_val(2.0);
+      ->default_val(m.trim);
+  cmd.add_option("--min-component-points", m.min_component_points,
+                 "Drop loose fragments on which fewer than this many input points lie nearest (needs the points "
+                 "as --trim does). 0 keeps every fragment")
+      ->default_val(m.min_component_points);
   cmd.add_flag("--mesh-ascii", m.ascii, "Write the mesh as ascii PLY instead of binary");
 }
 

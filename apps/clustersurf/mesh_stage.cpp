@@ -58,9 +58,10 @@ nlohmann::json write_tree_mesh(Console& console, const ClusterTree& tree, const 
   console.end_progress();
   // Trimmed to the clustered points: an outlier next to an extrapolated flap must not keep it.
   TrimReport trimmed;
-  if (cloud != nullptr && args.trim > 0) {
+  if (cloud != nullptr) {
     TrimOptions trim;
     trim.spread_factor = args.trim;
+    trim.min_component_points = args.min_component_points;
     mesh = trim_to_points(mesh, clustered_points(tree, cloud->positions), trim, &trimmed);
   }
   if (args.color == "leaf") mesh.colors = colors_by_node(mesh, surface);
@@ -76,7 +77,8 @@ nlohmann::json write_tree_mesh(Console& console, const ClusterTree& tree, const 
                             topo.vertices, topo.triangles, surface.cut().size(), report.voxel_size, topo.boundary_edges,
                             topo.non_manifold_edges));
   if (trimmed.removed_triangles > 0)
-    console.print(fmt::format("trimmed         {} triangles beyond the data", trimmed.removed_triangles));
+    console.print(fmt::format("trimmed         {} triangles beyond the data or on {} unsupported fragments",
+                              trimmed.removed_triangles, trimmed.removed_components));
   console.print(fmt::format("mesh time       {:.3f} s", seconds));
   console.print("wrote           " + output);
   return {{"file", output},
@@ -90,6 +92,7 @@ nlohmann::json write_tree_mesh(Console& console, const ClusterTree& tree, const 
           {"surface_cells", report.surface_cells},
           {"evaluated_corners", report.evaluated_corners},
           {"trimmed_triangles", trimmed.removed_triangles},
+          {"removed_components", trimmed.removed_components},
           {"mesh_seconds", seconds}};
 }
 

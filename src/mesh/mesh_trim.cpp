@@ -1,4 +1,4 @@
-// Dropping the triangles that reach beyond the input points.
+// Dropping the triangles that reach beyond the input points, and the fragments they do not support.
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/kd_tree.hpp>
@@ -6,22 +6,29 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <vector>
 
 namespace clustersurf {
 
-TriangleMesh trim_to_points(const TriangleMesh& mesh, const Points& points, const TrimOptions& options, TrimReport* report) {
-  if (!(options.spread_factor >= 0) || !std::isfinite(options.spread_factor))
-    throw OptionError("mesh trim: the spread factor must be finite and >= 0 (0 keeps every triangle)");
-  if (options.neighbors < 1) throw OptionError("mesh trim: neighbors must be at least 1");
-  if (report != nullptr) *report = {};
-  if (options.spread_factor == 0 || points.rows() <= static_cast<Eigen::Index>(options.neighbors) || mesh.triangles.rows() == 0)
-    return mesh;
+namespace {
 
+/// Union-find root of vertex v (path halving).
+std::int32_t find_root(std::vector<std::int32_t>& parent, std::int32_t v) {
+  while (parent[static_cast<std::size_t>(v)] != v) {
+    parent[static_cast<std::size_t>(v)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
+    v = parent[static_cast<std::size_t>(v)];
+  }
+  return v;
+}
+
+/// Which vertices lie within reach of the data: no farther from their nearest input point than
+/// `spread_factor` times that point's spread.
+std::vector<std::uint8_t> vertices_near_data(const TriangleMesh& mesh, const KdTree& index, const TrimOptions& options) {
   // The nearest input point of every vertex, then the spread of each such point (once per
-  // point: many vertices share one), then which vertices are within reach of the data.
-  const KdTree index(points);
+  // point: many vertices share one).
   const Eigen::Index nv = mesh.vertices.rows();
   std::vector<Neighbor> nearest(static_cast<std::size_t>(nv));
   tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, nv, 512), [&](const auto& r) {
@@ -31,7 +38,7 @@ TriangleMesh trim_to_points(const TriangleMesh& mesh, const Points& points, cons
       nearest[static_cast<std::size_t>(v)] = nb[0];
     }
   });
-  std::vector<double> spread(static_cast<std::size_t>(points.rows()), -1);
+  std::vector<double> spread(index.size(), -1);
   std::vector<std::uint32_t> used;
   for (const auto& n : nearest)
     if (spread[n.index] < 0) spread[n.index] = 0, used.push_back(n.index);
@@ -47,14 +54,85 @@ TriangleMesh trim_to_points(const TriangleMesh& mesh, const Points& points, cons
   std::vector<std::uint8_t> near(static_cast<std::size_t>(nv));
   for (std::size_t v = 0; v < near.size(); ++v)
     near[v] = std::sqrt(nearest[v].distance_squared) <= options.spread_factor * spread[nearest[v].index];
+  return near;
+}
 
-  // Keep the triangles whose three vertices are near, then the vertices they use.
-  std::vector<Eigen::Index> kept_triangles;
+/// Clears keep[t] for the triangles of every component (triangles sharing a vertex) on which
+/// fewer than `min_points` input points have their nearest vertex; the best-supported
+/// component always stays. Returns how many components went.
+std::size_t drop_unsupported_components(const TriangleMesh& mesh, const Points& points, std::size_t min_points,
+                                        std::vector<std::uint8_t>& keep) {
+  const auto nv = static_cast<std::size_t>(mesh.vertices.rows());
+  std::vector<std::int32_t> parent(nv);
+  std::iota(parent.begin(), parent.end(), 0);
+  std::vector<std::uint8_t> used(nv, 0);
   for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
-    const auto tri = mesh.triangles.row(t);
-    if (near[static_cast<std::size_t>(tri(0))] && near[static_cast<std::size_t>(tri(1))] && near[static_cast<std::size_t>(tri(2))])
-      kept_triangles.push_back(t);
+    if (!keep[static_cast<std::size_t>(t)]) continue;
+    const std::int32_t r0 = find_root(parent, mesh.triangles(t, 0));
+    for (int k = 0; k < 3; ++k) {
+      used[static_cast<std::size_t>(mesh.triangles(t, k))] = 1;
+      const std::int32_t r = find_root(parent, mesh.triangles(t, k));
+      if (r != r0) parent[static_cast<std::size_t>(r)] = r0;
+    }
   }
+  std::vector<Eigen::Index> rows;
+  for (std::size_t v = 0; v < nv; ++v)
+    if (used[v]) rows.push_back(static_cast<Eigen::Index>(v));
+  if (rows.empty()) return 0;
+
+  // Each input point votes for the component of its nearest vertex.
+  const Points vertices = mesh.vertices(rows, Eigen::all);
+  const KdTree index(vertices);
+  std::vector<std::uint32_t> voted(static_cast<std::size_t>(points.rows()));
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, points.rows(), 1024), [&](const auto& r) {
+    std::vector<Neighbor> nb;
+    for (Eigen::Index i = r.begin(); i != r.end(); ++i) {
+      index.knn(points.row(i).transpose(), 1, nb);
+      voted[static_cast<std::size_t>(i)] = nb[0].index;
+    }
+  });
+  std::vector<std::size_t> votes(nv, 0);
+  for (const auto row : voted) ++votes[static_cast<std::size_t>(find_root(parent, static_cast<std::int32_t>(rows[row])))];
+  std::size_t best = 0;
+  for (const auto v : rows)
+    if (find_root(parent, static_cast<std::int32_t>(v)) == v) best = std::max(best, votes[static_cast<std::size_t>(v)]);
+  const std::size_t needed = std::min(min_points, best);
+  std::size_t dropped = 0;
+  for (const auto v : rows)
+    if (find_root(parent, static_cast<std::int32_t>(v)) == v && votes[static_cast<std::size_t>(v)] < needed) ++dropped;
+  if (dropped == 0) return 0;
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
+    if (keep[static_cast<std::size_t>(t)] && votes[static_cast<std::size_t>(find_root(parent, mesh.triangles(t, 0)))] < needed)
+      keep[static_cast<std::size_t>(t)] = 0;
+  return dropped;
+}
+
+}  // namespace
+
+TriangleMesh trim_to_points(const TriangleMesh& mesh, const Points& points, const TrimOptions& options, TrimReport* report) {
+  if (!(options.spread_factor >= 0) || !std::isfinite(options.spread_factor))
+    throw OptionError("mesh trim: the spread factor must be finite and >= 0 (0 keeps every triangle)");
+  if (options.neighbors < 1) throw OptionError("mesh trim: neighbors must be at least 1");
+  if (report != nullptr) *report = {};
+  const Eigen::Index nv = mesh.vertices.rows();
+  std::vector<std::uint8_t> keep(static_cast<std::size_t>(mesh.triangles.rows()), 1);
+  if (options.spread_factor > 0 && points.rows() > static_cast<Eigen::Index>(options.neighbors) && !keep.empty()) {
+    const std::vector<std::uint8_t> near = vertices_near_data(mesh, KdTree(points), options);
+    for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+      const auto tri = mesh.triangles.row(t);
+      keep[static_cast<std::size_t>(t)] = near[static_cast<std::size_t>(tri(0))] && near[static_cast<std::size_t>(tri(1))] &&
+                                          near[static_cast<std::size_t>(tri(2))];
+    }
+  }
+  std::size_t dropped_components = 0;
+  if (options.min_component_points > 0 && points.rows() > 0 && !keep.empty())
+    dropped_components = drop_unsupported_components(mesh, points, options.min_component_points, keep);
+  if (std::find(keep.begin(), keep.end(), 0) == keep.end()) return mesh;
+
+  // The kept triangles, then the vertices they use.
+  std::vector<Eigen::Index> kept_triangles;
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
+    if (keep[static_cast<std::size_t>(t)]) kept_triangles.push_back(t);
   std::vector<std::int32_t> remap(static_cast<std::size_t>(nv), -1);
   for (auto t : kept_triangles)
     for (int k = 0; k < 3; ++k) remap[static_cast<std::size_t>(mesh.triangles(t, k))] = 0;
@@ -76,6 +154,7 @@ TriangleMesh trim_to_points(const TriangleMesh& mesh, const Points& points, cons
   if (report != nullptr) {
     report->removed_triangles = static_cast<std::size_t>(mesh.triangles.rows()) - kept_triangles.size();
     report->removed_vertices = static_cast<std::size_t>(nv) - kept_vertices.size();
+    report->removed_components = dropped_components;
   }
   return out;
 }
