@@ -61,6 +61,7 @@ BuildOptions build_options(const ReconstructArgs& a) {
   o.seed = a.seed;
   o.keep_point_leaves = !a.no_point_leaves;
   o.remove_outliers = !a.keep_outliers;
+  o.use_normals = !a.ignore_normals;
   return o;
 }
 

@@ -307,6 +307,7 @@ void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class) {
         }
         auto tree = std::make_shared<ClusterTree>(run_released(progress, [&](ProgressCallback callback) {
           o.progress = std::move(callback);
+          o.use_normals = !ignore_normals;
           ClusterTree t = build_cluster_tree(cloud, o);
           o.progress = {};
           if (ignore_normals) cloud.normals.resize(0, 3);

@@ -52,6 +52,9 @@ constexpr double kMaxSupportGrowth = 4;
 /// points: the RMS² of pure noise varies by a relative √(2/n), so a cluster or a support is not
 /// split or shrunk for noise alone (about 2 standard deviations of margin).
 constexpr double kNoiseMargin = 2;
+/// A would-be leaf on two sheets facing apart is split into them while each keeps this many
+/// points: enough for any proxy's fit (a quadric's 10 coefficients).
+constexpr std::size_t kMinSheetPoints = 3;
 
 /// The error a test over n points allows: the tolerance plus the noise with its margin.
 double allowed_error(double tolerance, double noise, double n) {
@@ -104,9 +107,11 @@ class Builder {
  public:
   /// `tolerance`: the error a leaf may keep beyond the noise; `noise`: the noise level the
   /// leaves may keep (0 when the threshold ignores noise). Both in the input's units.
-  Builder(const Points& input, WorkingSet& work, const detail::SupportSampler* index, const BuildOptions& options,
-          double tolerance, double noise, detail::ProgressReporter& progress)
+  /// `normals`: the input normals in the order of `input` (or null: none, or not to be used).
+  Builder(const Points& input, const Points* normals, WorkingSet& work, const detail::SupportSampler* index,
+          const BuildOptions& options, double tolerance, double noise, detail::ProgressReporter& progress)
       : input_(input),
+        normals_(normals),
         work_(work),
         points_(work.positions),
         index_(index),
@@ -151,6 +156,10 @@ class Builder {
       // 2 × min_points only stray points across a wide gap are cut off).
       k = detail::split_at_gap(points_, range, frame, options_.min_points);
     }
+    // A would-be leaf on two sheets facing apart (both sides of a thin part, the faces of a
+    // deep fold) becomes one leaf per sheet, below min_points if need be.
+    if ((k == 0 || k >= range.size()) && normals_ != nullptr && depth < options_.max_depth)
+      k = detail::split_two_sheets(*normals_, work_.ids, range, kMinSheetPoints);
     if (k == 0 || k >= range.size()) {
       // A leaf that cannot be split (too few points, or no split helps) but whose proxy is off
       // over its support — typically a cluster of two small patches far apart — keeps only the
@@ -242,12 +251,15 @@ class Builder {
     const double r2 = node.support.radius * node.support.radius;
     const double threshold = allowed(tolerance_, static_cast<double>(range.size()));
     const double reach = kSupportFitReach * std::max(threshold, node.rms_error);
+    // With input normals, the points facing away from the cluster's own are another sheet.
+    const Eigen::Vector3d facing = normals_ != nullptr ? detail::mean_normal(*normals_, work_.ids, range) : Eigen::Vector3d::Zero();
     thread_local std::vector<std::uint32_t> ids;
     thread_local std::vector<double> weights;
     ids.clear();
     weights.clear();
     for (const auto& nb : inside) {
       if (!(std::abs(node.proxy.value(input_.row(nb.index).transpose())) <= reach)) continue;
+      if (normals_ != nullptr && normals_->row(nb.index).dot(facing) < 0) continue;
       ids.push_back(nb.index);
       weights.push_back(blend_weight(nb.distance_squared / r2));
     }
@@ -316,6 +328,7 @@ class Builder {
   }
 
   const Points& input_;   // the clustered points in input order (indexed by the k-d tree)
+  const Points* normals_; // their input normals, or null
   WorkingSet& work_;      // the input in cluster order; subtrees touch disjoint rows
   const Points& points_;  // work_.positions
   const detail::SupportSampler* index_;
@@ -422,6 +435,9 @@ ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& opti
   Points kept_positions;
   std::vector<std::uint32_t> ids;  // input index of each clustered point
   const Points* points = &cloud.positions;
+  const bool use_normals = options.use_normals && cloud.normals.rows() == cloud.positions.rows() && cloud.size() > 0;
+  Points kept_normals;
+  const Points* normals = use_normals ? &cloud.normals : nullptr;
   if (options.remove_outliers) {
     if (options.progress && !options.progress("finding outliers", 0.0)) throw Cancelled();
     KdTree all(cloud.positions);
@@ -429,6 +445,10 @@ ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& opti
     if (!found.outliers.empty() && !found.kept.empty()) {
       kept_positions = cloud.positions(found.kept, Eigen::all);
       points = &kept_positions;
+      if (use_normals) {
+        kept_normals = cloud.normals(found.kept, Eigen::all);
+        normals = &kept_normals;
+      }
       ids.assign(found.kept.begin(), found.kept.end());
     } else if (need_index) {
       index.emplace(std::move(all));
@@ -458,7 +478,7 @@ ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& opti
   std::iota(work.local.begin(), work.local.end(), 0u);
   detail::ProgressReporter progress(options.progress, "building tree", n);
   BuildNode root;
-  Builder(*points, work, sampler ? &*sampler : nullptr, options, tolerance, noise, progress)
+  Builder(*points, normals, work, sampler ? &*sampler : nullptr, options, tolerance, noise, progress)
       .build(root, work.local, 0, options.seed);
   progress.finish();
   const std::vector<std::uint32_t>& perm = work.ids;
