@@ -56,9 +56,8 @@ struct BuildOptions {
   /// cluster, the noise estimate and the support checks; their point_leaf is -1.
   bool remove_outliers = true;
   /// Where the input has normals: a would-be leaf whose normals fall into two groups facing
-  /// apart (both sides of a thin part, the faces of a deep fold) is split into the two sheets,
-  /// and a support fit leaves out the points facing away from its cluster's normals. Off, or
-  /// without normals, the tree depends on the positions alone.
+  /// apart (both sides of a thin part, the faces of a deep fold) is split into its two sheets,
+  /// each of at least 3 points. Off, or without normals, the tree depends on the positions alone.
   bool use_normals = true;
   OutlierOptions outliers;                       ///< the outlier test
   bool keep_point_leaves = true;                 ///< store the leaf of every input point

@@ -11,14 +11,16 @@ namespace clustersurf::detail {
 namespace {
 /// Rounds of 2-means on the normals: the groups of two sheets settle in one or two.
 constexpr int kNormalRounds = 4;
-}  // namespace
 
+/// The unit mean of the normals of a range's rows, or zero when they cancel.
 Eigen::Vector3d mean_normal(const Points& normals, std::span<const std::uint32_t> ids, std::span<const std::uint32_t> range) {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (auto row : range) sum += normals.row(ids[row]).transpose();
   const double norm = sum.norm();
   return norm > 0 ? Eigen::Vector3d(sum / norm) : Eigen::Vector3d::Zero();
 }
+
+}  // namespace
 
 std::size_t split_two_sheets(const Points& normals, std::span<const std::uint32_t> ids, std::span<std::uint32_t> range,
                              std::size_t min_side) {

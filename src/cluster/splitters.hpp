@@ -43,10 +43,6 @@ std::size_t lloyd_split(const Points& points, std::span<std::uint32_t> range, co
 std::size_t split_at_gap(const Points& points, std::span<std::uint32_t> range, const Frame& frame,
                          std::uint32_t min_points);
 
-/// The unit mean of the input normals of a range's rows (normals.row(ids[row])), or zero when
-/// they cancel.
-Eigen::Vector3d mean_normal(const Points& normals, std::span<const std::uint32_t> ids, std::span<const std::uint32_t> range);
-
 /// Splits a cluster whose points lie on two sheets facing apart (normals.row(ids[row]) falls
 /// into two groups by 2-means whose means are more than 90 degrees apart: both sides of a thin
 /// part, the faces of a deep fold): the rows of each group become one child, each with at least

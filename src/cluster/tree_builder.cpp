@@ -6,6 +6,7 @@
 #include <clustersurf/noise.hpp>
 
 #include "core/splitmix.hpp"
+#include "cluster/residual_structure.hpp"
 #include "cluster/splitters.hpp"
 #include "cluster/support_sampler.hpp"
 #include "core/progress_reporter.hpp"
@@ -53,7 +54,8 @@ constexpr double kMaxSupportGrowth = 4;
 /// split or shrunk for noise alone (about 2 standard deviations of margin).
 constexpr double kNoiseMargin = 2;
 /// A would-be leaf on two sheets facing apart is split into them while each keeps this many
-/// points: enough for any proxy's fit (a quadric's 10 coefficients).
+/// points (a plane's worth): a sheet's few points are real surface, and a leaf's proxy rests
+/// on its support fit (at least kMinSupportPoints) rather than on its own points alone.
 constexpr std::size_t kMinSheetPoints = 3;
 
 /// The error a test over n points allows: the tolerance plus the noise with its margin.
@@ -148,7 +150,10 @@ class Builder {
     };
     std::optional<SupportError> support;  // the support check's error, once computed
     std::size_t k = 0;
-    if (can_split && (e > threshold || (index_ != nullptr && support_fails(*(support = check_support(node, range)), tolerance_)))) {
+    // A cluster is split when its error exceeds the threshold, when its residuals show structure
+    // that noise does not leave, or when its proxy fails over its support.
+    if (can_split && (e > threshold || detail::residual_correlation(points_, range, frame, node.proxy) > structure_limit(range.size()) ||
+                      (index_ != nullptr && support_fails(*(support = check_support(node, range)), tolerance_)))) {
       k = options_.splitter == SplitterKind::SplitPlane ? detail::split_plane(points_, range, frame, options_, noise_)
                                                         : detail::lloyd_split(points_, range, options_, detail::splitmix64(path_seed));
     } else if (range.size() >= 2) {
@@ -210,6 +215,14 @@ class Builder {
 
   double allowed(double tolerance, double n) const { return allowed_error(tolerance, noise_, n); }
 
+  /// The residual correlation a cluster of n points may show before its misfit counts as
+  /// systematic (relief the proxy does not follow, even below the noise the threshold allows):
+  /// kNoiseMargin times the spread that independent noise leaves, at most √(2/n). Without noise
+  /// in the threshold, the error alone decides.
+  double structure_limit(std::size_t n) const {
+    return noise_ > 0 ? kNoiseMargin * std::sqrt(2 / static_cast<double>(n)) : std::numeric_limits<double>::infinity();
+  }
+
   /// The weighted RMS of |Q| over a support and the effective number of points behind it,
   /// (Σw)² / Σw².
   struct SupportError {
@@ -251,15 +264,12 @@ class Builder {
     const double r2 = node.support.radius * node.support.radius;
     const double threshold = allowed(tolerance_, static_cast<double>(range.size()));
     const double reach = kSupportFitReach * std::max(threshold, node.rms_error);
-    // With input normals, the points facing away from the cluster's own are another sheet.
-    const Eigen::Vector3d facing = normals_ != nullptr ? detail::mean_normal(*normals_, work_.ids, range) : Eigen::Vector3d::Zero();
     thread_local std::vector<std::uint32_t> ids;
     thread_local std::vector<double> weights;
     ids.clear();
     weights.clear();
     for (const auto& nb : inside) {
       if (!(std::abs(node.proxy.value(input_.row(nb.index).transpose())) <= reach)) continue;
-      if (normals_ != nullptr && normals_->row(nb.index).dot(facing) < 0) continue;
       ids.push_back(nb.index);
       weights.push_back(blend_weight(nb.distance_squared / r2));
     }
