@@ -21,7 +21,9 @@ struct InputArgs {
 
 /// Options of the mesh stage, shared by `mesh` and `reconstruct --mesh`.
 struct MeshArgs {
-  std::string resolution = "256";   // cells along the longest side, or "auto" (from the points)
+  /// Cells along the longest side, "auto" (from the points), or empty: auto when the points are
+  /// at hand, else MeshOptions::resolution.
+  std::string resolution;
   std::optional<double> voxel_size;
   std::optional<std::uint32_t> lod_depth;
   std::optional<double> lod_error;  // fraction of the bbox diagonal

@@ -5,6 +5,7 @@
 #include "interrupt.hpp"
 
 #include <clustersurf/errors.hpp>
+#include <clustersurf/mesh_extraction.hpp>
 #include <clustersurf/version.hpp>
 
 #include <CLI/CLI.hpp>
@@ -35,9 +36,9 @@ void add_input(CLI::App& cmd, clustersurf::cli::InputArgs& in) {
 void add_mesh_options(CLI::App& cmd, clustersurf::cli::MeshArgs& m) {
   cmd.add_option("--resolution", m.resolution,
                  "Mesh grid cells along the longest bbox side, or \"auto\": cells two median point spacings of the "
-                 "input wide (needs the points)")
-      ->check(CLI::Range(2, 100000) | CLI::IsMember({"auto"}))
-      ->default_val("256");
+                 "input wide (needs the points). Default: auto where the points are at hand (reconstruct; mesh "
+                 "with --points), else " + std::to_string(clustersurf::MeshOptions{}.resolution))
+      ->check(CLI::Range(2, 100000) | CLI::IsMember({"auto"}));
   cmd.add_option("--voxel-size", m.voxel_size, "Mesh grid cell size (overrides --resolution)")->check(CLI::PositiveNumber);
   cmd.add_option("--lod-depth", m.lod_depth, "Blend the tree cut at this depth instead of the leaves");
   cmd.add_option("--lod-error", m.lod_error, "Blend the shallowest nodes with error <= this fraction of the diagonal")

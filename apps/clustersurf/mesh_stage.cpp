@@ -44,12 +44,14 @@ nlohmann::json write_tree_mesh(Console& console, const ClusterTree& tree, const 
   const ImplicitSurface surface(tree, lod);
   MeshOptions options;
   options.voxel_size = args.voxel_size;
-  if (args.resolution == "auto") {
+  // The default: cells matched to the points where they are at hand, else MeshOptions' count.
+  const bool automatic = args.resolution == "auto" || (args.resolution.empty() && cloud != nullptr);
+  if (automatic) {
     if (!options.voxel_size) {  // --voxel-size overrides --resolution, auto included
       if (cloud == nullptr) throw OptionError("--resolution auto needs the input points (--points FILE)");
       options.voxel_size = cell_size_for_points(*cloud);
     }
-  } else {
+  } else if (!args.resolution.empty()) {
     options.resolution = parse_resolution(args.resolution);
   }
   options.progress = console.progress();

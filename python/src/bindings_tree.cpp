@@ -431,12 +431,12 @@ coarser cut of the tree, as in mesh(). Runs in parallel without the GIL.)doc")
           "The exact gradient of f at each row of xyz: an (n, 3) array, NaN rows where f is undefined (see evaluate).")
       .def(
           "mesh",
-          [](const TreeRef& t, const std::variant<std::int64_t, std::string>& resolution, std::optional<double> voxel_size,
+          [](const TreeRef& t, const std::optional<std::variant<std::int64_t, std::string>>& resolution, std::optional<double> voxel_size,
              std::optional<std::int64_t> lod_depth, std::optional<double> lod_error, const py::object& points, double trim,
              std::size_t min_component_points, const py::object& progress) {
-            const auto* cells = std::get_if<std::int64_t>(&resolution);
-            if (cells == nullptr && std::get<std::string>(resolution) != "auto")
-              throw OptionError("resolution must be a number of cells or \"auto\", not \"" + std::get<std::string>(resolution) + "\"");
+            const auto* cells = resolution ? std::get_if<std::int64_t>(&*resolution) : nullptr;
+            if (resolution && cells == nullptr && std::get<std::string>(*resolution) != "auto")
+              throw OptionError("resolution must be a number of cells or \"auto\", not \"" + std::get<std::string>(*resolution) + "\"");
             if (cells != nullptr && (*cells < 2 || *cells > 100000)) throw OptionError("resolution must be in [2, 100000]");
             std::optional<PointCloud> input;
             if (!points.is_none()) {
@@ -445,7 +445,9 @@ coarser cut of the tree, as in mesh(). Runs in parallel without the GIL.)doc")
                   to_points(py::hasattr(points, "positions") ? py::object(points.attr("positions")) : points, "points");
             }
             if (voxel_size && !(*voxel_size > 0)) throw OptionError("voxel_size must be positive");
-            if (cells == nullptr && !voxel_size) {
+            // The default: auto where the points are given, else MeshOptions' cell count.
+            const bool automatic = resolution ? cells == nullptr : input.has_value();
+            if (automatic && !voxel_size) {
               if (!input) throw OptionError("resolution=\"auto\" needs the input points (points=...)");
               voxel_size = cell_size_for_points(*input);
             }
@@ -466,13 +468,13 @@ coarser cut of the tree, as in mesh(). Runs in parallel without the GIL.)doc")
             return py::make_tuple(to_array(std::move(mesh.vertices)), to_array(std::move(mesh.triangles)),
                                   to_array(std::move(mesh.normals)));
           },
-          py::kw_only(), py::arg("resolution") = 256, py::arg("voxel_size") = py::none(), py::arg("lod_depth") = py::none(),
+          py::kw_only(), py::arg("resolution") = py::none(), py::arg("voxel_size") = py::none(), py::arg("lod_depth") = py::none(),
           py::arg("lod_error") = py::none(), py::arg("points") = py::none(), py::arg("trim") = TrimOptions{}.spread_factor,
           py::arg("min_component_points") = TrimOptions{}.min_component_points, py::arg("progress") = py::none(), R"doc(
 Meshes the surface f = 0, as ``clustersurf mesh`` does (same options, same mesh).
 
 ``resolution``: grid cells along the longest bbox side, or ``"auto"``: cells two median point
-spacings of ``points`` wide; ``voxel_size`` (input units) overrides it; ``lod_depth``: blend
+spacings of ``points`` wide (the default when ``points`` are given, else 256 cells); ``voxel_size`` (input units) overrides it; ``lod_depth``: blend
 the cut at this depth instead of the leaves; ``lod_error``: blend the
 shallowest nodes whose error is at most this fraction of the diagonal; ``points``: the tree's
 input ((n, 3) array or PointCloud), to drop the triangles farther from it than ``trim`` × the

@@ -291,6 +291,14 @@ expect_contains "mesh --resolution auto without --points: the message asks for t
 check "mesh --resolution auto without --points writes nothing" test ! -e "$tmp/m4.ply"
 run -q mesh "$tmp/b.cstree" -o "$tmp/m5.ply" --resolution auto --voxel-size "$voxel"
 expect_rc "mesh --resolution auto with --voxel-size needs no points (the voxel size wins)" 0
+# The default: auto where the points are at hand, the fixed cell count where they are not.
+run -q mesh "$tmp/b.cstree" -o "$tmp/m6.ply" --points "$bunny"
+check "mesh --points by default meshes as --resolution auto" cmp -s "$tmp/m3.ply" "$tmp/m6.ply"
+run -q reconstruct "$bunny" --mesh "$tmp/m7.ply" --resolution auto
+check "reconstruct --mesh by default meshes as --resolution auto" cmp -s "$tmp/m.ply" "$tmp/m7.ply"
+run --json mesh "$tmp/b.cstree" -o "$tmp/m8.ply"
+expect_rc "mesh without --points meshes at the fixed cell count" 0
+if [ "$(json_field voxel_size)" != "$voxel" ]; then ok "mesh without --points: a voxel of its own"; else not_ok "mesh without --points voxel" "$out"; fi
 run mesh "$tmp/b.cstree" -o "$tmp/m4.ply" --resolution fine
 expect_rc "mesh --resolution fine: exit code 2" 2
 head -c 100 "$tmp/b.cstree" >"$tmp/trunc.cstree"
