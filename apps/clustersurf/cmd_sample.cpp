@@ -2,6 +2,7 @@
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/range_scan.hpp>
 #include <clustersurf/surface_sampling.hpp>
 
 #include <fmt/format.h>
@@ -16,12 +17,25 @@ int run_sample(Console& console, const SampleArgs& args) {
   read.warn = [&console](const std::string& message) { console.warn(message); };
   const TriangleMesh mesh = read_triangle_mesh(args.mesh, read);
   if (mesh.triangles.rows() == 0) throw InputError(args.mesh, {}, "the file has no triangles to sample");
-  SurfaceSamplingOptions options;
-  options.count = args.count;
-  options.noise = args.noise;
-  options.outliers = args.outliers;
-  options.seed = args.seed;
-  PointCloud cloud = sample_surface(mesh, options);
+  PointCloud cloud;
+  if (args.scanner > 0) {
+    if (args.outliers > 0) throw OptionError("--outliers is for area-uniform samples, not --scanner");
+    RangeScanOptions options;
+    options.scans = args.scanner;
+    options.count = args.count;
+    options.noise = args.noise;
+    options.registration = args.registration;
+    options.distance = args.scanner_distance;
+    options.seed = args.seed;
+    cloud = scan_surface(mesh, options);
+  } else {
+    SurfaceSamplingOptions options;
+    options.count = args.count;
+    options.noise = args.noise;
+    options.outliers = args.outliers;
+    options.seed = args.seed;
+    cloud = sample_surface(mesh, options);
+  }
   if (args.no_normals) cloud.normals.resize(0, 3);
   PlyWriteOptions ply;
   ply.binary = !args.ascii;
@@ -29,11 +43,14 @@ int run_sample(Console& console, const SampleArgs& args) {
   if (console.options().json) {
     std::cout << nlohmann::json{{"mesh", args.mesh},       {"output", args.output}, {"points", cloud.size()},
                                 {"noise", args.noise},     {"outliers", args.outliers},
-                                {"seed", args.seed}}
+                                {"seed", args.seed},       {"scanner", args.scanner},
+                                {"registration", args.registration}}
                      .dump(2)
               << "\n";
   } else {
-    console.print(fmt::format("wrote {} points sampled from {} to {}", cloud.size(), args.mesh, args.output));
+    console.print(fmt::format("wrote {} points {} {} to {}", cloud.size(),
+                              args.scanner > 0 ? fmt::format("scanned from {} viewpoints of", args.scanner) : "sampled from",
+                              args.mesh, args.output));
   }
   return 0;
 }

@@ -5,6 +5,7 @@
 #include "console.hpp"
 
 #include <clustersurf/mesh_trim.hpp>
+#include <clustersurf/range_scan.hpp>
 
 #include <cstdint>
 #include <optional>
@@ -96,6 +97,9 @@ struct SampleArgs {
   std::uint64_t seed = 1;
   bool ascii = false;
   bool no_normals = false;
+  std::size_t scanner = 0;  // 0: area-uniform samples; N: a virtual range scanner at N viewpoints
+  double registration = RangeScanOptions{}.registration;
+  double scanner_distance = RangeScanOptions{}.distance;
 };
 int run_sample(Console& console, const SampleArgs& args);
 

@@ -143,11 +143,13 @@ int main(int argc, char** argv) {
   add_mesh_options(*m, meshcmd.mesh);
 
   SampleArgs sample;
-  auto* sm = app.add_subcommand("sample", "Draw area-uniform random points (with normals) from a triangle mesh");
+  auto* sm = app.add_subcommand("sample", "Draw area-uniform random points (with normals) from a triangle mesh, or scan it "
+                                          "with a virtual range scanner (--scanner)");
   sm->add_option("mesh", sample.mesh, "Triangle mesh (.ply or .obj)")->required();
   sm->add_option("-o,--output", sample.output, "Point cloud to write (.ply, .xyz)")->required();
-  sm->add_option("-n,--n", sample.count, "Number of surface points")->check(CLI::PositiveNumber)->default_val(200000);
-  sm->add_option("--noise", sample.noise, "Gaussian noise sigma as a fraction of the bbox diagonal")
+  sm->add_option("-n,--n", sample.count, "Number of surface points (--scanner: about this many)")->check(CLI::PositiveNumber)->default_val(200000);
+  sm->add_option("--noise", sample.noise,
+                 "Gaussian noise sigma as a fraction of the bbox diagonal (--scanner: along the line of sight)")
       ->check(CLI::NonNegativeNumber)
       ->default_val(0);
   sm->add_option("--outliers", sample.outliers, "Uniform outliers in the bbox, as a fraction of N")
@@ -155,7 +157,18 @@ int main(int argc, char** argv) {
       ->default_val(0);
   sm->add_option("--seed", sample.seed, "Random seed")->default_val(1);
   sm->add_flag("--ascii", sample.ascii, "Write ascii PLY instead of binary");
-  sm->add_flag("--no-normals", sample.no_normals, "Do not write the triangle normals");
+  sm->add_flag("--no-normals", sample.no_normals, "Do not write the normals");
+  sm->add_option("--scanner", sample.scanner,
+                 "Scan from N viewpoints around the mesh instead: occlusion holes, grazing returns dropped, normals "
+                 "from each scan's grid towards its scanner")
+      ->check(CLI::PositiveNumber);
+  sm->add_option("--registration", sample.registration,
+                 "--scanner: each scan's rigid misregistration, sigma as a fraction of the bbox diagonal")
+      ->check(CLI::NonNegativeNumber)
+      ->default_val(sample.registration);
+  sm->add_option("--scanner-distance", sample.scanner_distance, "--scanner: distance to the bbox center, in diagonals")
+      ->check(CLI::PositiveNumber)
+      ->default_val(sample.scanner_distance);
 
   EvalArgs eval;
   auto* ev = app.add_subcommand("eval", "Accuracy of a reconstruction against a reference surface (mesh or cloud)");

@@ -1,50 +1,18 @@
 #include <clustersurf/errors.hpp>
 #include <clustersurf/surface_sampling.hpp>
 
+#include "core/portable_random.hpp"
+
 #include <Eigen/Geometry>
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
-#include <random>
 #include <vector>
 
 namespace clustersurf {
-namespace {
 
-/// Uniform doubles in [0, 1) and standard normals from the raw bits of a 64-bit Mersenne
-/// twister (whose output sequence the C++ standard fixes), so samples are portable.
-class Random {
- public:
-  explicit Random(std::uint64_t seed) : engine_(seed) {}
-  double uniform() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }
-  double normal() {
-    if (has_spare_) {
-      has_spare_ = false;
-      return spare_;
-    }
-    const double u = 1.0 - uniform();  // (0, 1]: log stays finite
-    const double v = uniform();
-    const double r = std::sqrt(-2.0 * std::log(u));
-    spare_ = r * std::sin(2 * std::numbers::pi * v);
-    has_spare_ = true;
-    return r * std::cos(2 * std::numbers::pi * v);
-  }
-  Eigen::Vector3d unit_vector() {
-    Eigen::Vector3d d;
-    do d = Eigen::Vector3d(normal(), normal(), normal());
-    while (d.squaredNorm() < 1e-12);
-    return d.normalized();
-  }
-
- private:
-  std::mt19937_64 engine_;
-  double spare_ = 0;
-  bool has_spare_ = false;
-};
-
-}  // namespace
+using detail::PortableRandom;
 
 PointCloud sample_surface(const TriangleMesh& mesh, const SurfaceSamplingOptions& options) {
   if (!(options.noise >= 0) || !std::isfinite(options.noise))
@@ -83,7 +51,7 @@ PointCloud sample_surface(const TriangleMesh& mesh, const SurfaceSamplingOptions
   PointCloud cloud;
   cloud.positions.resize(static_cast<Eigen::Index>(n), 3);
   cloud.normals.resize(static_cast<Eigen::Index>(n), 3);
-  Random random(options.seed);
+  PortableRandom random(options.seed);
   for (std::size_t i = 0; i < options.count; ++i) {
     const double target = random.uniform() * total;
     // First triangle whose cumulative area exceeds the target: never a zero-area one.

@@ -6,6 +6,7 @@
 #include <clustersurf/errors.hpp>
 #include <clustersurf/render.hpp>
 
+#include "core/embree_scene.hpp"
 #include "render/pixel_loop.hpp"
 
 #include <embree3/rtcore.h>
@@ -17,67 +18,12 @@ namespace clustersurf {
 
 namespace {
 
+using detail::EmbreeScene;
 using render::Color;
 using render::SampleResult;
 
 const Color kSurface(0.80, 0.77, 0.72);
 constexpr int kOcclusionRays = 8;
-
-/// An Embree device and scene holding one geometry; released on destruction.
-class EmbreeScene {
- public:
-  EmbreeScene() : device_(rtcNewDevice(nullptr)) {
-    if (device_ == nullptr) throw Error("Embree: cannot create a device");
-    scene_ = rtcNewScene(device_);
-  }
-  ~EmbreeScene() {
-    if (scene_ != nullptr) rtcReleaseScene(scene_);
-    rtcReleaseDevice(device_);
-  }
-  EmbreeScene(const EmbreeScene&) = delete;
-  EmbreeScene& operator=(const EmbreeScene&) = delete;
-
-  RTCDevice device() const { return device_; }
-  /// Attaches and commits `geometry` (taking it over), then commits the scene.
-  void commit(RTCGeometry geometry) {
-    rtcCommitGeometry(geometry);
-    rtcAttachGeometry(scene_, geometry);
-    rtcReleaseGeometry(geometry);
-    rtcCommitScene(scene_);
-    if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) throw Error("Embree: building the scene failed");
-  }
-
-  /// The nearest hit along the ray, if any: (t, unnormalized normal, primitive, u, v).
-  bool intersect(const Ray& ray, float t_max, RTCRayHit& rh) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    set_ray(ray, t_max, rh.ray);
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(scene_, &context, &rh);
-    return rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-  }
-  /// True when something lies along the ray before t_max.
-  bool occluded(const Ray& ray, float t_max) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTCRay r;
-    set_ray(ray, t_max, r);
-    rtcOccluded1(scene_, &context, &r);
-    return r.tfar < 0;
-  }
-
- private:
-  static void set_ray(const Ray& ray, float t_max, RTCRay& r) {
-    r.org_x = static_cast<float>(ray.origin.x()), r.org_y = static_cast<float>(ray.origin.y());
-    r.org_z = static_cast<float>(ray.origin.z());
-    r.dir_x = static_cast<float>(ray.direction.x()), r.dir_y = static_cast<float>(ray.direction.y());
-    r.dir_z = static_cast<float>(ray.direction.z());
-    r.tnear = 0, r.tfar = t_max, r.time = 0, r.mask = ~0u, r.id = 0, r.flags = 0;
-  }
-  RTCDevice device_;
-  RTCScene scene_ = nullptr;
-};
 
 /// Shading shared by meshes and clouds: the hit's color, optional occlusion.
 class Splatter {
@@ -126,17 +72,7 @@ Image render_mesh(const TriangleMesh& mesh, const RenderOptions& options, Render
   if (mesh.triangles.rows() == 0) throw OptionError("cannot render a mesh without triangles");
   const Camera camera = make_camera(framing_box(options, mesh.vertices), options.camera, options.width, options.height);
   EmbreeScene scene;
-  RTCGeometry geometry = rtcNewGeometry(scene.device(), RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                        3 * sizeof(float), static_cast<std::size_t>(mesh.vertices.rows())));
-  auto* f = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                           3 * sizeof(unsigned), static_cast<std::size_t>(mesh.triangles.rows())));
-  if (v == nullptr || f == nullptr) throw std::bad_alloc();
-  for (Eigen::Index i = 0; i < mesh.vertices.rows(); ++i)
-    for (int k = 0; k < 3; ++k) v[3 * i + k] = static_cast<float>(mesh.vertices(i, k));
-  for (Eigen::Index i = 0; i < mesh.triangles.rows(); ++i)
-    for (int k = 0; k < 3; ++k) f[3 * i + k] = static_cast<unsigned>(mesh.triangles(i, k));
-  scene.commit(geometry);
+  scene.commit_triangles(mesh);
   const bool smooth = mesh.normals.rows() == mesh.vertices.rows();
   const bool colored = mesh.colors.rows() == mesh.vertices.rows();
   const Splatter splatter(scene, options, camera, bounding_box(mesh.vertices).diagonal());

@@ -328,6 +328,21 @@ run sample "$tmp/sampled.ply" -o "$tmp/sampled4.ply"
 expect_rc "sample of a cloud without faces: exit code 3" 3
 expect_contains "sample of a cloud names the file" "$err" "$tmp/sampled.ply"
 check "failed sample leaves no output" test ! -e "$tmp/sampled4.ply"
+# The virtual range scanner: about N points over the scans, reproducible, then reconstructed.
+run --json sample "$bunny" -o "$tmp/scanned.ply" -n 20000 --scanner 6 --noise 0.0005 --registration 0.0002
+expect_rc "sample --scanner exits 0" 0
+scanned=$(count "$tmp/scanned.ply")
+if [ "$scanned" -gt 14000 ] && [ "$scanned" -lt 26000 ]; then ok "sample --scanner 6 -n 20000 writes about 20000 points ($scanned)"; else not_ok "sample --scanner count" "$scanned"; fi
+run -q sample "$bunny" -o "$tmp/scanned2.ply" -n 20000 --scanner 6 --noise 0.0005 --registration 0.0002
+check "sample --scanner with the same seed gives the same bytes" cmp -s "$tmp/scanned.ply" "$tmp/scanned2.ply"
+run sample "$bunny" -o "$tmp/scanned3.ply" --scanner 6 --outliers 0.01
+expect_rc "sample --scanner with --outliers is an option error" 2
+check "sample --scanner --outliers writes nothing" test ! -e "$tmp/scanned3.ply"
+run --json reconstruct "$tmp/scanned.ply" --mesh "$tmp/scanned-mesh.ply"
+expect_rc "reconstruct of a virtual scan exits 0" 0
+run --json eval "$tmp/scanned-mesh.ply" --reference "$bunny" --samples 20000
+chamfer=$(json_field chamfer)
+if awk -v c="$chamfer" 'BEGIN { exit !(c > 0 && c < 0.005) }'; then ok "virtual scan reconstructed within 0.5 % of the diagonal (Chamfer $chamfer)"; else not_ok "virtual scan reconstruction" "$out"; fi
 run --json eval "$bunny" --reference "$bunny" --samples 20000
 expect_rc "eval of a mesh against itself exits 0" 0
 chamfer=$(json_field chamfer)

@@ -1,0 +1,136 @@
+// The virtual range scanner: points on the surface, seen from outside, with the noise and the
+// misregistration asked for, the same on every run and for any thread count.
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/range_scan.hpp>
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+
+using namespace clustersurf;
+
+namespace {
+
+/// A UV sphere of radius 1 about the origin, outward-facing triangles.
+TriangleMesh uv_sphere(int rings = 96, int segments = 192) {
+  TriangleMesh m;
+  m.vertices.resize(2 + (rings - 1) * segments, 3);
+  m.vertices.row(0) << 0, 0, 1;
+  m.vertices.row(1) << 0, 0, -1;
+  for (int r = 1; r < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      const double theta = M_PI * r / rings, phi = 2 * M_PI * s / segments;
+      m.vertices.row(2 + (r - 1) * segments + s) << std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi),
+          std::cos(theta);
+    }
+  const auto at = [&](int r, int s) { return 2 + (r - 1) * segments + (s % segments); };
+  std::vector<Eigen::Vector3i> tris;
+  for (int s = 0; s < segments; ++s) {
+    tris.emplace_back(0, at(1, s), at(1, s + 1));
+    tris.emplace_back(1, at(rings - 1, s + 1), at(rings - 1, s));
+    for (int r = 1; r + 1 < rings; ++r) {
+      tris.emplace_back(at(r, s), at(r + 1, s), at(r + 1, s + 1));
+      tris.emplace_back(at(r, s), at(r + 1, s + 1), at(r, s + 1));
+    }
+  }
+  m.triangles.resize(static_cast<Eigen::Index>(tris.size()), 3);
+  for (std::size_t t = 0; t < tris.size(); ++t) m.triangles.row(static_cast<Eigen::Index>(t)) = tris[t].transpose();
+  return m;
+}
+
+/// RMS of |p| − 1 over the cloud.
+double radial_rms(const PointCloud& c) {
+  double sum = 0;
+  for (Eigen::Index i = 0; i < c.size(); ++i) sum += std::pow(c.positions.row(i).norm() - 1, 2);
+  return std::sqrt(sum / static_cast<double>(c.size()));
+}
+
+}  // namespace
+
+TEST(RangeScan, PointsOnTheSurfaceWithNormalsTowardsTheScanners) {
+  const TriangleMesh sphere = uv_sphere();
+  RangeScanOptions o;
+  o.scans = 6;
+  o.count = 30000;
+  const PointCloud c = scan_surface(sphere, o);
+  EXPECT_GT(c.size(), 20000);
+  EXPECT_LT(c.size(), 40000);
+  ASSERT_EQ(c.normals.rows(), c.size());
+  // The facets lie within 1 - cos(π/192) of the sphere; nothing comes from off the surface.
+  EXPECT_LT(radial_rms(c), 2e-4);
+  // A convex shape seen from outside: every normal points outward, and the grid normals
+  // follow the sphere closely. (No ray slips through the mesh between two triangles: rows of
+  // the grid run exactly along the sphere's seam.)
+  double worst = 1;
+  for (Eigen::Index i = 0; i < c.size(); ++i) worst = std::min(worst, c.normals.row(i).dot(c.positions.row(i).normalized()));
+  EXPECT_GT(worst, 0.9);
+}
+
+TEST(RangeScan, NoiseAlongTheLineOfSightAndMisregistration) {
+  const TriangleMesh sphere = uv_sphere();
+  const double diagonal = 2 * std::sqrt(3.0);
+  RangeScanOptions o;
+  o.scans = 6;
+  o.count = 30000;
+  o.noise = 0.001;
+  // Range noise σ along rays that meet the sphere at up to 80°: radial deviations between
+  // σ cos 80° and σ, most near σ (returns face the scanner).
+  const double noisy = radial_rms(scan_surface(sphere, o));
+  EXPECT_GT(noisy, 0.5 * o.noise * diagonal);
+  EXPECT_LT(noisy, 1.05 * o.noise * diagonal);
+  // Each scan moved rigidly: the scans no longer lie on one sphere.
+  o.noise = 0;
+  o.registration = 0.002;
+  const double moved = radial_rms(scan_surface(sphere, o));
+  EXPECT_GT(moved, 0.2 * o.registration * diagonal);
+  EXPECT_LT(moved, 3 * o.registration * diagonal);
+}
+
+TEST(RangeScan, OcclusionLeavesHolesWhereNoScannerSees) {
+  // Two spheres, one inside the other: the inner one is never seen.
+  TriangleMesh two = uv_sphere(32, 64);
+  const TriangleMesh inner = uv_sphere(32, 64);
+  const Eigen::Index nv = two.vertices.rows(), nt = two.triangles.rows();
+  two.vertices.conservativeResize(2 * nv, 3);
+  two.triangles.conservativeResize(2 * nt, 3);
+  two.vertices.bottomRows(nv) = 0.5 * inner.vertices;
+  two.triangles.bottomRows(nt) = inner.triangles.array() + static_cast<std::int32_t>(nv);
+  RangeScanOptions o;
+  o.count = 5000;
+  const PointCloud c = scan_surface(two, o);
+  EXPECT_GT(c.positions.rowwise().norm().minCoeff(), 0.9);
+}
+
+TEST(RangeScan, SamePointsForAnySeedRunAndThreadCount) {
+  const TriangleMesh sphere = uv_sphere(32, 64);
+  RangeScanOptions o;
+  o.count = 5000;
+  o.noise = 0.001;
+  o.registration = 0.001;
+  const PointCloud a = scan_surface(sphere, o);
+  PointCloud b;
+  {
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    b = scan_surface(sphere, o);
+  }
+  EXPECT_EQ(a.positions, b.positions);
+  EXPECT_EQ(a.normals, b.normals);
+  o.seed = 2;
+  EXPECT_NE(scan_surface(sphere, o).positions, a.positions);
+}
+
+TEST(RangeScan, RejectsBadOptions) {
+  const TriangleMesh sphere = uv_sphere(8, 16);
+  for (auto bad : std::initializer_list<void (*)(RangeScanOptions&)>{
+           [](RangeScanOptions& o) { o.scans = 0; }, [](RangeScanOptions& o) { o.count = 0; },
+           [](RangeScanOptions& o) { o.distance = 0.2; }, [](RangeScanOptions& o) { o.noise = -1; },
+           [](RangeScanOptions& o) { o.registration = std::nan(""); },
+           [](RangeScanOptions& o) { o.max_incidence_degrees = 0; }}) {
+    RangeScanOptions o;
+    bad(o);
+    EXPECT_THROW(scan_surface(sphere, o), OptionError);
+  }
+  EXPECT_THROW(scan_surface(TriangleMesh{}, {}), OptionError);
+}
