@@ -165,8 +165,8 @@ TEST(ClusterTree, AutoThresholdDoesNotShatterNoisyScans) {
   const ClusterTree shattered = build_cluster_tree(c, fixed);
   const ClusterTree calm = build_cluster_tree(c, aware);
   const TreeSummary a = summarize(shattered), b = summarize(calm);
-  EXPECT_LT(a.leaf_size_percentiles[2], 2.0 * fixed.min_points);
-  EXPECT_GT(b.leaf_size_percentiles[2], 3.0 * aware.min_points);
+  EXPECT_LT(a.leaf_size_percentiles[2], 2.0 * shattered.parameters.min_points);
+  EXPECT_GT(b.leaf_size_percentiles[2], 3.0 * calm.parameters.min_points);
   EXPECT_LT(b.leaves * 5, a.leaves);
   EXPECT_GT(calm.parameters.noise_sigma, 0);
 }
@@ -260,4 +260,20 @@ TEST(ClusterTree, RawScanDoesNotShatter) {
   // (median 30 points at the default tolerance).
   EXPECT_GE(s.leaf_size_percentiles[2], 1.5 * t.parameters.min_points);
   EXPECT_LT(static_cast<double>(s.leaves_over_threshold), 0.1 * static_cast<double>(s.leaves));
+}
+
+TEST(ClusterTree, LeafMinPointsFollowsTheNoiseAgainstTheTolerance) {
+  EXPECT_EQ(leaf_min_points(0, 1e-4), 15u);      // clean
+  EXPECT_EQ(leaf_min_points(1e-4, 1e-4), 15u);   // 6 σ²/τ² = 6, below the clean floor
+  EXPECT_EQ(leaf_min_points(1.8e-4, 1e-4), 20u); // 6 × 3.24 = 19.4
+  EXPECT_EQ(leaf_min_points(1.7e-4, 1e-4), 18u); // 6 × 2.89 = 17.3
+  EXPECT_EQ(leaf_min_points(1e-2, 1e-4), 20u);   // noisy: capped
+  EXPECT_EQ(leaf_min_points(1e-3, 0), 20u);
+  // The tree records the value it used.
+  PointCloud c = test::sample_sphere(5000);
+  EXPECT_EQ(build_cluster_tree(c, {}).parameters.min_points, leaf_min_points(build_cluster_tree(c, {}).parameters.noise_sigma,
+                                                                             0.00005 * 2 * std::sqrt(3.0)));
+  BuildOptions fixed;
+  fixed.min_points = 7;
+  EXPECT_EQ(build_cluster_tree(c, fixed).parameters.min_points, 7u);
 }

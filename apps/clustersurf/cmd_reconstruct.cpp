@@ -51,7 +51,18 @@ BuildOptions build_options(const ReconstructArgs& a) {
     if (used != a.max_error.size() || !(o.threshold >= 0))
       throw OptionError("--max-error must be \"auto\" or a non-negative fraction of the diagonal, not \"" + a.max_error + "\"");
   }
-  o.min_points = a.min_points;
+  if (a.min_points != "auto") {
+    std::size_t used = 0;
+    unsigned long value = 0;
+    try {
+      value = std::stoul(a.min_points, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != a.min_points.size() || value < 1 || value > (1u << 30))
+      throw OptionError("--min-points must be \"auto\" or a whole number from 1 to 2^30, not \"" + a.min_points + "\"");
+    o.min_points = static_cast<std::uint32_t>(value);
+  }
   o.max_depth = a.max_depth;
   o.alpha = a.alpha;
   o.kstep = a.kstep;

@@ -61,7 +61,7 @@ struct ReconstructArgs {
   std::string max_error = "auto";
   std::optional<double> absolute_error;
   std::string error_metric = "rms";
-  std::uint32_t min_points = 20;
+  std::string min_points = "auto";  // or a count; auto: leaf_min_points()
   std::uint32_t max_depth = 200;
   double alpha = 0.75;
   std::uint32_t kstep = 0;

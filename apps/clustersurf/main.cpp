@@ -110,7 +110,11 @@ int main(int argc, char** argv) {
   r->add_option("--error", rec.error_metric, "Error compared with the threshold: rms or max")
       ->check(CLI::IsMember({"rms", "max"}))
       ->default_val("rms");
-  r->add_option("--min-points", rec.min_points, "No cluster below this many points")->check(CLI::Range(1, 1 << 30))->default_val(20);
+  r->add_option("--min-points", rec.min_points,
+                 "No cluster below this many points, or \"auto\": from the estimated noise and the tolerance (15 for "
+                 "clean data up to 20 for noisy)")
+      ->check(CLI::Range(1, 1 << 30) | CLI::IsMember({"auto"}))
+      ->default_val(rec.min_points);
   r->add_option("--max-depth", rec.max_depth, "Maximum tree depth")->default_val(200);
   r->add_option("--alpha", rec.alpha, "Support radius = alpha x cluster bbox diagonal")->check(CLI::PositiveNumber)->default_val(0.75);
   r->add_option("--kstep", rec.kstep, "Split-plane sweep step (0: at most 64 candidates per split)")->default_val(0);

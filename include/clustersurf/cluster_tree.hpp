@@ -38,7 +38,9 @@ struct BuildOptions {
   /// (the noise with a margin for small clusters: cluster_error_threshold()).
   double threshold = 0.00005;
   double noise_factor = 1.0;                     ///< Auto: the noise counted is this × the estimate
-  std::uint32_t min_points = 20;                 ///< no child below this many points (but strays cut off across a gap)
+  /// No child below this many points (but strays cut off across a gap, and the sheets of a
+  /// would-be leaf on two sheets); 0: leaf_min_points() of the noise and the tolerance.
+  std::uint32_t min_points = 0;
   std::uint32_t max_depth = 200;                 ///< nodes at this depth are leaves (root: 0)
   double alpha = 0.75;                           ///< support radius = alpha × cluster bbox diagonal
   std::uint32_t kstep = 0;                       ///< split-plane sweep step; 0: ≤ 64 candidates
@@ -98,7 +100,7 @@ struct TreeParameters {
   ThresholdMode threshold_mode = ThresholdMode::Auto;
   double threshold = 0.00005;
   double noise_factor = 1.0;
-  std::uint32_t min_points = 20;
+  std::uint32_t min_points = 20;  ///< the value used (leaf_min_points() where the options said 0)
   std::uint32_t max_depth = 200;
   double alpha = 0.75;
   std::uint32_t kstep = 0;
@@ -133,6 +135,13 @@ struct ClusterTree {
 /// noise allowed a margin for the spread of an RMS over that many points (σ² (1 + 2 √(2/n))), so
 /// that noise alone does not split a cluster. Equals p.error_threshold without noise.
 double cluster_error_threshold(const TreeParameters& p, double points);
+
+/// The smallest cluster a leaf may have when BuildOptions::min_points is 0: enough points that
+/// the noise a bivariate quadratic's six coefficients pick up from them, σ √(6/n), stays within
+/// the tolerance τ (n ≥ 6 σ²/τ²), between 15 (clean data: fewer lets a single stray point bend
+/// a leaf) and 20 (noisy data: its support fit averages over more). Both in the input's units;
+/// noise 0 gives 15.
+std::uint32_t leaf_min_points(double noise, double tolerance);
 
 /// Builds the tree. Deterministic: the same cloud and options give the same tree for any
 /// thread count. Throws OptionError for invalid options, Cancelled when `progress` says stop.

@@ -262,7 +262,7 @@ void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class) {
   m.def(
       "reconstruct",
       [](const py::object& points, const py::object& normals, const std::string& proxy, const std::string& splitter,
-         const py::object& max_error, std::optional<double> absolute_error, const std::string& error, std::int64_t min_points,
+         const py::object& max_error, std::optional<double> absolute_error, const std::string& error, const py::object& min_points,
          std::int64_t max_depth, double alpha, std::int64_t kstep, std::int64_t lloyd_restarts, std::int64_t proxy_lloyd,
          double noise_factor, double support_factor, std::uint64_t seed, bool ignore_normals, bool no_point_leaves, bool keep_outliers, const py::object& progress) {
         BuildOptions o;
@@ -280,8 +280,11 @@ void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class) {
         } else {
           parse_max_error(max_error, noise_factor, o);
         }
-        o.min_points = to_uint32(min_points, "min_points");
-        if (o.min_points < 1) throw OptionError("min_points must be at least 1");
+        if (!py::isinstance<py::str>(min_points) || min_points.cast<std::string>() != "auto") {
+          if (!py::isinstance<py::int_>(min_points)) throw OptionError("min_points must be \"auto\" or a whole number >= 1");
+          o.min_points = to_uint32(min_points.cast<std::int64_t>(), "min_points");
+          if (o.min_points < 1) throw OptionError("min_points must be \"auto\" or at least 1");
+        }
         o.max_depth = to_uint32(max_depth, "max_depth");
         o.alpha = alpha;
         o.kstep = to_uint32(kstep, "kstep");
@@ -318,7 +321,7 @@ void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class) {
       },
       py::arg("points"), py::arg("normals") = py::none(), py::kw_only(), py::arg("proxy") = "poly",
       py::arg("splitter") = "split-plane", py::arg("max_error") = "auto", py::arg("absolute_error") = py::none(),
-      py::arg("error") = "rms", py::arg("min_points") = 20, py::arg("max_depth") = 200, py::arg("alpha") = 0.75,
+      py::arg("error") = "rms", py::arg("min_points") = "auto", py::arg("max_depth") = 200, py::arg("alpha") = 0.75,
       py::arg("kstep") = 0, py::arg("lloyd_restarts") = 4, py::arg("proxy_lloyd") = 0, py::arg("noise_factor") = 1.0,
       py::arg("support_factor") = 2.0,
       py::arg("seed") = 1, py::arg("ignore_normals") = false, py::arg("no_point_leaves") = false,
@@ -333,7 +336,8 @@ Options mirror the CLI's (same names with ``_`` for ``-``, same defaults): ``pro
 "poly" or "quadric"; ``splitter`` "split-plane" or "lloyd"; ``max_error`` the tolerance a leaf
 may keep beyond the estimated noise, a fraction of the bounding-box diagonal or "auto" (0.00005);
 ``noise_factor`` (the noise counted; 0 ignores it); ``absolute_error`` in input units (overrides
-max_error); ``error`` "rms" or "max"; ``min_points``; ``max_depth``; ``alpha`` (support radius =
+max_error); ``error`` "rms" or "max"; ``min_points`` ("auto": from the noise and the tolerance,
+15 to 20); ``max_depth``; ``alpha`` (support radius =
 alpha x cluster bbox diagonal); ``kstep``; ``lloyd_restarts``; ``proxy_lloyd``;
 ``support_factor``; ``seed``; ``ignore_normals``; ``no_point_leaves``; ``keep_outliers`` (isolated points
 are left out of every cluster unless set; their ``point_leaf`` is -1).

@@ -19,8 +19,9 @@ def test_info_has_the_cli_keys(sphere_tree):
     assert info["nodes"] == len(sphere_tree) == 2 * info["leaves"] - 1
     assert info["input_points"] == 2000
     p = info["parameters"]
+    # min_points "auto" resolves, for this clean sphere, to the clean floor.
     assert (p["proxy"], p["splitter"], p["min_points"], p["alpha"], p["support_factor"], p["seed"]) == (
-        "poly", "split-plane", 20, 0.75, 2.0, 1)
+        "poly", "split-plane", 15, 0.75, 2.0, 1)
 
 
 def test_nodes_form_the_tree(sphere_tree):
@@ -153,7 +154,8 @@ def test_point_cloud_object_and_options(sphere):
     ({"splitter": "kmeans"}, "splitter must be split-plane or lloyd"),
     ({"max_error": "big"}, 'max_error must be "auto" or a non-negative fraction'),
     ({"max_error": -1.0}, "max_error must be"),
-    ({"min_points": 0}, "min_points must be at least 1"),
+    ({"min_points": 0}, 'min_points must be "auto" or at least 1'),
+    ({"min_points": "many"}, 'min_points must be "auto" or a whole number'),
     ({"min_points": -5}, "min_points must be in"),
     ({"alpha": 0.0}, "alpha must be positive"),
     ({"error": "mean"}, "error must be rms or max"),

@@ -354,7 +354,6 @@ void validate(const PointCloud& cloud, const BuildOptions& o) {
   if (!(o.threshold >= 0) || !std::isfinite(o.threshold)) throw OptionError("error threshold must be a non-negative number");
   if (!(o.noise_factor > 0) || !std::isfinite(o.noise_factor)) throw OptionError("noise factor must be positive");
   if (!(o.alpha > 0) || !std::isfinite(o.alpha)) throw OptionError("alpha must be positive");
-  if (o.min_points < 1) throw OptionError("min_points must be at least 1");
   if (!(o.support_factor >= 0) || !std::isfinite(o.support_factor)) throw OptionError("support factor must be >= 0");
 }
 
@@ -399,6 +398,14 @@ const char* to_string(ThresholdMode mode) {
   return "unknown";
 }
 
+std::uint32_t leaf_min_points(double noise, double tolerance) {
+  constexpr double kCoefficients = 6;
+  constexpr double kClean = 15, kNoisy = 20;
+  if (!(noise > 0)) return static_cast<std::uint32_t>(kClean);
+  const double n = tolerance > 0 ? kCoefficients * (noise / tolerance) * (noise / tolerance) : kNoisy;
+  return static_cast<std::uint32_t>(std::clamp(std::ceil(n), kClean, kNoisy));
+}
+
 double cluster_error_threshold(const TreeParameters& p, double points) {
   const double noise = p.threshold_mode == ThresholdMode::Auto ? p.noise_factor * p.noise_sigma : 0.0;
   const double tolerance = std::sqrt(std::max(0.0, p.error_threshold * p.error_threshold - noise * noise));
@@ -429,7 +436,6 @@ ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& opti
   p.threshold_mode = options.threshold_mode;
   p.threshold = options.threshold;
   p.noise_factor = options.noise_factor;
-  p.min_points = options.min_points;
   p.max_depth = options.max_depth;
   p.alpha = options.alpha;
   p.kstep = options.kstep;
@@ -483,12 +489,16 @@ ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& opti
   std::optional<detail::SupportSampler> sampler;
   if (options.support_factor > 0) sampler.emplace(*points, *index);
 
+  BuildOptions resolved = options;  // the options with min_points decided
+  if (resolved.min_points == 0) resolved.min_points = leaf_min_points(noise, tolerance);
+  p.min_points = resolved.min_points;
+
   const auto n = ids.size();
   WorkingSet work{*points, std::move(ids), std::vector<std::uint32_t>(n)};
   std::iota(work.local.begin(), work.local.end(), 0u);
   detail::ProgressReporter progress(options.progress, "building tree", n);
   BuildNode root;
-  Builder(*points, normals, work, sampler ? &*sampler : nullptr, options, tolerance, noise, progress)
+  Builder(*points, normals, work, sampler ? &*sampler : nullptr, resolved, tolerance, noise, progress)
       .build(root, work.local, 0, options.seed);
   progress.finish();
   const std::vector<std::uint32_t>& perm = work.ids;
