@@ -14,20 +14,6 @@ using namespace clustersurf;
 
 namespace {
 
-/// Area-weighted vertex normals of a closed outward mesh: the true normals.
-Points vertex_normals(const TriangleMesh& m) {
-  Points n = Points::Zero(m.vertices.rows(), 3);
-  for (Eigen::Index f = 0; f < m.triangles.rows(); ++f) {
-    const Eigen::Vector3d a = m.vertices.row(m.triangles(f, 0)).transpose();
-    const Eigen::Vector3d b = m.vertices.row(m.triangles(f, 1)).transpose();
-    const Eigen::Vector3d c = m.vertices.row(m.triangles(f, 2)).transpose();
-    const Eigen::Vector3d fn = (b - a).cross(c - a);
-    for (int k = 0; k < 3; ++k) n.row(m.triangles(f, k)) += fn.transpose();
-  }
-  n.rowwise().normalize();
-  return n;
-}
-
 /// Agreement of leaf proxies with true normals. A leaf whose points have no common true
 /// orientation (|mean normal| < 0.5: a cluster straddling both sides of a part thinner than
 /// the sampling, like the ears of the 1,839-point bunny) gives no orientation to agree with;
@@ -89,7 +75,7 @@ TEST(Orientation, BunnyWithNormalsStrippedAgreesWithTrueNormals) {
   const auto file = test::default_bunny();
   if (!file) GTEST_SKIP() << "data/bunny.ply is absent: run scripts/setup";
   const TriangleMesh mesh = read_triangle_mesh(*file);
-  const Points truth = vertex_normals(mesh);
+  const Points truth = vertex_normals(mesh);  // a closed outward mesh: the true normals
   PointCloud cloud;
   cloud.positions = mesh.vertices;  // no normals
   for (double threshold : {0.001, 0.0005}) {

@@ -1054,3 +1054,39 @@ TEST(RealData, ReadWriteReadIsStableOnAScan) {
 
 }  // namespace
 }  // namespace clustersurf
+
+namespace {
+
+/// An ascii PLY tetrahedron (outward winding) with `extra` unreferenced vertices and the given
+/// face lines.
+std::string tetrahedron_ply(int extra = 0, const std::string& faces = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n") {
+  std::string s = "ply\nformat ascii 1.0\nelement vertex " + std::to_string(4 + extra) +
+                  "\nproperty float x\nproperty float y\nproperty float z\nelement face 4\n"
+                  "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  for (int i = 0; i < extra; ++i) s += "5 5 5\n";
+  return s + faces;
+}
+
+}  // namespace
+
+TEST(PlyReader, AMeshReadAsACloudTakesItsNormalsFromItsFaces) {
+  using namespace clustersurf;
+  const PointCloud c = parse_point_cloud(tetrahedron_ply(), FileFormat::Ply);
+  ASSERT_EQ(c.normals.rows(), 4);
+  // Outward: away from the tetrahedron's centroid at every vertex.
+  const Eigen::RowVector3d centroid(0.25, 0.25, 0.25);
+  for (Eigen::Index v = 0; v < 4; ++v) {
+    EXPECT_NEAR(c.normals.row(v).norm(), 1, 1e-12);
+    EXPECT_GT(c.normals.row(v).dot(c.positions.row(v) - centroid), 0) << "vertex " << v;
+  }
+  // The origin's three faces are the axis planes: equal weights, normal -(1,1,1)/√3.
+  EXPECT_NEAR(c.normals(0, 0), -1 / std::sqrt(3.0), 1e-6);
+  // Off by option, or where a vertex belongs to no face, or where the faces are broken: none.
+  ReadOptions off;
+  off.normals_from_faces = false;
+  EXPECT_EQ(parse_point_cloud(tetrahedron_ply(), FileFormat::Ply, "<memory>", off).normals.rows(), 0);
+  EXPECT_EQ(parse_point_cloud(tetrahedron_ply(1), FileFormat::Ply).normals.rows(), 0);
+  const PointCloud broken = parse_point_cloud(tetrahedron_ply(0, "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 9\n"), FileFormat::Ply);
+  EXPECT_EQ(broken.size(), 4);
+  EXPECT_EQ(broken.normals.rows(), 0);
+}

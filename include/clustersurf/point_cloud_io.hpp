@@ -26,12 +26,23 @@ struct ReadOptions {
   bool drop_non_finite = false;
   /// Receives non-fatal warnings (dropped points, ignored content). Default: ignore them.
   std::function<void(const std::string&)> warn;
+  /// read_point_cloud() of a mesh (PLY or OBJ with faces) without vertex normals: give every
+  /// vertex the area-weighted mean of its faces' normals, oriented by the faces' winding,
+  /// when every vertex belongs to a face and the faces are valid. A mesh knows which side is
+  /// out; its vertices alone do not.
+  bool normals_from_faces = true;
 };
 
 /// Reads the points of a PLY, XYZ/PTS/TXT or OBJ file (format by extension; PLY also by magic).
-/// A mesh's vertices are its points; faces and unknown properties are skipped. Throws
+/// A mesh's vertices are its points (with normals from its faces: ReadOptions::
+/// normals_from_faces); faces and unknown properties are skipped. Throws
 /// InputError (malformed content, no points) or IoError (cannot open or read).
 PointCloud read_point_cloud(const std::filesystem::path& file, const ReadOptions& options = {});
+
+/// Unit vertex normals of `mesh`: at each vertex the sum of its triangles' cross products
+/// (area-weighted, oriented by the winding), normalized; zero rows where a vertex belongs to
+/// no triangle of positive area.
+Points vertex_normals(const TriangleMesh& mesh);
 
 /// Reads a triangle mesh from PLY or OBJ (polygons are fan-triangulated). Throws like
 /// read_point_cloud, and InputError when a face index is out of range.

@@ -6,6 +6,8 @@
 #include <clustersurf/errors.hpp>
 #include <clustersurf/point_cloud_io.hpp>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -81,6 +83,17 @@ io::ParsedFile read(const std::filesystem::path& file, const ReadOptions& option
   return parse(bytes, format, file, options, want_faces);
 }
 
+/// Whether `bytes` (of a PLY or OBJ file) declares faces: a PLY header's face element, or an
+/// OBJ `f` record. Cheap: it decides whether a cloud without normals is parsed again as a mesh.
+bool declares_faces(std::string_view bytes) {
+  if (has_ply_magic(bytes)) {
+    const std::size_t end = bytes.find("end_header");
+    const std::string_view header = bytes.substr(0, end);
+    return header.find("\nelement face ") != std::string_view::npos;
+  }
+  return bytes.substr(0, 2) == "f " || bytes.find("\nf ") != std::string_view::npos;
+}
+
 TriangleMesh to_mesh(io::ParsedFile&& parsed) {
   TriangleMesh mesh;
   mesh.vertices = std::move(parsed.cloud.positions);
@@ -100,8 +113,27 @@ FileFormat format_from_extension(const std::filesystem::path& file) {
   throw InputError(file, {}, "unknown file format \"" + ext + "\" (expected .ply, .xyz, .pts, .txt, .csv or .obj)");
 }
 
+Points vertex_normals(const TriangleMesh& mesh) {
+  Points normals = Points::Zero(mesh.vertices.rows(), 3);
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+    const auto tri = mesh.triangles.row(t);
+    const Eigen::Vector3d a = mesh.vertices.row(tri(0)), b = mesh.vertices.row(tri(1)), c = mesh.vertices.row(tri(2));
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    if (!n.allFinite()) continue;
+    for (int k = 0; k < 3; ++k) normals.row(tri(k)) += n.transpose();
+  }
+  for (Eigen::Index v = 0; v < normals.rows(); ++v) {
+    const double norm = normals.row(v).norm();
+    if (norm > 0) normals.row(v) /= norm;
+  }
+  return normals;
+}
+
 PointCloud read_point_cloud(const std::filesystem::path& file, const ReadOptions& options) {
-  return read(file, options, false).cloud;
+  const io::MappedFile mapped(file);
+  const std::string_view bytes = mapped.view();
+  const FileFormat format = bytes.empty() || has_ply_magic(bytes) ? FileFormat::Ply : format_from_extension(file);
+  return parse_point_cloud(bytes, format, file, options);
 }
 
 TriangleMesh read_triangle_mesh(const std::filesystem::path& file, const ReadOptions& options) {
@@ -110,7 +142,21 @@ TriangleMesh read_triangle_mesh(const std::filesystem::path& file, const ReadOpt
 
 PointCloud parse_point_cloud(std::string_view bytes, FileFormat format, const std::filesystem::path& name,
                              const ReadOptions& options) {
-  return parse(bytes, format, name, options, false).cloud;
+  PointCloud cloud = parse(bytes, format, name, options, false).cloud;
+  if (has_ply_magic(bytes)) format = FileFormat::Ply;
+  if (!options.normals_from_faces || cloud.has_normals() || format == FileFormat::Xyz || !declares_faces(bytes)) return cloud;
+  // A mesh without normals: its faces orient its vertices, when they are whole and cover them.
+  TriangleMesh mesh;
+  try {
+    mesh = to_mesh(parse(bytes, format, name, options, true));
+  } catch (const InputError&) {
+    return cloud;  // faces the point reader skipped may be malformed; the points stand alone
+  }
+  if (mesh.vertices.rows() != cloud.size() || mesh.triangles.rows() == 0) return cloud;
+  Points normals = vertex_normals(mesh);
+  if ((normals.rowwise().squaredNorm().array() == 0).any()) return cloud;
+  cloud.normals = std::move(normals);
+  return cloud;
 }
 
 TriangleMesh parse_triangle_mesh(std::string_view bytes, FileFormat format, const std::filesystem::path& name,
