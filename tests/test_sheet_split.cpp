@@ -82,3 +82,22 @@ TEST(SheetSplit, WithoutNormalsTheTreeDependsOnThePositionsAlone) {
   ASSERT_EQ(a.nodes.size(), b.nodes.size());
   EXPECT_EQ(a.point_leaf, b.point_leaf);
 }
+
+TEST(SheetSplit, OutliersLeftOutDoNotShiftTheNormals) {
+  // Isolated points before the plate's in the file: the builder clusters the others, and each
+  // point must still be judged by its own normal.
+  const PointCloud plate = thin_plate(4 * kSpacing);
+  PointCloud c;
+  const int strays = 40;
+  c.positions.resize(strays + plate.size(), 3);
+  c.normals.resize(strays + plate.size(), 3);
+  for (int i = 0; i < strays; ++i) {
+    c.positions.row(i) << 0.5 + 0.01 * i, 0.5, 2.0 + 0.3 * (i % 7);  // far above the plate
+    c.normals.row(i) << 0, 0, -1;
+  }
+  c.positions.bottomRows(plate.size()) = plate.positions;
+  c.normals.bottomRows(plate.size()) = plate.normals;
+  const ClusterTree tree = build_cluster_tree(c, {});
+  ASSERT_GT(tree.outliers(), 0u);
+  EXPECT_EQ(leaves_on_both_faces(tree, c, 3), 0);
+}

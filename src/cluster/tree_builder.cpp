@@ -109,7 +109,7 @@ class Builder {
  public:
   /// `tolerance`: the error a leaf may keep beyond the noise; `noise`: the noise level the
   /// leaves may keep (0 when the threshold ignores noise). Both in the input's units.
-  /// `normals`: the input normals in the order of `input` (or null: none, or not to be used).
+  /// `normals`: the input normals, indexed like the input cloud (WorkingSet::ids), or null.
   Builder(const Points& input, const Points* normals, WorkingSet& work, const detail::SupportSampler* index,
           const BuildOptions& options, double tolerance, double noise, detail::ProgressReporter& progress)
       : input_(input),
@@ -338,7 +338,7 @@ class Builder {
   }
 
   const Points& input_;   // the clustered points in input order (indexed by the k-d tree)
-  const Points* normals_; // their input normals, or null
+  const Points* normals_; // the input cloud's normals (rows: WorkingSet::ids), or null
   WorkingSet& work_;      // the input in cluster order; subtrees touch disjoint rows
   const Points& points_;  // work_.positions
   const detail::SupportSampler* index_;
@@ -451,8 +451,8 @@ ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& opti
   Points kept_positions;
   std::vector<std::uint32_t> ids;  // input index of each clustered point
   const Points* points = &cloud.positions;
+  // The input normals, indexed like the input (the working set's ids), outliers or not.
   const bool use_normals = options.use_normals && cloud.normals.rows() == cloud.positions.rows() && cloud.size() > 0;
-  Points kept_normals;
   const Points* normals = use_normals ? &cloud.normals : nullptr;
   if (options.remove_outliers) {
     if (options.progress && !options.progress("finding outliers", 0.0)) throw Cancelled();
@@ -461,10 +461,6 @@ ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& opti
     if (!found.outliers.empty() && !found.kept.empty()) {
       kept_positions = cloud.positions(found.kept, Eigen::all);
       points = &kept_positions;
-      if (use_normals) {
-        kept_normals = cloud.normals(found.kept, Eigen::all);
-        normals = &kept_normals;
-      }
       ids.assign(found.kept.begin(), found.kept.end());
     } else if (need_index) {
       index.emplace(std::move(all));
