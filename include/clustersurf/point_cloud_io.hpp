@@ -41,7 +41,7 @@ PointCloud read_point_cloud(const std::filesystem::path& file, const ReadOptions
 
 /// Unit vertex normals of `mesh`: at each vertex the sum of its triangles' cross products
 /// (area-weighted, oriented by the winding), normalized; zero rows where a vertex belongs to
-/// no triangle of positive area.
+/// no triangle of positive area (or the sum is not finite).
 Points vertex_normals(const TriangleMesh& mesh);
 
 /// Reads a triangle mesh from PLY or OBJ (polygons are fan-triangulated). Throws like

@@ -124,7 +124,8 @@ Points vertex_normals(const TriangleMesh& mesh) {
   }
   for (Eigen::Index v = 0; v < normals.rows(); ++v) {
     const double norm = normals.row(v).norm();
-    if (norm > 0) normals.row(v) /= norm;
+    if (norm > 0 && std::isfinite(norm)) normals.row(v) /= norm;
+    else normals.row(v).setZero();
   }
   return normals;
 }
@@ -154,7 +155,7 @@ PointCloud parse_point_cloud(std::string_view bytes, FileFormat format, const st
   }
   if (mesh.vertices.rows() != cloud.size() || mesh.triangles.rows() == 0) return cloud;
   Points normals = vertex_normals(mesh);
-  if ((normals.rowwise().squaredNorm().array() == 0).any()) return cloud;
+  if (!normals.allFinite() || (normals.rowwise().squaredNorm().array() == 0).any()) return cloud;
   cloud.normals = std::move(normals);
   return cloud;
 }
