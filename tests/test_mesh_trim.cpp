@@ -140,3 +140,43 @@ TEST(MeshTrim, TheBestSupportedComponentAlwaysStays) {
   EXPECT_EQ(report.removed_components, 1u);
   EXPECT_EQ(kept.triangles, sphere.triangles);
 }
+
+namespace {
+
+/// `mesh` without the triangles that touch vertex `v`: a pinhole.
+TriangleMesh punched(const TriangleMesh& mesh, std::int32_t v) {
+  std::vector<Eigen::Index> rows;
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
+    if ((mesh.triangles.row(t).array() != v).all()) rows.push_back(t);
+  TriangleMesh out = mesh;
+  out.triangles = mesh.triangles(rows, Eigen::all);
+  return out;
+}
+
+}  // namespace
+
+TEST(MeshTrim, ClosesPinholesTheDataCoversAndNotRealHoles) {
+  const TriangleMesh sphere = sphere_mesh();
+  ASSERT_EQ(mesh_topology(sphere).boundary_edges, 0u);
+  TriangleMesh holed = punched(punched(sphere, 10), 500);
+  ASSERT_GT(mesh_topology(holed).boundary_edges, 0u);
+  const PointCloud c = test::sample_sphere(20000);
+  TrimOptions close;
+  close.close_pinholes = true;
+  TrimReport report;
+  const TriangleMesh closed = trim_to_points(holed, c.positions, close, &report);
+  EXPECT_EQ(report.closed_pinholes, 2u);
+  const MeshTopology topo = mesh_topology(closed);
+  EXPECT_EQ(topo.boundary_edges, 0u);
+  EXPECT_EQ(topo.non_manifold_edges, 0u);
+  EXPECT_EQ(topo.inconsistent_edges, 0u);  // the fans face like the triangles around them
+  // Every added vertex lies near the sphere (within a grid cell of 2/64).
+  for (Eigen::Index v = holed.vertices.rows(); v < closed.vertices.rows(); ++v)
+    EXPECT_NEAR(closed.vertices.row(v).norm(), 1, 2.0 / 64);
+  // Off by default.
+  EXPECT_GT(mesh_topology(trim_to_points(holed, c.positions)).boundary_edges, 0u);
+  // Where no data is, the hole stays: the lower half of the sphere without its data.
+  const TriangleMesh half = trim_to_points(sphere, upper_half(), close, &report);
+  EXPECT_EQ(report.closed_pinholes, 0u);
+  EXPECT_GT(mesh_topology(half).boundary_edges, 0u);
+}

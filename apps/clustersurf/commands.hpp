@@ -32,6 +32,7 @@ struct MeshArgs {
   std::string points;               // input cloud for --trim and --color distance (mesh command)
   double trim = TrimOptions{}.spread_factor;  // 0: off
   std::size_t min_component_points = TrimOptions{}.min_component_points;  // 0: keep every fragment
+  bool close_pinholes = TrimOptions{}.close_pinholes;
   bool ascii = false;
 };
 

@@ -56,6 +56,9 @@ void add_mesh_options(CLI::App& cmd, clustersurf::cli::MeshArgs& m) {
                  "Drop loose fragments on which fewer than this many input points lie nearest (needs the points "
                  "as --trim does). 0 keeps every fragment")
       ->default_val(m.min_component_points);
+  cmd.add_flag("--close-pinholes", m.close_pinholes,
+               "Close the small holes the input points cover with a fan each (fewer boundary edges, a little less "
+               "accuracy; needs the points as --trim does)");
   cmd.add_flag("--mesh-ascii", m.ascii, "Write the mesh as ascii PLY instead of binary");
 }
 

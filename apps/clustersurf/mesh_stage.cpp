@@ -64,6 +64,7 @@ nlohmann::json write_tree_mesh(Console& console, const ClusterTree& tree, const 
     TrimOptions trim;
     trim.spread_factor = args.trim;
     trim.min_component_points = args.min_component_points;
+    trim.close_pinholes = args.close_pinholes;
     mesh = trim_to_points(mesh, clustered_points(tree, cloud->positions), trim, &trimmed);
   }
   if (args.color == "leaf") mesh.colors = colors_by_node(mesh, surface);
@@ -78,9 +79,9 @@ nlohmann::json write_tree_mesh(Console& console, const ClusterTree& tree, const 
                             "{} non-manifold edges",
                             topo.vertices, topo.triangles, surface.cut().size(), report.voxel_size, topo.boundary_edges,
                             topo.non_manifold_edges));
-  if (trimmed.removed_triangles > 0)
-    console.print(fmt::format("trimmed         {} triangles beyond the data or on {} unsupported fragments",
-                              trimmed.removed_triangles, trimmed.removed_components));
+  if (trimmed.removed_triangles > 0 || trimmed.closed_pinholes > 0)
+    console.print(fmt::format("trimmed         {} triangles beyond the data or on {} unsupported fragments; {} pinholes closed",
+                              trimmed.removed_triangles, trimmed.removed_components, trimmed.closed_pinholes));
   console.print(fmt::format("mesh time       {:.3f} s", seconds));
   console.print("wrote           " + output);
   return {{"file", output},
@@ -95,6 +96,7 @@ nlohmann::json write_tree_mesh(Console& console, const ClusterTree& tree, const 
           {"evaluated_corners", report.evaluated_corners},
           {"trimmed_triangles", trimmed.removed_triangles},
           {"removed_components", trimmed.removed_components},
+          {"closed_pinholes", trimmed.closed_pinholes},
           {"mesh_seconds", seconds}};
 }
 

@@ -437,7 +437,7 @@ coarser cut of the tree, as in mesh(). Runs in parallel without the GIL.)doc")
           "mesh",
           [](const TreeRef& t, const std::optional<std::variant<std::int64_t, std::string>>& resolution, std::optional<double> voxel_size,
              std::optional<std::int64_t> lod_depth, std::optional<double> lod_error, const py::object& points, double trim,
-             std::size_t min_component_points, const py::object& progress) {
+             std::size_t min_component_points, bool close_pinholes, const py::object& progress) {
             const auto* cells = resolution ? std::get_if<std::int64_t>(&*resolution) : nullptr;
             if (resolution && cells == nullptr && std::get<std::string>(*resolution) != "auto")
               throw OptionError("resolution must be a number of cells or \"auto\", not \"" + std::get<std::string>(*resolution) + "\"");
@@ -467,6 +467,7 @@ coarser cut of the tree, as in mesh(). Runs in parallel without the GIL.)doc")
               TrimOptions trimming;
               trimming.spread_factor = trim;
               trimming.min_component_points = min_component_points;
+              trimming.close_pinholes = close_pinholes;
               return trim_to_points(m, clustered_points(*t.tree, input->positions), trimming);
             });
             return py::make_tuple(to_array(std::move(mesh.vertices)), to_array(std::move(mesh.triangles)),
@@ -474,7 +475,8 @@ coarser cut of the tree, as in mesh(). Runs in parallel without the GIL.)doc")
           },
           py::kw_only(), py::arg("resolution") = py::none(), py::arg("voxel_size") = py::none(), py::arg("lod_depth") = py::none(),
           py::arg("lod_error") = py::none(), py::arg("points") = py::none(), py::arg("trim") = TrimOptions{}.spread_factor,
-          py::arg("min_component_points") = TrimOptions{}.min_component_points, py::arg("progress") = py::none(), R"doc(
+          py::arg("min_component_points") = TrimOptions{}.min_component_points,
+          py::arg("close_pinholes") = TrimOptions{}.close_pinholes, py::arg("progress") = py::none(), R"doc(
 Meshes the surface f = 0, as ``clustersurf mesh`` does (same options, same mesh).
 
 ``resolution``: grid cells along the longest bbox side, or ``"auto"``: cells two median point
@@ -483,7 +485,8 @@ the cut at this depth instead of the leaves; ``lod_error``: blend the
 shallowest nodes whose error is at most this fraction of the diagonal; ``points``: the tree's
 input ((n, 3) array or PointCloud), to drop the triangles farther from it than ``trim`` × the
 local spread (0: keep all) and the loose fragments on which fewer than ``min_component_points``
-input points lie nearest (0: keep all), as ``clustersurf reconstruct --mesh`` does. ``progress`` as in
+input points lie nearest (0: keep all), and to close the pinholes the points cover
+(``close_pinholes``), as ``clustersurf reconstruct --mesh`` does. ``progress`` as in
 reconstruct(). Returns (vertices (n, 3) float64, faces (m, 3) int32, normals (n, 3) float64),
 triangles facing outward.)doc")
       .def("__repr__", [](const TreeRef& t) {

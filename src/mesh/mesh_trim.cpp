@@ -4,16 +4,24 @@
 #include <clustersurf/kd_tree.hpp>
 #include <clustersurf/mesh_trim.hpp>
 
+#include "mesh/pinhole_fill.hpp"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <vector>
 
 namespace clustersurf {
 
 namespace {
+
+/// A pinhole's loop lies within this many data spreads of its centroid: the centroid's
+/// nearness to the data decides whether the data covers the hole; this bound keeps a fan from
+/// spanning a long slit or border (16 closed more and cost more accuracy on the ogre, 4 fewer).
+constexpr double kMaxPinholeSpreads = 8;
 
 /// Union-find root of vertex v (path halving).
 std::int32_t find_root(std::vector<std::int32_t>& parent, std::int32_t v) {
@@ -107,29 +115,10 @@ std::size_t drop_unsupported_components(const TriangleMesh& mesh, const Points& 
   return dropped;
 }
 
-}  // namespace
-
-TriangleMesh trim_to_points(const TriangleMesh& mesh, const Points& points, const TrimOptions& options, TrimReport* report) {
-  if (!(options.spread_factor >= 0) || !std::isfinite(options.spread_factor))
-    throw OptionError("mesh trim: the spread factor must be finite and >= 0 (0 keeps every triangle)");
-  if (options.neighbors < 1) throw OptionError("mesh trim: neighbors must be at least 1");
-  if (report != nullptr) *report = {};
+/// `mesh` with only the triangles whose keep[t] is set, and the vertices they use (in order,
+/// with their normals and colors).
+TriangleMesh without_triangles(const TriangleMesh& mesh, const std::vector<std::uint8_t>& keep) {
   const Eigen::Index nv = mesh.vertices.rows();
-  std::vector<std::uint8_t> keep(static_cast<std::size_t>(mesh.triangles.rows()), 1);
-  if (options.spread_factor > 0 && points.rows() > static_cast<Eigen::Index>(options.neighbors) && !keep.empty()) {
-    const std::vector<std::uint8_t> near = vertices_near_data(mesh, KdTree(points), options);
-    for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
-      const auto tri = mesh.triangles.row(t);
-      keep[static_cast<std::size_t>(t)] = near[static_cast<std::size_t>(tri(0))] && near[static_cast<std::size_t>(tri(1))] &&
-                                          near[static_cast<std::size_t>(tri(2))];
-    }
-  }
-  std::size_t dropped_components = 0;
-  if (options.min_component_points > 0 && points.rows() > 0 && !keep.empty())
-    dropped_components = drop_unsupported_components(mesh, points, options.min_component_points, keep);
-  if (std::find(keep.begin(), keep.end(), 0) == keep.end()) return mesh;
-
-  // The kept triangles, then the vertices they use.
   std::vector<Eigen::Index> kept_triangles;
   for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
     if (keep[static_cast<std::size_t>(t)]) kept_triangles.push_back(t);
@@ -151,10 +140,43 @@ TriangleMesh trim_to_points(const TriangleMesh& mesh, const Points& points, cons
   for (std::size_t t = 0; t < kept_triangles.size(); ++t)
     for (int k = 0; k < 3; ++k)
       out.triangles(static_cast<Eigen::Index>(t), k) = remap[static_cast<std::size_t>(mesh.triangles(kept_triangles[t], k))];
+  return out;
+}
+
+}  // namespace
+
+TriangleMesh trim_to_points(const TriangleMesh& mesh, const Points& points, const TrimOptions& options, TrimReport* report) {
+  if (!(options.spread_factor >= 0) || !std::isfinite(options.spread_factor))
+    throw OptionError("mesh trim: the spread factor must be finite and >= 0 (0 keeps every triangle)");
+  if (options.neighbors < 1) throw OptionError("mesh trim: neighbors must be at least 1");
+  if (report != nullptr) *report = {};
+  const Eigen::Index nv = mesh.vertices.rows();
+  std::vector<std::uint8_t> keep(static_cast<std::size_t>(mesh.triangles.rows()), 1);
+  const bool enough_points = points.rows() > static_cast<Eigen::Index>(options.neighbors);
+  std::optional<KdTree> index;  // of the input points, built once for the trim and the pinholes
+  if (enough_points && !keep.empty() && (options.spread_factor > 0 || options.close_pinholes)) index.emplace(points);
+  if (options.spread_factor > 0 && index) {
+    const std::vector<std::uint8_t> near = vertices_near_data(mesh, *index, options);
+    for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+      const auto tri = mesh.triangles.row(t);
+      keep[static_cast<std::size_t>(t)] = near[static_cast<std::size_t>(tri(0))] && near[static_cast<std::size_t>(tri(1))] &&
+                                          near[static_cast<std::size_t>(tri(2))];
+    }
+  }
+  std::size_t dropped_components = 0;
+  if (options.min_component_points > 0 && points.rows() > 0 && !keep.empty())
+    dropped_components = drop_unsupported_components(mesh, points, options.min_component_points, keep);
+  TriangleMesh out = std::find(keep.begin(), keep.end(), 0) == keep.end() ? mesh : without_triangles(mesh, keep);
   if (report != nullptr) {
-    report->removed_triangles = static_cast<std::size_t>(mesh.triangles.rows()) - kept_triangles.size();
-    report->removed_vertices = static_cast<std::size_t>(nv) - kept_vertices.size();
+    report->removed_triangles = static_cast<std::size_t>(mesh.triangles.rows() - out.triangles.rows());
+    report->removed_vertices = static_cast<std::size_t>(nv - out.vertices.rows());
     report->removed_components = dropped_components;
+  }
+  if (options.close_pinholes && index) {
+    // Pinholes are closed within the trim's reach of the data (or 2 spreads with the trim off).
+    const double reach = options.spread_factor > 0 ? options.spread_factor : TrimOptions{}.spread_factor;
+    const std::size_t closed = detail::close_pinholes(out, *index, reach, options.neighbors, kMaxPinholeSpreads);
+    if (report != nullptr) report->closed_pinholes = closed;
   }
   return out;
 }
