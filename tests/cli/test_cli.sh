@@ -340,6 +340,10 @@ expect_rc "sample --scanner with --outliers is an option error" 2
 check "sample --scanner --outliers writes nothing" test ! -e "$tmp/scanned3.ply"
 run --json reconstruct "$tmp/scanned.ply" --mesh "$tmp/scanned-mesh.ply"
 expect_rc "reconstruct of a virtual scan exits 0" 0
+run --json reconstruct "$tmp/scanned.ply" --mesh "$tmp/scanned-closed.ply" --close-pinholes
+expect_rc "reconstruct --close-pinholes exits 0" 0
+closed=$(python3 -c 'import json,sys; print(json.load(sys.stdin)["mesh"]["closed_pinholes"])' <<<"$out" 2>/dev/null || echo "")
+if [ -n "$closed" ] && [ "$closed" -ge 0 ]; then ok "reconstruct --close-pinholes reports the pinholes it closed ($closed)"; else not_ok "closed_pinholes in --json" "$out"; fi
 run --json eval "$tmp/scanned-mesh.ply" --reference "$bunny" --samples 20000
 chamfer=$(json_field chamfer)
 if awk -v c="$chamfer" 'BEGIN { exit !(c > 0 && c < 0.005) }'; then ok "virtual scan reconstructed within 0.5 % of the diagonal (Chamfer $chamfer)"; else not_ok "virtual scan reconstruction" "$out"; fi
