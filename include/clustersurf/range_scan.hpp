@@ -30,15 +30,16 @@ struct RangeScanOptions {
   /// Returns whose line of sight meets the surface more obliquely than this (degrees from the
   /// surface normal) are dropped, as real scanners drop grazing returns.
   double max_incidence_degrees = 80;
-  /// Seed of every random choice; the same mesh, options and seed give the same points on any
-  /// machine.
+  /// Seed of every random choice (the noise and misregistration come from a portable
+  /// generator; the ray casts are Embree's single-precision ones).
   std::uint64_t seed = 1;
 };
 
 /// The points a range scanner at each of `options.scans` viewpoints sees of `mesh`, in scan,
-/// row, column order, with normals from each scan's grid neighbours (or the line of sight
-/// where a point has none), oriented towards its scanner. Deterministic and independent of the
-/// thread count. Throws OptionError when the mesh has no triangles or an option is out of range.
+/// row, column order, with normals from each scan's grid neighbours (the hit facet's where a
+/// return lacks neighbours in both grid directions), oriented towards its scanner.
+/// Deterministic and independent of the thread count. Throws OptionError when the mesh has no
+/// triangles or an option is out of range.
 PointCloud scan_surface(const TriangleMesh& mesh, const RangeScanOptions& options = {});
 
 }  // namespace clustersurf
