@@ -31,6 +31,7 @@ from ._clustersurf import (
     read_points,
     reconstruct,
     sample_surface,
+    scan_surface,
     write_mesh,
     write_points,
 )
@@ -52,6 +53,7 @@ __all__ = [
     "read_points",
     "reconstruct",
     "sample_surface",
+    "scan_surface",
     "write_mesh",
     "write_points",
 ]

@@ -5,6 +5,7 @@
 #include <clustersurf/errors.hpp>
 #include <clustersurf/evaluation.hpp>
 #include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/range_scan.hpp>
 #include <clustersurf/surface_sampling.hpp>
 
 #include <pybind11/stl.h>
@@ -165,6 +166,38 @@ Draws ``n`` points uniformly by area from a triangle mesh, as ``clustersurf samp
 ``noise``: Gaussian sigma as a fraction of the bounding-box diagonal; ``outliers``: uniform
 points in the box, as a fraction of n. Returns a PointCloud whose normals are the normals of
 the triangles drawn from. Deterministic for a seed.)doc");
+
+  m.def(
+      "scan_surface",
+      [](const py::handle& vertices, const py::handle& faces, std::int64_t n, std::int64_t scans, double noise,
+         double registration, double distance, std::uint64_t seed) {
+        if (n < 1) throw OptionError("n must be positive, not " + std::to_string(n));
+        if (scans < 1) throw OptionError("scans must be positive, not " + std::to_string(scans));
+        const TriangleMesh mesh = mesh_from_arrays(vertices, faces, py::none(), py::none(), "");
+        RangeScanOptions options;
+        options.count = static_cast<std::size_t>(n);
+        options.scans = static_cast<std::size_t>(scans);
+        options.noise = noise;
+        options.registration = registration;
+        options.distance = distance;
+        options.seed = seed;
+        PointCloud cloud = [&] {
+          py::gil_scoped_release release;
+          return scan_surface(mesh, options);
+        }();
+        return cloud_object(std::move(cloud));
+      },
+      py::arg("vertices"), py::arg("faces"), py::arg("n") = RangeScanOptions{}.count,
+      py::arg("scans") = RangeScanOptions{}.scans, py::arg("noise") = RangeScanOptions{}.noise,
+      py::arg("registration") = RangeScanOptions{}.registration, py::arg("distance") = RangeScanOptions{}.distance,
+      py::arg("seed") = RangeScanOptions{}.seed, R"doc(
+Scans a triangle mesh with a virtual range scanner, as ``clustersurf sample --scanner`` does.
+
+About ``n`` points over ``scans`` viewpoints around the mesh (occlusion holes, grazing returns
+dropped); ``noise``: Gaussian sigma along the line of sight and ``registration``: each scan's
+rigid misregistration, both fractions of the bounding-box diagonal; ``distance``: the scanners'
+distance to the box center, in diagonals. Returns a PointCloud with normals from each scan's
+grid, pointing towards its scanner. Deterministic for a seed.)doc");
 
   m.def(
       "evaluate",

@@ -152,7 +152,7 @@ class Builder {
     std::size_t k = 0;
     // A cluster is split when its error exceeds the threshold, when its residuals show structure
     // that noise does not leave, or when its proxy fails over its support.
-    if (can_split && (e > threshold || detail::residual_correlation(points_, range, frame, node.proxy) > structure_limit(range.size()) ||
+    if (can_split && (e > threshold || systematic_misfit(node.proxy, frame, range) ||
                       (index_ != nullptr && support_fails(*(support = check_support(node, range)), tolerance_)))) {
       k = options_.splitter == SplitterKind::SplitPlane ? detail::split_plane(points_, range, frame, options_, noise_)
                                                         : detail::lloyd_split(points_, range, options_, detail::splitmix64(path_seed));
@@ -215,12 +215,14 @@ class Builder {
 
   double allowed(double tolerance, double n) const { return allowed_error(tolerance, noise_, n); }
 
-  /// The residual correlation a cluster of n points may show before its misfit counts as
-  /// systematic (relief the proxy does not follow, even below the noise the threshold allows):
-  /// kNoiseMargin times the spread that independent noise leaves, at most √(2/n). Without noise
-  /// in the threshold, the error alone decides.
-  double structure_limit(std::size_t n) const {
-    return noise_ > 0 ? kNoiseMargin * std::sqrt(2 / static_cast<double>(n)) : std::numeric_limits<double>::infinity();
+  /// Whether the proxy's residuals over the cluster correlate between neighbours more than
+  /// independent noise lets them: kNoiseMargin times its spread, at most √(2/n) (relief the
+  /// proxy does not follow, even below the noise the threshold allows). Without noise in the
+  /// threshold the error alone decides, and nothing is computed.
+  bool systematic_misfit(const Proxy& proxy, const Frame& frame, std::span<const std::uint32_t> range) const {
+    if (!(noise_ > 0)) return false;
+    const double limit = kNoiseMargin * std::sqrt(2 / static_cast<double>(range.size()));
+    return detail::residual_correlation(points_, range, frame, proxy) > limit;
   }
 
   /// The weighted RMS of |Q| over a support and the effective number of points behind it,

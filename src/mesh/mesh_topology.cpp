@@ -1,9 +1,10 @@
 #include <clustersurf/mesh_extraction.hpp>
 
+#include "mesh/mesh_components.hpp"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
-#include <numeric>
 #include <vector>
 
 namespace clustersurf {
@@ -45,27 +46,9 @@ MeshTopology mesh_topology(const TriangleMesh& mesh) {
   }
   t.euler_characteristic = static_cast<long>(t.vertices) - static_cast<long>(t.edges) + static_cast<long>(t.triangles);
 
-  // Components: union-find over the vertices the triangles join.
-  std::vector<std::int32_t> parent(t.vertices);
-  std::iota(parent.begin(), parent.end(), 0);
-  const auto find = [&parent](std::int32_t v) {
-    while (parent[static_cast<std::size_t>(v)] != v) {
-      parent[static_cast<std::size_t>(v)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
-      v = parent[static_cast<std::size_t>(v)];
-    }
-    return v;
-  };
-  std::vector<std::uint8_t> used(t.vertices, 0);
-  for (Eigen::Index f = 0; f < mesh.triangles.rows(); ++f) {
-    const std::int32_t r0 = find(mesh.triangles(f, 0));
-    for (int k = 0; k < 3; ++k) {
-      used[static_cast<std::size_t>(mesh.triangles(f, k))] = 1;
-      const std::int32_t r = find(mesh.triangles(f, k));
-      if (r != r0) parent[static_cast<std::size_t>(r)] = r0;
-    }
-  }
-  for (std::size_t v = 0; v < t.vertices; ++v)
-    if (used[v] && find(static_cast<std::int32_t>(v)) == static_cast<std::int32_t>(v)) ++t.components;
+  // Components: each names itself by one of its vertices.
+  const std::vector<std::int32_t> component = detail::vertex_components(mesh);
+  for (std::size_t v = 0; v < component.size(); ++v) t.components += component[v] == static_cast<std::int32_t>(v);
   return t;
 }
 

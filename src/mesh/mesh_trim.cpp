@@ -4,13 +4,13 @@
 #include <clustersurf/kd_tree.hpp>
 #include <clustersurf/mesh_trim.hpp>
 
+#include "mesh/mesh_components.hpp"
 #include "mesh/pinhole_fill.hpp"
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <optional>
 #include <vector>
 
@@ -22,15 +22,6 @@ namespace {
 /// nearness to the data decides whether the data covers the hole; this bound keeps a fan from
 /// spanning a long slit or border (16 closed more and cost more accuracy on the ogre, 4 fewer).
 constexpr double kMaxPinholeSpreads = 8;
-
-/// Union-find root of vertex v (path halving).
-std::int32_t find_root(std::vector<std::int32_t>& parent, std::int32_t v) {
-  while (parent[static_cast<std::size_t>(v)] != v) {
-    parent[static_cast<std::size_t>(v)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
-    v = parent[static_cast<std::size_t>(v)];
-  }
-  return v;
-}
 
 /// Which vertices lie within reach of the data: no farther from their nearest input point than
 /// `spread_factor` times that point's spread.
@@ -70,22 +61,10 @@ std::vector<std::uint8_t> vertices_near_data(const TriangleMesh& mesh, const KdT
 /// component always stays. Returns how many components went.
 std::size_t drop_unsupported_components(const TriangleMesh& mesh, const Points& points, std::size_t min_points,
                                         std::vector<std::uint8_t>& keep) {
-  const auto nv = static_cast<std::size_t>(mesh.vertices.rows());
-  std::vector<std::int32_t> parent(nv);
-  std::iota(parent.begin(), parent.end(), 0);
-  std::vector<std::uint8_t> used(nv, 0);
-  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
-    if (!keep[static_cast<std::size_t>(t)]) continue;
-    const std::int32_t r0 = find_root(parent, mesh.triangles(t, 0));
-    for (int k = 0; k < 3; ++k) {
-      used[static_cast<std::size_t>(mesh.triangles(t, k))] = 1;
-      const std::int32_t r = find_root(parent, mesh.triangles(t, k));
-      if (r != r0) parent[static_cast<std::size_t>(r)] = r0;
-    }
-  }
-  std::vector<Eigen::Index> rows;
-  for (std::size_t v = 0; v < nv; ++v)
-    if (used[v]) rows.push_back(static_cast<Eigen::Index>(v));
+  const std::vector<std::int32_t> component = detail::vertex_components(mesh, &keep);
+  std::vector<Eigen::Index> rows;  // the vertices the kept triangles use
+  for (std::size_t v = 0; v < component.size(); ++v)
+    if (component[v] >= 0) rows.push_back(static_cast<Eigen::Index>(v));
   if (rows.empty()) return 0;
 
   // Each input point votes for the component of its nearest vertex.
@@ -99,18 +78,18 @@ std::size_t drop_unsupported_components(const TriangleMesh& mesh, const Points& 
       voted[static_cast<std::size_t>(i)] = nb[0].index;
     }
   });
-  std::vector<std::size_t> votes(nv, 0);
-  for (const auto row : voted) ++votes[static_cast<std::size_t>(find_root(parent, static_cast<std::int32_t>(rows[row])))];
+  std::vector<std::size_t> votes(component.size(), 0);
+  for (const auto row : voted) ++votes[static_cast<std::size_t>(component[static_cast<std::size_t>(rows[row])])];
   std::size_t best = 0;
   for (const auto v : rows)
-    if (find_root(parent, static_cast<std::int32_t>(v)) == v) best = std::max(best, votes[static_cast<std::size_t>(v)]);
+    if (component[static_cast<std::size_t>(v)] == v) best = std::max(best, votes[static_cast<std::size_t>(v)]);
   const std::size_t needed = std::min(min_points, best);
   std::size_t dropped = 0;
-  for (const auto v : rows)
-    if (find_root(parent, static_cast<std::int32_t>(v)) == v && votes[static_cast<std::size_t>(v)] < needed) ++dropped;
+  for (const auto v : rows) dropped += component[static_cast<std::size_t>(v)] == v && votes[static_cast<std::size_t>(v)] < needed;
   if (dropped == 0) return 0;
   for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
-    if (keep[static_cast<std::size_t>(t)] && votes[static_cast<std::size_t>(find_root(parent, mesh.triangles(t, 0)))] < needed)
+    if (keep[static_cast<std::size_t>(t)] &&
+        votes[static_cast<std::size_t>(component[static_cast<std::size_t>(mesh.triangles(t, 0))])] < needed)
       keep[static_cast<std::size_t>(t)] = 0;
   return dropped;
 }
