@@ -45,11 +45,12 @@ print("f at the box center and far outside:", tree.evaluate(probe))
 print("f at the input points (≈ 0): max |f| =", np.nanmax(np.abs(tree.evaluate(cloud.positions))))
 
 # %% Mesh it, at full and at a coarse level of detail, and write PLY/OBJ files.
-vertices, faces, normals = tree.mesh(resolution=128)
-clustersurf.write_mesh(out / "mesh.ply", vertices, faces, normals)
-coarse = tree.mesh(resolution=128, lod_depth=6)
-clustersurf.write_mesh(out / "coarse.obj", *coarse)
-print(f"mesh: {len(vertices)} vertices, {len(faces)} triangles; coarse: {len(coarse[1])} triangles")
+mesh = tree.mesh(resolution=128, points=cloud)  # trimmed to the points, as `reconstruct --mesh`
+clustersurf.write_mesh(out / "mesh.ply", mesh.vertices, mesh.faces, mesh.normals)
+coarse = tree.mesh(resolution=128, lod_depth=6, color="leaf")
+clustersurf.write_mesh(out / "coarse.ply", *coarse.astuple())
+vertices, faces, normals = mesh.vertices, mesh.faces, mesh.normals
+print(f"mesh: {len(vertices)} vertices, {len(faces)} triangles; coarse: {len(coarse.faces)} triangles")
 
 # %% Render pictures: an (h, w, 4) uint8 array (matplotlib's imshow takes it as is).
 picture = tree.render(width=320, height=240, show="clusters", samples=2)

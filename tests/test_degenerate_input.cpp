@@ -25,7 +25,7 @@ BuildOptions relative(double threshold, ProxyKind proxy = ProxyKind::Poly) {
   BuildOptions o;
   o.proxy = proxy;
   o.threshold_mode = ThresholdMode::Relative;
-  o.threshold = threshold;
+  o.tolerance = threshold;
   return o;
 }
 

@@ -95,7 +95,7 @@ TEST(ImplicitSurface, CoarserCutsHaveFewerNodesAndBoundedError) {
   const PointCloud c = test::sample_torus(30000);
   BuildOptions o;
   o.threshold_mode = ThresholdMode::Relative;
-  o.threshold = 0.0002;
+  o.tolerance = 0.0002;
   const ClusterTree t = oriented_tree(c, o);
   std::size_t previous = std::numeric_limits<std::size_t>::max();
   double previous_error = 0;
@@ -119,6 +119,6 @@ TEST(ImplicitSurface, CoarserCutsHaveFewerNodesAndBoundedError) {
     previous_error = rms;
   }
   LevelOfDetail by_error;
-  by_error.max_error = 0.01;
+  by_error.error_limit = 0.01;
   EXPECT_LT(lod_cut(t, by_error).size(), t.leaves().size());
 }

@@ -137,7 +137,7 @@ TEST(MeshExtraction, FineLeavesMeshWithoutPinholes) {
   const PointCloud c = test::sample_sphere(50000, 1.0);
   BuildOptions b;
   b.threshold_mode = ThresholdMode::Absolute;
-  b.threshold = 1e-6;
+  b.tolerance = 1e-6;
   b.min_points = 8;
   ClusterTree t = build_cluster_tree(c, b);
   orient_tree(t, c);

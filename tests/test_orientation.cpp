@@ -81,7 +81,7 @@ TEST(Orientation, BunnyWithNormalsStrippedAgreesWithTrueNormals) {
   for (double threshold : {0.001, 0.0005}) {
     BuildOptions o;
     o.threshold_mode = ThresholdMode::Relative;
-    o.threshold = threshold;
+    o.tolerance = threshold;
     o.min_points = 10;
     ClusterTree t = build_cluster_tree(cloud, o);
     orient_tree(t, cloud);

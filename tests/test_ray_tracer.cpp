@@ -193,8 +193,8 @@ TEST(RayTracer, SamePictureForAnyThreadCount) {
 
 TEST(RayTracer, CancelThrows) {
   RenderOptions o = front_view(64, 64);
-  o.progress = [](std::string_view, double f) { return f < 0.3; };
-  EXPECT_THROW(render_tree(sphere_tree(), o), Cancelled);
+  const auto progress = [](std::string_view, double f) { return f < 0.3; };
+  EXPECT_THROW(render_tree(sphere_tree(), o, nullptr, progress), Cancelled);
 }
 
 TEST(RayTracer, RejectsBadOptions) {

@@ -95,7 +95,7 @@ TEST(ResidualStructure, ReliefTheNoiseEstimateAbsorbsIsFollowed) {
   const PointCloud c = relief(100, amplitude, 0.001, 3);
   ClusterTree tree = build_cluster_tree(c, {});
   orient_tree(tree, c);
-  EXPECT_GT(tree.parameters.noise_sigma, 0.001);
+  EXPECT_GT(tree.noise_sigma, 0.001);
   EXPECT_LT(surface_error(tree, amplitude), 0.16 * amplitude);
   const double recovered = recovered_amplitude(tree, amplitude);
   EXPECT_GT(recovered, 0.7 * amplitude);

@@ -1,7 +1,9 @@
 // Tree files: bit-exact round trips, reproducible bytes, and a table of corruptions that must
 // each be rejected with a clear error.
 
+#include <clustersurf/cloud_stats.hpp>
 #include <clustersurf/errors.hpp>
+#include <clustersurf/point_cloud_io.hpp>
 #include <clustersurf/tree_file.hpp>
 
 #include <gtest/gtest.h>
@@ -32,10 +34,10 @@ void poke(std::string& b, std::size_t offset, T value) {
   std::memcpy(b.data() + offset, &value, sizeof(T));
 }
 
-// Offsets of fields in version 1 (docs/file-format.md).
+// Offsets of fields in version 2 (docs/file-format.md).
 constexpr std::size_t kVersionOffset = 8;
 constexpr std::size_t kProxyKindOffset = 16;
-constexpr std::size_t kNodeCountOffset = 16 + 4 + 8 + 8 + 4 + 4 + 8 + 16 + 8 + 8 + 16 + 48 + 8;
+constexpr std::size_t kNodeCountOffset = 16 + 4 + 8 + 8 + 4 + 4 + 8 + 16 + 8 + 8 + 16 + 48 + 8 + 8;
 constexpr std::size_t kFirstNode = kNodeCountOffset + 8;
 
 }  // namespace
@@ -54,13 +56,46 @@ TEST(TreeFile, RoundTripIsBitExactForEveryProxy) {
       EXPECT_EQ(a.depth, b.depth);
       EXPECT_EQ(a.point_count, b.point_count);
       EXPECT_EQ(a.rms_error, b.rms_error);
+      EXPECT_EQ(a.extent, b.extent);
       EXPECT_EQ(a.support.radius, b.support.radius);
       EXPECT_EQ(a.bound.center, b.bound.center);
       const Eigen::Vector3d x(0.3, -0.2, 0.1);
       EXPECT_EQ(a.proxy.value(x), b.proxy.value(x));
     }
     EXPECT_EQ(u.point_leaf, t.point_leaf);
+    EXPECT_EQ(u.point_spacing, t.point_spacing);
+    EXPECT_GT(t.point_spacing, 0);
   }
+}
+
+// Version 2 stores the input's median spacing, the one compute_stats() measures, so meshing at
+// --resolution auto needs no points.
+TEST(TreeFile, StoresTheInputsPointSpacing) {
+  const PointCloud cloud = test::sample_torus(5000);
+  const ClusterTree t = deserialize_tree(serialize_tree(build_cluster_tree(cloud)));
+  EXPECT_EQ(t.point_spacing, compute_stats(cloud).median_spacing);
+  for (const ClusterNode& n : t.nodes) EXPECT_GT(n.extent, 0);
+}
+
+// A file written by version 1 (tests/data/bunny400_v1.cstree, from tests/data/bunny400.ply)
+// still loads: no spacing (0), extents from the support radii, and it meshes as the same
+// points reconstructed today do.
+TEST(TreeFile, ReadsVersion1Files) {
+  const std::filesystem::path data(CLUSTERSURF_TEST_DATA);
+  const ClusterTree old = load_tree(data / "bunny400_v1.cstree");
+  EXPECT_EQ(old.input_points, 400u);
+  EXPECT_EQ(old.point_spacing, 0);
+  for (const ClusterNode& n : old.nodes) EXPECT_DOUBLE_EQ(n.extent * old.parameters.alpha, n.support.radius);
+  const ClusterTree now = build_cluster_tree(read_point_cloud(data / "bunny400.ply"));
+  EXPECT_GT(now.point_spacing, 0);
+  ASSERT_EQ(now.nodes.size(), old.nodes.size());
+  EXPECT_EQ(now.point_leaf, old.point_leaf);
+  for (std::size_t i = 0; i < now.nodes.size(); ++i) {
+    EXPECT_EQ(now.nodes[i].support.center, old.nodes[i].support.center);
+    EXPECT_EQ(now.nodes[i].rms_error, old.nodes[i].rms_error);
+  }
+  EXPECT_EQ(old.noise_sigma, now.noise_sigma);
+  EXPECT_EQ(old.error_threshold, now.error_threshold);
 }
 
 TEST(TreeFile, SaveLoadThroughDiskAndSameBytesForSameInput) {

@@ -9,10 +9,13 @@
 namespace clustersurf::cli {
 
 int run_mesh(Console& console, const MeshCommandArgs& args) {
+  const SurfaceMeshOptions options = surface_mesh_options(args.mesh);
   const ClusterTree tree = load_tree(args.tree);
   PointCloud cloud;
   if (!args.mesh.points.empty()) cloud = read_input(console, InputArgs{args.mesh.points, false});
-  const nlohmann::json j = write_tree_mesh(console, tree, args.mesh, args.output, args.mesh.points.empty() ? nullptr : &cloud);
+  const SurfaceMesh mesh = mesh_tree(tree, options, args.mesh.points.empty() ? nullptr : &cloud.positions, console.progress());
+  console.end_progress();
+  const nlohmann::json j = write_surface_mesh(console, mesh, args.mesh, args.output);
   if (console.options().json) std::cout << j.dump(2) << "\n";
   return 0;
 }

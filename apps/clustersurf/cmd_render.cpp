@@ -80,7 +80,6 @@ int run_render(Console& console, const RenderArgs& args) {
   if (auto up = vector_option(args.up, "--up")) options.camera.up = *up;
   options.background = parse_background(args.background);
   options.ambient_occlusion = args.ambient_occlusion;
-  options.lod.max_depth = args.lod_depth;
   options.min_weight = args.min_weight;
   options.point_radius = args.point_radius;
   if (options.show == ShowMode::Error && args.points.empty()) throw OptionError("--show error needs the input points (--points FILE)");
@@ -98,7 +97,7 @@ int run_render(Console& console, const RenderArgs& args) {
     if (!b.empty()) framing.extend(b.min), framing.extend(b.max);
   }
   options.framing = framing;
-  options.progress = console.progress();
+  const ProgressCallback progress = console.progress();
 
   std::vector<Image> pictures;
   std::vector<std::string> labels;
@@ -109,8 +108,8 @@ int run_render(Console& console, const RenderArgs& args) {
     std::string kind;
     if (const auto* tree = std::get_if<ClusterTree>(&scenes[k])) {
       RenderOptions o = options;
-      if (args.lod_error) o.lod.max_error = *args.lod_error * tree->bbox.diagonal();
-      pictures.push_back(render_tree(*tree, o, &stats));
+      o.lod = level_of_detail(*tree, args.lod_depth, args.lod_error);
+      pictures.push_back(render_tree(*tree, o, &stats, progress));
       kind = "tree";
     } else {
       if (options.show != ShowMode::Surface || options.highlight)
@@ -118,10 +117,10 @@ int run_render(Console& console, const RenderArgs& args) {
       RenderOptions o = options;
       o.show = ShowMode::Surface;
       if (const auto* mesh = std::get_if<TriangleMesh>(&scenes[k])) {
-        pictures.push_back(render_mesh(*mesh, o, &stats));
+        pictures.push_back(render_mesh(*mesh, o, &stats, progress));
         kind = "mesh";
       } else {
-        pictures.push_back(render_points(std::get<PointCloud>(scenes[k]), o, &stats));
+        pictures.push_back(render_points(std::get<PointCloud>(scenes[k]), o, &stats, progress));
         kind = "points";
       }
     }

@@ -4,8 +4,9 @@
 
 #include "console.hpp"
 
-#include <clustersurf/mesh_trim.hpp>
 #include <clustersurf/range_scan.hpp>
+#include <clustersurf/reconstruct.hpp>
+#include <clustersurf/render.hpp>
 
 #include <cstdint>
 #include <optional>
@@ -20,19 +21,13 @@ struct InputArgs {
   bool drop_non_finite = false;
 };
 
-/// Options of the mesh stage, shared by `mesh` and `reconstruct --mesh`.
+/// Options of the mesh stage, shared by `mesh` and `reconstruct --mesh`: the library's
+/// SurfaceMeshOptions (defaults and all) with the words still to parse.
 struct MeshArgs {
-  /// Cells along the longest side, "auto" (from the points), or empty: auto when the points are
-  /// at hand, else MeshOptions::resolution.
-  std::string resolution;
-  std::optional<double> voxel_size;
-  std::optional<std::uint32_t> lod_depth;
-  std::optional<double> lod_error;  // fraction of the bbox diagonal
-  std::string color = "none";       // none | leaf | distance
+  SurfaceMeshOptions options;
+  std::string resolution = "auto";  // parse_resolution()
+  std::string color = to_string(SurfaceMeshOptions{}.coloring);  // parse_mesh_coloring()
   std::string points;               // input cloud for --trim and --color distance (mesh command)
-  double trim = TrimOptions{}.spread_factor;  // 0: off
-  std::size_t min_component_points = TrimOptions{}.min_component_points;  // 0: keep every fragment
-  bool close_pinholes = TrimOptions{}.close_pinholes;
   bool ascii = false;
 };
 
@@ -52,25 +47,20 @@ struct StatsArgs {
 };
 int run_stats(Console& console, const StatsArgs& args);
 
+/// `reconstruct`: the library's BuildOptions (numbers bound directly, defaults and all) with
+/// the words still to parse.
 struct ReconstructArgs {
   InputArgs input;
   std::string tree_output;  // .cstree (optional when mesh_output is given)
   std::string mesh_output;  // .ply/.obj (optional)
   MeshArgs mesh;
-  std::string proxy = "poly";
-  std::string splitter = "split-plane";
-  std::string max_error = "auto";
-  std::optional<double> absolute_error;
-  std::string error_metric = "rms";
-  std::string min_points = "auto";  // or a count; auto: leaf_min_points()
-  std::uint32_t max_depth = 200;
-  double alpha = 0.75;
-  std::uint32_t kstep = 0;
-  std::uint32_t lloyd_restarts = 4;
-  std::uint32_t proxy_lloyd = 0;
-  double support_factor = 2.0;
-  double noise_factor = 1.0;
-  std::uint64_t seed = 1;
+  BuildOptions build;
+  std::string proxy = to_string(BuildOptions{}.proxy);         // parse_proxy_kind()
+  std::string splitter = to_string(BuildOptions{}.splitter);   // parse_splitter()
+  std::string tolerance = "auto";                              // parse_tolerance()
+  std::optional<double> absolute_tolerance;
+  std::string error_metric = to_string(BuildOptions{}.metric);  // parse_error_metric()
+  std::string min_points = "auto";                              // parse_min_points()
   bool no_point_leaves = false;
   bool keep_outliers = false;
   bool ignore_normals = false;
@@ -132,7 +122,7 @@ struct RenderArgs {
   bool ambient_occlusion = false;
   std::optional<std::uint32_t> lod_depth;
   std::optional<double> lod_error;  // fraction of the bbox diagonal
-  double min_weight = 0.02;
+  double min_weight = RenderOptions{}.min_weight;
   double point_radius = 0;
   bool grid = false;
   int columns = 0;

@@ -9,6 +9,7 @@
 #include <clustersurf/version.hpp>
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
@@ -34,29 +35,31 @@ void add_input(CLI::App& cmd, clustersurf::cli::InputArgs& in) {
 }
 
 void add_mesh_options(CLI::App& cmd, clustersurf::cli::MeshArgs& m) {
+  auto& o = m.options;
   cmd.add_option("--resolution", m.resolution,
                  "Mesh grid cells along the longest bbox side, or \"auto\": cells two median point spacings of the "
-                 "input wide (needs the points). Default: auto where the points are at hand (reconstruct; mesh "
-                 "with --points), else " + std::to_string(clustersurf::MeshOptions{}.resolution))
-      ->check(CLI::Range(2, 100000) | CLI::IsMember({"auto"}));
-  cmd.add_option("--voxel-size", m.voxel_size, "Mesh grid cell size (overrides --resolution)")->check(CLI::PositiveNumber);
-  cmd.add_option("--lod-depth", m.lod_depth, "Blend the tree cut at this depth instead of the leaves");
-  cmd.add_option("--lod-error", m.lod_error, "Blend the shallowest nodes with error <= this fraction of the diagonal")
+                 "input wide (stored in the tree; a version-1 tree file without --points gets " +
+                     std::to_string(o.grid.resolution) + " cells)")
+      ->check(CLI::Range(2, 100000) | CLI::IsMember({"auto"}))
+      ->capture_default_str();
+  cmd.add_option("--voxel-size", o.grid.voxel_size, "Mesh grid cell size (overrides --resolution)")->check(CLI::PositiveNumber);
+  cmd.add_option("--lod-depth", o.lod_depth, "Blend the tree cut at this depth instead of the leaves");
+  cmd.add_option("--lod-error", o.lod_error, "Blend the shallowest nodes with error <= this fraction of the diagonal")
       ->check(CLI::NonNegativeNumber);
   cmd.add_option("--color", m.color, "Vertex colors: none, leaf (per blended node) or distance (to the input points)")
       ->check(CLI::IsMember({"none", "leaf", "distance"}))
-      ->default_val("none");
-  cmd.add_option("--trim", m.trim,
+      ->capture_default_str();
+  cmd.add_option("--trim", o.trim.spread_factor,
                  "Drop triangles farther from the input points than this x the nearest point's spread "
                  "(mean distance to its 8 neighbours), where the data stops; needs the points "
                  "(reconstruct: always; mesh: --points). 0 keeps every triangle")
       ->check(CLI::NonNegativeNumber)
-      ->default_val(m.trim);
-  cmd.add_option("--min-component-points", m.min_component_points,
+      ->capture_default_str();
+  cmd.add_option("--min-component-points", o.trim.min_component_points,
                  "Drop loose fragments on which fewer than this many input points lie nearest (needs the points "
                  "as --trim does). 0 keeps every fragment")
-      ->default_val(m.min_component_points);
-  cmd.add_flag("--close-pinholes", m.close_pinholes,
+      ->capture_default_str();
+  cmd.add_flag("--close-pinholes", o.trim.close_pinholes,
                "Close the small holes the input points cover with a fan each (fewer boundary edges, a little less "
                "accuracy; needs the points as --trim does)");
   cmd.add_flag("--mesh-ascii", m.ascii, "Write the mesh as ascii PLY instead of binary");
@@ -100,39 +103,42 @@ int main(int argc, char** argv) {
   r->add_flag("--ignore-normals", rec.ignore_normals, "Orient by propagation even when the input has normals");
   r->add_option("--proxy", rec.proxy, "Proxy per cluster: plane, poly (bivariate quadratic) or quadric")
       ->check(CLI::IsMember({"plane", "poly", "quadric"}))
-      ->default_val("poly");
+      ->capture_default_str();
   r->add_option("--splitter", rec.splitter, "Cluster splitting: split-plane or lloyd")
       ->check(CLI::IsMember({"split-plane", "lloyd"}))
-      ->default_val("split-plane");
-  r->add_option("--max-error", rec.max_error,
-                "Tolerance: the error a leaf may keep beyond the estimated scanner noise, as a fraction of the bbox "
-                "diagonal (a leaf's RMS error must be <= hypot(tolerance, noise)); \"auto\" = 0.00005")
-      ->default_val("auto");
-  r->add_option("--absolute-error", rec.absolute_error, "Leaf error threshold in the input's units (overrides --max-error)")
+      ->capture_default_str();
+  r->add_option("--tolerance,--max-error", rec.tolerance,
+                "The error a leaf may keep beyond the estimated scanner noise, as a fraction of the bbox diagonal (a "
+                "leaf's RMS error must be <= hypot(tolerance, noise)); \"auto\" = " +
+                    fmt::format("{}", clustersurf::BuildOptions{}.tolerance))
+      ->capture_default_str();
+  r->add_option("--absolute-tolerance,--absolute-error", rec.absolute_tolerance,
+                "Leaf error threshold in the input's units, noise included (overrides --tolerance)")
       ->check(CLI::NonNegativeNumber);
   r->add_option("--error", rec.error_metric, "Error compared with the threshold: rms or max")
       ->check(CLI::IsMember({"rms", "max"}))
-      ->default_val("rms");
+      ->capture_default_str();
   r->add_option("--min-points", rec.min_points,
                  "No cluster below this many points, or \"auto\": from the estimated noise and the tolerance (15 for "
                  "clean data up to 20 for noisy)")
       ->check(CLI::Range(1, 1 << 30) | CLI::IsMember({"auto"}))
-      ->default_val(rec.min_points);
-  r->add_option("--max-depth", rec.max_depth, "Maximum tree depth")->default_val(200);
-  r->add_option("--alpha", rec.alpha, "Support radius = alpha x cluster bbox diagonal")->check(CLI::PositiveNumber)->default_val(0.75);
-  r->add_option("--kstep", rec.kstep, "Split-plane sweep step (0: at most 64 candidates per split)")->default_val(0);
-  r->add_option("--lloyd-restarts", rec.lloyd_restarts, "Lloyd splitter: 2-means restarts")->check(CLI::Range(1, 1000))->default_val(4);
-  r->add_option("--proxy-lloyd", rec.proxy_lloyd, "Lloyd splitter: proxy-Lloyd refinement rounds")->default_val(0);
-  r->add_option("--noise-factor", rec.noise_factor,
+      ->capture_default_str();
+  auto& b = rec.build;
+  r->add_option("--max-depth", b.max_depth, "Maximum tree depth")->capture_default_str();
+  r->add_option("--alpha", b.alpha, "Support radius = alpha x cluster bbox diagonal")->check(CLI::PositiveNumber)->capture_default_str();
+  r->add_option("--kstep", b.kstep, "Split-plane sweep step (0: at most 64 candidates per split)")->capture_default_str();
+  r->add_option("--lloyd-restarts", b.lloyd_restarts, "Lloyd splitter: 2-means restarts")->check(CLI::Range(1, 1000))->capture_default_str();
+  r->add_option("--proxy-lloyd", b.proxy_lloyd_iterations, "Lloyd splitter: proxy-Lloyd refinement rounds")->capture_default_str();
+  r->add_option("--noise-factor", b.noise_factor,
                 "Noise counted in the threshold = this x the estimated noise (0: ignore the noise, no estimate)")
       ->check(CLI::NonNegativeNumber)
-      ->default_val(1.0);
-  r->add_option("--support-factor", rec.support_factor,
+      ->capture_default_str();
+  r->add_option("--support-factor", b.support_factor,
                 "A leaf's weighted RMS error over the points in its support sphere must be <= this x the threshold "
                 "(0: no check)")
       ->check(CLI::NonNegativeNumber)
-      ->default_val(2.0);
-  r->add_option("--seed", rec.seed, "Seed for every random choice")->default_val(1);
+      ->capture_default_str();
+  r->add_option("--seed", b.seed, "Seed for every random choice")->capture_default_str();
   r->add_flag("--keep-outliers", rec.keep_outliers,
               "Cluster every input point; by default isolated points (mean distance to their 8 nearest "
               "neighbours over 3x their neighbours' or 6x the cloud's median) are left out");
@@ -219,7 +225,7 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   v->add_option("--min-weight", rnd.min_weight, "Surface only where the total weight exceeds this (as the mesher)")
       ->check(CLI::NonNegativeNumber)
-      ->default_val(0.02);
+      ->capture_default_str();
   v->add_option("--point-radius", rnd.point_radius, "Point clouds: splat radius (0: 0.75 x mean spacing)")
       ->check(CLI::NonNegativeNumber)
       ->default_val(0);

@@ -1,17 +1,20 @@
 #pragma once
-// The mesh stage shared by `mesh` and `reconstruct --mesh`: extract, color, write, report.
+// The mesh stage shared by `mesh` and `reconstruct --mesh`: the options from the words, and
+// writing and reporting the mesh the library made.
 
 #include "commands.hpp"
 
-#include <clustersurf/cluster_tree.hpp>
+#include <clustersurf/reconstruct.hpp>
 
 #include <nlohmann/json.hpp>
 
 namespace clustersurf::cli {
 
-/// Meshes `tree` per `args`, writes `output` atomically and returns the figures as JSON
-/// (also printed as text unless --json/--quiet). `cloud` (may be null): the tree's input, for --trim and --color distance.
-nlohmann::json write_tree_mesh(Console& console, const ClusterTree& tree, const MeshArgs& args, const std::string& output,
-                               const PointCloud* cloud);
+/// The library's mesh options with the words of `args` parsed.
+SurfaceMeshOptions surface_mesh_options(const MeshArgs& args);
+
+/// Writes `mesh` to `output` atomically and returns its figures as JSON (also printed as text
+/// unless --json/--quiet).
+nlohmann::json write_surface_mesh(Console& console, const SurfaceMesh& mesh, const MeshArgs& args, const std::string& output);
 
 }  // namespace clustersurf::cli

@@ -26,14 +26,15 @@ nlohmann::json tree_report_json(const ClusterTree& tree) {
       {"leaf_size", pct(s.leaf_size_percentiles)},
       {"leaf_rms_error", pct(s.leaf_rms_percentiles)},
       {"leaves_over_threshold", s.leaves_over_threshold},
-      {"noise_sigma", p.noise_sigma},
-      {"error_threshold", p.error_threshold},
+      {"noise_sigma", tree.noise_sigma},
+      {"error_threshold", tree.error_threshold},
+      {"point_spacing", tree.point_spacing},
       {"parameters",
        {{"proxy", to_string(p.proxy)},
         {"splitter", to_string(p.splitter)},
         {"error_metric", to_string(p.metric)},
         {"threshold_mode", to_string(p.threshold_mode)},
-        {"threshold", p.threshold},
+        {"tolerance", p.tolerance},
         {"noise_factor", p.noise_factor},
         {"min_points", p.min_points},
         {"max_depth", p.max_depth},
@@ -68,15 +69,18 @@ std::vector<std::string> tree_report_lines(const ClusterTree& tree) {
                             le[2], le[3], le[4]));
   out.push_back(fmt::format("threshold       {:.4g} ({:.4g} % of the diagonal {:.4g}); {} leaves above it (at min-points "
                             "or max-depth)",
-                            p.error_threshold, diag > 0 ? 100 * p.error_threshold / diag : 0.0, diag,
+                            tree.error_threshold, diag > 0 ? 100 * tree.error_threshold / diag : 0.0, diag,
                             s.leaves_over_threshold));
   if (p.threshold_mode == ThresholdMode::Auto)
-    out.push_back(fmt::format("noise estimate  {:.4g} ({:.4g} % of the diagonal)", p.noise_sigma,
-                              diag > 0 ? 100 * p.noise_sigma / diag : 0.0));
-  out.push_back(fmt::format("parameters      proxy {}, splitter {}, error {}, max-error {} {}, min-points {}, "
+    out.push_back(fmt::format("noise estimate  {:.4g} ({:.4g} % of the diagonal)", tree.noise_sigma,
+                              diag > 0 ? 100 * tree.noise_sigma / diag : 0.0));
+  if (tree.point_spacing > 0)
+    out.push_back(fmt::format("point spacing   {:.4g} (median, {:.4g} % of the diagonal)", tree.point_spacing,
+                              diag > 0 ? 100 * tree.point_spacing / diag : 0.0));
+  out.push_back(fmt::format("parameters      proxy {}, splitter {}, error {}, tolerance {} {}, min-points {}, "
                             "max-depth {}, alpha {}, kstep {}, support-factor {}, seed {}",
                             to_string(p.proxy), to_string(p.splitter), to_string(p.metric), to_string(p.threshold_mode),
-                            p.threshold, p.min_points, p.max_depth, p.alpha, p.kstep == 0 ? std::string("auto") : std::to_string(p.kstep),
+                            p.tolerance, p.min_points, p.max_depth, p.alpha, p.kstep == 0 ? std::string("auto") : std::to_string(p.kstep),
                             p.support_factor, p.seed));
   return out;
 }

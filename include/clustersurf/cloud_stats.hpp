@@ -1,6 +1,7 @@
 #pragma once
 // Summary figures of a point cloud (the `stats` command).
 
+#include <clustersurf/kd_tree.hpp>
 #include <clustersurf/point_cloud.hpp>
 
 namespace clustersurf {
@@ -17,6 +18,17 @@ struct CloudStats {
   bool has_normals = false;
   bool has_colors = false;
 };
+
+/// How densely points sample a surface: the mean and the median distance from a point to its
+/// nearest other point (exact duplicates count 0).
+struct PointSpacing {
+  double mean = 0;
+  double median = 0;
+};
+
+/// PointSpacing of the points `index` holds: every point up to `max_samples` points, then an
+/// evenly strided deterministic subset of that size (0 for fewer than two points).
+PointSpacing point_spacing(const KdTree& index, std::size_t max_samples = 200000);
 
 /// Computes CloudStats; spacing uses every point up to `max_samples` points, then an evenly
 /// strided deterministic subset of that size.

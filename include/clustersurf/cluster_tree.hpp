@@ -8,6 +8,8 @@
 #include <clustersurf/proxy.hpp>
 
 #include <cstdint>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 namespace clustersurf {
@@ -26,18 +28,31 @@ enum class ThresholdMode : std::uint8_t {
 const char* to_string(SplitterKind kind);
 const char* to_string(ErrorMetric metric);
 const char* to_string(ThresholdMode mode);
+/// The splitter named by to_string(): "split-plane" or "lloyd". Throws OptionError otherwise.
+SplitterKind parse_splitter(std::string_view text);
+/// The metric named by to_string(): "rms" or "max". Throws OptionError otherwise.
+ErrorMetric parse_error_metric(std::string_view text);
+/// A tolerance as text: "auto" (nullopt: BuildOptions' default) or a non-negative number.
+/// Throws OptionError otherwise.
+std::optional<double> parse_tolerance(std::string_view text);
+/// A leaf's smallest cluster as text: "auto" (0: leaf_min_points()) or a whole number from 1
+/// to 2^30. Throws OptionError otherwise.
+std::uint32_t parse_min_points(std::string_view text);
 
-/// Options of build_cluster_tree(); the defaults are the recommended settings.
+/// Options of build_cluster_tree(); the defaults are the recommended settings. Plain values:
+/// progress and cancellation are build_cluster_tree()'s own argument.
 struct BuildOptions {
   ProxyKind proxy = ProxyKind::Poly;             ///< proxy fitted to every node
   SplitterKind splitter = SplitterKind::SplitPlane;
   ErrorMetric metric = ErrorMetric::Rms;         ///< RMS: max never drops below scanner noise
   ThresholdMode threshold_mode = ThresholdMode::Auto;
-  /// The tolerance: the error a leaf may keep on top of the noise; relative (fraction of the
-  /// diagonal) or absolute. A cluster is a leaf when its error is ≤ hypot(tolerance, noise)
-  /// (the noise with a margin for small clusters: cluster_error_threshold()).
-  double threshold = 0.00005;
-  double noise_factor = 1.0;                     ///< Auto: the noise counted is this × the estimate
+  /// The error a leaf may keep on top of the noise; relative (fraction of the diagonal) or
+  /// absolute. A cluster is a leaf when its error is ≤ hypot(tolerance, noise) (the noise with
+  /// a margin for small clusters: cluster_error_threshold()).
+  double tolerance = 0.00005;
+  /// Auto: the noise counted is this × the estimate; 0 counts none (the tree is then built and
+  /// stored as Relative, with no estimate).
+  double noise_factor = 1.0;
   /// No child below this many points (but strays cut off across a gap, and the sheets of a
   /// would-be leaf on two sheets); 0: leaf_min_points() of the noise and the tolerance.
   std::uint32_t min_points = 0;
@@ -63,7 +78,6 @@ struct BuildOptions {
   bool use_normals = true;
   OutlierOptions outliers;                       ///< the outlier test
   bool keep_point_leaves = true;                 ///< store the leaf of every input point
-  ProgressCallback progress;                     ///< progress and cancellation (may be empty)
 };
 
 /// A sphere by center and radius.
@@ -86,19 +100,21 @@ struct ClusterNode {
   /// trimmed as outliers of the local surface)
   double rms_error = 0;
   double max_error = 0;
-  Sphere support;        ///< center = cluster mean, radius = alpha × cluster bbox diagonal
+  double extent = 0;     ///< diagonal of the cluster's bounding box
+  Sphere support;        ///< center = cluster mean, radius ≥ alpha × extent (grown to cover
+                         ///< enough input points, shrunk where the proxy fails over it)
   Sphere bound;          ///< encloses `support` and every support in the subtree
 
   bool is_leaf() const noexcept { return left < 0; }
 };
 
-/// The parameters a tree was built with, as stored in its file.
+/// The options a tree was built with, as stored in its file (BuildOptions' stored part).
 struct TreeParameters {
   ProxyKind proxy = ProxyKind::Poly;
   SplitterKind splitter = SplitterKind::SplitPlane;
   ErrorMetric metric = ErrorMetric::Rms;
   ThresholdMode threshold_mode = ThresholdMode::Auto;
-  double threshold = 0.00005;
+  double tolerance = 0.00005;
   double noise_factor = 1.0;
   std::uint32_t min_points = 20;  ///< the value used (leaf_min_points() where the options said 0)
   std::uint32_t max_depth = 200;
@@ -108,8 +124,6 @@ struct TreeParameters {
   std::uint32_t proxy_lloyd_iterations = 0;
   double support_factor = 2.0;
   std::uint64_t seed = 1;
-  double noise_sigma = 0;      ///< estimated noise of the input (Auto mode; 0 otherwise)
-  double error_threshold = 0;  ///< the absolute threshold actually used
 
   bool operator==(const TreeParameters&) const = default;
 };
@@ -117,6 +131,11 @@ struct TreeParameters {
 /// A built (or loaded) cluster tree.
 struct ClusterTree {
   TreeParameters parameters;
+  double noise_sigma = 0;      ///< estimated noise of the input (Auto mode; 0 otherwise)
+  double error_threshold = 0;  ///< a leaf's error threshold, hypot(tolerance, counted noise), in input units
+  /// Median distance from an input point to its nearest other point (compute_stats()'s); 0 when
+  /// unknown (trees from version-1 files).
+  double point_spacing = 0;
   BoundingBox bbox;                      ///< of the clustered points (the input without outliers)
   std::uint64_t input_points = 0;        ///< all input points; the root holds those not outliers
   std::vector<ClusterNode> nodes;        ///< pre-order, nodes[0] is the root
@@ -131,10 +150,10 @@ struct ClusterTree {
   std::uint64_t outliers() const { return nodes.empty() ? 0 : input_points - nodes[0].point_count; }
 };
 
-/// The error a cluster of `points` points may keep in `p`'s tree: hypot(tolerance, noise), the
+/// The error a cluster of `points` points may keep in `tree`: hypot(tolerance, noise), the
 /// noise allowed a margin for the spread of an RMS over that many points (σ² (1 + 2 √(2/n))), so
-/// that noise alone does not split a cluster. Equals p.error_threshold without noise.
-double cluster_error_threshold(const TreeParameters& p, double points);
+/// that noise alone does not split a cluster. Equals tree.error_threshold without noise.
+double cluster_error_threshold(const ClusterTree& tree, double points);
 
 /// The smallest cluster a leaf may have when BuildOptions::min_points is 0: enough points that
 /// the noise a bivariate quadratic's six coefficients pick up from them, σ √(6/n), stays within
@@ -145,10 +164,16 @@ std::uint32_t leaf_min_points(double noise, double tolerance);
 
 /// Builds the tree. Deterministic: the same cloud and options give the same tree for any
 /// thread count. Throws OptionError for invalid options, Cancelled when `progress` says stop.
-ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& options = {});
+ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& options = {},
+                               const ProgressCallback& progress = {});
 
-/// The rows of `input` (the tree's input points) that the tree clusters: all but its outliers;
-/// all of them when the tree holds no point-leaf table or `input` is not its input.
+/// Throws OptionError unless `input` can be the tree's input: as many rows as the tree's input
+/// points. `what` names the points in the message.
+void require_tree_input(const ClusterTree& tree, const Points& input, std::string_view what = "the points");
+
+/// The rows of `input` (the tree's input points) that the tree clusters: all but its outliers
+/// (all of them when the tree holds no point-leaf table). Throws OptionError when `input` is
+/// not the tree's input (require_tree_input()).
 Points clustered_points(const ClusterTree& tree, const Points& input);
 
 /// Figures of a tree for reports (`clustersurf info`).

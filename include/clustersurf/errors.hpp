@@ -24,7 +24,8 @@ struct FileLocation {
 };
 
 /// A file's content is malformed or unsupported (point clouds, meshes, tree files).
-/// what() reads "FILE:line N: message" or "FILE: byte N: message".
+/// what() reads "FILE:line N: message" or "FILE: byte N: message" (just the message for data
+/// passed in memory, with no file).
 class InputError : public Error {
  public:
   InputError(std::filesystem::path file, FileLocation where, const std::string& message);

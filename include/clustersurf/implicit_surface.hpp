@@ -12,17 +12,35 @@
 
 namespace clustersurf {
 
+/// The blending weight of a node at s = ‖x − c‖² / r² (< 1): (1 − s)³. Smooth, 1 at the
+/// center, 0 with zero slope at the rim. The builder's support fit weighs points with it too.
+inline double blend_weight(double s) noexcept {
+  const double t = 1 - s;
+  return t * t * t;
+}
+
+/// Where the blend counts as defined: its total weight Σwᵢ must exceed this. Near the outer
+/// rim of the supports a lone proxy extrapolates away from its data (w = 0.02 is 85 % of a
+/// radius from a lone center). The mesher, the renderer and the Python module default to it,
+/// so a picture shows the surface the mesh has.
+inline constexpr double kMinWeight = 0.02;
+
 /// Which nodes are blended: the leaves (default), or a coarser cut of the tree.
 struct LevelOfDetail {
   /// Cut at this depth: nodes of that depth, plus shallower leaves.
   std::optional<std::uint32_t> max_depth;
-  /// Cut where the error first drops to this value (the tree's error metric, in the input's
-  /// units): the shallowest nodes with error ≤ max_error, or leaves.
-  std::optional<double> max_error;
+  /// Cut where the node error first drops to this value (the tree's error metric, in the
+  /// input's units): the shallowest nodes with error ≤ error_limit, or leaves.
+  std::optional<double> error_limit;
 };
 
 /// The nodes of `tree` forming the cut `lod` (pre-order; every input point is covered once).
 std::vector<std::int32_t> lod_cut(const ClusterTree& tree, const LevelOfDetail& lod);
+
+/// The cut as the front ends give it: a depth, and/or an error limit as a fraction of the
+/// tree's bounding-box diagonal (≥ 0). Throws OptionError for a negative or non-finite fraction.
+LevelOfDetail level_of_detail(const ClusterTree& tree, std::optional<std::uint32_t> depth,
+                              std::optional<double> error_fraction);
 
 /// f, its gradient and the total weight at a point. `defined` is false where no support sphere
 /// of the cut reaches (total weight 0): f is undefined there, not invented.
@@ -51,8 +69,7 @@ class ImplicitSurface {
   /// f and ∇f at x (exact analytic gradient of the blend).
   SurfaceSample sample(const Eigen::Vector3d& x) const;
   /// f at x, or nullopt where undefined: where the total weight is 0, or not above
-  /// `min_weight` (a confidence floor: near the outer rim of the supports a lone proxy
-  /// extrapolates).
+  /// `min_weight` (a confidence floor, kMinWeight for the mesher and the renderer).
   std::optional<double> value(const Eigen::Vector3d& x, double min_weight = 0) const;
   /// Samples every row of `points` in parallel; results in row order.
   std::vector<SurfaceSample> sample_all(const Points& points) const;

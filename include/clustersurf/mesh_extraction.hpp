@@ -6,6 +6,7 @@
 #include <clustersurf/progress.hpp>
 
 #include <optional>
+#include <string_view>
 
 namespace clustersurf {
 
@@ -23,9 +24,8 @@ struct MeshOptions {
   /// Newton steps projecting each vertex onto f = 0 along ∇f.
   int newton_steps = 2;
   /// Grid points whose total blending weight Σwᵢ is at most this count as undefined, so the
-  /// mesh stops where only the outer rim of a support reaches (w = 0.02 is 85 % of a radius
-  /// from a lone center): there a single proxy extrapolates away from its data.
-  double min_weight = 0.02;
+  /// mesh stops where only the outer rim of a support reaches (see kMinWeight).
+  double min_weight = kMinWeight;
   /// Grid points where f is undefined (or below min_weight) take the value of the blend with
   /// every support radius grown by this many cells (ImplicitSurface::with_margin), and
   /// vertices whose projection fails there are projected onto that blend's zero set. Fine
@@ -35,7 +35,6 @@ struct MeshOptions {
   /// gaps in the data stay holes (and trim_to_points() cuts the band back to the data).
   /// 0 = no fill.
   double fill_cells = 2;
-  ProgressCallback progress;
 };
 
 /// What extract_mesh() visited.
@@ -52,13 +51,23 @@ struct MeshReport {
 /// one or more vertices per cell); vertices are then moved onto f = 0 by Newton steps along ∇f
 /// and get ∇f as normal; quads are split along their shorter diagonal; degenerate triangles
 /// and unused vertices are removed. Triangles face outward (towards f > 0). Deterministic.
-TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& options = {}, MeshReport* report = nullptr);
+/// Throws OptionError for invalid options, Cancelled when `progress` says stop.
+TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& options = {}, MeshReport* report = nullptr,
+                          const ProgressCallback& progress = {});
 
-/// A mesh grid cell size matched to how densely `cloud` samples the surface: `spacing_factor`
-/// times the median distance from a point to its nearest neighbour (compute_stats()). A grid
-/// much finer than the samples adds triangles, not accuracy; a coarser one loses the detail
-/// the leaves fit. Throws OptionError when the median spacing is 0.
+/// A mesh grid cell size matched to how densely the input samples the surface:
+/// `spacing_factor` times its median point spacing (PointSpacing::median, which trees store as
+/// ClusterTree::point_spacing). A grid much finer than the samples adds triangles, not
+/// accuracy; a coarser one loses the detail the leaves fit. Throws OptionError when the
+/// spacing is 0 (most points coincide).
+double cell_size_for_spacing(double median_spacing, double spacing_factor = kSpacingsPerCell);
+
+/// cell_size_for_spacing() of `cloud`'s median spacing (compute_stats()).
 double cell_size_for_points(const PointCloud& cloud, double spacing_factor = kSpacingsPerCell);
+
+/// A grid resolution as text: "auto" (nullopt: cells from the point spacing) or a whole number
+/// of cells from 2 to 100000. Throws OptionError otherwise.
+std::optional<std::uint32_t> parse_resolution(std::string_view text);
 
 /// Edge-manifoldness, boundary and Euler characteristic of a mesh.
 struct MeshTopology {

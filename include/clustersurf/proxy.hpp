@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string_view>
 #include <type_traits>
 #include <variant>
 
@@ -21,6 +22,9 @@ enum class ProxyKind : std::uint8_t { Point = 0, Plane = 1, Poly = 2, Quadric = 
 
 /// Name used on the command line and in reports: "point", "plane", "poly", "quadric".
 const char* to_string(ProxyKind kind);
+/// The kind a tree may be built with, by its to_string() name: "plane", "poly" or "quadric".
+/// Throws OptionError otherwise.
+ProxyKind parse_proxy_kind(std::string_view text);
 
 /// Orthonormal local frame: `origin` and axes e1, e2 (tangents) and e3 (normal) as the
 /// columns of `axes`.

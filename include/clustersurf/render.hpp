@@ -51,7 +51,7 @@ struct RenderOptions {
   LevelOfDetail lod;  ///< which tree nodes are blended (default: the leaves)
   /// Surface defined only where the total weight exceeds this (as MeshOptions::min_weight, so
   /// the picture matches the mesh).
-  double min_weight = 0.02;
+  double min_weight = kMinWeight;
   std::optional<std::uint32_t> level;    ///< Clusters: color by the ancestor at this depth
   std::optional<std::int32_t> highlight;  ///< draw this node's cluster and proxy in red
   const Points* reference_points = nullptr;  ///< Error: the input points (required)
@@ -59,7 +59,6 @@ struct RenderOptions {
   bool ambient_occlusion = false;     ///< darken creases (8 short occlusion rays per hit)
   Rgba8 background{255, 255, 255, 255};
   double point_radius = 0;  ///< point clouds: splat radius; 0: 0.75 × mean spacing
-  ProgressCallback progress;
 };
 
 /// Figures of one rendering.
@@ -85,12 +84,16 @@ struct RayHit {
 std::optional<RayHit> intersect_surface(const ClusterTree& tree, const Ray& ray, const RenderOptions& options = {});
 
 /// Renders `tree` (its implicit surface or one of the ShowMode views). Deterministic: the same
-/// picture for any thread count. Throws OptionError for invalid options, Cancelled.
-Image render_tree(const ClusterTree& tree, const RenderOptions& options, RenderStats* stats = nullptr);
+/// picture for any thread count. Throws OptionError for invalid options, Cancelled when
+/// `progress` says stop (as do render_mesh() and render_points()).
+Image render_tree(const ClusterTree& tree, const RenderOptions& options, RenderStats* stats = nullptr,
+                  const ProgressCallback& progress = {});
 /// Renders a triangle mesh (vertex colors and normals used when present) with the same camera
 /// conventions as render_tree().
-Image render_mesh(const TriangleMesh& mesh, const RenderOptions& options, RenderStats* stats = nullptr);
+Image render_mesh(const TriangleMesh& mesh, const RenderOptions& options, RenderStats* stats = nullptr,
+                  const ProgressCallback& progress = {});
 /// Renders a point cloud as small discs (oriented by the normals, spheres without normals).
-Image render_points(const PointCloud& cloud, const RenderOptions& options, RenderStats* stats = nullptr);
+Image render_points(const PointCloud& cloud, const RenderOptions& options, RenderStats* stats = nullptr,
+                    const ProgressCallback& progress = {});
 
 }  // namespace clustersurf

@@ -9,12 +9,14 @@
 
 namespace clustersurf {
 
-/// Current version of the format written by save_tree().
-inline constexpr std::uint32_t kTreeFileVersion = 1;
+/// Current version of the format written by save_tree(). Version 2 added the input's point
+/// spacing and each node's cluster extent; version-1 files still load (spacing 0, extent
+/// support radius / alpha).
+inline constexpr std::uint32_t kTreeFileVersion = 2;
 
 /// The file's bytes for `tree`.
 std::string serialize_tree(const ClusterTree& tree);
-/// Parses and validates bytes produced by serialize_tree(); `file` names them in errors.
+/// Parses and validates bytes produced by serialize_tree() (any version up to the current); `file` names them in errors.
 /// Throws InputError (with the byte offset) on any corruption or inconsistency.
 ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path& file = "<memory>");
 

@@ -6,8 +6,8 @@ proxies into one implicit surface f (positive outside), then mesh it, evaluate i
     import clustersurf
     cloud = clustersurf.read_points("data/bunny.ply")
     tree = clustersurf.reconstruct(cloud.positions, cloud.normals)   # options as the CLI's
-    vertices, faces, normals = tree.mesh(resolution=256)
-    clustersurf.write_mesh("bunny.ply", vertices, faces, normals)
+    mesh = tree.mesh(points=cloud)                                  # a Mesh, trimmed to the points
+    clustersurf.write_mesh("bunny.ply", mesh.vertices, mesh.faces, mesh.normals)
     tree.save("bunny.cstree")                                       # == `clustersurf reconstruct`
 
 Arrays are numpy (n, 3) float64 (float32 input is converted). Long operations release the GIL.

@@ -36,3 +36,7 @@ class Mesh:
     faces: np.ndarray
     normals: Optional[np.ndarray] = None
     colors: Optional[np.ndarray] = None
+
+    def astuple(self) -> tuple:
+        """(vertices, faces, normals, colors), the arrays themselves (not copies)."""
+        return self.vertices, self.faces, self.normals, self.colors

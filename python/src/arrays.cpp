@@ -119,4 +119,16 @@ void ProgressBridge::rethrow_if_interrupted() {
   if (error) throw std::move(*error);
 }
 
+py::object cloud_object(PointCloud&& cloud) {
+  const py::object make = py::module_::import("clustersurf._types").attr("PointCloud");
+  return make(to_array(std::move(cloud.positions)), to_array_or_none(std::move(cloud.normals)),
+              to_array_or_none(std::move(cloud.colors)));
+}
+
+py::object mesh_object(TriangleMesh&& mesh) {
+  const py::object make = py::module_::import("clustersurf._types").attr("Mesh");
+  return make(to_array(std::move(mesh.vertices)), to_array(std::move(mesh.triangles)),
+              to_array_or_none(std::move(mesh.normals)), to_array_or_none(std::move(mesh.colors)));
+}
+
 }  // namespace clustersurf::python

@@ -35,6 +35,11 @@ py::array_t<std::int32_t> to_array(Triangles&& m);
 py::object to_array_or_none(Points&& m);
 py::object to_array_or_none(Colors&& m);
 
+/// A clustersurf.PointCloud / clustersurf.Mesh (python/clustersurf/_types.py) taking over the
+/// arrays (moved, not copied); absent normals and colors become None.
+py::object cloud_object(PointCloud&& cloud);
+py::object mesh_object(TriangleMesh&& mesh);
+
 /// A non-negative integer option that must fit `std::uint32_t`; throws OptionError naming it.
 std::uint32_t to_uint32(std::int64_t value, const char* name);
 
@@ -73,8 +78,22 @@ struct TreeRef {
   std::shared_ptr<const ClusterTree> tree;
 };
 
+/// What a Python `Node` holds: one node of a tree, by index; keeps the tree alive.
+struct NodeRef {
+  std::shared_ptr<const ClusterTree> tree;
+  std::int32_t index = 0;
+  const ClusterNode& node() const { return tree->nodes[static_cast<std::size_t>(index)]; }
+};
+
+/// The node at `index` of `t` (negative counts from the end); raises IndexError.
+NodeRef node_at(const TreeRef& t, std::int64_t index);
+
+/// A 3-vector as a numpy array of 3 float64.
+py::array_t<double> vector_array(const Eigen::Vector3d& v);
+
 /// Groups of bindings, one per source file.
 void bind_io(py::module_& m);
+void bind_node(py::module_& m);
 void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class);
 void bind_render(py::class_<TreeRef>& tree_class);
 

@@ -38,18 +38,6 @@ auto read_with_warnings(bool drop_non_finite, Read&& read) {
   return result;
 }
 
-py::object cloud_object(PointCloud&& cloud) {
-  const py::object make = py::module_::import("clustersurf._types").attr("PointCloud");
-  return make(to_array(std::move(cloud.positions)), to_array_or_none(std::move(cloud.normals)),
-              to_array_or_none(std::move(cloud.colors)));
-}
-
-py::object mesh_object(TriangleMesh&& mesh) {
-  const py::object make = py::module_::import("clustersurf._types").attr("Mesh");
-  return make(to_array(std::move(mesh.vertices)), to_array(std::move(mesh.triangles)),
-              to_array_or_none(std::move(mesh.normals)), to_array_or_none(std::move(mesh.colors)));
-}
-
 /// A TriangleMesh from arrays; `faces` None (or empty) makes a point cloud for evaluation.
 TriangleMesh mesh_from_arrays(const py::handle& vertices, const py::handle& faces, const py::handle& normals,
                               const py::handle& colors, const std::string& what) {

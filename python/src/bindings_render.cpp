@@ -53,11 +53,7 @@ void bind_render(py::class_<TreeRef>& tree_class) {
         if (auto u = vector_option(up, "up")) o.camera.up = *u;
         o.background = parse_background(background);
         o.ambient_occlusion = ao;
-        if (lod_depth) o.lod.max_depth = to_uint32(*lod_depth, "lod_depth");
-        if (lod_error) {
-          if (!(*lod_error >= 0)) throw OptionError("lod_error must be a non-negative fraction of the diagonal");
-          o.lod.max_error = *lod_error * tree.bbox.diagonal();
-        }
+        o.lod = level_of_detail(tree, lod_depth ? std::optional(to_uint32(*lod_depth, "lod_depth")) : std::nullopt, lod_error);
         o.min_weight = min_weight;
         o.framing = tree.bbox;
         Points reference;
@@ -67,10 +63,8 @@ void bind_render(py::class_<TreeRef>& tree_class) {
         }
         if (o.show == ShowMode::Error && o.reference_points == nullptr)
           throw OptionError("show=\"error\" needs the input points (points=...)");
-        auto image = std::make_unique<Image>(run_released(progress, [&](ProgressCallback callback) {
-          o.progress = std::move(callback);
-          return render_tree(tree, o);
-        }));
+        auto image = std::make_unique<Image>(
+            run_released(progress, [&](const ProgressCallback& callback) { return render_tree(tree, o, nullptr, callback); }));
         const py::ssize_t h = image->height, w = image->width;
         static_assert(sizeof(Rgba8) == 4);
         auto* data = reinterpret_cast<std::uint8_t*>(image->pixels.data());
@@ -82,7 +76,7 @@ void bind_render(py::class_<TreeRef>& tree_class) {
       py::arg("points") = py::none(), py::arg("error_scale") = py::none(), py::arg("azimuth") = 30.0,
       py::arg("elevation") = 20.0, py::arg("distance") = py::none(), py::arg("fov") = 35.0, py::arg("eye") = py::none(),
       py::arg("target") = py::none(), py::arg("up") = py::none(), py::arg("background") = "white", py::arg("ao") = false,
-      py::arg("lod_depth") = py::none(), py::arg("lod_error") = py::none(), py::arg("min_weight") = 0.02,
+      py::arg("lod_depth") = py::none(), py::arg("lod_error") = py::none(), py::arg("min_weight") = RenderOptions{}.min_weight,
       py::arg("progress") = py::none(), R"doc(
 Ray-traces a picture of the tree, as ``clustersurf render`` does; returns an (height, width, 4)
 uint8 RGBA array (the pixels its PNG would hold).

@@ -73,6 +73,7 @@ PYBIND11_MODULE(_clustersurf, m) {
 A cluster tree: binary tree of point clusters, each with a fitted proxy surface and support
 sphere; its leaves blend into the implicit surface f (positive outside). Immutable. Made by
 reconstruct() or load(); saved bit-exactly with save(). Pickles as its .cstree bytes.)doc");
+  bind_node(m);
   bind_tree(m, tree_class);
   bind_render(tree_class);
 }

@@ -52,7 +52,7 @@ def test_mesh_equals_the_cli(tmp_path, cli, bunny_file, kwargs, flags):
     run(cli, "reconstruct", bunny_file, "-o", tree_file)
     run(cli, "mesh", tree_file, "-o", tmp_path / "cli.ply", *flags)
     cli_mesh = clustersurf.read_mesh(tmp_path / "cli.ply")
-    vertices, faces, normals = clustersurf.load(tree_file).mesh(**kwargs)
+    vertices, faces, normals, _ = clustersurf.load(tree_file).mesh(**kwargs).astuple()
     # The CLI writes binary PLY with float32 coordinates.
     np.testing.assert_array_equal(vertices.astype(np.float32).astype(np.float64), cli_mesh.vertices)
     np.testing.assert_array_equal(normals.astype(np.float32).astype(np.float64), cli_mesh.normals)
@@ -67,11 +67,11 @@ def test_trimmed_mesh_equals_reconstruct(tmp_path, cli, bunny_file):
     run(cli, "reconstruct", bunny_file, "-o", tmp_path / "b.cstree", "--mesh", tmp_path / "cli.ply", "--resolution", "64")
     cli_mesh = clustersurf.read_mesh(tmp_path / "cli.ply")
     cloud = clustersurf.read_points(bunny_file)
-    vertices, faces, normals = clustersurf.load(tmp_path / "b.cstree").mesh(resolution=64, points=cloud)
-    np.testing.assert_array_equal(vertices.astype(np.float32).astype(np.float64), cli_mesh.vertices)
-    np.testing.assert_array_equal(faces, cli_mesh.faces)
+    mesh = clustersurf.load(tmp_path / "b.cstree").mesh(resolution=64, points=cloud)
+    np.testing.assert_array_equal(mesh.vertices.astype(np.float32).astype(np.float64), cli_mesh.vertices)
+    np.testing.assert_array_equal(mesh.faces, cli_mesh.faces)
     untrimmed = clustersurf.load(tmp_path / "b.cstree").mesh(resolution=64)
-    assert len(untrimmed[1]) >= len(faces)
+    assert len(untrimmed.faces) >= len(mesh.faces)
 
 
 def test_auto_resolution_equals_the_cli(tmp_path, cli, bunny_file):
@@ -79,13 +79,34 @@ def test_auto_resolution_equals_the_cli(tmp_path, cli, bunny_file):
     run(cli, "reconstruct", bunny_file, "-o", tmp_path / "b.cstree", "--mesh", tmp_path / "cli.ply", "--resolution", "auto")
     cli_mesh = clustersurf.read_mesh(tmp_path / "cli.ply")
     tree = clustersurf.load(tmp_path / "b.cstree")
-    vertices, faces, normals = tree.mesh(resolution="auto", points=clustersurf.read_points(bunny_file))
-    np.testing.assert_array_equal(vertices.astype(np.float32).astype(np.float64), cli_mesh.vertices)
-    np.testing.assert_array_equal(faces, cli_mesh.faces)
-    with pytest.raises(clustersurf.OptionError, match="needs the input points"):
-        tree.mesh(resolution="auto")
+    mesh = tree.mesh(resolution="auto", points=clustersurf.read_points(bunny_file))
+    np.testing.assert_array_equal(mesh.vertices.astype(np.float32).astype(np.float64), cli_mesh.vertices)
+    np.testing.assert_array_equal(mesh.faces, cli_mesh.faces)
+    # The tree stores the spacing: without the points, the same grid (untrimmed), as the CLI's.
+    run(cli, "mesh", tmp_path / "b.cstree", "-o", tmp_path / "cli_untrimmed.ply")
+    untrimmed = tree.mesh()
+    clustersurf.write_mesh(tmp_path / "py_untrimmed.ply", untrimmed.vertices, untrimmed.faces, untrimmed.normals)
+    assert (tmp_path / "py_untrimmed.ply").read_bytes() == (tmp_path / "cli_untrimmed.ply").read_bytes()
     with pytest.raises(clustersurf.OptionError, match="not \"fine\""):
         tree.mesh(resolution="fine")
+
+
+def test_colored_mesh_equals_the_cli(tmp_path, cli, bunny_file):
+    # reconstruct --mesh --color distance: the library's colors, from both front ends.
+    run(cli, "reconstruct", bunny_file, "-o", tmp_path / "b.cstree", "--mesh", tmp_path / "cli.ply", "--color", "distance")
+    cloud = clustersurf.read_points(bunny_file)
+    mesh = clustersurf.load(tmp_path / "b.cstree").mesh(points=cloud, color="distance")
+    assert mesh.colors is not None and mesh.colors.shape == mesh.vertices.shape
+    clustersurf.write_mesh(tmp_path / "py.ply", mesh.vertices, mesh.faces, mesh.normals, mesh.colors)
+    assert (tmp_path / "py.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
+    with pytest.raises(clustersurf.OptionError, match="need the tree's input points"):
+        clustersurf.load(tmp_path / "b.cstree").mesh(color="distance")
+
+
+def test_points_of_another_cloud_are_refused(tmp_path, cli, bunny_file):
+    run(cli, "reconstruct", bunny_file, "-o", tmp_path / "b.cstree")
+    with pytest.raises(clustersurf.OptionError, match="are not the tree's input"):
+        clustersurf.load(tmp_path / "b.cstree").mesh(points=np.zeros((10, 3)))
 
 
 def test_sample_and_eval_equal_the_cli(tmp_path, cli, bunny_file):

@@ -81,14 +81,15 @@ def test_evaluate_is_a_signed_distance(sphere_tree):
 
 
 def test_mesh_is_a_closed_sphere(sphere_tree):
-    vertices, faces, normals = sphere_tree.mesh(resolution=48)
+    vertices, faces, normals, colors = sphere_tree.mesh(resolution=48).astuple()
+    assert colors is None
     assert vertices.dtype == np.float64 and faces.dtype == np.int32 and normals.shape == vertices.shape
     np.testing.assert_allclose(np.linalg.norm(vertices, axis=1), 1.0, atol=0.01)
     # Outward: the normals point away from the center.
     assert (np.einsum("ij,ij->i", vertices, normals) > 0).all()
     e = clustersurf.evaluate(vertices, faces, vertices, faces, samples=1000)
     assert e["reconstruction_mesh"]["watertight"]
-    coarse = sphere_tree.mesh(resolution=48, lod_depth=2)[0]
+    coarse = sphere_tree.mesh(resolution=48, lod_depth=2).vertices
     assert len(coarse) > 0
 
 
@@ -134,17 +135,18 @@ def test_float32_and_float64_give_the_same_tree():
 
 def test_point_cloud_object_and_options(sphere):
     cloud = clustersurf.PointCloud(sphere[0], sphere[1])
-    a = clustersurf.reconstruct(cloud, proxy="quadric", max_error=0.002, min_points=30)
-    b = clustersurf.reconstruct(sphere[0], sphere[1], proxy="quadric", max_error="0.002", min_points=30)
-    assert a.to_bytes() == b.to_bytes()
+    a = clustersurf.reconstruct(cloud, proxy="quadric", tolerance=0.002, min_points=30)
+    b = clustersurf.reconstruct(sphere[0], sphere[1], proxy="quadric", tolerance="0.002", min_points=30)
+    old_name = clustersurf.reconstruct(sphere[0], sphere[1], proxy="quadric", max_error=0.002, min_points=30)
+    assert a.to_bytes() == b.to_bytes() == old_name.to_bytes()
     info = a.info()
     assert info["parameters"]["proxy"] == "quadric"
     assert info["parameters"]["threshold_mode"] == "auto"  # the tolerance on top of the noise
-    assert info["parameters"]["threshold"] == 0.002
+    assert info["parameters"]["tolerance"] == 0.002
     blind = clustersurf.reconstruct(sphere[0], sphere[1], max_error=0.002, noise_factor=0)
     assert blind.info()["parameters"]["threshold_mode"] == "relative"
     assert blind.info()["noise_sigma"] == 0
-    c = clustersurf.reconstruct(sphere[0], absolute_error=0.001, splitter="lloyd", error="max")
+    c = clustersurf.reconstruct(sphere[0], absolute_tolerance=0.001, splitter="lloyd", error="max")
     assert c.info()["parameters"]["threshold_mode"] == "absolute"
     assert c.info()["parameters"]["splitter"] == "lloyd"
 
@@ -152,13 +154,15 @@ def test_point_cloud_object_and_options(sphere):
 @pytest.mark.parametrize("kwargs, message", [
     ({"proxy": "cubic"}, 'proxy must be plane, poly or quadric, not "cubic"'),
     ({"splitter": "kmeans"}, "splitter must be split-plane or lloyd"),
-    ({"max_error": "big"}, 'max_error must be "auto" or a non-negative fraction'),
-    ({"max_error": -1.0}, "max_error must be"),
-    ({"min_points": 0}, 'min_points must be "auto" or at least 1'),
-    ({"min_points": "many"}, 'min_points must be "auto" or a whole number'),
-    ({"min_points": -5}, "min_points must be in"),
+    ({"tolerance": "big"}, 'tolerance must be "auto" or a non-negative fraction of the diagonal, not "big"'),
+    ({"tolerance": -1.0}, "tolerance must be"),
+    ({"max_error": "big"}, 'tolerance must be "auto" or a non-negative fraction'),
+    ({"max_error": 0.1, "tolerance": 0.2}, "give tolerance or its old name max_error, not both"),
+    ({"min_points": 0}, 'min points must be "auto" or a whole number from 1 to 2^30, not "0"'),
+    ({"min_points": "many"}, 'min points must be "auto" or a whole number from 1 to 2^30, not "many"'),
+    ({"min_points": -5}, 'not "-5"'),
     ({"alpha": 0.0}, "alpha must be positive"),
-    ({"error": "mean"}, "error must be rms or max"),
+    ({"error": "mean"}, 'error metric must be rms or max, not "mean"'),
 ])
 def test_option_errors(sphere, kwargs, message):
     with pytest.raises(clustersurf.OptionError) as e:
@@ -172,6 +176,11 @@ def test_empty_and_mismatched_inputs():
         clustersurf.reconstruct(np.zeros((0, 3)))
     with pytest.raises(clustersurf.OptionError, match="one row per point"):
         clustersurf.reconstruct(np.zeros((10, 3)), np.zeros((9, 3)))
+    # The library's surface-extent check, as the CLI's.
+    with pytest.raises(clustersurf.InputError, match="all 50 points coincide"):
+        clustersurf.reconstruct(np.tile([1.5, 2.5, 3.5], (50, 1)))
+    with pytest.raises(clustersurf.InputError, match="all 50 points lie on one line"):
+        clustersurf.reconstruct(np.outer(np.arange(1, 51), [1.0, 2.0, 3.0]))
 
 
 def test_progress_and_cancellation(sphere):

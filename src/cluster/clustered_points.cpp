@@ -1,11 +1,21 @@
 // The input points a tree clusters (its input without the outliers).
 
 #include <clustersurf/cluster_tree.hpp>
+#include <clustersurf/errors.hpp>
+
+#include <string>
 
 namespace clustersurf {
 
+void require_tree_input(const ClusterTree& tree, const Points& input, std::string_view what) {
+  if (static_cast<std::uint64_t>(input.rows()) != tree.input_points)
+    throw OptionError(std::string(what) + " (" + std::to_string(input.rows()) + ") are not the tree's input (" +
+                      std::to_string(tree.input_points) + " points)");
+}
+
 Points clustered_points(const ClusterTree& tree, const Points& input) {
-  if (tree.outliers() == 0 || tree.point_leaf.size() != static_cast<std::size_t>(input.rows())) return input;
+  require_tree_input(tree, input);
+  if (tree.outliers() == 0 || tree.point_leaf.empty()) return input;
   std::vector<Eigen::Index> rows;
   rows.reserve(tree.point_leaf.size());
   for (std::size_t i = 0; i < tree.point_leaf.size(); ++i)

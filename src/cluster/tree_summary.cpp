@@ -31,7 +31,7 @@ TreeSummary summarize(const ClusterTree& tree) {
     sizes.push_back(n.point_count);
     errors.push_back(n.rms_error);
     const double e = tree.parameters.metric == ErrorMetric::Rms ? n.rms_error : n.max_error;
-    if (e > cluster_error_threshold(tree.parameters, n.point_count)) ++s.leaves_over_threshold;
+    if (e > cluster_error_threshold(tree, n.point_count)) ++s.leaves_over_threshold;
   }
   s.leaf_size_percentiles = quartiles(std::move(sizes));
   s.leaf_rms_percentiles = quartiles(std::move(errors));

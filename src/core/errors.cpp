@@ -7,6 +7,7 @@ namespace clustersurf {
 namespace {
 std::string format_location(const std::filesystem::path& file, const FileLocation& where,
                             const std::string& message) {
+  if (file.empty()) return message;
   if (where.line) return fmt::format("{}:{}: {}", file.string(), *where.line, message);
   if (where.byte_offset) return fmt::format("{}: byte {}: {}", file.string(), *where.byte_offset, message);
   return fmt::format("{}: {}", file.string(), message);

@@ -163,20 +163,21 @@ std::string serialize_tree(const ClusterTree& tree) {
   const TreeParameters& p = tree.parameters;
   w.put(static_cast<std::uint8_t>(p.proxy)), w.put(static_cast<std::uint8_t>(p.splitter));
   w.put(static_cast<std::uint8_t>(p.metric)), w.put(static_cast<std::uint8_t>(p.threshold_mode));
-  w.put(p.threshold), w.put(p.noise_factor);
+  w.put(p.tolerance), w.put(p.noise_factor);
   w.put(p.min_points), w.put(p.max_depth);
   w.put(p.alpha);
   w.put(p.kstep), w.put(p.lloyd_restarts), w.put(p.proxy_lloyd_iterations), w.put(std::uint32_t{0});
   w.put(p.support_factor);
   w.put(p.seed);
-  w.put(p.noise_sigma), w.put(p.error_threshold);
+  w.put(tree.noise_sigma), w.put(tree.error_threshold);
   w.put_vec(tree.bbox.min), w.put_vec(tree.bbox.max);
   w.put(tree.input_points);
+  w.put(tree.point_spacing);
   w.put(static_cast<std::uint64_t>(tree.nodes.size()));
   for (const ClusterNode& n : tree.nodes) {
     w.put(n.left), w.put(n.right), w.put(n.point_count);
     w.put(static_cast<std::uint8_t>(n.proxy.kind())), w.put(std::uint8_t{0}), w.put(std::uint16_t{0});
-    w.put(n.rms_error), w.put(n.max_error);
+    w.put(n.rms_error), w.put(n.max_error), w.put(n.extent);
     w.put_vec(n.support.center), w.put(n.support.radius);
     w.put_vec(n.bound.center), w.put(n.bound.radius);
     put_proxy(w, n.proxy);
@@ -196,8 +197,8 @@ ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path
   for (std::size_t k = 0; k < sizeof kMagic; ++k) r.get<char>("magic");
   const std::size_t version_at = r.pos();
   const auto version = r.get<std::uint32_t>("format version");
-  if (version != kTreeFileVersion)
-    r.fail_at(version_at, "unsupported tree file version " + std::to_string(version) + " (this build reads version " +
+  if (version < 1 || version > kTreeFileVersion)
+    r.fail_at(version_at, "unsupported tree file version " + std::to_string(version) + " (this build reads versions 1 to " +
                               std::to_string(kTreeFileVersion) + ")");
   const std::size_t endian_at = r.pos();
   if (r.get<std::uint32_t>("endianness tag") != kEndianTag)
@@ -216,7 +217,7 @@ ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path
   p.splitter = get_enum<SplitterKind>(r, 2, "splitter");
   p.metric = get_enum<ErrorMetric>(r, 2, "error metric");
   p.threshold_mode = get_enum<ThresholdMode>(r, 3, "threshold mode");
-  p.threshold = r.finite("threshold");
+  p.tolerance = r.finite("tolerance");
   p.noise_factor = r.finite("noise factor");
   p.min_points = r.get<std::uint32_t>("min points");
   p.max_depth = r.get<std::uint32_t>("max depth");
@@ -227,16 +228,21 @@ ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path
   r.get<std::uint32_t>("reserved");
   p.support_factor = r.finite("support factor");
   p.seed = r.get<std::uint64_t>("seed");
-  p.noise_sigma = r.finite("noise sigma");
-  p.error_threshold = r.finite("error threshold");
+  tree.noise_sigma = r.finite("noise sigma");
+  tree.error_threshold = r.finite("error threshold");
   tree.bbox.min = r.vec("bounding box");
   tree.bbox.max = r.vec("bounding box");
   tree.input_points = r.get<std::uint64_t>("input point count");
+  if (version >= 2) {
+    const std::size_t at = r.pos();
+    tree.point_spacing = r.finite("point spacing");
+    if (tree.point_spacing < 0) r.fail_at(at, "point spacing is negative");
+  }
 
   const std::size_t count_at = r.pos();
   const auto node_count = r.get<std::uint64_t>("node count");
   if (node_count == 0) r.fail_at(count_at, "tree has no nodes");
-  if (node_count > r.remaining() / (kNodeFixedBytes + 3 * 8))
+  if (node_count > r.remaining() / (kNodeFixedBytes + (version >= 2 ? 8 : 0) + 3 * 8))
     r.fail_at(count_at, "node count " + std::to_string(node_count) + " is larger than the file can hold");
   tree.nodes.resize(node_count);
   const auto nodes = static_cast<std::int64_t>(node_count);
@@ -255,7 +261,15 @@ ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path
     r.get<std::uint8_t>("padding"), r.get<std::uint16_t>("padding");
     n.rms_error = r.finite("node error");
     n.max_error = r.finite("node error");
+    if (version >= 2) {
+      const std::size_t at = r.pos();
+      n.extent = r.finite("cluster extent");
+      if (n.extent < 0) r.fail_at(at, "cluster extent is negative");
+    }
     n.support = get_sphere(r, "support sphere");
+    // Version 1 stored no extent: the support radius was alpha × extent but where it grew to
+    // cover enough points or shrank where the proxy failed.
+    if (version < 2) n.extent = p.alpha > 0 ? n.support.radius / p.alpha : 0.0;
     n.bound = get_sphere(r, "bounding sphere");
     if (kProxyDoubles[static_cast<std::size_t>(kind)] * 8 > r.remaining()) r.fail("file is truncated inside a proxy");
     n.proxy = get_proxy(r, kind);

@@ -65,7 +65,8 @@ Eigen::Vector3d any_tangent(const Eigen::Vector3d& n) {
 
 }  // namespace
 
-TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& options, MeshReport* report) {
+TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& options, MeshReport* report,
+                          const ProgressCallback& progress) {
   const ClusterTree& tree = surface.tree();
   const BoundingBox box = tree.bbox;
   const double longest = box.extent().maxCoeff();
@@ -118,14 +119,14 @@ TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& opt
   frontier.erase(std::unique(frontier.begin(), frontier.end()), frontier.end());
 
   // 2. Breadth-first walk over cells crossed by the surface, evaluating corners in batches.
-  detail::ProgressReporter progress(options.progress, "meshing", 1000);
+  detail::ProgressReporter reporter(progress, "meshing", 1000);
   std::unordered_map<Key, float> corner_value;  // NaN where f is undefined
   std::unordered_set<Key> visited(frontier.begin(), frontier.end());
   std::vector<Key> surface_cells;
   std::vector<Key> todo;
   std::uint64_t reported = 0;
   while (!frontier.empty()) {
-    progress.check();
+    reporter.check();
     todo.clear();
     for (Key cell : frontier) {
       const auto [i, j, k] = unpack(cell);
@@ -173,7 +174,7 @@ TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& opt
     // The walk's length is unknown in advance: report the share of cells already settled.
     const double done = static_cast<double>(surface_cells.size()) / static_cast<double>(surface_cells.size() + frontier.size() + 1);
     const auto permille = static_cast<std::uint64_t>(900 * done);
-    if (permille > reported) progress.advance(permille - reported), reported = permille;
+    if (permille > reported) reporter.advance(permille - reported), reported = permille;
   }
   std::sort(surface_cells.begin(), surface_cells.end());
 
@@ -247,7 +248,7 @@ TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& opt
     for (int k = 0; k < 3; ++k)
       mesh.triangles(static_cast<Eigen::Index>(t), k) = remap[static_cast<std::size_t>(tris[t][static_cast<std::size_t>(k)])];
 
-  progress.finish();
+  reporter.finish();
   if (report != nullptr) {
     report->voxel_size = h;
     report->evaluated_corners = corner_value.size();

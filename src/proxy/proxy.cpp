@@ -1,5 +1,6 @@
 // Evaluation of the proxies: value, gradient, ray intersection, flipping.
 
+#include <clustersurf/errors.hpp>
 #include <clustersurf/proxy.hpp>
 
 #include "core/overloaded.hpp"
@@ -7,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace clustersurf {
 
@@ -48,6 +50,12 @@ const char* to_string(ProxyKind kind) {
     case ProxyKind::Quadric: return "quadric";
   }
   return "unknown";
+}
+
+ProxyKind parse_proxy_kind(std::string_view text) {
+  for (ProxyKind kind : {ProxyKind::Plane, ProxyKind::Poly, ProxyKind::Quadric})
+    if (text == to_string(kind)) return kind;
+  throw OptionError("proxy must be plane, poly or quadric, not \"" + std::string(text) + "\"");
 }
 
 double Proxy::value(const Eigen::Vector3d& x) const {

@@ -67,7 +67,7 @@ BoundingBox framing_box(const RenderOptions& options, const Points& points) {
 
 }  // namespace
 
-Image render_mesh(const TriangleMesh& mesh, const RenderOptions& options, RenderStats* stats) {
+Image render_mesh(const TriangleMesh& mesh, const RenderOptions& options, RenderStats* stats, const ProgressCallback& progress) {
   render::check_common_options(options);
   if (mesh.triangles.rows() == 0) throw OptionError("cannot render a mesh without triangles");
   const Camera camera = make_camera(framing_box(options, mesh.vertices), options.camera, options.width, options.height);
@@ -90,10 +90,10 @@ Image render_mesh(const TriangleMesh& mesh, const RenderOptions& options, Render
   };
   return render::trace_image(camera, options, [&](int, int, int, int) {
     return [&](const Ray& ray, std::uint64_t seed) { return splatter.trace(ray, seed, color_at); };
-  }, stats);
+  }, stats, progress);
 }
 
-Image render_points(const PointCloud& cloud, const RenderOptions& options, RenderStats* stats) {
+Image render_points(const PointCloud& cloud, const RenderOptions& options, RenderStats* stats, const ProgressCallback& progress) {
   render::check_common_options(options);
   if (cloud.empty()) throw OptionError("cannot render an empty point cloud");
   const Camera camera = make_camera(framing_box(options, cloud.positions), options.camera, options.width, options.height);
@@ -129,7 +129,7 @@ Image render_points(const PointCloud& cloud, const RenderOptions& options, Rende
   };
   return render::trace_image(camera, options, [&](int, int, int, int) {
     return [&](const Ray& ray, std::uint64_t seed) { return splatter.trace(ray, seed, color_at); };
-  }, stats);
+  }, stats, progress);
 }
 
 }  // namespace clustersurf

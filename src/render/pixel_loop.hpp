@@ -29,12 +29,13 @@ void check_common_options(const RenderOptions& options);
 /// once per tile (pixels [x0, x1) × [y0, y1)) and returns a callable (const Ray&, std::uint64_t seed) → SampleResult owning its scratch
 /// memory. The picture does not depend on the thread count.
 template <class MakeTracer>
-Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer&& make_tracer, RenderStats* stats) {
+Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer&& make_tracer, RenderStats* stats,
+                  const ProgressCallback& progress_callback) {
   const int w = camera.width, h = camera.height, samples = options.samples;
   Image image(w, h);
   const Color background = to_color({options.background.r, options.background.g, options.background.b});
   const double background_alpha = options.background.a / 255.0;
-  detail::ProgressReporter progress(options.progress, "ray tracing", static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h));
+  detail::ProgressReporter progress(progress_callback, "ray tracing", static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h));
   std::atomic<std::uint64_t> hits{0};
   const auto start = std::chrono::steady_clock::now();
   constexpr int kTile = 16;

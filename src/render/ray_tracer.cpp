@@ -46,7 +46,6 @@ struct Scene {
   std::vector<double> radius_rank;  // Spheres: per node, rank of its radius among the cut in [0, 1]
   std::unique_ptr<KdTree> points;   // Error
   double error_scale = 0;
-  double clip_factor = 1;           // Proxies/highlight: patch radius = this × support radius
 };
 
 /// The node's ancestor at `depth` (the node itself when it is shallower).
@@ -63,7 +62,7 @@ bool in_subtree(const ClusterTree& tree, std::int32_t node, std::int32_t root) {
 /// The nearest hit of `node`'s proxy clipped to its patch sphere, with the proxy's normal.
 std::optional<SurfaceHit> proxy_patch_hit(const Scene& scene, std::int32_t node, const Ray& ray) {
   const ClusterNode& n = scene.tree.nodes[static_cast<std::size_t>(node)];
-  const auto clip = render::ray_sphere(ray, Sphere{n.support.center, scene.clip_factor * n.support.radius});
+  const auto clip = render::ray_sphere(ray, Sphere{n.support.center, std::min(n.support.radius, 0.5 * n.extent)});
   if (!clip || clip->second <= 0) return std::nullopt;
   const auto t = n.proxy.intersect(ray, std::max(clip->first, 0.0), clip->second);
   if (!t) return std::nullopt;
@@ -205,7 +204,7 @@ std::optional<RayHit> intersect_surface(const ClusterTree& tree, const Ray& ray,
   return RayHit{hit->t, hit->position, hit->normal, hit->dominant};
 }
 
-Image render_tree(const ClusterTree& tree, const RenderOptions& options, RenderStats* stats) {
+Image render_tree(const ClusterTree& tree, const RenderOptions& options, RenderStats* stats, const ProgressCallback& progress) {
   render::check_common_options(options);
   if (tree.nodes.empty()) throw OptionError("cannot render an empty tree");
   if (options.highlight && (*options.highlight < 0 || static_cast<std::size_t>(*options.highlight) >= tree.nodes.size()))
@@ -218,11 +217,10 @@ Image render_tree(const ClusterTree& tree, const RenderOptions& options, RenderS
   const Camera camera = make_camera(box, options.camera, options.width, options.height);
   Scene scene{tree, options, render::SupportIndex(tree, options.lod),
               options.mode == IntersectMode::BruteForce ? render::SupportSearch::BruteForce : render::SupportSearch::Hierarchy,
-              {}, render::camera_lighting(camera), {}, {}, {}, {}, {}};
+              {}, render::camera_lighting(camera), {}, {}, {}, {}};
   scene.diagonal = tree.bbox.diagonal() > 0 ? tree.bbox.diagonal() : 1.0;
   scene.march.min_weight = options.min_weight;
   scene.march.tolerance = 1e-6 * scene.diagonal;
-  scene.clip_factor = tree.parameters.alpha > 0 ? std::min(1.0, 0.5 / tree.parameters.alpha) : 1.0;
   if (options.show == ShowMode::Spheres) {
     std::vector<std::int32_t> order = scene.index.cut();
     std::stable_sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
@@ -238,7 +236,8 @@ Image render_tree(const ClusterTree& tree, const RenderOptions& options, RenderS
   }
 
   Image image = render::trace_image(
-      camera, options, [&](int x0, int y0, int x1, int y1) { return TreeTracer(scene, camera, x0, y0, x1, y1); }, stats);
+      camera, options, [&](int x0, int y0, int x1, int y1) { return TreeTracer(scene, camera, x0, y0, x1, y1); }, stats,
+      progress);
   if (options.show == ShowMode::Error) {
     render::draw_color_legend(image, scene.error_scale, "distance to input");
     if (stats != nullptr) stats->error_scale = scene.error_scale;

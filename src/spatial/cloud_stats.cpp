@@ -9,6 +9,30 @@
 
 namespace clustersurf {
 
+PointSpacing point_spacing(const KdTree& index, std::size_t max_samples) {
+  const Points& points = index.points();
+  const auto count = static_cast<std::size_t>(points.rows());
+  if (count < 2 || max_samples == 0) return {};
+  const std::size_t samples = std::min(count, max_samples);
+  const double stride = static_cast<double>(count) / static_cast<double>(samples);
+  std::vector<double> nearest(samples);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples), [&](const auto& r) {
+    std::vector<Neighbor> nb;
+    for (std::size_t j = r.begin(); j != r.end(); ++j) {
+      const auto i = static_cast<Eigen::Index>(static_cast<double>(j) * stride);
+      index.knn(points.row(i).transpose(), 2, nb);
+      // Skip the query itself (and exact duplicates count as spacing 0).
+      nearest[j] = nb.size() > 1 ? std::sqrt(nb[1].distance_squared) : 0.0;
+    }
+  });
+  PointSpacing out;
+  // Summation in index order keeps the result independent of the thread count.
+  out.mean = std::accumulate(nearest.begin(), nearest.end(), 0.0) / static_cast<double>(samples);
+  std::nth_element(nearest.begin(), nearest.begin() + static_cast<std::ptrdiff_t>(samples / 2), nearest.end());
+  out.median = nearest[samples / 2];
+  return out;
+}
+
 CloudStats compute_stats(const PointCloud& cloud, std::size_t max_samples) {
   CloudStats s;
   s.points = static_cast<std::size_t>(cloud.size());
@@ -17,24 +41,9 @@ CloudStats compute_stats(const PointCloud& cloud, std::size_t max_samples) {
   s.has_normals = cloud.has_normals();
   s.has_colors = cloud.has_colors();
   if (s.points < 2 || max_samples == 0) return s;
-
-  const KdTree tree(cloud.positions);
-  const std::size_t samples = std::min(s.points, max_samples);
-  const double stride = static_cast<double>(s.points) / static_cast<double>(samples);
-  std::vector<double> nearest(samples);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples), [&](const auto& r) {
-    std::vector<Neighbor> nb;
-    for (std::size_t j = r.begin(); j != r.end(); ++j) {
-      const auto i = static_cast<Eigen::Index>(static_cast<double>(j) * stride);
-      tree.knn(cloud.positions.row(i).transpose(), 2, nb);
-      // Skip the query itself (and exact duplicates count as spacing 0).
-      nearest[j] = nb.size() > 1 ? std::sqrt(nb[1].distance_squared) : 0.0;
-    }
-  });
-  // Summation in index order keeps the result independent of the thread count.
-  s.mean_spacing = std::accumulate(nearest.begin(), nearest.end(), 0.0) / static_cast<double>(samples);
-  std::nth_element(nearest.begin(), nearest.begin() + static_cast<std::ptrdiff_t>(samples / 2), nearest.end());
-  s.median_spacing = nearest[samples / 2];
+  const PointSpacing spacing = point_spacing(KdTree(cloud.positions), max_samples);
+  s.mean_spacing = spacing.mean;
+  s.median_spacing = spacing.median;
   return s;
 }
 

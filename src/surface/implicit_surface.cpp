@@ -1,8 +1,11 @@
 // Partition-of-unity blending of the proxies of a tree cut.
 
+#include <clustersurf/errors.hpp>
 #include <clustersurf/implicit_surface.hpp>
 
 #include <tbb/parallel_for.h>
+
+#include <cmath>
 
 namespace clustersurf {
 
@@ -16,7 +19,7 @@ std::vector<std::int32_t> lod_cut(const ClusterTree& tree, const LevelOfDetail& 
     stack.pop_back();
     const ClusterNode& n = tree.nodes[static_cast<std::size_t>(i)];
     const double e = metric == ErrorMetric::Rms ? n.rms_error : n.max_error;
-    const bool stop = n.is_leaf() || (lod.max_depth && n.depth >= *lod.max_depth) || (lod.max_error && e <= *lod.max_error);
+    const bool stop = n.is_leaf() || (lod.max_depth && n.depth >= *lod.max_depth) || (lod.error_limit && e <= *lod.error_limit);
     if (stop) {
       cut.push_back(i);
     } else {
@@ -25,6 +28,17 @@ std::vector<std::int32_t> lod_cut(const ClusterTree& tree, const LevelOfDetail& 
     }
   }
   return cut;
+}
+
+LevelOfDetail level_of_detail(const ClusterTree& tree, std::optional<std::uint32_t> depth, std::optional<double> error_fraction) {
+  LevelOfDetail lod;
+  lod.max_depth = depth;
+  if (error_fraction) {
+    if (!(*error_fraction >= 0) || !std::isfinite(*error_fraction))
+      throw OptionError("the level-of-detail error must be a non-negative fraction of the diagonal");
+    lod.error_limit = *error_fraction * tree.bbox.diagonal();
+  }
+  return lod;
 }
 
 ImplicitSurface::ImplicitSurface(const ClusterTree& tree, const LevelOfDetail& lod)
@@ -45,7 +59,7 @@ SurfaceSample ImplicitSurface::sample(const Eigen::Vector3d& x) const {
   for_each_support(x, [&](std::int32_t i, double s) {
     const ClusterNode& n = tree_->nodes[static_cast<std::size_t>(i)];
     const double one_minus = 1 - s;
-    const double w = one_minus * one_minus * one_minus;
+    const double w = blend_weight(s);
     const double r = radius(i);
     const Eigen::Vector3d dw = (-6 * one_minus * one_minus / (r * r)) * (x - n.support.center);
     const double q = n.proxy.value(x);
@@ -66,8 +80,7 @@ SurfaceSample ImplicitSurface::sample(const Eigen::Vector3d& x) const {
 std::optional<double> ImplicitSurface::value(const Eigen::Vector3d& x, double min_weight) const {
   double a = 0, w_sum = 0;
   for_each_support(x, [&](std::int32_t i, double s) {
-    const double one_minus = 1 - s;
-    const double w = one_minus * one_minus * one_minus;
+    const double w = blend_weight(s);
     a += w * tree_->nodes[static_cast<std::size_t>(i)].proxy.value(x);
     w_sum += w;
   });

@@ -180,7 +180,7 @@ OrientationReport orient_by_propagation(ClusterTree& tree, const PointCloud& clo
   std::vector<std::size_t> seed_of_root(m, m);
   auto reach = [&](std::size_t k) {
     const ClusterNode& n = tree.nodes[static_cast<std::size_t>(leaves[k])];
-    return n.support.center.x() + n.support.radius / tree.parameters.alpha * 0.5;
+    return n.support.center.x() + 0.5 * n.extent;
   };
   for (std::size_t k = 0; k < m; ++k) {
     const std::size_t r = sets.find(k);

@@ -297,7 +297,7 @@ ViewerStats write_viewer_html(const std::filesystem::path& file, const ClusterTr
                                {"points", stats.points},
                                {"input_points", tree.input_points},
                                {"patch_grid", g},
-                               {"error_threshold", tree.parameters.error_threshold},
+                               {"error_threshold", tree.error_threshold},
                                {"mesh", mesh_info},
                                {"blobs", blob_info}};
   std::string meta_text = meta.dump(-1, ' ', true);  // ASCII: "</script>" can only come from '<'

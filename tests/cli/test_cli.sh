@@ -11,6 +11,7 @@ cli=${1:?usage: test_cli.sh CLI DEFAULT_DATA_DIR [SHARED_DATA_DIR]}
 data=${2:?usage: test_cli.sh CLI DEFAULT_DATA_DIR [SHARED_DATA_DIR]}
 shared=${3:-}
 bunny="$data/bunny.ply"
+testdata="$(cd "$(dirname "$0")/../data" && pwd)"  # tests/data: small files kept with the tests
 
 if [ ! -x "$cli" ]; then
   echo "CLI binary $cli not found or not executable" >&2
@@ -285,20 +286,33 @@ if awk -v v="$voxel" -v s="$spacing" 'BEGIN { d = v - 2 * s; exit !(s > 0 && d <
 else
   not_ok "mesh --resolution auto voxel size" "voxel '$voxel', median spacing '$spacing'"
 fi
-run mesh "$tmp/b.cstree" -o "$tmp/m4.ply" --resolution auto
-expect_rc "mesh --resolution auto without --points: exit code 2" 2
-expect_contains "mesh --resolution auto without --points: the message asks for them" "$err" "--points"
-check "mesh --resolution auto without --points writes nothing" test ! -e "$tmp/m4.ply"
-run -q mesh "$tmp/b.cstree" -o "$tmp/m5.ply" --resolution auto --voxel-size "$voxel"
-expect_rc "mesh --resolution auto with --voxel-size needs no points (the voxel size wins)" 0
-# The default: auto where the points are at hand, the fixed cell count where they are not.
+# Tree files (version 2) store the input's median spacing: auto needs no --points.
+run --json mesh "$tmp/b.cstree" -o "$tmp/m4.ply" --resolution auto
+expect_rc "mesh --resolution auto without --points exits 0" 0
+expect_eq "mesh --resolution auto without --points: the voxel from the stored spacing" "$(json_field voxel_size)" "$voxel"
+run -q mesh "$tmp/b.cstree" -o "$tmp/m5.ply" --resolution auto --voxel-size 0.5
+run --json info "$tmp/b.cstree"
+expect_eq "info reports the stored spacing (as stats measures it)" "$(json_field point_spacing)" "$spacing"
+# The default is auto, with or without the points.
 run -q mesh "$tmp/b.cstree" -o "$tmp/m6.ply" --points "$bunny"
 check "mesh --points by default meshes as --resolution auto" cmp -s "$tmp/m3.ply" "$tmp/m6.ply"
 run -q reconstruct "$bunny" --mesh "$tmp/m7.ply" --resolution auto
 check "reconstruct --mesh by default meshes as --resolution auto" cmp -s "$tmp/m.ply" "$tmp/m7.ply"
-run --json mesh "$tmp/b.cstree" -o "$tmp/m8.ply"
-expect_rc "mesh without --points meshes at the fixed cell count" 0
-if [ "$(json_field voxel_size)" != "$voxel" ]; then ok "mesh without --points: a voxel of its own"; else not_ok "mesh without --points voxel" "$out"; fi
+run -q mesh "$tmp/b.cstree" -o "$tmp/m8.ply" --resolution auto
+check "mesh without --points by default meshes as --resolution auto" cmp -s "$tmp/m4.ply" "$tmp/m8.ply"
+# Points that are not the tree's input are refused, never silently used.
+run mesh "$tmp/b.cstree" -o "$tmp/m9.ply" --points "$testdata/bunny400.ply"
+expect_rc "mesh --points of another cloud: exit code 2" 2
+expect_contains "mesh --points of another cloud: the message says so" "$err" "are not the tree's input (1839 points)"
+check "mesh --points of another cloud writes nothing" test ! -e "$tmp/m9.ply"
+# A version-1 tree file (no stored spacing) still loads and meshes: auto from its points, or
+# the fixed cell count without them.
+run --json mesh "$testdata/bunny400_v1.cstree" -o "$tmp/v1.ply" --points "$testdata/bunny400.ply"
+expect_rc "mesh of a version-1 tree exits 0" 0
+run -q reconstruct "$testdata/bunny400.ply" --mesh "$tmp/v2.ply"
+check "a version-1 tree meshes as the same points reconstructed today" cmp -s "$tmp/v1.ply" "$tmp/v2.ply"
+run --json mesh "$testdata/bunny400_v1.cstree" -o "$tmp/v1b.ply"
+expect_rc "mesh of a version-1 tree without --points exits 0" 0
 run mesh "$tmp/b.cstree" -o "$tmp/m4.ply" --resolution fine
 expect_rc "mesh --resolution fine: exit code 2" 2
 head -c 100 "$tmp/b.cstree" >"$tmp/trunc.cstree"

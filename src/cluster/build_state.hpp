@@ -1,0 +1,53 @@
+#pragma once
+// What the tree builder's passes share: the working copy of the points in cluster order, the
+// nodes under construction, and the error a test over n points allows.
+
+#include <clustersurf/cluster_tree.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <numeric>
+#include <span>
+#include <vector>
+
+namespace clustersurf::detail {
+
+/// The noise a test allows is σ² (1 + kNoiseMargin √(2/n)) for an RMS over n (effective)
+/// points: the RMS² of pure noise varies by a relative √(2/n), so a cluster or a support is not
+/// split or shrunk for noise alone (about 2 standard deviations of margin).
+inline constexpr double kNoiseMargin = 2;
+
+/// The error a test over n points allows: the tolerance plus the noise with its margin.
+inline double allowed_error(double tolerance, double noise, double n) {
+  const double margin = n > 0 ? 1 + kNoiseMargin * std::sqrt(2 / n) : 1;
+  return std::sqrt(tolerance * tolerance + noise * noise * margin);
+}
+
+/// A node under construction: its cluster's rows start at `begin` in the working set.
+struct BuildNode {
+  ClusterNode node;
+  std::uint32_t begin = 0;
+  std::unique_ptr<BuildNode> left, right;
+};
+
+/// The points in cluster order: every cluster's points are contiguous rows, so the passes over
+/// a cluster read memory sequentially instead of gathering from the whole input.
+struct WorkingSet {
+  Points positions;                  // positions[j] = input.positions[ids[j]]
+  std::vector<std::uint32_t> ids;    // input index of each row
+  std::vector<std::uint32_t> local;  // the splitters' index ranges; local[j] == j between splits
+
+  /// Moves rows [begin, begin + order.size()) into the order a splitter left in `order`
+  /// (a permutation of those rows), and makes `order` the identity again.
+  void apply(std::uint32_t begin, std::span<std::uint32_t> order);
+};
+
+/// Smallest sphere containing spheres a and b (padded so rounding never leaves one outside).
+Sphere enclose(const Sphere& a, const Sphere& b);
+
+/// Appends the subtree of `root` to tree.nodes in depth-first pre-order (children after their
+/// parent, child indices set). With `leaf_begin`, also appends each node's first working row.
+void flatten(BuildNode& root, ClusterTree& tree, std::vector<std::uint32_t>* leaf_begin);
+
+}  // namespace clustersurf::detail

@@ -1,0 +1,98 @@
+// ClusterTree's members, the option names and their parsers, and the thresholds a tree implies.
+
+#include <clustersurf/cluster_tree.hpp>
+#include <clustersurf/errors.hpp>
+
+#include "cluster/build_state.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <string>
+
+namespace clustersurf {
+
+namespace {
+
+std::string quoted(std::string_view text) { return "\"" + std::string(text) + "\""; }
+
+/// The whole of `text` as a number, or nullopt (no leading spaces, signs or trailing bytes
+/// accepted beyond what from_chars reads).
+template <class T>
+std::optional<T> whole_number(std::string_view text) {
+  T value{};
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc{} || end != text.data() + text.size() || text.empty()) return std::nullopt;
+  return value;
+}
+
+}  // namespace
+
+const char* to_string(SplitterKind kind) { return kind == SplitterKind::SplitPlane ? "split-plane" : "lloyd"; }
+const char* to_string(ErrorMetric metric) { return metric == ErrorMetric::Rms ? "rms" : "max"; }
+const char* to_string(ThresholdMode mode) {
+  switch (mode) {
+    case ThresholdMode::Relative: return "relative";
+    case ThresholdMode::Absolute: return "absolute";
+    case ThresholdMode::Auto: return "auto";
+  }
+  return "unknown";
+}
+
+SplitterKind parse_splitter(std::string_view text) {
+  for (SplitterKind kind : {SplitterKind::SplitPlane, SplitterKind::Lloyd})
+    if (text == to_string(kind)) return kind;
+  throw OptionError("splitter must be split-plane or lloyd, not " + quoted(text));
+}
+
+ErrorMetric parse_error_metric(std::string_view text) {
+  for (ErrorMetric metric : {ErrorMetric::Rms, ErrorMetric::Max})
+    if (text == to_string(metric)) return metric;
+  throw OptionError("error metric must be rms or max, not " + quoted(text));
+}
+
+std::optional<double> parse_tolerance(std::string_view text) {
+  if (text == "auto") return std::nullopt;
+  const auto value = whole_number<double>(text);
+  if (!value || !(*value >= 0) || !std::isfinite(*value))
+    throw OptionError("tolerance must be \"auto\" or a non-negative fraction of the diagonal, not " + quoted(text));
+  return value;
+}
+
+std::uint32_t parse_min_points(std::string_view text) {
+  if (text == "auto") return 0;
+  const auto value = whole_number<std::uint64_t>(text);
+  if (!value || *value < 1 || *value > (std::uint64_t{1} << 30))
+    throw OptionError("min points must be \"auto\" or a whole number from 1 to 2^30, not " + quoted(text));
+  return static_cast<std::uint32_t>(*value);
+}
+
+std::uint32_t leaf_min_points(double noise, double tolerance) {
+  constexpr double kCoefficients = 6;
+  constexpr double kClean = 15, kNoisy = 20;
+  if (!(noise > 0)) return static_cast<std::uint32_t>(kClean);
+  const double n = tolerance > 0 ? kCoefficients * (noise / tolerance) * (noise / tolerance) : kNoisy;
+  return static_cast<std::uint32_t>(std::clamp(std::ceil(n), kClean, kNoisy));
+}
+
+double cluster_error_threshold(const ClusterTree& tree, double points) {
+  const TreeParameters& p = tree.parameters;
+  const double noise = p.threshold_mode == ThresholdMode::Auto ? p.noise_factor * tree.noise_sigma : 0.0;
+  const double tolerance = std::sqrt(std::max(0.0, tree.error_threshold * tree.error_threshold - noise * noise));
+  return detail::allowed_error(tolerance, noise, points);
+}
+
+std::vector<std::int32_t> ClusterTree::leaves() const {
+  std::vector<std::int32_t> out;
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    if (nodes[i].is_leaf()) out.push_back(static_cast<std::int32_t>(i));
+  return out;
+}
+
+std::uint32_t ClusterTree::depth() const {
+  std::uint32_t d = 0;
+  for (const auto& n : nodes) d = std::max(d, n.depth);
+  return d;
+}
+
+}  // namespace clustersurf

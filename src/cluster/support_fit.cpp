@@ -1,0 +1,147 @@
+// The support check and the support fit of a would-be leaf (MPU's local fit).
+
+#include <clustersurf/implicit_surface.hpp>
+
+#include "cluster/support_fit.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace clustersurf::detail {
+
+namespace {
+
+/// The support check evaluates at most about this many of the points inside a support.
+constexpr std::size_t kSupportSample = 2048;
+/// A support sphere holds about this many times its cluster's points (measured on scans).
+constexpr std::size_t kSupportPointsPerClusterPoint = 8;
+/// The support fit leaves out points farther than this many thresholds from the cluster's fit.
+constexpr double kSupportFitReach = 3;
+/// Fewer support points than this keep the cluster's own fit.
+constexpr std::size_t kMinSupportFitPoints = 12;
+/// Rounds of the trimmed support fit: points farther than kSupportFitReach times the fit's
+/// weighted RMS (or the threshold) from it are left out and the rest refitted, as long as they
+/// are isolated strays: at most kMaxTrimmedShare of the points (or one; more is a second sheet
+/// or real detail, which the split and the support checks deal with).
+constexpr int kTrimRounds = 2;
+constexpr double kMaxTrimmedShare = 0.05;
+/// A support sphere holds at least this many input points (MPU's N_min): the supports of small
+/// clusters overlap their neighbours' instead of leaving gaps between them, and their refit
+/// rests on enough points. It grows to at most kMaxSupportGrowth times its alpha radius, so a
+/// few stray points never reach across a gap.
+constexpr std::size_t kMinSupportPoints = 30;
+constexpr double kMaxSupportGrowth = 4;
+
+}  // namespace
+
+SupportFit::SupportFit(const Points& input, const Points& cluster_points, const SupportSampler& sampler,
+                       const BuildOptions& options, double tolerance, double noise)
+    : input_(input), points_(cluster_points), sampler_(sampler), options_(options), tolerance_(tolerance), noise_(noise) {}
+
+double SupportFit::coverage_radius(const Eigen::Vector3d& center, double alpha_radius) const {
+  thread_local std::vector<Neighbor> nearest;
+  sampler_.full().knn(center, kMinSupportPoints, nearest);
+  const double holding = nearest.empty() ? 0 : std::sqrt(nearest.back().distance_squared);
+  return std::min(holding, kMaxSupportGrowth * alpha_radius);
+}
+
+SupportError SupportFit::check(ClusterNode& node, std::span<const std::uint32_t> range) const {
+  const double r2 = node.support.radius * node.support.radius;
+  if (!(r2 > 0)) return {};
+  thread_local std::vector<Neighbor> inside;
+  sampler_.inside(node.support.center, node.support.radius, kSupportPointsPerClusterPoint * node.point_count,
+                 kSupportSample, inside);
+  if (std::holds_alternative<PolyProxy>(node.proxy.variant())) refit(node, range, inside);
+  double sum = 0, weight = 0, weight2 = 0;
+  for (const auto& nb : inside) {
+    const double w = blend_weight(nb.distance_squared / r2);
+    const double q = node.proxy.value(input_.row(nb.index).transpose());
+    sum += w * q * q;
+    weight += w;
+    weight2 += w * w;
+  }
+  if (!(weight > 0)) return {};
+  return {std::sqrt(sum / weight), weight * weight / weight2};
+}
+
+/// Refits a polynomial proxy, in its cluster's frame, to the support points weighted by the
+/// blending weight (as in MPU): the proxy is then accurate wherever the blend uses it, and
+/// averages the noise over its whole support. Points beyond kSupportFitReach times the
+/// threshold or the cluster's own error from the cluster's fit (another sheet, outliers) are
+/// left out; then, kTrimRounds times, those beyond kSupportFitReach times the support fit's
+/// own weighted RMS (a stray point near the surface that bent the cluster's fit) are left out
+/// and the rest refitted. The node's errors are re-measured on its own points, but for a few
+/// strays beyond that reach.
+void SupportFit::refit(ClusterNode& node, std::span<const std::uint32_t> range, std::span<const Neighbor> inside) const {
+  const PolyProxy& cluster_fit = std::get<PolyProxy>(node.proxy.variant());
+  const double r2 = node.support.radius * node.support.radius;
+  const double threshold = allowed_error(tolerance_, noise_, static_cast<double>(range.size()));
+  const double reach = kSupportFitReach * std::max(threshold, node.rms_error);
+  thread_local std::vector<std::uint32_t> ids;
+  thread_local std::vector<double> weights;
+  ids.clear();
+  weights.clear();
+  for (const auto& nb : inside) {
+    if (!(std::abs(node.proxy.value(input_.row(nb.index).transpose())) <= reach)) continue;
+    ids.push_back(nb.index);
+    weights.push_back(blend_weight(nb.distance_squared / r2));
+  }
+  if (ids.size() < kMinSupportFitPoints) return;
+  Proxy fit = fit_poly_in_frame(cluster_fit.frame, input_, ids, weights);
+  // |Q| of `fit` at every support point, and the residual beyond which a point is a stray.
+  thread_local std::vector<double> residual;
+  const auto measure = [&] {
+    residual.resize(ids.size());
+    double sum = 0, weight = 0;
+    for (std::size_t j = 0; j < ids.size(); ++j) {
+      residual[j] = std::abs(fit.value(input_.row(ids[j]).transpose()));
+      sum += weights[j] * residual[j] * residual[j];
+      weight += weights[j];
+    }
+    return kSupportFitReach * std::max(threshold, weight > 0 ? std::sqrt(sum / weight) : 0.0);
+  };
+  const auto few = [](std::size_t strays, std::size_t total) {
+    return static_cast<double>(strays) <= std::max(1.0, kMaxTrimmedShare * static_cast<double>(total));
+  };
+  const std::size_t support_points = ids.size();
+  double cut = measure();
+  for (int round = 0; round < kTrimRounds; ++round) {
+    const auto kept = static_cast<std::size_t>(std::count_if(residual.begin(), residual.end(), [&](double q) { return q <= cut; }));
+    if (kept == ids.size() || kept < kMinSupportFitPoints || !few(support_points - kept, support_points)) break;
+    std::size_t k = 0;
+    for (std::size_t j = 0; j < ids.size(); ++j) {
+      if (!(residual[j] <= cut)) continue;
+      ids[k] = ids[j];
+      weights[k++] = weights[j];
+    }
+    ids.resize(k);
+    weights.resize(k);
+    fit = fit_poly_in_frame(cluster_fit.frame, input_, ids, weights);
+    cut = measure();
+  }
+  // Kept only while the cluster's own points still meet the threshold (or what the cluster's
+  // fit achieved): a leaf's error on its points stays within the threshold. A few own points
+  // beyond the stray cut (a stray that bent the cluster's fit) are not counted.
+  double inlier_sum = 0, inlier_max = 0, all_sum = 0, all_max = 0;
+  std::size_t inliers = 0;
+  for (auto i : range) {
+    const double q = std::abs(fit.value(points_.row(i).transpose()));
+    all_sum += q * q;
+    all_max = std::max(all_max, q);
+    if (!(q <= cut)) continue;
+    inlier_sum += q * q;
+    inlier_max = std::max(inlier_max, q);
+    ++inliers;
+  }
+  const bool trim = inliers > 0 && few(range.size() - inliers, range.size());
+  const double rms = trim ? std::sqrt(inlier_sum / static_cast<double>(inliers)) : std::sqrt(all_sum / static_cast<double>(range.size()));
+  const double max = trim ? inlier_max : all_max;
+  const double e = options_.metric == ErrorMetric::Rms ? rms : max;
+  const double own = options_.metric == ErrorMetric::Rms ? node.rms_error : node.max_error;
+  if (!(e <= std::max(threshold, own))) return;
+  node.proxy = std::move(fit);
+  node.rms_error = rms;
+  node.max_error = max;
+}
+
+}  // namespace clustersurf::detail

@@ -1,0 +1,46 @@
+#pragma once
+// A leaf's support: how far it reaches and how well its proxy holds over the input points
+// inside it (MPU's local fit and its N_min rule).
+
+#include "cluster/build_state.hpp"
+#include "cluster/support_sampler.hpp"
+
+namespace clustersurf::detail {
+
+/// The weighted RMS of |Q| over a support and the effective number of points behind it,
+/// (Σw)² / Σw².
+struct SupportError {
+  double rms = 0;
+  double effective_points = 0;
+};
+
+/// The support checks of one build. Thread-safe; holds references to its arguments.
+class SupportFit {
+ public:
+  /// `input`: the clustered points in input order (indexed by `sampler`); `cluster_points`:
+  /// the working copy in cluster order (the ranges index it); `tolerance` and `noise` as the
+  /// builder's.
+  SupportFit(const Points& input, const Points& cluster_points, const SupportSampler& sampler, const BuildOptions& options,
+             double tolerance, double noise);
+
+  /// The radius around `center` that holds kMinSupportPoints input points (MPU's N_min), at most
+  /// kMaxSupportGrowth × `alpha_radius`: a small cluster's support overlaps its neighbours'
+  /// instead of leaving gaps, but never reaches across a gap for a few strays.
+  double coverage_radius(const Eigen::Vector3d& center, double alpha_radius) const;
+
+  /// The support check: a bounded sample of the input points inside the node's support; a
+  /// polynomial proxy is first refitted to them (refit()); returns the weighted RMS of |Q|.
+  SupportError check(ClusterNode& node, std::span<const std::uint32_t> range) const;
+
+ private:
+  void refit(ClusterNode& node, std::span<const std::uint32_t> range, std::span<const Neighbor> inside) const;
+
+  const Points& input_;
+  const Points& points_;
+  const SupportSampler& sampler_;
+  const BuildOptions& options_;
+  double tolerance_;
+  double noise_;
+};
+
+}  // namespace clustersurf::detail

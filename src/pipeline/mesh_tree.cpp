@@ -1,0 +1,59 @@
+// The mesh step of the pipeline: grid, mesher, trim and colors for a tree.
+
+#include <clustersurf/cloud_stats.hpp>
+#include <clustersurf/errors.hpp>
+#include <clustersurf/mesh_colors.hpp>
+#include <clustersurf/reconstruct.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+namespace clustersurf {
+
+const char* to_string(MeshColoring coloring) {
+  switch (coloring) {
+    case MeshColoring::None: return "none";
+    case MeshColoring::ByNode: return "leaf";
+    case MeshColoring::ByDistance: return "distance";
+  }
+  return "unknown";
+}
+
+MeshColoring parse_mesh_coloring(std::string_view text) {
+  for (MeshColoring c : {MeshColoring::None, MeshColoring::ByNode, MeshColoring::ByDistance})
+    if (text == to_string(c)) return c;
+  throw OptionError("color must be none, leaf or distance, not \"" + std::string(text) + "\"");
+}
+
+SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options, const Points* points,
+                      const ProgressCallback& progress) {
+  if (options.coloring == MeshColoring::ByDistance && points == nullptr)
+    throw OptionError("distance colors need the tree's input points");
+  if (options.coloring == MeshColoring::ByDistance && (!(options.distance_scale > 0) || !std::isfinite(options.distance_scale)))
+    throw OptionError("the distance color scale must be positive");
+  if (points != nullptr) require_tree_input(tree, *points);
+
+  MeshOptions grid = options.grid;
+  if (options.auto_resolution && !grid.voxel_size) {
+    if (tree.point_spacing > 0) {
+      grid.voxel_size = cell_size_for_spacing(tree.point_spacing);
+    } else if (points != nullptr) {
+      grid.voxel_size = cell_size_for_spacing(point_spacing(KdTree(*points)).median);
+    }
+  }
+  const auto start = std::chrono::steady_clock::now();
+  SurfaceMesh out;
+  const ImplicitSurface surface(tree, level_of_detail(tree, options.lod_depth, options.lod_error));
+  out.blended_nodes = surface.cut().size();
+  out.mesh = extract_mesh(surface, grid, &out.grid, progress);
+  // Trimmed to the clustered points: an outlier next to an extrapolated flap must not keep it.
+  if (points != nullptr) out.mesh = trim_to_points(out.mesh, clustered_points(tree, *points), options.trim, &out.trim);
+  if (options.coloring == MeshColoring::ByNode) out.mesh.colors = colors_by_node(out.mesh, surface);
+  if (options.coloring == MeshColoring::ByDistance)
+    out.mesh.colors = colors_by_distance(out.mesh, *points, options.distance_scale * tree.bbox.diagonal());
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace clustersurf
