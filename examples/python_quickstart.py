@@ -57,7 +57,7 @@ picture = tree.render(width=320, height=240, show="clusters", samples=2)
 print(f"picture {picture.shape}, {np.count_nonzero(picture[..., :3].min(axis=2) < 255)} non-white pixels")
 
 # %% How close is the mesh to the input? (distances as fractions of the diagonal)
-scores = clustersurf.evaluate(vertices, faces, cloud.positions, None, samples=20000)
+scores = clustersurf.compare_surfaces(vertices, faces, cloud.positions, None, samples=20000)
 print(f"chamfer {scores['chamfer']:.5f}, F-score@1% {scores['fscore'][1]['fscore']:.3f}")
 
 # %% Open3D: numpy arrays in and out of an Open3D TriangleMesh / PointCloud.

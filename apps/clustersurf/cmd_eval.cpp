@@ -1,6 +1,6 @@
 #include "commands.hpp"
 
-#include <clustersurf/evaluation.hpp>
+#include <clustersurf/surface_comparison.hpp>
 #include <clustersurf/point_cloud_io.hpp>
 
 #include <fmt/format.h>
@@ -36,10 +36,10 @@ int run_eval(Console& console, const EvalArgs& args) {
   read.warn = [&console](const std::string& message) { console.warn(message); };
   const TriangleMesh recon = read_triangle_mesh(args.reconstruction, read);
   const TriangleMesh reference = read_triangle_mesh(args.reference, read);
-  EvaluationOptions options;
+  ComparisonOptions options;
   options.samples = args.samples;
   options.seed = args.seed;
-  const Evaluation e = evaluate_surfaces(recon, reference, options);
+  const SurfaceComparison e = compare_surfaces(recon, reference, options);
   const auto or_null = [](double x) { return std::isnan(x) ? nlohmann::json(nullptr) : nlohmann::json(x); };
   if (console.options().json) {
     nlohmann::json j{{"reconstruction", args.reconstruction},

@@ -2,6 +2,7 @@
 // Per-vertex colors that show how a mesh relates to the tree and to the input.
 
 #include <clustersurf/implicit_surface.hpp>
+#include <clustersurf/palette.hpp>
 #include <clustersurf/point_cloud.hpp>
 
 namespace clustersurf {
@@ -9,12 +10,6 @@ namespace clustersurf {
 /// A color per blended node (hashed from its index: neighbours almost always differ),
 /// given to each vertex by the node of largest weight there.
 Colors colors_by_node(const TriangleMesh& mesh, const ImplicitSurface& surface);
-
-/// The RGB color of node `index` used by colors_by_node() (and the pictures).
-Eigen::Matrix<std::uint8_t, 3, 1> node_color(std::int32_t index);
-
-/// The color of `fraction` of the distance scale: green (0) → yellow (0.5) → red (≥ 1).
-Eigen::Matrix<std::uint8_t, 3, 1> distance_color(double fraction);
 
 /// Green (0) → yellow → red (≥ max_distance) by the distance from each vertex to the nearest
 /// point of `points`. Also returns the distances when `distances` is given.

@@ -25,7 +25,7 @@ from ._clustersurf import (
     OptionError,
     Tree,
     __version__,
-    evaluate,
+    compare_surfaces,
     load,
     read_mesh,
     read_points,
@@ -35,6 +35,8 @@ from ._clustersurf import (
     write_mesh,
     write_points,
 )
+
+evaluate = compare_surfaces  # the old name of compare_surfaces
 
 __all__ = [
     "Cancelled",
@@ -47,6 +49,7 @@ __all__ = [
     "PointCloud",
     "Tree",
     "__version__",
+    "compare_surfaces",
     "evaluate",
     "load",
     "read_mesh",

@@ -3,7 +3,7 @@
 #include "bindings.hpp"
 
 #include <clustersurf/errors.hpp>
-#include <clustersurf/evaluation.hpp>
+#include <clustersurf/surface_comparison.hpp>
 #include <clustersurf/point_cloud_io.hpp>
 #include <clustersurf/range_scan.hpp>
 #include <clustersurf/surface_sampling.hpp>
@@ -187,21 +187,22 @@ rigid misregistration, both fractions of the bounding-box diagonal; ``distance``
 distance to the box center, in diagonals. Returns a PointCloud with normals from each scan's
 grid, pointing towards its scanner. Deterministic for a seed.)doc");
 
+  const ComparisonOptions comparison;
   m.def(
-      "evaluate",
+      "compare_surfaces",
       [](const py::handle& recon_vertices, const py::handle& recon_faces, const py::handle& ref_vertices,
          const py::handle& ref_faces, const py::handle& recon_normals, const py::handle& ref_normals, std::int64_t samples,
          std::uint64_t seed, std::vector<double> fscore_thresholds) {
         if (samples < 1) throw OptionError("samples must be positive, not " + std::to_string(samples));
         const TriangleMesh recon = mesh_from_arrays(recon_vertices, recon_faces, recon_normals, py::none(), "recon_");
         const TriangleMesh reference = mesh_from_arrays(ref_vertices, ref_faces, ref_normals, py::none(), "ref_");
-        EvaluationOptions options;
+        ComparisonOptions options;
         options.samples = static_cast<std::size_t>(samples);
         options.seed = seed;
         options.fscore_thresholds = std::move(fscore_thresholds);
-        const Evaluation e = [&] {
+        const SurfaceComparison e = [&] {
           py::gil_scoped_release release;
-          return evaluate_surfaces(recon, reference, options);
+          return compare_surfaces(recon, reference, options);
         }();
         py::list fscores;
         for (const FScore& f : e.fscores)
@@ -216,9 +217,10 @@ grid, pointing towards its scanner. Deterministic for a seed.)doc");
                         "reference_mesh"_a = topology_dict(e.reference_topology));
       },
       py::arg("recon_vertices"), py::arg("recon_faces"), py::arg("ref_vertices"), py::arg("ref_faces"),
-      py::arg("recon_normals") = py::none(), py::arg("ref_normals") = py::none(), py::arg("samples") = 200000,
-      py::arg("seed") = 1, py::arg("fscore_thresholds") = std::vector<double>{0.005, 0.01}, R"doc(
-Scores a reconstruction against a reference surface, as ``clustersurf eval --json`` does.
+      py::arg("recon_normals") = py::none(), py::arg("ref_normals") = py::none(), py::arg("samples") = comparison.samples,
+      py::arg("seed") = comparison.seed, py::arg("fscore_thresholds") = comparison.fscore_thresholds, R"doc(
+Scores a reconstruction against a reference surface, as ``clustersurf eval --json`` does
+(``evaluate`` is its old name).
 
 Each side is a mesh (vertices, faces) or, with faces None, a point cloud. Distances are
 fractions of the reference's bounding-box diagonal. Returns a dict with diagonal, accuracy,

@@ -119,7 +119,7 @@ def test_sample_and_eval_equal_the_cli(tmp_path, cli, bunny_file):
     cli_eval = json.loads(subprocess.run([cli, "--json", "eval", str(tmp_path / "cli.ply"), "-r", str(bunny_file),
                                           "--samples", "5000"], capture_output=True, text=True, check=True).stdout)
     sampled = clustersurf.read_points(tmp_path / "cli.ply")
-    e = clustersurf.evaluate(sampled.positions, None, mesh.vertices, mesh.faces, recon_normals=sampled.normals,
+    e = clustersurf.compare_surfaces(sampled.positions, None, mesh.vertices, mesh.faces, recon_normals=sampled.normals,
                              samples=5000)
     for key in ("diagonal", "accuracy", "completeness", "chamfer", "hausdorff", "normal_consistency"):
         assert e[key] == cli_eval[key], key

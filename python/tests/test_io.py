@@ -80,7 +80,7 @@ def test_sample_surface_is_deterministic(bunny_file):
 
 def test_evaluate_identical_surfaces(bunny_file):
     mesh = clustersurf.read_mesh(bunny_file)
-    e = clustersurf.evaluate(mesh.vertices, mesh.faces, mesh.vertices, mesh.faces, samples=2000)
+    e = clustersurf.compare_surfaces(mesh.vertices, mesh.faces, mesh.vertices, mesh.faces, samples=2000)
     assert e["chamfer"] < 1e-9
     assert e["fscore"][0]["fscore"] == pytest.approx(1.0)
     assert e["reference_mesh"]["faces"] == len(mesh.faces)

@@ -87,7 +87,7 @@ def test_mesh_is_a_closed_sphere(sphere_tree):
     np.testing.assert_allclose(np.linalg.norm(vertices, axis=1), 1.0, atol=0.01)
     # Outward: the normals point away from the center.
     assert (np.einsum("ij,ij->i", vertices, normals) > 0).all()
-    e = clustersurf.evaluate(vertices, faces, vertices, faces, samples=1000)
+    e = clustersurf.evaluate(vertices, faces, vertices, faces, samples=1000)  # the old name still works
     assert e["reconstruction_mesh"]["watertight"]
     coarse = sphere_tree.mesh(resolution=48, lod_depth=2).vertices
     assert len(coarse) > 0

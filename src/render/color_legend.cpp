@@ -2,7 +2,7 @@
 
 #include "render/color_legend.hpp"
 
-#include <clustersurf/mesh_colors.hpp>
+#include <clustersurf/palette.hpp>
 
 #include <algorithm>
 #include <cstdio>

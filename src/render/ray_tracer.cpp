@@ -3,7 +3,7 @@
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/kd_tree.hpp>
-#include <clustersurf/mesh_colors.hpp>
+#include <clustersurf/palette.hpp>
 #include <clustersurf/render.hpp>
 
 #include "render/color_legend.hpp"

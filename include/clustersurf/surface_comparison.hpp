@@ -10,8 +10,8 @@
 
 namespace clustersurf {
 
-/// How `evaluate_surfaces` samples and scores.
-struct EvaluationOptions {
+/// How compare_surfaces() samples and scores.
+struct ComparisonOptions {
   /// Points sampled (area-uniform) on each surface that is a mesh. A point cloud uses its own
   /// points, at most this many of them (an even random subset when it has more).
   std::size_t samples = 200'000;
@@ -31,7 +31,7 @@ struct FScore {
 /// The scores. Distances are fractions of the reference's bounding-box diagonal; each sample's
 /// distance is to the other surface itself (nearest point on its triangles) when that surface is
 /// a mesh, or to its nearest point when it is a cloud.
-struct Evaluation {
+struct SurfaceComparison {
   double diagonal = 0;      ///< the reference's bounding-box diagonal (input units)
   double accuracy = 0;      ///< mean distance reconstruction → reference
   double completeness = 0;  ///< mean distance reference → reconstruction
@@ -50,7 +50,7 @@ struct Evaluation {
 /// Scores `reconstruction` against `reference`. Each is a triangle mesh, or a point cloud when
 /// it has no triangles (its vertices, with normals when present). Deterministic for a seed.
 /// Throws OptionError when either surface is empty.
-Evaluation evaluate_surfaces(const TriangleMesh& reconstruction, const TriangleMesh& reference,
-                             const EvaluationOptions& options = {});
+SurfaceComparison compare_surfaces(const TriangleMesh& reconstruction, const TriangleMesh& reference,
+                             const ComparisonOptions& options = {});
 
 }  // namespace clustersurf

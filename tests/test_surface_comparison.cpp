@@ -1,7 +1,7 @@
 // Point-to-mesh distance and the reconstruction scores, against cases with known answers.
 
 #include <clustersurf/errors.hpp>
-#include <clustersurf/evaluation.hpp>
+#include <clustersurf/surface_comparison.hpp>
 #include <clustersurf/mesh_distance.hpp>
 #include <clustersurf/surface_sampling.hpp>
 
@@ -79,22 +79,22 @@ TEST(MeshDistance, EqualsBruteForceOverAllTriangles) {
   }
 }
 
-TEST(Evaluation, IdenticalSurfacesScorePerfectly) {
+TEST(SurfaceComparison, IdenticalSurfacesScorePerfectly) {
   const TriangleMesh m = square(0);
-  EvaluationOptions o;
+  ComparisonOptions o;
   o.samples = 20000;
-  const Evaluation e = evaluate_surfaces(m, m, o);
+  const SurfaceComparison e = compare_surfaces(m, m, o);
   EXPECT_LT(e.chamfer, 1e-12);
   EXPECT_LT(e.hausdorff, 1e-12);
   EXPECT_NEAR(e.normal_consistency, 1.0, 1e-12);
   for (const FScore& f : e.fscores) EXPECT_EQ(f.fscore, 1.0);
 }
 
-TEST(Evaluation, ParallelSquaresAreTheirOffsetApart) {
+TEST(SurfaceComparison, ParallelSquaresAreTheirOffsetApart) {
   const double d = 0.004;
-  EvaluationOptions o;
+  ComparisonOptions o;
   o.samples = 20000;
-  const Evaluation e = evaluate_surfaces(square(d), square(0), o);
+  const SurfaceComparison e = compare_surfaces(square(d), square(0), o);
   const double diagonal = std::sqrt(2.0);  // the reference's box is flat
   EXPECT_NEAR(e.diagonal, diagonal, 1e-15);
   EXPECT_NEAR(e.accuracy, d / diagonal, 1e-12);
@@ -103,11 +103,11 @@ TEST(Evaluation, ParallelSquaresAreTheirOffsetApart) {
   EXPECT_NEAR(e.hausdorff, d / diagonal, 1e-12);
   ASSERT_EQ(e.fscores.size(), 2u);
   EXPECT_EQ(e.fscores[0].fscore, 1.0);  // τ = 0.5 % of √2 ≈ 0.0071 > d
-  const Evaluation far = evaluate_surfaces(square(0.02), square(0), o);
+  const SurfaceComparison far = compare_surfaces(square(0.02), square(0), o);
   EXPECT_EQ(far.fscores[1].fscore, 0.0);  // τ = 1 % of √2 ≈ 0.014 < 0.02
 }
 
-TEST(Evaluation, NoisyCloudAgainstItsMeshMeasuresTheNoise) {
+TEST(SurfaceComparison, NoisyCloudAgainstItsMeshMeasuresTheNoise) {
   const TriangleMesh m = square(0);
   SurfaceSamplingOptions s;
   s.count = 40000;
@@ -116,28 +116,28 @@ TEST(Evaluation, NoisyCloudAgainstItsMeshMeasuresTheNoise) {
   const PointCloud cloud = sample_surface(m, s);
   TriangleMesh as_cloud;
   as_cloud.vertices = cloud.positions;
-  EvaluationOptions o;
+  ComparisonOptions o;
   o.samples = 40000;
-  const Evaluation e = evaluate_surfaces(as_cloud, m, o);
+  const SurfaceComparison e = compare_surfaces(as_cloud, m, o);
   // Mean |N(0, σ)| = σ √(2/π); σ = 0.002 of the diagonal.
   EXPECT_NEAR(e.accuracy, 0.002 * std::sqrt(2 / M_PI), 0.03 * 0.002);
   EXPECT_TRUE(std::isnan(e.normal_consistency));  // the cloud has no normals
   EXPECT_EQ(e.reconstruction_topology.triangles, 0u);
 }
 
-TEST(Evaluation, FlippedNormalsStillConsistentButTopologyIsReported) {
+TEST(SurfaceComparison, FlippedNormalsStillConsistentButTopologyIsReported) {
   TriangleMesh a = square(0);
   a.triangles.col(1).swap(a.triangles.col(2));  // reversed winding: |n·n'| is unchanged
-  EvaluationOptions o;
+  ComparisonOptions o;
   o.samples = 5000;
-  const Evaluation e = evaluate_surfaces(a, square(0), o);
+  const SurfaceComparison e = compare_surfaces(a, square(0), o);
   EXPECT_NEAR(e.normal_consistency, 1.0, 1e-12);
   EXPECT_EQ(e.reference_topology.boundary_edges, 4u);
   EXPECT_EQ(e.reference_topology.components, 1u);
   EXPECT_FALSE(is_watertight(e.reference_topology));
 }
 
-TEST(Evaluation, EmptyInputsAreRefused) {
-  EXPECT_THROW(evaluate_surfaces(TriangleMesh{}, square(0)), OptionError);
-  EXPECT_THROW(evaluate_surfaces(square(0), TriangleMesh{}), OptionError);
+TEST(SurfaceComparison, EmptyInputsAreRefused) {
+  EXPECT_THROW(compare_surfaces(TriangleMesh{}, square(0)), OptionError);
+  EXPECT_THROW(compare_surfaces(square(0), TriangleMesh{}), OptionError);
 }

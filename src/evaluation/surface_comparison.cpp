@@ -1,5 +1,5 @@
 #include <clustersurf/errors.hpp>
-#include <clustersurf/evaluation.hpp>
+#include <clustersurf/surface_comparison.hpp>
 #include <clustersurf/kd_tree.hpp>
 #include <clustersurf/mesh_distance.hpp>
 #include <clustersurf/resample.hpp>
@@ -19,7 +19,7 @@ namespace {
 bool is_mesh(const TriangleMesh& s) { return s.triangles.rows() > 0; }
 
 /// Points spread over a surface: area-uniform samples of a mesh, or (a subset of) a cloud.
-PointCloud samples_of(const TriangleMesh& surface, const EvaluationOptions& options, std::uint64_t seed) {
+PointCloud samples_of(const TriangleMesh& surface, const ComparisonOptions& options, std::uint64_t seed) {
   if (is_mesh(surface)) {
     SurfaceSamplingOptions o;
     o.count = options.samples;
@@ -101,12 +101,12 @@ double share_within(const std::vector<double>& v, double tau) {
 
 }  // namespace
 
-Evaluation evaluate_surfaces(const TriangleMesh& reconstruction, const TriangleMesh& reference,
-                             const EvaluationOptions& options) {
+SurfaceComparison compare_surfaces(const TriangleMesh& reconstruction, const TriangleMesh& reference,
+                             const ComparisonOptions& options) {
   if (reconstruction.vertices.rows() == 0) throw OptionError("the reconstruction is empty");
   if (reference.vertices.rows() == 0) throw OptionError("the reference is empty");
   if (options.samples == 0) throw OptionError("the number of samples must be positive");
-  Evaluation e;
+  SurfaceComparison e;
   const BoundingBox box = bounding_box(reference.vertices);
   e.diagonal = box.diagonal();
   if (!(e.diagonal > 0)) throw OptionError("the reference has a zero-size bounding box");
