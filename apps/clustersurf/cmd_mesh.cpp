@@ -13,7 +13,8 @@ int run_mesh(Console& console, const MeshCommandArgs& args) {
   const ClusterTree tree = load_tree(args.tree);
   PointCloud cloud;
   if (!args.mesh.points.empty()) cloud = read_input(console, InputArgs{args.mesh.points, false});
-  const SurfaceMesh mesh = mesh_tree(tree, options, args.mesh.points.empty() ? nullptr : &cloud.positions, console.progress());
+  const CloudIndex input(cloud);
+  const SurfaceMesh mesh = mesh_tree(tree, options, args.mesh.points.empty() ? nullptr : &input, console.progress());
   console.end_progress();
   const nlohmann::json j = write_surface_mesh(console, mesh, args.mesh, args.output);
   if (console.options().json) std::cout << j.dump(2) << "\n";

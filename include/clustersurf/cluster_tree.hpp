@@ -2,6 +2,7 @@
 // The cluster tree: a binary tree of point clusters, each with a fitted proxy and support
 // sphere (thesis ch. 3, METHOD.md "Cluster tree").
 
+#include <clustersurf/cloud_index.hpp>
 #include <clustersurf/outliers.hpp>
 #include <clustersurf/point_cloud.hpp>
 #include <clustersurf/progress.hpp>
@@ -165,6 +166,10 @@ std::uint32_t leaf_min_points(double noise, double tolerance);
 /// Builds the tree. Deterministic: the same cloud and options give the same tree for any
 /// thread count. Throws OptionError for invalid options, Cancelled when `progress` says stop.
 ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& options = {},
+                               const ProgressCallback& progress = {});
+/// The same with the cloud's index shared with the later stages (CloudIndex: its k-d tree,
+/// spacing and clustered rows are computed here once).
+ClusterTree build_cluster_tree(const CloudIndex& cloud, const BuildOptions& options = {},
                                const ProgressCallback& progress = {});
 
 /// Throws OptionError unless `input` can be the tree's input: as many rows as the tree's input

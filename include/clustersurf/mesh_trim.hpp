@@ -5,6 +5,7 @@
 // a small inner shell between two scan layers) is debris, not surface: it goes too. On request,
 // a small hole the data covers (the mesher's, not the scan's) is closed.
 
+#include <clustersurf/kd_tree.hpp>
 #include <clustersurf/point_cloud.hpp>
 
 #include <cstddef>
@@ -44,6 +45,9 @@ struct TrimReport {
 /// centroid and fan come last).
 /// Deterministic and independent of the thread count.
 TriangleMesh trim_to_points(const TriangleMesh& mesh, const Points& points, const TrimOptions& options = {},
+                            TrimReport* report = nullptr);
+/// The same with the points' k-d tree given (`data`, over the points: CloudIndex::clustered()).
+TriangleMesh trim_to_points(const TriangleMesh& mesh, const KdTree& data, const TrimOptions& options = {},
                             TrimReport* report = nullptr);
 
 }  // namespace clustersurf

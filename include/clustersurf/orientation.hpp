@@ -24,5 +24,8 @@ struct OrientationReport {
 /// Pass an empty cloud (or one without normals) to force propagation. Non-finite input normals
 /// are ignored (each leaf follows the finite normals of its points).
 OrientationReport orient_tree(ClusterTree& tree, const PointCloud& cloud);
+/// The same with the cloud's shared index (its k-d tree is built once for every stage);
+/// `use_normals` false orients by propagation even when the cloud has normals.
+OrientationReport orient_tree(ClusterTree& tree, const CloudIndex& cloud, bool use_normals = true);
 
 }  // namespace clustersurf

@@ -3,6 +3,7 @@
 // trimmed (and colored) mesh of its surface; a loaded tree is meshed the same way. The CLI and
 // the Python module call these and only map their arguments to the options.
 
+#include <clustersurf/cloud_index.hpp>
 #include <clustersurf/cluster_tree.hpp>
 #include <clustersurf/implicit_surface.hpp>
 #include <clustersurf/mesh_extraction.hpp>
@@ -56,10 +57,11 @@ struct SurfaceMesh {
 };
 
 /// Meshes the tree's surface f = 0 (extract_mesh()), trims it to the clustered input points
-/// (trim_to_points()) and colors it. `points`: the tree's input, or null (no trim; distance
-/// colors then throw OptionError). Throws OptionError when `points` is not the tree's input
-/// (require_tree_input()) or an option is invalid; Cancelled when `progress` says stop.
-SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options = {}, const Points* points = nullptr,
+/// (trim_to_points()) and colors it. `input`: the tree's input cloud, indexed, or null (no
+/// trim; distance colors then throw OptionError). Throws OptionError when `input` is not the
+/// tree's input (require_tree_input()) or an option is invalid; Cancelled when `progress` says
+/// stop.
+SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options = {}, const CloudIndex* input = nullptr,
                       const ProgressCallback& progress = {});
 
 /// Options of reconstruct(); the defaults are those of `clustersurf reconstruct --mesh`.
@@ -85,8 +87,8 @@ void require_surface_extent(const PointCloud& cloud);
 
 /// The whole pipeline: require_surface_extent(), build_cluster_tree(), orient_tree() (by the
 /// input normals unless options.build.use_normals is off), and on request mesh_tree() with the
-/// cloud's positions. Deterministic for any thread count. Throws InputError, OptionError,
-/// Cancelled.
+/// cloud, all sharing one CloudIndex. Deterministic for any thread count. Throws InputError,
+/// OptionError, Cancelled.
 Reconstruction reconstruct(const PointCloud& cloud, const ReconstructOptions& options = {},
                            const ProgressCallback& progress = {});
 

@@ -300,11 +300,12 @@ without the GIL.)doc")
             o.trim.min_component_points = min_component_points;
             o.trim.close_pinholes = close_pinholes;
             o.coloring = parse_mesh_coloring(color);
-            std::optional<Points> input;
+            PointCloud input;
             if (!points.is_none())
-              input = to_points(py::hasattr(points, "positions") ? py::object(points.attr("positions")) : points, "points");
+              input.positions = to_points(py::hasattr(points, "positions") ? py::object(points.attr("positions")) : points, "points");
             SurfaceMesh mesh = run_released(progress, [&](const ProgressCallback& callback) {
-              return mesh_tree(*t.tree, o, input ? &*input : nullptr, callback);
+              const CloudIndex index(input);
+              return mesh_tree(*t.tree, o, points.is_none() ? nullptr : &index, callback);
             });
             return mesh_object(std::move(mesh.mesh));
           },

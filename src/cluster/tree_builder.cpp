@@ -176,6 +176,11 @@ void validate(const PointCloud& cloud, const BuildOptions& o) {
 }  // namespace
 
 ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& options, const ProgressCallback& progress) {
+  return build_cluster_tree(CloudIndex(cloud), options, progress);
+}
+
+ClusterTree build_cluster_tree(const CloudIndex& cloud_index, const BuildOptions& options, const ProgressCallback& progress) {
+  const PointCloud& cloud = cloud_index.cloud();
   validate(cloud, options);
   ClusterTree tree;
   tree.input_points = static_cast<std::uint64_t>(cloud.size());
@@ -199,32 +204,27 @@ ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& opti
     if (progress && !progress(name, 0.0)) throw Cancelled();
   };
 
-  // One k-d tree of the whole input gives its point spacing and finds the outliers; the points
-  // clustered are the input without them, and one k-d tree of those serves the noise estimate
-  // and the support checks.
+  // The k-d tree of the whole input gives its point spacing and finds the outliers; the points
+  // clustered are the input without them, and the k-d tree of those serves the noise estimate
+  // and the support checks (and, through the index, the trim).
   stage("indexing points");
-  std::optional<KdTree> all(std::in_place, cloud.positions);
-  tree.point_spacing = point_spacing(*all).median;
-  Points kept_positions;
+  tree.point_spacing = cloud_index.median_spacing();
   std::vector<std::uint32_t> ids;  // input index of each clustered point
-  const Points* points = &cloud.positions;
   // The input normals, indexed like the input (the working set's ids), outliers or not.
   const bool use_normals = options.use_normals && cloud.normals.rows() == cloud.positions.rows() && cloud.size() > 0;
   const Points* normals = use_normals ? &cloud.normals : nullptr;
   if (options.remove_outliers) {
     stage("finding outliers");
-    const OutlierReport found = find_outliers(cloud.positions, *all, options.outliers);
-    if (!found.outliers.empty() && !found.kept.empty()) {
-      kept_positions = cloud.positions(found.kept, Eigen::all);
-      points = &kept_positions;
-      ids.assign(found.kept.begin(), found.kept.end());
-    }
+    const OutlierReport found = find_outliers(cloud.positions, cloud_index.points(), options.outliers);
+    if (!found.outliers.empty() && !found.kept.empty()) ids.assign(found.kept.begin(), found.kept.end());
   }
   if (ids.empty()) {
     ids.resize(static_cast<std::size_t>(cloud.size()));
     std::iota(ids.begin(), ids.end(), 0u);
   }
-  const KdTree& index = points == &cloud.positions ? *all : all.emplace(*points);
+  const CloudIndex::Subset clustered = cloud_index.rows(ids);
+  const Points* points = &clustered.positions;
+  const KdTree& index = clustered.index;
 
   tree.bbox = bounding_box(*points);
   const double diagonal = tree.bbox.diagonal();

@@ -25,7 +25,10 @@ Colors colors_by_node(const TriangleMesh& mesh, const ImplicitSurface& surface) 
 
 Colors colors_by_distance(const TriangleMesh& mesh, const Points& points, double max_distance,
                           std::vector<double>* distances) {
-  const KdTree tree(points);
+  return colors_by_distance(mesh, KdTree(points), max_distance, distances);
+}
+
+Colors colors_by_distance(const TriangleMesh& mesh, const KdTree& tree, double max_distance, std::vector<double>* distances) {
   Colors c(mesh.vertices.rows(), 3);
   if (distances != nullptr) distances->assign(static_cast<std::size_t>(mesh.vertices.rows()), 0.0);
   tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, mesh.vertices.rows(), 512), [&](const auto& r) {

@@ -125,6 +125,11 @@ TriangleMesh without_triangles(const TriangleMesh& mesh, const std::vector<std::
 }  // namespace
 
 TriangleMesh trim_to_points(const TriangleMesh& mesh, const Points& points, const TrimOptions& options, TrimReport* report) {
+  return trim_to_points(mesh, KdTree(points), options, report);
+}
+
+TriangleMesh trim_to_points(const TriangleMesh& mesh, const KdTree& data, const TrimOptions& options, TrimReport* report) {
+  const Points& points = data.points();
   if (!(options.spread_factor >= 0) || !std::isfinite(options.spread_factor))
     throw OptionError("mesh trim: the spread factor must be finite and >= 0 (0 keeps every triangle)");
   if (options.neighbors < 1) throw OptionError("mesh trim: neighbors must be at least 1");
@@ -132,10 +137,9 @@ TriangleMesh trim_to_points(const TriangleMesh& mesh, const Points& points, cons
   const Eigen::Index nv = mesh.vertices.rows();
   std::vector<std::uint8_t> keep(static_cast<std::size_t>(mesh.triangles.rows()), 1);
   const bool enough_points = points.rows() > static_cast<Eigen::Index>(options.neighbors);
-  std::optional<KdTree> index;  // of the input points, built once for the trim and the pinholes
-  if (enough_points && !keep.empty() && (options.spread_factor > 0 || options.close_pinholes)) index.emplace(points);
-  if (options.spread_factor > 0 && index) {
-    const std::vector<std::uint8_t> near = vertices_near_data(mesh, *index, options);
+  const bool use_index = enough_points && !keep.empty();
+  if (options.spread_factor > 0 && use_index) {
+    const std::vector<std::uint8_t> near = vertices_near_data(mesh, data, options);
     for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
       const auto tri = mesh.triangles.row(t);
       keep[static_cast<std::size_t>(t)] = near[static_cast<std::size_t>(tri(0))] && near[static_cast<std::size_t>(tri(1))] &&
@@ -151,10 +155,10 @@ TriangleMesh trim_to_points(const TriangleMesh& mesh, const Points& points, cons
     report->removed_vertices = static_cast<std::size_t>(nv - out.vertices.rows());
     report->removed_components = dropped_components;
   }
-  if (options.close_pinholes && index) {
+  if (options.close_pinholes && use_index) {
     // Pinholes are closed within the trim's reach of the data (or 2 spreads with the trim off).
     const double reach = options.spread_factor > 0 ? options.spread_factor : TrimOptions{}.spread_factor;
-    const std::size_t closed = detail::close_pinholes(out, *index, reach, options.neighbors, kMaxPinholeSpreads);
+    const std::size_t closed = detail::close_pinholes(out, data, reach, options.neighbors, kMaxPinholeSpreads);
     if (report != nullptr) report->closed_pinholes = closed;
   }
   return out;

@@ -26,20 +26,20 @@ MeshColoring parse_mesh_coloring(std::string_view text) {
   throw OptionError("color must be none, leaf or distance, not \"" + std::string(text) + "\"");
 }
 
-SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options, const Points* points,
+SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options, const CloudIndex* input,
                       const ProgressCallback& progress) {
-  if (options.coloring == MeshColoring::ByDistance && points == nullptr)
+  if (options.coloring == MeshColoring::ByDistance && input == nullptr)
     throw OptionError("distance colors need the tree's input points");
   if (options.coloring == MeshColoring::ByDistance && (!(options.distance_scale > 0) || !std::isfinite(options.distance_scale)))
     throw OptionError("the distance color scale must be positive");
-  if (points != nullptr) require_tree_input(tree, *points);
+  if (input != nullptr) require_tree_input(tree, input->cloud().positions);
 
   MeshOptions grid = options.grid;
   if (options.auto_resolution && !grid.voxel_size) {
     if (tree.point_spacing > 0) {
       grid.voxel_size = cell_size_for_spacing(tree.point_spacing);
-    } else if (points != nullptr) {
-      grid.voxel_size = cell_size_for_spacing(point_spacing(KdTree(*points)).median);
+    } else if (input != nullptr) {
+      grid.voxel_size = cell_size_for_spacing(input->median_spacing());
     }
   }
   const auto start = std::chrono::steady_clock::now();
@@ -48,10 +48,10 @@ SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options
   out.blended_nodes = surface.cut().size();
   out.mesh = extract_mesh(surface, grid, &out.grid, progress);
   // Trimmed to the clustered points: an outlier next to an extrapolated flap must not keep it.
-  if (points != nullptr) out.mesh = trim_to_points(out.mesh, clustered_points(tree, *points), options.trim, &out.trim);
+  if (input != nullptr) out.mesh = trim_to_points(out.mesh, input->clustered(tree).index, options.trim, &out.trim);
   if (options.coloring == MeshColoring::ByNode) out.mesh.colors = colors_by_node(out.mesh, surface);
   if (options.coloring == MeshColoring::ByDistance)
-    out.mesh.colors = colors_by_distance(out.mesh, *points, options.distance_scale * tree.bbox.diagonal());
+    out.mesh.colors = colors_by_distance(out.mesh, input->points(), options.distance_scale * tree.bbox.diagonal());
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

@@ -29,17 +29,12 @@ void require_surface_extent(const PointCloud& cloud) {
 Reconstruction reconstruct(const PointCloud& cloud, const ReconstructOptions& options, const ProgressCallback& progress) {
   require_surface_extent(cloud);
   const auto start = std::chrono::steady_clock::now();
+  const CloudIndex index(cloud);
   Reconstruction out;
-  out.tree = build_cluster_tree(cloud, options.build, progress);
-  if (options.build.use_normals || !cloud.has_normals()) {
-    out.orientation = orient_tree(out.tree, cloud);
-  } else {
-    PointCloud positions_only;
-    positions_only.positions = cloud.positions;
-    out.orientation = orient_tree(out.tree, positions_only);
-  }
+  out.tree = build_cluster_tree(index, options.build, progress);
+  out.orientation = orient_tree(out.tree, index, options.build.use_normals);
   out.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (options.mesh) out.mesh = mesh_tree(out.tree, options.meshing, &cloud.positions, progress);
+  if (options.mesh) out.mesh = mesh_tree(out.tree, options.meshing, &index, progress);
   return out;
 }
 

@@ -80,10 +80,10 @@ struct Edge {
 /// Edges between leaves whose clusters touch: some point of one has one of its k nearest
 /// neighbours in the other. The proxies are compared where they meet (at the midpoints of such
 /// point pairs), not at their centers, so strongly curved parts orient correctly.
-std::vector<Edge> cluster_adjacency(const ClusterTree& tree, const Points& points, const std::vector<std::uint32_t>& leaf_slot) {
+std::vector<Edge> cluster_adjacency(const ClusterTree& tree, const KdTree& index, const std::vector<std::uint32_t>& leaf_slot) {
   constexpr std::size_t k = 8;
   constexpr double kPriorPairs = 5;
-  const KdTree index(points);
+  const Points& points = index.points();
   struct Pair {
     std::uint32_t a, b;
     double dot;
@@ -159,14 +159,14 @@ std::vector<Edge> support_overlap(const ClusterTree& tree, const std::vector<std
   return edges;
 }
 
-OrientationReport orient_by_propagation(ClusterTree& tree, const PointCloud& cloud) {
+OrientationReport orient_by_propagation(ClusterTree& tree, const CloudIndex& cloud) {
   OrientationReport report;
   const std::vector<std::int32_t> leaves = tree.leaves();
   const std::size_t m = leaves.size();
   std::vector<std::uint32_t> leaf_slot(tree.nodes.size(), 0);
   for (std::size_t k = 0; k < m; ++k) leaf_slot[static_cast<std::size_t>(leaves[k])] = static_cast<std::uint32_t>(k);
-  const bool have_points = !tree.point_leaf.empty() && static_cast<std::uint64_t>(cloud.size()) == tree.point_leaf.size();
-  std::vector<Edge> edges = have_points ? cluster_adjacency(tree, cloud.positions, leaf_slot) : support_overlap(tree, leaves);
+  const bool have_points = !tree.point_leaf.empty() && static_cast<std::uint64_t>(cloud.cloud().size()) == tree.point_leaf.size();
+  std::vector<Edge> edges = have_points ? cluster_adjacency(tree, cloud.points(), leaf_slot) : support_overlap(tree, leaves);
 
   // Minimum spanning forest (Kruskal).
   std::sort(edges.begin(), edges.end());
@@ -229,10 +229,13 @@ OrientationReport orient_by_propagation(ClusterTree& tree, const PointCloud& clo
 
 }  // namespace
 
-OrientationReport orient_tree(ClusterTree& tree, const PointCloud& cloud) {
-  const bool normals = cloud.has_normals() && !tree.point_leaf.empty() &&
+OrientationReport orient_tree(ClusterTree& tree, const PointCloud& cloud) { return orient_tree(tree, CloudIndex(cloud)); }
+
+OrientationReport orient_tree(ClusterTree& tree, const CloudIndex& index, bool use_normals) {
+  const PointCloud& cloud = index.cloud();
+  const bool normals = use_normals && cloud.has_normals() && !tree.point_leaf.empty() &&
                        static_cast<std::uint64_t>(cloud.size()) == tree.point_leaf.size();
-  return normals ? orient_by_normals(tree, cloud) : orient_by_propagation(tree, cloud);
+  return normals ? orient_by_normals(tree, cloud) : orient_by_propagation(tree, index);
 }
 
 }  // namespace clustersurf

@@ -1,0 +1,62 @@
+// One index of a cloud for every stage of the pipeline.
+
+#include <clustersurf/cloud_index.hpp>
+#include <clustersurf/cloud_stats.hpp>
+#include <clustersurf/cluster_tree.hpp>
+
+#include <algorithm>
+#include <mutex>
+#include <optional>
+#include <vector>
+
+namespace clustersurf {
+
+struct CloudIndex::Impl {
+  const PointCloud& cloud;
+  std::once_flag points_once, spacing_once;
+  std::optional<KdTree> points;
+  double spacing = 0;
+  std::mutex subset_mutex;  // guards the last subset
+  std::vector<std::uint32_t> subset_rows;
+  std::unique_ptr<Points> subset_positions;
+  std::unique_ptr<KdTree> subset_index;
+};
+
+CloudIndex::CloudIndex(const PointCloud& cloud) : impl_(new Impl{cloud, {}, {}, {}, 0, {}, {}, {}, {}}) {}
+CloudIndex::~CloudIndex() = default;
+
+const PointCloud& CloudIndex::cloud() const noexcept { return impl_->cloud; }
+
+const KdTree& CloudIndex::points() const {
+  std::call_once(impl_->points_once, [this] { impl_->points.emplace(impl_->cloud.positions); });
+  return *impl_->points;
+}
+
+double CloudIndex::median_spacing() const {
+  std::call_once(impl_->spacing_once, [this] { impl_->spacing = point_spacing(points()).median; });
+  return impl_->spacing;
+}
+
+CloudIndex::Subset CloudIndex::rows(std::span<const std::uint32_t> kept) const {
+  if (kept.size() == static_cast<std::size_t>(impl_->cloud.size())) return {impl_->cloud.positions, points()};
+  const std::lock_guard lock(impl_->subset_mutex);
+  if (!impl_->subset_index || !std::equal(kept.begin(), kept.end(), impl_->subset_rows.begin(), impl_->subset_rows.end())) {
+    impl_->subset_index.reset();  // it references the positions it replaces
+    impl_->subset_rows.assign(kept.begin(), kept.end());
+    impl_->subset_positions = std::make_unique<Points>(impl_->cloud.positions(impl_->subset_rows, Eigen::all));
+    impl_->subset_index = std::make_unique<KdTree>(*impl_->subset_positions);
+  }
+  return {*impl_->subset_positions, *impl_->subset_index};
+}
+
+CloudIndex::Subset CloudIndex::clustered(const ClusterTree& tree) const {
+  require_tree_input(tree, impl_->cloud.positions);
+  if (tree.outliers() == 0 || tree.point_leaf.empty()) return {impl_->cloud.positions, points()};
+  std::vector<std::uint32_t> kept;
+  kept.reserve(tree.point_leaf.size());
+  for (std::size_t i = 0; i < tree.point_leaf.size(); ++i)
+    if (tree.point_leaf[i] >= 0) kept.push_back(static_cast<std::uint32_t>(i));
+  return rows(kept);
+}
+
+}  // namespace clustersurf
