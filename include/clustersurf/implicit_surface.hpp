@@ -77,10 +77,18 @@ class ImplicitSurface {
   /// by the margin) contains x.
   template <class Visit>
   void for_each_support(const Eigen::Vector3d& x, Visit&& visit) const;
+  /// The one walk down the bounding spheres, for any query (a point, a ray, a cone): descends
+  /// only into nodes whose bounding sphere grown by the margin, passed as a Sphere, satisfies
+  /// `meets`, and calls visit(node index) for each cut node reached, in pre-order (the test of
+  /// its own support is the caller's).
+  template <class Meets, class Visit>
+  void walk(Meets&& meets, Visit&& visit) const;
 
   const ClusterTree& tree() const noexcept { return *tree_; }
   /// The nodes blended (pre-order).
   const std::vector<std::int32_t>& cut() const noexcept { return cut_; }
+  /// Whether node i is blended.
+  bool in_cut(std::int32_t i) const noexcept { return in_cut_[static_cast<std::size_t>(i)] != 0; }
 
  private:
   const ClusterTree* tree_;
@@ -89,8 +97,8 @@ class ImplicitSurface {
   double margin_ = 0;
 };
 
-template <class Visit>
-void ImplicitSurface::for_each_support(const Eigen::Vector3d& x, Visit&& visit) const {
+template <class Meets, class Visit>
+void ImplicitSurface::walk(Meets&& meets, Visit&& visit) const {
   std::int32_t stack[256];
   int top = 0;
   stack[top++] = 0;
@@ -105,12 +113,9 @@ void ImplicitSurface::for_each_support(const Eigen::Vector3d& x, Visit&& visit) 
       i = stack[--top];
     }
     const ClusterNode& n = nodes[static_cast<std::size_t>(i)];
-    const double reach = n.bound.radius + margin_;
-    if ((x - n.bound.center).squaredNorm() >= reach * reach) continue;
+    if (!meets(Sphere{n.bound.center, n.bound.radius + margin_})) continue;
     if (in_cut_[static_cast<std::size_t>(i)]) {
-      const double r = n.support.radius + margin_;
-      const double s = (x - n.support.center).squaredNorm() / (r * r);
-      if (s < 1) visit(i, s);
+      visit(i);
       continue;
     }
     if (n.is_leaf()) continue;
@@ -119,6 +124,18 @@ void ImplicitSurface::for_each_support(const Eigen::Vector3d& x, Visit&& visit) 
       else overflow.push_back(c);
     }
   }
+}
+
+template <class Visit>
+void ImplicitSurface::for_each_support(const Eigen::Vector3d& x, Visit&& visit) const {
+  const auto& nodes = tree_->nodes;
+  walk([&x](const Sphere& bound) { return (x - bound.center).squaredNorm() < bound.radius * bound.radius; },
+       [&](std::int32_t i) {
+         const ClusterNode& n = nodes[static_cast<std::size_t>(i)];
+         const double r = n.support.radius + margin_;
+         const double s = (x - n.support.center).squaredNorm() / (r * r);
+         if (s < 1) visit(i, s);
+       });
 }
 
 }  // namespace clustersurf

@@ -104,14 +104,12 @@ std::optional<std::pair<double, double>> ray_sphere(const Ray& ray, const Sphere
   return std::pair{-b - root, -b + root};
 }
 
-SupportIndex::SupportIndex(const ClusterTree& tree, const LevelOfDetail& lod)
-    : tree_(&tree), cut_(lod_cut(tree, lod)), in_cut_(tree.nodes.size(), 0) {
+SupportIndex::SupportIndex(const ClusterTree& tree, const LevelOfDetail& lod) : surface_(tree, lod) {
   supports_.resize(tree.nodes.size());
   for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
     const Sphere& sp = tree.nodes[i].support;
     supports_[i] = Eigen::Vector4d(sp.center.x(), sp.center.y(), sp.center.z(), sp.radius * sp.radius);
   }
-  for (auto i : cut_) in_cut_[static_cast<std::size_t>(i)] = 1;
 }
 
 namespace {
@@ -136,21 +134,11 @@ void sort_spans(std::vector<SupportSpan>& out) {
 void SupportIndex::collect_in_cone(const Eigen::Vector3d& eye, const Eigen::Vector3d& axis, double half_angle,
                                    std::vector<std::int32_t>& out) const {
   out.clear();
-  const auto& nodes = tree_->nodes;
-  if (nodes.empty()) return;
-  std::vector<std::int32_t> stack{0};
-  while (!stack.empty()) {
-    const std::int32_t i = stack.back();
-    stack.pop_back();
-    const ClusterNode& n = nodes[static_cast<std::size_t>(i)];
-    if (!sphere_meets_cone(n.bound, eye, axis, half_angle)) continue;
-    if (in_cut_[static_cast<std::size_t>(i)]) {
-      if (sphere_meets_cone(n.support, eye, axis, half_angle)) out.push_back(i);
-    } else if (!n.is_leaf()) {
-      stack.push_back(n.right);
-      stack.push_back(n.left);
-    }
-  }
+  if (tree().nodes.empty()) return;
+  surface_.walk([&](const Sphere& bound) { return sphere_meets_cone(bound, eye, axis, half_angle); },
+                [&](std::int32_t i) {
+                  if (sphere_meets_cone(tree().nodes[static_cast<std::size_t>(i)].support, eye, axis, half_angle)) out.push_back(i);
+                });
 }
 
 void SupportIndex::collect_from(const Ray& ray, double t_min, double t_max, std::span<const std::int32_t> nodes,
@@ -166,7 +154,7 @@ void SupportIndex::collect_from(const Ray& ray, double t_min, double t_max, std:
     const double root = std::sqrt(disc);
     const double t0 = -b - root, t1 = -b + root;
     if (t1 > t_min && t0 < t_max)
-      out.push_back(make_span(tree_->nodes[static_cast<std::size_t>(i)], i, ray, std::max(t0, t_min), std::min(t1, t_max)));
+      out.push_back(make_span(tree().nodes[static_cast<std::size_t>(i)], i, ray, std::max(t0, t_min), std::min(t1, t_max)));
   }
   sort_spans(out);
 }
@@ -174,7 +162,7 @@ void SupportIndex::collect_from(const Ray& ray, double t_min, double t_max, std:
 void SupportIndex::collect(const Ray& ray, double t_min, double t_max, SupportSearch search,
                            std::vector<SupportSpan>& out) const {
   out.clear();
-  const auto& nodes = tree_->nodes;
+  const auto& nodes = tree().nodes;
   if (nodes.empty()) return;
   const auto consider = [&](std::int32_t i) {
     const ClusterNode& n = nodes[static_cast<std::size_t>(i)];
@@ -183,22 +171,14 @@ void SupportIndex::collect(const Ray& ray, double t_min, double t_max, SupportSe
       out.push_back(make_span(n, i, ray, std::max(span->first, t_min), std::min(span->second, t_max)));
   };
   if (search == SupportSearch::BruteForce) {
-    for (std::int32_t i : cut_) consider(i);
+    for (std::int32_t i : cut()) consider(i);
   } else {
-    std::vector<std::int32_t> stack{0};
-    while (!stack.empty()) {
-      const std::int32_t i = stack.back();
-      stack.pop_back();
-      const ClusterNode& n = nodes[static_cast<std::size_t>(i)];
-      const auto bound = ray_sphere(ray, n.bound);
-      if (!bound || bound->second <= t_min || bound->first >= t_max) continue;
-      if (in_cut_[static_cast<std::size_t>(i)]) {
-        consider(i);
-      } else if (!n.is_leaf()) {
-        stack.push_back(n.right);
-        stack.push_back(n.left);
-      }
-    }
+    surface_.walk(
+        [&](const Sphere& sphere) {
+          const auto bound = ray_sphere(ray, sphere);
+          return bound && bound->second > t_min && bound->first < t_max;
+        },
+        consider);
   }
   sort_spans(out);
 }

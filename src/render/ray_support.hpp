@@ -57,14 +57,12 @@ class SupportIndex {
   void collect_from(const Ray& ray, double t_min, double t_max, std::span<const std::int32_t> nodes,
                     std::vector<SupportSpan>& out) const;
 
-  const ClusterTree& tree() const { return *tree_; }
-  const std::vector<std::int32_t>& cut() const { return cut_; }
-  bool in_cut(std::int32_t node) const { return in_cut_[static_cast<std::size_t>(node)] != 0; }
+  const ClusterTree& tree() const { return surface_.tree(); }
+  const std::vector<std::int32_t>& cut() const { return surface_.cut(); }
+  bool in_cut(std::int32_t node) const { return surface_.in_cut(node); }
 
  private:
-  const ClusterTree* tree_;
-  std::vector<std::int32_t> cut_;
-  std::vector<std::uint8_t> in_cut_;
+  ImplicitSurface surface_;  // the cut and the walk down the bounding spheres
   std::vector<Eigen::Vector4d> supports_;  // per node: support center and squared radius (cache-friendly)
 };
 
