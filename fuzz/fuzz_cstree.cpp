@@ -18,13 +18,16 @@
 namespace {
 
 /// A loaded tree's structure as the loader promises it: children in range and after their
-/// parent (pre-order), parents and depths consistent, point-leaf entries naming leaves.
+/// parent (pre-order), parents and depths consistent, point-leaf entries naming leaves, extents
+/// and spacing not negative. The corpus holds files of both versions.
 void check_tree(const clustersurf::ClusterTree& t) {
   using clustersurf::fuzz::require;
   const auto n = static_cast<std::int64_t>(t.nodes.size());
   require(n > 0 && t.nodes[0].parent < 0);
+  require(t.point_spacing >= 0);
   for (std::int64_t i = 0; i < n; ++i) {
     const auto& node = t.nodes[static_cast<std::size_t>(i)];
+    require(node.extent >= 0);
     if (node.is_leaf()) continue;
     for (std::int32_t c : {node.left, node.right}) {
       require(c > i && c < n);

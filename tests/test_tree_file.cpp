@@ -223,6 +223,30 @@ TEST(TreeFile, CorruptedFilesAreRejected) {
          return b;
        },
        "not a finite number"},
+      {"negative point spacing",
+       [](const std::string& g) {
+         std::string b = g;
+         poke<double>(b, kNodeCountOffset - 8, -0.5);
+         fix_crc(b);
+         return b;
+       },
+       "point spacing is negative"},
+      {"negative cluster extent",
+       [](const std::string& g) {
+         std::string b = g;
+         poke<double>(b, kFirstNode + 32, -1.0);
+         fix_crc(b);
+         return b;
+       },
+       "cluster extent is negative"},
+      {"a version from the future",
+       [](const std::string& g) {
+         std::string b = g;
+         poke<std::uint32_t>(b, kVersionOffset, kTreeFileVersion + 1);
+         fix_crc(b);
+         return b;
+       },
+       "(this build reads versions 1 to 2)"},
       {"trailing garbage",
        [](const std::string& g) {
          std::string b = g;
