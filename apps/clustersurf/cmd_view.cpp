@@ -26,9 +26,6 @@ int run_view(Console& console, const ViewArgs& args) {
                  "positions; pass the cloud the tree was built from to see the points)");
   } else {
     cloud = read_input(console, InputArgs{args.points, false});
-    if (static_cast<std::uint64_t>(cloud.size()) != tree.input_points)
-      throw OptionError(fmt::format("--points {} has {} points but {} was built from {}: pass the tree's input cloud", args.points,
-                                    cloud.size(), args.tree, tree.input_points));
   }
   TriangleMesh mesh;
   if (!args.mesh.empty()) {

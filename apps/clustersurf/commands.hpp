@@ -7,6 +7,8 @@
 #include <clustersurf/range_scan.hpp>
 #include <clustersurf/reconstruct.hpp>
 #include <clustersurf/render.hpp>
+#include <clustersurf/surface_comparison.hpp>
+#include <clustersurf/surface_sampling.hpp>
 
 #include <cstdint>
 #include <optional>
@@ -82,10 +84,10 @@ int run_mesh(Console& console, const MeshCommandArgs& args);
 struct SampleArgs {
   std::string mesh;
   std::string output;
-  std::size_t count = 200000;
-  double noise = 0;
-  double outliers = 0;
-  std::uint64_t seed = 1;
+  std::size_t count = SurfaceSamplingOptions{}.count;
+  double noise = SurfaceSamplingOptions{}.noise;
+  double outliers = SurfaceSamplingOptions{}.outliers;
+  std::uint64_t seed = SurfaceSamplingOptions{}.seed;
   bool ascii = false;
   bool no_normals = false;
   std::size_t scanner = 0;  // 0: area-uniform samples; N: a virtual range scanner at N viewpoints
@@ -97,33 +99,33 @@ int run_sample(Console& console, const SampleArgs& args);
 struct EvalArgs {
   std::string reconstruction;
   std::string reference;
-  std::size_t samples = 200000;
-  std::uint64_t seed = 1;
+  std::size_t samples = ComparisonOptions{}.samples;
+  std::uint64_t seed = ComparisonOptions{}.seed;
 };
 int run_eval(Console& console, const EvalArgs& args);
 struct RenderArgs {
   std::vector<std::string> inputs;  // tree files (.cstree), meshes or point clouds
   std::string output;               // .png
-  int width = 1280;
-  int height = 960;
-  int samples = 1;
-  std::string mode = "implicit";    // implicit | hit-blend | brute-force
-  std::string show = "surface";     // surface | clusters | spheres | proxies | error
+  int width = RenderOptions{}.width;
+  int height = RenderOptions{}.height;
+  int samples = RenderOptions{}.samples;
+  std::string mode = to_string(RenderOptions{}.mode);  // implicit | hit-blend | brute-force
+  std::string show = to_string(RenderOptions{}.show);  // surface | clusters | spheres | proxies | error
   std::optional<std::uint32_t> level;
   std::optional<std::int32_t> highlight;
   std::string points;               // input cloud for --show error
   std::optional<double> error_scale;
-  double azimuth = 30;
-  double elevation = 20;
+  double azimuth = CameraOptions{}.azimuth;
+  double elevation = CameraOptions{}.elevation;
   std::optional<double> distance;
-  double fov = 35;
+  double fov = CameraOptions{}.fov;
   std::vector<double> eye, target, up;  // x,y,z each when given
   std::string background = "white";     // transparent | white | black | #rrggbb
   bool ambient_occlusion = false;
   std::optional<std::uint32_t> lod_depth;
   std::optional<double> lod_error;  // fraction of the bbox diagonal
   double min_weight = RenderOptions{}.min_weight;
-  double point_radius = 0;
+  double point_radius = RenderOptions{}.point_radius;
   bool grid = false;
   int columns = 0;
 };

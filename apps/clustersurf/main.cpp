@@ -160,15 +160,15 @@ int main(int argc, char** argv) {
                                           "with a virtual range scanner (--scanner)");
   sm->add_option("mesh", sample.mesh, "Triangle mesh (.ply or .obj)")->required();
   sm->add_option("-o,--output", sample.output, "Point cloud to write (.ply, .xyz)")->required();
-  sm->add_option("-n,--n", sample.count, "Number of surface points (--scanner: about this many)")->check(CLI::PositiveNumber)->default_val(200000);
+  sm->add_option("-n,--n", sample.count, "Number of surface points (--scanner: about this many)")->check(CLI::PositiveNumber)->capture_default_str();
   sm->add_option("--noise", sample.noise,
                  "Gaussian noise sigma as a fraction of the bbox diagonal (--scanner: along the line of sight)")
       ->check(CLI::NonNegativeNumber)
-      ->default_val(0);
+      ->capture_default_str();
   sm->add_option("--outliers", sample.outliers, "Uniform outliers in the bbox, as a fraction of N")
       ->check(CLI::NonNegativeNumber)
-      ->default_val(0);
-  sm->add_option("--seed", sample.seed, "Random seed")->default_val(1);
+      ->capture_default_str();
+  sm->add_option("--seed", sample.seed, "Random seed")->capture_default_str();
   sm->add_flag("--ascii", sample.ascii, "Write ascii PLY instead of binary");
   sm->add_flag("--no-normals", sample.no_normals, "Do not write the normals");
   sm->add_option("--scanner", sample.scanner,
@@ -178,43 +178,43 @@ int main(int argc, char** argv) {
   sm->add_option("--registration", sample.registration,
                  "--scanner: each scan's rigid misregistration, sigma as a fraction of the bbox diagonal")
       ->check(CLI::NonNegativeNumber)
-      ->default_val(sample.registration);
+      ->capture_default_str();
   sm->add_option("--scanner-distance", sample.scanner_distance, "--scanner: distance to the bbox center, in diagonals")
       ->check(CLI::PositiveNumber)
-      ->default_val(sample.scanner_distance);
+      ->capture_default_str();
 
   EvalArgs eval;
   auto* ev = app.add_subcommand("eval", "Accuracy of a reconstruction against a reference surface (mesh or cloud)");
   ev->add_option("reconstruction", eval.reconstruction, "Reconstructed mesh or cloud (.ply, .obj, .xyz)")->required();
   ev->add_option("-r,--reference", eval.reference, "Reference mesh or cloud (the ground truth)")->required();
-  ev->add_option("--samples", eval.samples, "Points sampled on each mesh surface")->check(CLI::PositiveNumber)->default_val(200000);
-  ev->add_option("--seed", eval.seed, "Random seed for the samples")->default_val(1);
+  ev->add_option("--samples", eval.samples, "Points sampled on each mesh surface")->check(CLI::PositiveNumber)->capture_default_str();
+  ev->add_option("--seed", eval.seed, "Random seed for the samples")->capture_default_str();
   RenderArgs rnd;
   auto* v = app.add_subcommand("render", "Ray-trace a picture of a tree's surface (or of meshes and point clouds)");
   v->add_option("input", rnd.inputs, "Tree file (.cstree), mesh or point cloud; several with --grid")->required();
   v->add_option("-o,--output", rnd.output, "Picture to write (.png)")->required();
-  v->add_option("--width", rnd.width, "Picture width in pixels")->check(CLI::Range(1, 32768))->default_val(1280);
-  v->add_option("--height", rnd.height, "Picture height in pixels")->check(CLI::Range(1, 32768))->default_val(960);
-  v->add_option("--samples", rnd.samples, "Rays per pixel (anti-aliasing)")->check(CLI::Range(1, 1024))->default_val(1);
+  v->add_option("--width", rnd.width, "Picture width in pixels")->check(CLI::Range(1, 32768))->capture_default_str();
+  v->add_option("--height", rnd.height, "Picture height in pixels")->check(CLI::Range(1, 32768))->capture_default_str();
+  v->add_option("--samples", rnd.samples, "Rays per pixel (anti-aliasing)")->check(CLI::Range(1, 1024))->capture_default_str();
   v->add_option("--mode", rnd.mode,
                 "Intersection: implicit (first zero of f), hit-blend (blend the proxies' hits, thesis 5.1) or "
                 "brute-force (implicit without the hierarchy)")
       ->check(CLI::IsMember({"implicit", "hit-blend", "brute-force"}))
-      ->default_val("implicit");
+      ->capture_default_str();
   v->add_option("--show", rnd.show, "What to draw: surface, clusters, spheres, proxies or error")
       ->check(CLI::IsMember({"surface", "clusters", "spheres", "proxies", "error"}))
-      ->default_val("surface");
+      ->capture_default_str();
   v->add_option("--level", rnd.level, "clusters: color by the ancestor at this depth instead of the leaf");
   v->add_option("--highlight", rnd.highlight, "Draw this node's cluster and proxy in red over the grey surface")
       ->check(CLI::NonNegativeNumber);
   v->add_option("--points", rnd.points, "The input cloud, for --show error");
   v->add_option("--error-scale", rnd.error_scale, "error: distance drawn full red (default 0.005 x diagonal)")
       ->check(CLI::PositiveNumber);
-  v->add_option("--azimuth", rnd.azimuth, "Camera turn around the up axis, degrees")->default_val(30);
-  v->add_option("--elevation", rnd.elevation, "Camera elevation, degrees")->check(CLI::Range(-89.9, 89.9))->default_val(20);
+  v->add_option("--azimuth", rnd.azimuth, "Camera turn around the up axis, degrees")->capture_default_str();
+  v->add_option("--elevation", rnd.elevation, "Camera elevation, degrees")->check(CLI::Range(-89.9, 89.9))->capture_default_str();
   v->add_option("--distance", rnd.distance, "Camera distance to the target (default: the model fills the view)")
       ->check(CLI::PositiveNumber);
-  v->add_option("--fov", rnd.fov, "Vertical field of view, degrees")->check(CLI::Range(1.0, 170.0))->default_val(35);
+  v->add_option("--fov", rnd.fov, "Vertical field of view, degrees")->check(CLI::Range(1.0, 170.0))->capture_default_str();
   v->add_option("--eye", rnd.eye, "Explicit camera position x,y,z")->delimiter(',')->expected(3);
   v->add_option("--target", rnd.target, "Point looked at x,y,z (default: bbox center)")->delimiter(',')->expected(3);
   v->add_option("--up", rnd.up, "Up direction x,y,z (default 0,1,0)")->delimiter(',')->expected(3);
@@ -228,7 +228,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   v->add_option("--point-radius", rnd.point_radius, "Point clouds: splat radius (0: 0.75 x mean spacing)")
       ->check(CLI::NonNegativeNumber)
-      ->default_val(0);
+      ->capture_default_str();
   v->add_flag("--grid", rnd.grid, "Render every input with the same camera into one labelled picture");
   v->add_option("--columns", rnd.columns, "--grid: pictures per row (0: as square as possible)")->check(CLI::NonNegativeNumber);
 

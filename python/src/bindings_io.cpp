@@ -147,8 +147,9 @@ and ``colors`` (n, 3) uint8. Raises OptionError (bad shapes or indices) or IoErr
         }();
         return cloud_object(std::move(cloud));
       },
-      py::arg("vertices"), py::arg("faces"), py::arg("n") = 200000, py::arg("noise") = 0.0, py::arg("outliers") = 0.0,
-      py::arg("seed") = 1, R"doc(
+      py::arg("vertices"), py::arg("faces"), py::arg("n") = SurfaceSamplingOptions{}.count,
+      py::arg("noise") = SurfaceSamplingOptions{}.noise, py::arg("outliers") = SurfaceSamplingOptions{}.outliers,
+      py::arg("seed") = SurfaceSamplingOptions{}.seed, R"doc(
 Draws ``n`` points uniformly by area from a triangle mesh, as ``clustersurf sample`` does.
 
 ``noise``: Gaussian sigma as a fraction of the bounding-box diagonal; ``outliers``: uniform

@@ -71,10 +71,12 @@ void bind_render(py::class_<TreeRef>& tree_class) {
         py::capsule owner(image.release(), [](void* p) { delete static_cast<Image*>(p); });
         return py::array_t<std::uint8_t>({h, w, py::ssize_t{4}}, data, owner);
       },
-      py::kw_only(), py::arg("width") = 1280, py::arg("height") = 960, py::arg("samples") = 1, py::arg("mode") = "implicit",
-      py::arg("show") = "surface", py::arg("level") = py::none(), py::arg("highlight") = py::none(),
-      py::arg("points") = py::none(), py::arg("error_scale") = py::none(), py::arg("azimuth") = 30.0,
-      py::arg("elevation") = 20.0, py::arg("distance") = py::none(), py::arg("fov") = 35.0, py::arg("eye") = py::none(),
+      py::kw_only(), py::arg("width") = RenderOptions{}.width, py::arg("height") = RenderOptions{}.height,
+      py::arg("samples") = RenderOptions{}.samples, py::arg("mode") = to_string(RenderOptions{}.mode),
+      py::arg("show") = to_string(RenderOptions{}.show), py::arg("level") = py::none(), py::arg("highlight") = py::none(),
+      py::arg("points") = py::none(), py::arg("error_scale") = py::none(), py::arg("azimuth") = CameraOptions{}.azimuth,
+      py::arg("elevation") = CameraOptions{}.elevation, py::arg("distance") = py::none(), py::arg("fov") = CameraOptions{}.fov,
+      py::arg("eye") = py::none(),
       py::arg("target") = py::none(), py::arg("up") = py::none(), py::arg("background") = "white", py::arg("ao") = false,
       py::arg("lod_depth") = py::none(), py::arg("lod_error") = py::none(), py::arg("min_weight") = RenderOptions{}.min_weight,
       py::arg("progress") = py::none(), R"doc(

@@ -10,7 +10,7 @@ namespace clustersurf {
 void require_tree_input(const ClusterTree& tree, const Points& input, std::string_view what) {
   if (static_cast<std::uint64_t>(input.rows()) != tree.input_points)
     throw OptionError(std::string(what) + " (" + std::to_string(input.rows()) + ") are not the tree's input (" +
-                      std::to_string(tree.input_points) + " points)");
+                      std::to_string(tree.input_points) + " points): pass the cloud the tree was built from");
 }
 
 Points clustered_points(const ClusterTree& tree, const Points& input) {

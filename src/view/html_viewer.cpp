@@ -185,9 +185,7 @@ ViewerStats write_viewer_html(const std::filesystem::path& file, const ClusterTr
   if (options.patch_grid < 2) throw OptionError("the proxy patch grid needs at least 2 vertices per side");
   if (tree.nodes.empty()) throw OptionError("the tree has no nodes");
   if (cloud != nullptr) {
-    if (static_cast<std::uint64_t>(cloud->size()) != tree.input_points)
-      throw OptionError("the point cloud has " + std::to_string(cloud->size()) + " points but the tree was built from " +
-                        std::to_string(tree.input_points) + ": pass the tree's input cloud");
+    require_tree_input(tree, cloud->positions);
     if (tree.point_leaf.size() != static_cast<std::size_t>(cloud->size()))
       throw OptionError("the tree holds no point-to-leaf table (it was built with --no-point-leaves): rebuild it without");
   }

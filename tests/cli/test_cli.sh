@@ -439,7 +439,7 @@ expect_rc "view without --points exits 0" 0
 expect_contains "view without --points says the points are not shown" "$err" "--points"
 run view "$tmp/b.cstree" -o "$tmp/out/bad.html" --points "$tmp/s1.ply"
 expect_rc "view with another cloud: exit code 2" 2
-expect_contains "view with another cloud: the message says the counts differ" "$err" "was built from"
+expect_contains "view with another cloud: the message says so" "$err" "are not the tree's input"
 run view "$tmp/b.cstree" -o "$tmp/out/bad.png" --points "$bunny"
 expect_rc "view to a non-.html file: exit code 2" 2
 run view "$tmp/trunc.cstree" -o "$tmp/out/bad.html"
