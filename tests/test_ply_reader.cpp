@@ -1,0 +1,232 @@
+// The PLY reader on hand-written files: every encoding and scalar type, normals and colors by
+// their usual names, extra elements skipped (the Stanford scans' range_grid), faces, and a mesh
+// read as a cloud taking its normals from its faces.
+
+#include "io_test_files.hpp"
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/point_cloud_io.hpp>
+
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace clustersurf {
+namespace {
+
+using namespace clustersurf::test;
+
+TEST(PlyReader, AsciiWithCommentsObjInfoAndCrlf) {
+  TempDir dir;
+  const std::string text =
+      "ply\r\nformat ascii 1.0\r\ncomment made by hand\r\nobj_info num_cols 512\r\nelement vertex 3\r\n"
+      "property float x\r\nproperty float y\r\nproperty float z\r\nend_header\r\n"
+      "1 2 3\r\n-4.5 5e-1 +6\r\n  7\t8 9  \r\n";
+  const PointCloud c = read_text(dir, "a.ply", text);
+  EXPECT_TRUE(mat_eq(c.positions, rows({{1, 2, 3}, {-4.5, 0.5, 6}, {7, 8, 9}})));
+  EXPECT_FALSE(c.has_normals());
+  EXPECT_FALSE(c.has_colors());
+}
+
+TEST(PlyReader, AllScalarTypesForCoordinatesInEveryEncoding) {
+  TempDir dir;
+  const std::vector<std::string> types = {"char", "uchar", "short", "ushort", "int", "uint", "float", "double",
+                                          "int8", "uint8", "int16", "uint16", "int32", "uint32", "float32", "float64"};
+  for (const std::string& type : types) {
+    const bool is_unsigned = type.find('u') == 0;
+    const bool is_float = type.find("float") == 0 || type == "double";
+    Points expected(3, 3);
+    if (is_float) expected << 1.5, -2.25, 100.125, 0, -0.5, 3e3, 7.75, 8, -9;
+    else if (is_unsigned) expected << 1, 2, 100, 0, 5, 9, 127, 12, 3;
+    else expected << -1, 2, -100, 0, -5, 9, 127, -128, 3;
+    const std::string body = "element vertex 3\nproperty " + type + " x\nproperty " + type + " y\nproperty " + type +
+                             " z\n";
+    for (const std::string format : {"ascii", "binary_little_endian", "binary_big_endian"}) {
+      SCOPED_TRACE(type + " " + format);
+      std::string bytes = ply_header(format, body);
+      if (format == "ascii") {
+        for (Eigen::Index i = 0; i < 3; ++i)
+          bytes += std::to_string(expected(i, 0)) + " " + std::to_string(expected(i, 1)) + " " +
+                   std::to_string(expected(i, 2)) + "\n";
+      } else {
+        Bytes b;
+        b.big = format == "binary_big_endian";
+        for (Eigen::Index i = 0; i < 3; ++i)
+          for (int k = 0; k < 3; ++k) b.put_as(type, expected(i, k));
+        bytes += b.s;
+      }
+      const PointCloud c = read_text(dir, "t.ply", bytes);
+      EXPECT_TRUE(mat_eq(c.positions, expected));
+    }
+  }
+}
+
+TEST(PlyReader, NormalsColorsAndExtraPropertiesBinaryBothEndians) {
+  TempDir dir;
+  const std::string body =
+      "element vertex 2\nproperty double x\nproperty float confidence\nproperty double y\nproperty double z\n"
+      "property float nx\nproperty float ny\nproperty float nz\nproperty uchar red\nproperty uchar green\n"
+      "property uchar blue\nproperty uchar alpha\nproperty int scan\n";
+  for (bool big : {false, true}) {
+    SCOPED_TRACE(big ? "big endian" : "little endian");
+    Bytes b;
+    b.big = big;
+    b.put(0.1).put(0.5f).put(-0.2).put(1e10).floats({0, 0, 1}).put<std::uint8_t>(255).put<std::uint8_t>(0);
+    b.put<std::uint8_t>(17).put<std::uint8_t>(99).put<std::int32_t>(-3);
+    b.put(4.0).put(0.25f).put(5.0).put(6.0).floats({0.6f, 0.8f, 0}).put<std::uint8_t>(1).put<std::uint8_t>(2);
+    b.put<std::uint8_t>(3).put<std::uint8_t>(4).put<std::int32_t>(7);
+    const PointCloud c =
+        read_text(dir, "n.ply", ply_header(big ? "binary_big_endian" : "binary_little_endian", body) + b.s);
+    EXPECT_TRUE(mat_eq(c.positions, rows({{0.1, -0.2, 1e10}, {4, 5, 6}})));
+    ASSERT_TRUE(c.has_normals());
+    EXPECT_TRUE(mat_eq(c.normals, rows({{0, 0, 1}, {0.6f, 0.8f, 0}})));
+    ASSERT_TRUE(c.has_colors());
+    EXPECT_EQ(c.colors(0, 0), 255);
+    EXPECT_EQ(c.colors(0, 1), 0);
+    EXPECT_EQ(c.colors(0, 2), 17);
+    EXPECT_EQ(c.colors(1, 0), 1);
+    EXPECT_EQ(c.colors(1, 1), 2);
+    EXPECT_EQ(c.colors(1, 2), 3);
+  }
+}
+
+TEST(PlyReader, FloatAndUshortColorsAndAlternativeNames) {
+  TempDir dir;
+  const std::string text = ply_header("ascii",
+                                      "element vertex 3\n" + kXyzFloat +
+                                          "property float normal_x\nproperty float normal_y\nproperty float normal_z\n"
+                                          "property float r\nproperty float g\nproperty float b\n") +
+                           "0 0 0 1 0 0 0 0.5 1\n1 1 1 0 1 0 1.5 -0.5 0.2\n2 2 2 0 0 -1 nan 0.999 0.001\n";
+  const PointCloud c = read_text(dir, "f.ply", text);
+  ASSERT_TRUE(c.has_colors());
+  ASSERT_TRUE(c.has_normals());
+  EXPECT_TRUE(mat_eq(c.normals, rows({{1, 0, 0}, {0, 1, 0}, {0, 0, -1}})));
+  const std::vector<int> expected = {0, 128, 255, 255, 0, 51, 0, 255, 0};  // clamped, NaN → 0
+  for (int i = 0; i < 9; ++i) EXPECT_EQ(c.colors(i / 3, i % 3), expected[static_cast<std::size_t>(i)]) << i;
+
+  Bytes b;
+  b.floats({0, 0, 0}).put<std::uint16_t>(65535).put<std::uint16_t>(0).put<std::uint16_t>(257 * 100);
+  const PointCloud u = read_text(
+      dir, "u.ply",
+      ply_header("binary_little_endian", "element vertex 1\n" + kXyzFloat +
+                                             "property ushort diffuse_red\nproperty ushort diffuse_green\n"
+                                             "property ushort diffuse_blue\n") +
+          b.s);
+  ASSERT_TRUE(u.has_colors());
+  EXPECT_EQ(u.colors(0, 0), 255);
+  EXPECT_EQ(u.colors(0, 1), 0);
+  EXPECT_EQ(u.colors(0, 2), 100);
+}
+
+TEST(PlyReader, PartialNormalsOrColorsAreIgnored) {
+  TempDir dir;
+  const PointCloud c = read_text(
+      dir, "p.ply",
+      ply_header("ascii", "element vertex 1\n" + kXyzFloat + "property float nx\nproperty uchar red\n") + "1 2 3 1 9\n");
+  EXPECT_FALSE(c.has_normals());
+  EXPECT_FALSE(c.has_colors());
+}
+
+TEST(PlyReader, SkipsRangeGridAfterVerticesLikeTheStanfordScans) {
+  TempDir dir;
+  const std::string body = "obj_info num_cols 2\nobj_info num_rows 2\nelement vertex 2\n" + kXyzFloat +
+                           "element range_grid 4\nproperty list uchar int vertex_indices\n";
+  // ascii
+  const PointCloud a = read_text(dir, "a.ply", ply_header("ascii", body) + "1 2 3\n4 5 6\n1 0\n0\n0\n1 1\n");
+  EXPECT_TRUE(mat_eq(a.positions, rows({{1, 2, 3}, {4, 5, 6}})));
+  // binary, both endians
+  for (bool big : {false, true}) {
+    Bytes b;
+    b.big = big;
+    b.floats({1, 2, 3, 4, 5, 6});
+    b.put<std::uint8_t>(1).put<std::int32_t>(0).put<std::uint8_t>(0).put<std::uint8_t>(0);
+    b.put<std::uint8_t>(1).put<std::int32_t>(1);
+    const PointCloud c =
+        read_text(dir, "b.ply", ply_header(big ? "binary_big_endian" : "binary_little_endian", body) + b.s);
+    EXPECT_TRUE(mat_eq(c.positions, rows({{1, 2, 3}, {4, 5, 6}})));
+  }
+  // Elements before the vertices are skipped too, and a vertex element with a list property.
+  Bytes b;
+  b.put<std::uint8_t>(2).put<std::int16_t>(7).put<std::int16_t>(8).put<std::uint8_t>(0);  // 2 "junk" records
+  b.floats({1, 2}).put<std::uint8_t>(3).put(1.0f).put(2.0f).put(3.0f).floats({3});
+  b.floats({4, 5}).put<std::uint8_t>(0).floats({6});
+  const PointCloud c = read_text(
+      dir, "c.ply",
+      ply_header("binary_little_endian",
+                 "element junk 2\nproperty list uchar short v\nelement vertex 2\nproperty float x\nproperty float y\n"
+                 "property list uchar float extra\nproperty float z\n") +
+          b.s);
+  EXPECT_TRUE(mat_eq(c.positions, rows({{1, 2, 3}, {4, 5, 6}})));
+}
+
+TEST(PlyReader, FacesAreFanTriangulated) {
+  TempDir dir;
+  const std::string body =
+      "element vertex 5\n" + kXyzFloat + "element face 3\nproperty list uchar int vertex_indices\n";
+  const Triangles expected = (Triangles(4, 3) << 0, 1, 2, 0, 2, 3, 4, 0, 1, 1, 2, 4).finished();
+  const TriangleMesh a = read_mesh_text(dir, "a.ply",
+                                        ply_header("ascii", body) + "0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 2 2\n" +
+                                            "4 0 1 2 3\n3 4 0 1\n3 1 2 4\n");
+  EXPECT_EQ(a.vertices.rows(), 5);
+  EXPECT_TRUE(mat_eq(a.triangles, expected));
+  for (bool big : {false, true}) {
+    Bytes b;
+    b.big = big;
+    b.floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 2, 2, 2});
+    b.put<std::uint8_t>(4).put<std::int32_t>(0).put<std::int32_t>(1).put<std::int32_t>(2).put<std::int32_t>(3);
+    b.put<std::uint8_t>(3).put<std::int32_t>(4).put<std::int32_t>(0).put<std::int32_t>(1);
+    b.put<std::uint8_t>(3).put<std::int32_t>(1).put<std::int32_t>(2).put<std::int32_t>(4);
+    const TriangleMesh m =
+        read_mesh_text(dir, "b.ply", ply_header(big ? "binary_big_endian" : "binary_little_endian", body) + b.s);
+    EXPECT_TRUE(mat_eq(m.triangles, expected));
+  }
+  // Faces may come before the vertices; "vertex_index" and other index types are accepted;
+  // points and edges (fewer than 3 indices) carry no triangles.
+  const TriangleMesh f = read_mesh_text(
+      dir, "f.ply",
+      ply_header("ascii",
+                 "element face 3\nproperty list int ushort vertex_index\nelement vertex 4\n" + kXyzFloat) +
+          "4 0 1 2 3\n2 0 1\n1 3\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n");
+  EXPECT_TRUE(mat_eq(f.triangles, (Triangles(2, 3) << 0, 1, 2, 0, 2, 3).finished()));
+  // Read as a point cloud, faces are skipped.
+  EXPECT_EQ(read_point_cloud(dir / "f.ply").size(), 4);
+}
+
+namespace {
+
+/// An ascii PLY tetrahedron (outward winding) with `extra` unreferenced vertices and the given
+/// face lines.
+std::string tetrahedron_ply(int extra = 0, const std::string& faces = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n") {
+  std::string s = "ply\nformat ascii 1.0\nelement vertex " + std::to_string(4 + extra) +
+                  "\nproperty float x\nproperty float y\nproperty float z\nelement face 4\n"
+                  "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  for (int i = 0; i < extra; ++i) s += "5 5 5\n";
+  return s + faces;
+}
+
+}  // namespace
+
+TEST(PlyReader, AMeshReadAsACloudTakesItsNormalsFromItsFaces) {
+  const PointCloud c = parse_point_cloud(tetrahedron_ply(), FileFormat::Ply);
+  ASSERT_EQ(c.normals.rows(), 4);
+  // Outward: away from the tetrahedron's centroid at every vertex.
+  const Eigen::RowVector3d centroid(0.25, 0.25, 0.25);
+  for (Eigen::Index v = 0; v < 4; ++v) {
+    EXPECT_NEAR(c.normals.row(v).norm(), 1, 1e-12);
+    EXPECT_GT(c.normals.row(v).dot(c.positions.row(v) - centroid), 0) << "vertex " << v;
+  }
+  // The origin's three faces are the axis planes: equal weights, normal -(1,1,1)/√3.
+  EXPECT_NEAR(c.normals(0, 0), -1 / std::sqrt(3.0), 1e-6);
+  // Off by option, or where a vertex belongs to no face, or where the faces are broken: none.
+  ReadOptions off;
+  off.normals_from_faces = false;
+  EXPECT_EQ(parse_point_cloud(tetrahedron_ply(), FileFormat::Ply, "<memory>", off).normals.rows(), 0);
+  EXPECT_EQ(parse_point_cloud(tetrahedron_ply(1), FileFormat::Ply).normals.rows(), 0);
+  const PointCloud broken = parse_point_cloud(tetrahedron_ply(0, "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 9\n"), FileFormat::Ply);
+  EXPECT_EQ(broken.size(), 4);
+  EXPECT_EQ(broken.normals.rows(), 0);
+}
+
+}  // namespace
+}  // namespace clustersurf
