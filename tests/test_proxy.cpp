@@ -161,3 +161,37 @@ TEST(Proxy, RankDeficientFitsStayFinite) {
   const Proxy p = fit_proxy(ProxyKind::Poly, few, all(few));
   EXPECT_LT(proxy_error(p, few, all(few)).max, 1e-9);
 }
+
+// A crease: a roof (convex, max) and a valley (concave, min) of two planes meeting on the y axis.
+TEST(Proxy, CreaseIsTheMaxOrMinOfItsPlanes) {
+  const Eigen::Vector3d na = Eigen::Vector3d(-1, 0, 1).normalized(), nb = Eigen::Vector3d(1, 0, 1).normalized();
+  const CreaseProxy roof{PlaneProxy{Eigen::Vector3d::Zero(), na}, PlaneProxy{Eigen::Vector3d::Zero(), nb}, true};
+  const Proxy p(roof);
+  EXPECT_EQ(p.kind(), ProxyKind::Crease);
+  EXPECT_STREQ(to_string(p.kind()), "crease");
+  // On the roof's faces (z = −|x|) Q = 0; above the ridge positive, below negative.
+  for (double x : {-0.7, -0.2, 0.0, 0.3, 0.9}) EXPECT_NEAR(p.value(Eigen::Vector3d(x, 0.4, -std::abs(x))), 0, 1e-12);
+  EXPECT_GT(p.value(Eigen::Vector3d(0, 0, 0.1)), 0);
+  EXPECT_LT(p.value(Eigen::Vector3d(0, 0, -0.1)), 0);
+  EXPECT_LT((p.gradient(Eigen::Vector3d(-0.5, 0, 0)) - na).norm(), 1e-12);  // plane a decides for x < 0
+  EXPECT_LT((p.gradient(Eigen::Vector3d(0.5, 0, 0)) - nb).norm(), 1e-12);
+  EXPECT_LT((p.normal() - Eigen::Vector3d::UnitZ()).norm(), 1e-12);
+  // A ray down onto each face hits the face, not the other plane's extension.
+  for (double x : {-0.6, 0.25}) {
+    const Ray ray{Eigen::Vector3d(x, 0, 2), -Eigen::Vector3d::UnitZ()};
+    const auto t = p.intersect(ray, 0, 10);
+    ASSERT_TRUE(t.has_value());
+    EXPECT_NEAR(*t, 2 + std::abs(x), 1e-12);
+  }
+  // Flipping negates Q and turns the convex max into a concave min with the same zero set.
+  Proxy f = p;
+  f.flip();
+  EXPECT_FALSE(std::get<CreaseProxy>(f.variant()).convex);
+  for (const Eigen::Vector3d& x : {Eigen::Vector3d(0.3, 1, 0.2), Eigen::Vector3d(-0.4, 0, -0.9)}) {
+    EXPECT_NEAR(f.value(x), -p.value(x), 1e-12);
+    EXPECT_LT((f.gradient(x) + p.gradient(x)).norm(), 1e-12);
+  }
+  const auto t = f.intersect(Ray{Eigen::Vector3d(0.25, 0, 2), -Eigen::Vector3d::UnitZ()}, 0, 10);
+  ASSERT_TRUE(t.has_value());
+  EXPECT_NEAR(*t, 2.25, 1e-12);
+}

@@ -33,6 +33,7 @@ ReconstructOptions reconstruct_options(const ReconstructArgs& a) {
   b.keep_point_leaves = !a.no_point_leaves;
   b.remove_outliers = !a.keep_outliers;
   b.use_normals = !a.ignore_normals;
+  b.creases = !a.no_creases;
   o.mesh = !a.mesh_output.empty();
   o.meshing = surface_mesh_options(a.mesh);
   return o;

@@ -66,6 +66,7 @@ struct ReconstructArgs {
   bool no_point_leaves = false;
   bool keep_outliers = false;
   bool ignore_normals = false;
+  bool no_creases = !BuildOptions{}.creases;
 };
 int run_reconstruct(Console& console, const ReconstructArgs& args);
 

@@ -101,6 +101,9 @@ int main(int argc, char** argv) {
   r->add_option("--mesh", rec.mesh_output, "Also mesh the surface into this file (.ply or .obj)");
   add_mesh_options(*r, rec.mesh);
   r->add_flag("--ignore-normals", rec.ignore_normals, "Orient by propagation even when the input has normals");
+  r->add_flag("--no-creases", rec.no_creases,
+              "No crease leaves: a cluster on the two faces of a sharp edge is split like any other instead of "
+              "fitted by two planes meeting at the edge");
   r->add_option("--proxy", rec.proxy, "Proxy per cluster: plane, poly (bivariate quadratic) or quadric")
       ->check(CLI::IsMember({"plane", "poly", "quadric"}))
       ->capture_default_str();

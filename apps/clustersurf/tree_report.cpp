@@ -8,7 +8,7 @@ nlohmann::json tree_report_json(const ClusterTree& tree) {
   const TreeSummary s = summarize(tree);
   const TreeParameters& p = tree.parameters;
   nlohmann::json hist;
-  for (int k = 0; k < 4; ++k) hist[to_string(static_cast<ProxyKind>(k))] = s.proxy_histogram[static_cast<std::size_t>(k)];
+  for (std::size_t k = 0; k < kProxyKinds; ++k) hist[to_string(static_cast<ProxyKind>(k))] = s.proxy_histogram[k];
   auto pct = [](const std::array<double, 5>& a) {
     return nlohmann::json{{"min", a[0]}, {"p25", a[1]}, {"median", a[2]}, {"p75", a[3]}, {"max", a[4]}};
   };
@@ -35,6 +35,7 @@ nlohmann::json tree_report_json(const ClusterTree& tree) {
         {"error_metric", to_string(p.metric)},
         {"threshold_mode", to_string(p.threshold_mode)},
         {"tolerance", p.tolerance},
+        {"creases", p.creases},
         {"noise_factor", p.noise_factor},
         {"min_points", p.min_points},
         {"max_depth", p.max_depth},
@@ -56,9 +57,9 @@ std::vector<std::string> tree_report_lines(const ClusterTree& tree) {
                                      : fmt::format("points          {} ({} outliers left out)", tree.input_points, tree.outliers()));
   out.push_back(fmt::format("nodes           {} ({} leaves), depth {}", s.nodes, s.leaves, s.depth));
   std::string hist;
-  for (int k = 0; k < 4; ++k)
-    if (s.proxy_histogram[static_cast<std::size_t>(k)] != 0)
-      hist += fmt::format("{}{} {}", hist.empty() ? "" : ", ", s.proxy_histogram[static_cast<std::size_t>(k)],
+  for (std::size_t k = 0; k < kProxyKinds; ++k)
+    if (s.proxy_histogram[k] != 0)
+      hist += fmt::format("{}{} {}", hist.empty() ? "" : ", ", s.proxy_histogram[k],
                           to_string(static_cast<ProxyKind>(k)));
   out.push_back(fmt::format("leaf proxies    {}", hist));
   const auto& ls = s.leaf_size_percentiles;
@@ -78,10 +79,10 @@ std::vector<std::string> tree_report_lines(const ClusterTree& tree) {
     out.push_back(fmt::format("point spacing   {:.4g} (median, {:.4g} % of the diagonal)", tree.point_spacing,
                               diag > 0 ? 100 * tree.point_spacing / diag : 0.0));
   out.push_back(fmt::format("parameters      proxy {}, splitter {}, error {}, tolerance {} {}, min-points {}, "
-                            "max-depth {}, alpha {}, kstep {}, support-factor {}, seed {}",
+                            "max-depth {}, alpha {}, kstep {}, support-factor {}, seed {}, creases {}",
                             to_string(p.proxy), to_string(p.splitter), to_string(p.metric), to_string(p.threshold_mode),
                             p.tolerance, p.min_points, p.max_depth, p.alpha, p.kstep == 0 ? std::string("auto") : std::to_string(p.kstep),
-                            p.support_factor, p.seed));
+                            p.support_factor, p.seed, p.creases ? "on" : "off"));
   return out;
 }
 

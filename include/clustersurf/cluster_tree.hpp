@@ -77,6 +77,10 @@ struct BuildOptions {
   /// apart (both sides of a thin part, the faces of a deep fold) is split into its two sheets,
   /// each of at least 3 points. Off, or without normals, the tree depends on the positions alone.
   bool use_normals = true;
+  /// A cluster on the two faces of a sharp edge, which no smooth proxy fits within the
+  /// threshold, becomes a leaf whose proxy is the crease of two planes (CreaseProxy) when that
+  /// fits: edges and corners of machined parts stay sharp instead of rounded and lumpy.
+  bool creases = true;
   OutlierOptions outliers;                       ///< the outlier test
   bool keep_point_leaves = true;                 ///< store the leaf of every input point
 };
@@ -125,6 +129,7 @@ struct TreeParameters {
   std::uint32_t proxy_lloyd_iterations = 0;
   double support_factor = 2.0;
   std::uint64_t seed = 1;
+  bool creases = false;  ///< built with BuildOptions::creases (off in version-1 files)
 
   bool operator==(const TreeParameters&) const = default;
 };
@@ -186,7 +191,7 @@ struct TreeSummary {
   std::size_t nodes = 0;
   std::size_t leaves = 0;
   std::uint32_t depth = 0;
-  std::array<std::size_t, 4> proxy_histogram{};  ///< leaves per ProxyKind
+  std::array<std::size_t, kProxyKinds> proxy_histogram{};  ///< leaves per ProxyKind
   std::array<double, 5> leaf_size_percentiles{};  ///< 0, 25, 50, 75, 100 %
   std::array<double, 5> leaf_rms_percentiles{};   ///< 0, 25, 50, 75, 100 %
   std::size_t leaves_over_threshold = 0;          ///< leaves whose error exceeds cluster_error_threshold()

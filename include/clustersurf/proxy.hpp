@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -18,9 +19,11 @@
 namespace clustersurf {
 
 /// The proxy types. Values are stored in tree files: never renumber.
-enum class ProxyKind : std::uint8_t { Point = 0, Plane = 1, Poly = 2, Quadric = 3 };
+enum class ProxyKind : std::uint8_t { Point = 0, Plane = 1, Poly = 2, Quadric = 3, Crease = 4 };
+/// How many proxy kinds there are.
+inline constexpr std::size_t kProxyKinds = 5;
 
-/// Name used on the command line and in reports: "point", "plane", "poly", "quadric".
+/// Name used on the command line and in reports: "point", "plane", "poly", "quadric", "crease".
 const char* to_string(ProxyKind kind);
 /// The kind a tree may be built with, by its to_string() name: "plane", "poly" or "quadric".
 /// Throws OptionError otherwise.
@@ -69,6 +72,17 @@ struct QuadricProxy {
   std::array<double, 10> coeffs{};
 };
 
+/// Two planes meeting along a crease, for a leaf whose points lie on two faces of a sharp edge
+/// (MPU's edge function): Q(x) = max(Qa, Qb) when the inside is where both planes say inside
+/// (a convex edge), min(Qa, Qb) when it is where either does (a concave one). The zero set is
+/// the two half-planes and the edge between them is sharp, where one smooth proxy would round
+/// it. Built by the tree builder (BuildOptions::creases), never chosen as BuildOptions::proxy.
+struct CreaseProxy {
+  PlaneProxy a;
+  PlaneProxy b;
+  bool convex = true;
+};
+
 /// A ray origin + t · direction.
 struct Ray {
   Eigen::Vector3d origin;
@@ -84,7 +98,7 @@ struct ProxyError {
 /// One proxy of any kind, held by value.
 class Proxy {
  public:
-  using Variant = std::variant<PointProxy, PlaneProxy, PolyProxy, QuadricProxy>;
+  using Variant = std::variant<PointProxy, PlaneProxy, PolyProxy, QuadricProxy, CreaseProxy>;
 
   Proxy() = default;
   /// Implicit from any of the proxy types (and from Variant).
@@ -98,14 +112,14 @@ class Proxy {
 
   /// Approximate signed distance Q(x); finite everywhere.
   double value(const Eigen::Vector3d& x) const;
-  /// Exact gradient of value() at x.
+  /// Exact gradient of value() at x (a crease: of its plane that decides there).
   Eigen::Vector3d gradient(const Eigen::Vector3d& x) const;
   /// Smallest t in [t_min, t_max] with Q(origin + t·direction) = 0, if any (Point: none).
   std::optional<double> intersect(const Ray& ray, double t_min, double t_max) const;
   /// Negates Q (swaps inside and outside) without changing the zero set.
   void flip();
   /// Unit normal direction of the proxy near its center (plane and poly: e3; quadric: the
-  /// normalized gradient at the center; point: +z).
+  /// normalized gradient at the center; crease: the mean of its planes' normals; point: +z).
   Eigen::Vector3d normal() const;
 
  private:
@@ -118,7 +132,8 @@ Frame pca_frame(const Points& points, std::span<const std::uint32_t> indices);
 
 /// Least-squares fit of a proxy of `kind` to points[indices] (nonempty). Rank-deficient systems
 /// (collinear points, fewer points than coefficients) get the minimum-norm pseudo-inverse
-/// solution; the result is always finite.
+/// solution; the result is always finite. A crease: two planes by k-planes, or the plane of
+/// all the points when they do not lie on two faces meeting among them.
 Proxy fit_proxy(ProxyKind kind, const Points& points, std::span<const std::uint32_t> indices);
 
 /// Fits a bivariate polynomial over a given frame (the frame is kept; only coefficients fit).

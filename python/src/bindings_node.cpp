@@ -41,6 +41,9 @@ py::array_t<double> coefficients(const Proxy& proxy) {
           put(p.frame.origin);
           c.insert(c.end(), p.frame.axes.data(), p.frame.axes.data() + 9);  // column-major: e1, e2, e3
           put(p.coeffs);
+        } else if constexpr (std::is_same_v<T, CreaseProxy>) {
+          put(p.a.point), put(p.a.normal), put(p.b.point), put(p.b.normal);
+          c.push_back(p.convex ? 1.0 : 0.0);
         } else {
           put(p.center);
           c.push_back(p.scale);
@@ -69,6 +72,9 @@ py::dict proxy_dict(const Proxy& proxy) {
           py::array_t<double> coeffs(6);
           std::copy(p.coeffs.begin(), p.coeffs.end(), coeffs.mutable_data());
           return py::dict("type"_a = "poly", "origin"_a = vector_array(p.frame.origin), "axes"_a = axes, "coeffs"_a = coeffs);
+        } else if constexpr (std::is_same_v<T, CreaseProxy>) {
+          const auto plane = [](const PlaneProxy& q) { return py::dict("point"_a = vector_array(q.point), "normal"_a = vector_array(q.normal)); };
+          return py::dict("type"_a = "crease", "a"_a = plane(p.a), "b"_a = plane(p.b), "convex"_a = p.convex);
         } else {
           py::array_t<double> coeffs(10);
           std::copy(p.coeffs.begin(), p.coeffs.end(), coeffs.mutable_data());
@@ -111,15 +117,17 @@ pre-order, root 0; a node's children come after it.)doc")
       .def_property_readonly("max_error", [](const NodeRef& n) { return n.node().max_error; },
                              "Largest |Q| over the cluster's points (input units).")
       .def_property_readonly("proxy_type", [](const NodeRef& n) { return to_string(n.node().proxy.kind()); },
-                             "\"point\", \"plane\", \"poly\" or \"quadric\".")
+                             "\"point\", \"plane\", \"poly\", \"quadric\" or \"crease\".")
       .def_property_readonly("proxy", [](const NodeRef& n) { return proxy_dict(n.node().proxy); }, R"doc(
 The proxy's parameters as a dict with "type" and: point: center; plane: point, normal; poly:
 origin, axes (3x3, columns e1 e2 e3) and coeffs c0..c5 of w = c0 + c1 u + c2 v + c3 u² +
 c4 uv + c5 v² in local coordinates (u, v, w); quadric: center, scale and the 10 coeffs of the
-quadric in y = (x - center) / scale.)doc")
+quadric in y = (x - center) / scale; crease: planes a and b (each a dict of point, normal) and
+convex (Q = max of the two planes' values when True, min when False).)doc")
       .def_property_readonly("coefficients", [](const NodeRef& n) { return coefficients(n.node().proxy); }, R"doc(
 The proxy's numbers, flat, in the order of the .cstree file: point 3, plane 6, poly 18
-(origin, axes column by column, c0..c5), quadric 14 (center, scale, c0..c9).)doc")
+(origin, axes column by column, c0..c5), quadric 14 (center, scale, c0..c9), crease 13 (the
+two planes' point and normal, then 1 for a convex edge or 0 for a concave one).)doc")
       .def_property_readonly(
           "support",
           [](const NodeRef& n) { return py::make_tuple(vector_array(n.node().support.center), n.node().support.radius); },

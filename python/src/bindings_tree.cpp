@@ -67,14 +67,14 @@ py::dict info_dict(const ClusterTree& tree) {
   const TreeSummary s = summarize(tree);
   const TreeParameters& p = tree.parameters;
   py::dict hist;
-  for (int k = 0; k < 4; ++k) hist[to_string(static_cast<ProxyKind>(k))] = s.proxy_histogram[static_cast<std::size_t>(k)];
+  for (std::size_t k = 0; k < kProxyKinds; ++k) hist[to_string(static_cast<ProxyKind>(k))] = s.proxy_histogram[k];
   const auto vec = [](const Eigen::Vector3d& v) { return py::make_tuple(v.x(), v.y(), v.z()); };
   py::dict parameters("proxy"_a = to_string(p.proxy), "splitter"_a = to_string(p.splitter),
                       "error_metric"_a = to_string(p.metric), "threshold_mode"_a = to_string(p.threshold_mode),
                       "tolerance"_a = p.tolerance, "noise_factor"_a = p.noise_factor, "min_points"_a = p.min_points,
                       "max_depth"_a = p.max_depth, "alpha"_a = p.alpha, "kstep"_a = p.kstep,
                       "lloyd_restarts"_a = p.lloyd_restarts, "proxy_lloyd_iterations"_a = p.proxy_lloyd_iterations,
-                      "support_factor"_a = p.support_factor, "seed"_a = p.seed);
+                      "support_factor"_a = p.support_factor, "seed"_a = p.seed, "creases"_a = p.creases);
   return py::dict("nodes"_a = s.nodes, "leaves"_a = s.leaves, "depth"_a = s.depth, "input_points"_a = tree.input_points, "outliers"_a = tree.outliers(),
                   "has_point_leaves"_a = !tree.point_leaf.empty(), "bbox_min"_a = vec(tree.bbox.min),
                   "bbox_max"_a = vec(tree.bbox.max), "diagonal"_a = tree.bbox.diagonal(), "leaf_proxies"_a = hist,
@@ -121,8 +121,8 @@ void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class) {
          const py::object& tolerance, std::optional<double> absolute_tolerance, const std::string& error,
          const py::object& min_points, std::int64_t max_depth, double alpha, std::int64_t kstep, std::int64_t lloyd_restarts,
          std::int64_t proxy_lloyd, double noise_factor, double support_factor, std::uint64_t seed, bool ignore_normals,
-         bool no_point_leaves, bool keep_outliers, const py::object& max_error, std::optional<double> absolute_error,
-         const py::object& progress) {
+         bool no_point_leaves, bool keep_outliers, bool creases, const py::object& max_error,
+         std::optional<double> absolute_error, const py::object& progress) {
         ReconstructOptions o;
         o.mesh = false;
         BuildOptions& b = o.build;
@@ -153,6 +153,7 @@ void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class) {
         b.keep_point_leaves = !no_point_leaves;
         b.remove_outliers = !keep_outliers;
         b.use_normals = !ignore_normals;
+        b.creases = creases;
         const PointCloud cloud = input_cloud(points, normals);
         auto tree = run_released(progress, [&](const ProgressCallback& callback) {
           return std::make_shared<const ClusterTree>(reconstruct(cloud, o, callback).tree);
@@ -167,7 +168,7 @@ void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class) {
       py::arg("noise_factor") = defaults.noise_factor, py::arg("support_factor") = defaults.support_factor,
       py::arg("seed") = defaults.seed, py::arg("ignore_normals") = !defaults.use_normals,
       py::arg("no_point_leaves") = !defaults.keep_point_leaves, py::arg("keep_outliers") = !defaults.remove_outliers,
-      py::arg("max_error") = py::none(), py::arg("absolute_error") = py::none(), py::arg("progress") = py::none(), R"doc(
+      py::arg("creases") = defaults.creases, py::arg("max_error") = py::none(), py::arg("absolute_error") = py::none(), py::arg("progress") = py::none(), R"doc(
 Builds and orients the cluster tree of a point cloud, as ``clustersurf reconstruct`` does
 (the library's reconstruct(): the same checks, the same tree).
 
@@ -184,7 +185,8 @@ may keep beyond the estimated noise, a fraction of the bounding-box diagonal or 
 tolerance, 15 to 20); ``max_depth``; ``alpha`` (support radius = alpha x cluster bbox
 diagonal); ``kstep``; ``lloyd_restarts``; ``proxy_lloyd``; ``support_factor``; ``seed``;
 ``ignore_normals``; ``no_point_leaves``; ``keep_outliers`` (isolated points are left out of
-every cluster unless set; their ``point_leaf`` is -1).
+every cluster unless set; their ``point_leaf`` is -1); ``creases`` (False: no crease leaves,
+as ``--no-creases``).
 
 ``progress``: optional callable (stage: str, fraction: float) -> bool; returning False raises
 Cancelled. Ctrl-C interrupts the build. The GIL is released while building. The result is

@@ -7,6 +7,7 @@
 #include <clustersurf/noise.hpp>
 
 #include "cluster/build_state.hpp"
+#include "proxy/crease_fit.hpp"
 #include "cluster/residual_structure.hpp"
 #include "cluster/splitters.hpp"
 #include "cluster/support_fit.hpp"
@@ -76,9 +77,28 @@ class Builder {
     node.support.radius = std::max(node.support.radius, cover);
     node.bound = node.support;
 
-    const double e = options_.metric == ErrorMetric::Rms ? err.rms : err.max;
+    double e = options_.metric == ErrorMetric::Rms ? err.rms : err.max;
     const bool can_split = depth < options_.max_depth && range.size() >= 2 * std::size_t{options_.min_points};
     const double threshold = allowed(tolerance_, static_cast<double>(range.size()));
+    // A cluster on the two faces of a sharp edge: two planes meeting at a crease, where one
+    // smooth proxy rounds the edge and its split leaves a lumpy blend along it.
+    // Kept when it meets the threshold and explains the smooth proxy's misfit: it leaves at
+    // most a quarter of the misfit beyond the noise (half its RMS). Two planes fit any cluster
+    // a little better than one quadric; only an edge makes them fit it much better.
+    std::optional<ClusterNode> smooth;  // the node as fitted before, restored if it is split
+    if (options_.creases && e > threshold) {
+      if (const auto crease = detail::fit_crease(points_, range, frame, node.extent)) {
+        const double ce = options_.metric == ErrorMetric::Rms ? crease->error.rms : crease->error.max;
+        const double noise2 = noise_ * noise_;
+        if (ce <= threshold && ce * ce - noise2 <= 0.25 * (e * e - noise2)) {
+          smooth = node;
+          node.proxy = crease->proxy;
+          node.rms_error = crease->error.rms;
+          node.max_error = crease->error.max;
+          e = ce;
+        }
+      }
+    }
     // Over its support a proxy may keep the noise plus support_factor times the tolerance.
     const auto support_fails = [&](const detail::SupportError& s, double tolerance) {
       return s.rms > allowed(options_.support_factor * tolerance, s.effective_points);
@@ -98,7 +118,8 @@ class Builder {
     }
     // A would-be leaf on two sheets facing apart (both sides of a thin part, the faces of a
     // deep fold) becomes one leaf per sheet, below min_points if need be.
-    if ((k == 0 || k >= range.size()) && normals_ != nullptr && depth < options_.max_depth)
+    // A crease leaf is one already: its two faces are the two planes it holds.
+    if ((k == 0 || k >= range.size()) && normals_ != nullptr && depth < options_.max_depth && !smooth)
       k = detail::split_two_sheets(*normals_, work_.ids, range, kMinSheetPoints);
     if (k == 0 || k >= range.size()) {
       // A leaf that cannot be split (too few points, or no split helps) but whose proxy is off
@@ -120,6 +141,11 @@ class Builder {
       std::iota(range.begin(), range.end(), bn.begin);
       progress_.advance(range.size());
       return;
+    }
+    if (smooth) {  // split after all: an inner node keeps the smooth proxy
+      const Sphere support = node.support, bound = node.bound;
+      node = *smooth;
+      node.support = support, node.bound = bound;
     }
     work_.apply(bn.begin, range);
     bn.left = std::make_unique<BuildNode>();
@@ -200,6 +226,7 @@ ClusterTree build_cluster_tree(const CloudIndex& cloud_index, const BuildOptions
   p.proxy_lloyd_iterations = options.proxy_lloyd_iterations;
   p.support_factor = options.support_factor;
   p.seed = options.seed;
+  p.creases = options.creases;
   const auto stage = [&progress](std::string_view name) {
     if (progress && !progress(name, 0.0)) throw Cancelled();
   };

@@ -24,8 +24,11 @@ static_assert(std::endian::native == std::endian::little, "the tree file codec a
 constexpr char kMagic[8] = {'\x89', 'C', 'S', 'T', 'R', 'E', 'E', '\n'};
 constexpr std::uint32_t kEndianTag = 0x01020304u;
 
+/// The option flags of the header (version 2; the reserved 0 of version 1).
+constexpr std::uint32_t kFlagCreases = 1;
+
 /// Number of doubles that encode each proxy kind (indexed by ProxyKind).
-constexpr std::size_t kProxyDoubles[4] = {3, 6, 18, 14};
+constexpr std::size_t kProxyDoubles[kProxyKinds] = {3, 6, 18, 14, 13};
 
 class Writer {
  public:
@@ -91,6 +94,9 @@ void put_proxy(Writer& w, const Proxy& proxy) {
           w.put_vec(p.frame.origin);
           for (int c = 0; c < 3; ++c) w.put_vec(p.frame.axes.col(c));
           for (double x : p.coeffs) w.put(x);
+        } else if constexpr (std::is_same_v<T, CreaseProxy>) {
+          w.put_vec(p.a.point), w.put_vec(p.a.normal), w.put_vec(p.b.point), w.put_vec(p.b.normal);
+          w.put(p.convex ? 1.0 : 0.0);
         } else {
           w.put_vec(p.center), w.put(p.scale);
           for (double x : p.coeffs) w.put(x);
@@ -99,15 +105,27 @@ void put_proxy(Writer& w, const Proxy& proxy) {
       proxy.variant());
 }
 
+PlaneProxy get_plane(Reader& r) {
+  PlaneProxy p;
+  p.point = r.vec("plane point");
+  const std::size_t at = r.pos();
+  p.normal = r.vec("plane normal");
+  if (std::abs(p.normal.norm() - 1) > 1e-6) r.fail_at(at, "plane normal is not a unit vector");
+  return p;
+}
+
 Proxy get_proxy(Reader& r, ProxyKind kind) {
   switch (kind) {
     case ProxyKind::Point: return PointProxy{r.vec("point proxy center")};
-    case ProxyKind::Plane: {
-      PlaneProxy p;
-      p.point = r.vec("plane point");
+    case ProxyKind::Plane: return get_plane(r);
+    case ProxyKind::Crease: {
+      CreaseProxy p;
+      p.a = get_plane(r);
+      p.b = get_plane(r);
       const std::size_t at = r.pos();
-      p.normal = r.vec("plane normal");
-      if (std::abs(p.normal.norm() - 1) > 1e-6) r.fail_at(at, "plane normal is not a unit vector");
+      const double convex = r.finite("crease side");
+      if (convex != 0 && convex != 1) r.fail_at(at, "crease side must be 0 (concave) or 1 (convex)");
+      p.convex = convex == 1;
       return p;
     }
     case ProxyKind::Poly: {
@@ -166,7 +184,8 @@ std::string serialize_tree(const ClusterTree& tree) {
   w.put(p.tolerance), w.put(p.noise_factor);
   w.put(p.min_points), w.put(p.max_depth);
   w.put(p.alpha);
-  w.put(p.kstep), w.put(p.lloyd_restarts), w.put(p.proxy_lloyd_iterations), w.put(std::uint32_t{0});
+  w.put(p.kstep), w.put(p.lloyd_restarts), w.put(p.proxy_lloyd_iterations);
+  w.put(p.creases ? kFlagCreases : std::uint32_t{0});
   w.put(p.support_factor);
   w.put(p.seed);
   w.put(tree.noise_sigma), w.put(tree.error_threshold);
@@ -225,7 +244,11 @@ ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path
   p.kstep = r.get<std::uint32_t>("kstep");
   p.lloyd_restarts = r.get<std::uint32_t>("lloyd restarts");
   p.proxy_lloyd_iterations = r.get<std::uint32_t>("proxy lloyd iterations");
-  r.get<std::uint32_t>("reserved");
+  const std::size_t flags_at = r.pos();
+  const auto flags = r.get<std::uint32_t>("flags");
+  if ((flags & ~kFlagCreases) != 0 || (version < 2 && flags != 0))
+    r.fail_at(flags_at, "unknown option flags " + std::to_string(flags));
+  p.creases = (flags & kFlagCreases) != 0;
   p.support_factor = r.finite("support factor");
   p.seed = r.get<std::uint64_t>("seed");
   tree.noise_sigma = r.finite("noise sigma");
@@ -257,7 +280,7 @@ ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path
       r.fail_at(node_at[static_cast<std::size_t>(i)],
                 "node " + std::to_string(i) + " has invalid children " + std::to_string(n.left) + ", " + std::to_string(n.right));
     n.point_count = r.get<std::uint32_t>("node point count");
-    const ProxyKind kind = get_enum<ProxyKind>(r, 4, "proxy kind");
+    const ProxyKind kind = get_enum<ProxyKind>(r, version >= 2 ? kProxyKinds : 4, "proxy kind");
     r.get<std::uint8_t>("padding"), r.get<std::uint16_t>("padding");
     n.rms_error = r.finite("node error");
     n.max_error = r.finite("node error");

@@ -48,6 +48,7 @@ const char* to_string(ProxyKind kind) {
     case ProxyKind::Plane: return "plane";
     case ProxyKind::Poly: return "poly";
     case ProxyKind::Quadric: return "quadric";
+    case ProxyKind::Crease: return "crease";
   }
   return "unknown";
 }
@@ -72,6 +73,10 @@ double Proxy::value(const Eigen::Vector3d& x) const {
             const Eigen::Vector3d y = (x - p.center) / p.scale;
             const double g = std::max(quadric_grad(p.coeffs, y).norm(), kTinyGradient);
             return p.scale * quadric_q(p.coeffs, y) / g;
+          },
+          [&](const CreaseProxy& p) {
+            const double qa = p.a.normal.dot(x - p.a.point), qb = p.b.normal.dot(x - p.b.point);
+            return p.convex ? std::max(qa, qb) : std::min(qa, qb);
           },
       },
       v_);
@@ -106,6 +111,10 @@ Eigen::Vector3d Proxy::gradient(const Eigen::Vector3d& x) const {
             const double q = quadric_q(p.coeffs, y);
             return g / gn - q * (quadric_hessian(p.coeffs) * g) / (gn * gn * gn);
           },
+          [&](const CreaseProxy& p) -> Eigen::Vector3d {
+            const double qa = p.a.normal.dot(x - p.a.point), qb = p.b.normal.dot(x - p.b.point);
+            return (p.convex ? qa >= qb : qa <= qb) ? p.a.normal : p.b.normal;
+          },
       },
       v_);
 }
@@ -134,6 +143,19 @@ std::optional<double> Proxy::intersect(const Ray& ray, double t_min, double t_ma
             const Eigen::Vector3d b(p.coeffs[6], p.coeffs[7], p.coeffs[8]);
             return detail::smallest_root(e.dot(a * e), 2 * y0.dot(a * e) + b.dot(e), quadric_q(p.coeffs, y0), t_min, t_max);
           },
+          [&](const CreaseProxy& p) -> std::optional<double> {
+            // Each plane's crossing counts where the other plane lets it decide: below it for
+            // max (convex), above it for min (concave).
+            std::optional<double> best;
+            for (const auto& [own, other] : {std::pair{&p.a, &p.b}, std::pair{&p.b, &p.a}}) {
+              const auto t = detail::smallest_root(0, own->normal.dot(ray.direction), own->normal.dot(ray.origin - own->point),
+                                                   t_min, t_max);
+              if (!t) continue;
+              const double q = other->normal.dot(ray.origin + *t * ray.direction - other->point);
+              if ((p.convex ? q <= 0 : q >= 0) && (!best || *t < *best)) best = t;
+            }
+            return best;
+          },
       },
       v_);
 }
@@ -153,6 +175,12 @@ void Proxy::flip() {
                  [](QuadricProxy& p) {
                    for (double& c : p.coeffs) c = -c;
                  },
+                 [](CreaseProxy& p) {
+                   // −max(a, b) = min(−a, −b).
+                   p.a.normal = -p.a.normal;
+                   p.b.normal = -p.b.normal;
+                   p.convex = !p.convex;
+                 },
              },
              v_);
 }
@@ -168,6 +196,10 @@ Eigen::Vector3d Proxy::normal() const {
                         [](const QuadricProxy& p) -> Eigen::Vector3d {
                           const Eigen::Vector3d g = quadric_grad(p.coeffs, Eigen::Vector3d::Zero());
                           return g.norm() > 0 ? Eigen::Vector3d(g.normalized()) : Eigen::Vector3d::UnitZ();
+                        },
+                        [](const CreaseProxy& p) -> Eigen::Vector3d {
+                          const Eigen::Vector3d m = p.a.normal + p.b.normal;
+                          return m.norm() > 1e-12 ? Eigen::Vector3d(m.normalized()) : p.a.normal;
                         },
                     },
                     v_);

@@ -3,6 +3,7 @@
 #include <clustersurf/moments.hpp>
 #include <clustersurf/proxy.hpp>
 
+#include "proxy/crease_fit.hpp"
 #include "proxy/linear_algebra.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -150,12 +151,28 @@ PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<
   return p;
 }
 
+namespace {
+
+/// The diagonal of the bounding box of points[indices].
+double extent_of(const Points& points, std::span<const std::uint32_t> indices) {
+  BoundingBox box;
+  for (auto i : indices) box.extend(points.row(i).transpose());
+  return box.diagonal();
+}
+
+}  // namespace
+
 Proxy fit_proxy(ProxyKind kind, const Points& points, std::span<const std::uint32_t> indices) {
   switch (kind) {
     case ProxyKind::Point: return PointProxy{mean_of(points, indices)};
     case ProxyKind::Plane: return fit_plane(points, indices);
     case ProxyKind::Poly: return fit_poly_in_frame(pca_frame(points, indices), points, indices);
     case ProxyKind::Quadric: return fit_quadric(points, indices);
+    case ProxyKind::Crease: {
+      const auto crease = detail::fit_crease(points, indices, pca_frame(points, indices), extent_of(points, indices));
+      if (crease) return crease->proxy;
+      return fit_plane(points, indices);
+    }
   }
   return PointProxy{};
 }

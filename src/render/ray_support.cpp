@@ -31,6 +31,15 @@ void restrict_proxy(const Proxy& proxy, const Ray& ray, SupportSpan& span) {
                    span.n2 = 0;
                    span.d0 = 1, span.d1 = 0, span.d2 = 0;
                  },
+                 [&](const CreaseProxy& p) {
+                   span.n0 = p.a.normal.dot(o - p.a.point);
+                   span.n1 = p.a.normal.dot(d);
+                   span.n2 = 0;
+                   span.d0 = 1, span.d1 = 0, span.d2 = 0;
+                   span.m0 = p.b.normal.dot(o - p.b.point);
+                   span.m1 = p.b.normal.dot(d);
+                   span.crease = p.convex ? 1 : -1;
+                 },
                  [&](const PolyProxy& p) {
                    const Eigen::Vector3d ol = p.frame.to_local(o);
                    const Eigen::Vector3d dl = p.frame.axes.transpose() * d;
@@ -90,6 +99,10 @@ SupportSpan make_span(const ClusterNode& n, std::int32_t node, const Ray& ray, d
 
 double SupportSpan::q(double t) const {
   const double n = n0 + t * (n1 + t * n2);
+  if (crease != 0) {
+    const double m = m0 + t * m1;
+    return crease > 0 ? std::max(n, m) : std::min(n, m);
+  }
   const double d = d0 + t * (d1 + t * d2);
   return n / std::sqrt(std::max(d, kTinyD));
 }

@@ -14,7 +14,8 @@ namespace clustersurf::render {
 
 /// A blended node whose support sphere the ray crosses on [t_enter, t_exit]. Along the ray,
 /// ‖x(t) − c‖² / r² = s0 + s1 t + s2 t² and the proxy's Q(x(t)) = N(t) / sqrt(D(t)) with N and
-/// D quadratics (exact for every proxy kind).
+/// D quadratics (exact for every proxy kind); a crease is the max (or min) of two such planes,
+/// the second M(t) = m0 + m1 t.
 struct SupportSpan {
   std::int32_t node = -1;
   double t_enter = 0, t_exit = 0;
@@ -22,6 +23,8 @@ struct SupportSpan {
   double s0 = 0, s1 = 0, s2 = 0;
   double n0 = 0, n1 = 0, n2 = 0;
   double d0 = 1, d1 = 0, d2 = 0;
+  double m0 = 0, m1 = 0;
+  std::int8_t crease = 0;  ///< 0: one proxy; +1: max(N, M) (convex crease); −1: min(N, M)
 
   /// ‖x(t) − c‖² / r² (< 1 inside the support).
   double s(double t) const { return s0 + t * (s1 + t * s2); }

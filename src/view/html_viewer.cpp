@@ -103,7 +103,8 @@ std::optional<PatchFrame> patch_frame(const ClusterNode& node) {
     const Eigen::Vector3d c = node.support.center;
     return PatchFrame{c - plane->normal.dot(c - plane->point) * plane->normal, basis_around(plane->normal)};
   }
-  if (std::holds_alternative<QuadricProxy>(v)) return PatchFrame{node.support.center, basis_around(node.proxy.normal())};
+  if (std::holds_alternative<QuadricProxy>(v) || std::holds_alternative<CreaseProxy>(v))
+    return PatchFrame{node.support.center, basis_around(node.proxy.normal())};
   return std::nullopt;
 }
 
@@ -153,7 +154,7 @@ float patch_height(const ClusterNode& node, const PatchFrame& f, double u, doubl
   double h = 0;
   if (const auto* poly = std::get_if<PolyProxy>(&proxy)) {
     h = poly->height(u, v);
-  } else if (std::holds_alternative<QuadricProxy>(proxy)) {
+  } else if (std::holds_alternative<QuadricProxy>(proxy) || std::holds_alternative<CreaseProxy>(proxy)) {
     const Eigen::Vector3d x = f.origin + u * f.axes.col(0) + v * f.axes.col(1);
     const Eigen::Vector3d e3 = f.axes.col(2);
     const auto up = node.proxy.intersect(Ray{x, e3}, 0, radius);

@@ -309,8 +309,8 @@ check "mesh --points of another cloud writes nothing" test ! -e "$tmp/m9.ply"
 # the fixed cell count without them.
 run --json mesh "$testdata/bunny400_v1.cstree" -o "$tmp/v1.ply" --points "$testdata/bunny400.ply"
 expect_rc "mesh of a version-1 tree exits 0" 0
-run -q reconstruct "$testdata/bunny400.ply" --mesh "$tmp/v2.ply"
-check "a version-1 tree meshes as the same points reconstructed today" cmp -s "$tmp/v1.ply" "$tmp/v2.ply"
+run -q reconstruct "$testdata/bunny400.ply" --mesh "$tmp/v2.ply" --no-creases
+check "a version-1 tree meshes as the same points reconstructed today (without crease leaves)" cmp -s "$tmp/v1.ply" "$tmp/v2.ply"
 run --json mesh "$testdata/bunny400_v1.cstree" -o "$tmp/v1b.ply"
 expect_rc "mesh of a version-1 tree without --points exits 0" 0
 run mesh "$tmp/b.cstree" -o "$tmp/m4.ply" --resolution fine

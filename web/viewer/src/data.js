@@ -54,4 +54,4 @@ export function nodeTable(meta, blobs) {
   };
 }
 
-export const PROXY_NAMES = ['point', 'plane', 'poly', 'quadric'];
+export const PROXY_NAMES = ['point', 'plane', 'poly', 'quadric', 'crease'];

@@ -1,0 +1,145 @@
+// Two planes meeting along a crease, fitted to a cluster by k-planes.
+
+#include "proxy/crease_fit.hpp"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+namespace clustersurf::detail {
+
+namespace {
+
+constexpr int kMaxRounds = 12;
+constexpr std::size_t kMinFacePoints = 3;
+/// k-planes runs on at most this many of the cluster's points (an even stride); the error is
+/// measured on all of them. A crease is two planes: a sample this size fixes them as well as
+/// all points do, and a large cluster costs one pass instead of a pass per round.
+constexpr std::size_t kSample = 1024;
+
+/// The least-squares plane of the points of `range` labelled `side` (nullopt: fewer than
+/// kMinFacePoints of them).
+std::optional<PlaneProxy> fit_face(const Points& points, std::span<const std::uint32_t> range,
+                                   const std::vector<std::uint8_t>& label, std::uint8_t side) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < range.size(); ++k)
+    if (label[k] == side) sum += points.row(range[k]).transpose(), ++n;
+  if (n < kMinFacePoints) return std::nullopt;
+  const Eigen::Vector3d mean = sum / static_cast<double>(n);
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (std::size_t k = 0; k < range.size(); ++k) {
+    if (label[k] != side) continue;
+    const Eigen::Vector3d d = points.row(range[k]).transpose() - mean;
+    cov.noalias() += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  return PlaneProxy{mean, eig.eigenvectors().col(0).normalized()};
+}
+
+double plane_value(const PlaneProxy& p, const Eigen::Vector3d& x) { return p.normal.dot(x - p.point); }
+
+/// k-planes from the split of `range` by the sign of (x − origin) · axis.
+std::optional<std::array<PlaneProxy, 2>> k_planes(const Points& points, std::span<const std::uint32_t> range,
+                                                  const Eigen::Vector3d& origin, const Eigen::Vector3d& axis) {
+  std::vector<std::uint8_t> label(range.size());
+  for (std::size_t k = 0; k < range.size(); ++k)
+    label[k] = (points.row(range[k]).transpose() - origin).dot(axis) < 0 ? 0 : 1;
+  std::array<PlaneProxy, 2> planes;
+  for (int round = 0; round < kMaxRounds; ++round) {
+    for (std::uint8_t side : {0, 1}) {
+      const auto plane = fit_face(points, range, label, side);
+      if (!plane) return std::nullopt;
+      planes[side] = *plane;
+    }
+    bool changed = false;
+    for (std::size_t k = 0; k < range.size(); ++k) {
+      const Eigen::Vector3d x = points.row(range[k]).transpose();
+      const auto side = static_cast<std::uint8_t>(std::abs(plane_value(planes[0], x)) <= std::abs(plane_value(planes[1], x)) ? 0 : 1);
+      changed = changed || side != label[k];
+      label[k] = side;
+    }
+    if (!changed) return planes;
+  }
+  return planes;
+}
+
+/// RMS and max of |Q| of `crease` over points[range].
+ProxyError crease_error(const CreaseProxy& crease, const Points& points, std::span<const std::uint32_t> range) {
+  return proxy_error(Proxy(crease), points, range);
+}
+
+/// The line where planes a and b meet: its point nearest to `c` and its unit direction
+/// (nullopt when the planes are parallel).
+std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> edge_line(const PlaneProxy& a, const PlaneProxy& b,
+                                                                     const Eigen::Vector3d& c) {
+  const Eigen::Vector3d dir = a.normal.cross(b.normal);
+  if (!(dir.squaredNorm() > 1e-18)) return std::nullopt;
+  Eigen::Matrix3d m;
+  m.row(0) = a.normal.transpose();
+  m.row(1) = b.normal.transpose();
+  m.row(2) = dir.transpose();
+  const Eigen::Vector3d rhs(a.normal.dot(a.point), b.normal.dot(b.point), dir.dot(c));
+  return std::pair{Eigen::Vector3d(m.colPivHouseholderQr().solve(rhs)), Eigen::Vector3d(dir.normalized())};
+}
+
+/// The direction from the edge into face `side` (the points nearer to its plane): towards their
+/// centroid, perpendicular to the edge.
+Eigen::Vector3d inward(const CreaseProxy& c, const Points& points, std::span<const std::uint32_t> range,
+                       const std::pair<Eigen::Vector3d, Eigen::Vector3d>& edge, int side) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (auto i : range) {
+    const Eigen::Vector3d x = points.row(i).transpose();
+    if ((std::abs(plane_value(c.a, x)) <= std::abs(plane_value(c.b, x)) ? 0 : 1) != side) continue;
+    const Eigen::Vector3d d = x - edge.first;
+    sum += d - d.dot(edge.second) * edge.second;
+  }
+  return sum;
+}
+
+}  // namespace
+
+std::optional<CreaseFit> fit_crease(const Points& points, std::span<const std::uint32_t> range, const Frame& frame,
+                                    double extent) {
+  if (range.size() < 2 * kMinFacePoints) return std::nullopt;
+  std::vector<std::uint32_t> sample;
+  std::span<const std::uint32_t> fitted = range;
+  if (range.size() > kSample) {
+    sample.reserve(kSample);
+    for (std::size_t j = 0; j < kSample; ++j) sample.push_back(range[j * range.size() / kSample]);
+    fitted = sample;
+  }
+  std::optional<CreaseFit> best;
+  for (int axis = 0; axis < 2; ++axis) {
+    const auto planes = k_planes(points, fitted, frame.origin, frame.axes.col(axis));
+    if (!planes) continue;
+    const auto edge = edge_line((*planes)[0], (*planes)[1], frame.origin);
+    if (!edge || (edge->first - frame.origin).norm() > 0.5 * extent) continue;
+    CreaseProxy c{(*planes)[0], (*planes)[1], true};
+    // The planes agree on the outside: unfolding the crease (turning face b about the edge into
+    // a's plane) takes b's normal to a's, that is sign(na · db) = sign(nb · da) with da, db the
+    // directions from the edge into each face. A plane flipped against the other would make
+    // max or min an unsigned distance: it fits the points as well, but is positive on both
+    // sides of them.
+    const Eigen::Vector3d da = inward(c, points, fitted, *edge, 0), db = inward(c, points, fitted, *edge, 1);
+    if (c.a.normal.dot(db) * c.b.normal.dot(da) < 0) c.b.normal = -c.b.normal;
+    // Faces facing apart (normals more than 90 degrees apart, as the sheet split judges) are as
+    // likely both sides of a thin part as a sharp wedge: a crease there would end the part at
+    // its edge. Left to the splits.
+    if (c.a.normal.dot(c.b.normal) < 0) continue;
+    for (const bool convex : {true, false}) {
+      c.convex = convex;
+      const ProxyError e = crease_error(c, points, range);
+      if (!best || e.rms < best->error.rms) best = CreaseFit{c, e};
+    }
+  }
+  return best;
+}
+
+}  // namespace clustersurf::detail
