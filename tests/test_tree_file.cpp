@@ -39,6 +39,7 @@ constexpr std::size_t kVersionOffset = 8;
 constexpr std::size_t kProxyKindOffset = 16;
 constexpr std::size_t kNodeCountOffset = 16 + 4 + 8 + 8 + 4 + 4 + 8 + 16 + 8 + 8 + 16 + 48 + 8 + 8;
 constexpr std::size_t kFirstNode = kNodeCountOffset + 8;
+constexpr std::size_t kFlagsOffset = 16 + 4 + 8 + 8 + 4 + 4 + 8 + 4 + 4 + 4;
 
 }  // namespace
 
@@ -65,6 +66,32 @@ TEST(TreeFile, RoundTripIsBitExactForEveryProxy) {
     EXPECT_EQ(u.point_leaf, t.point_leaf);
     EXPECT_EQ(u.point_spacing, t.point_spacing);
     EXPECT_GT(t.point_spacing, 0);
+  }
+}
+
+// A crease leaf's side is 0 (concave, min) or 1 (convex, max), nothing else.
+TEST(TreeFile, CreaseSideMustBeZeroOrOne) {
+  PointCloud roof;
+  roof.positions.resize(400, 3);
+  for (int i = 0; i < 400; ++i) {
+    const double x = (i % 20) / 9.5 - 1, y = (i / 20) / 9.5 - 1;
+    roof.positions.row(i) << x, y, -0.5 * std::abs(x);
+  }
+  BuildOptions o;
+  o.threshold_mode = ThresholdMode::Relative;
+  const ClusterTree t = build_cluster_tree(roof, o);
+  ASSERT_EQ(t.nodes.size(), 1u);
+  ASSERT_EQ(t.nodes[0].proxy.kind(), ProxyKind::Crease);
+  std::string b = serialize_tree(t);
+  EXPECT_EQ(serialize_tree(deserialize_tree(b)), b);
+  // The side is the crease's last number: node record (104 bytes before the proxy) + 12 doubles.
+  poke<double>(b, kFirstNode + 104 + 12 * 8, 0.5);
+  fix_crc(b);
+  try {
+    deserialize_tree(b, "bad.cstree");
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("crease side must be 0 (concave) or 1 (convex)"), std::string::npos) << e.what();
   }
 }
 
@@ -241,6 +268,14 @@ TEST(TreeFile, CorruptedFilesAreRejected) {
          return b;
        },
        "cluster extent is negative"},
+      {"unknown option flags",
+       [](const std::string& g) {
+         std::string b = g;
+         poke<std::uint32_t>(b, kFlagsOffset, 6);
+         fix_crc(b);
+         return b;
+       },
+       "unknown option flags 6"},
       {"a version from the future",
        [](const std::string& g) {
          std::string b = g;
