@@ -215,3 +215,21 @@ def test_ctrl_c_interrupts_a_build(sphere):
             clustersurf.reconstruct(sphere[0], progress=lambda stage, fraction: os.kill(os.getpid(), signal.SIGINT))
     finally:
         signal.signal(signal.SIGINT, previous)
+
+
+def test_crease_leaf_of_a_roof():
+    # Two faces meeting at a ridge: one crease leaf (two planes, max), unless creases=False.
+    x, y = np.meshgrid(np.linspace(-1, 1, 20), np.linspace(-1, 1, 20))
+    roof = np.column_stack([x.ravel(), y.ravel(), -0.5 * np.abs(x.ravel())])
+    tree = clustersurf.reconstruct(roof, noise_factor=0)
+    assert len(tree) == 1 and tree.root.proxy_type == "crease"
+    assert tree.info()["leaf_proxies"]["crease"] == 1 and tree.info()["parameters"]["creases"]
+    proxy = tree.root.proxy
+    assert set(proxy) == {"type", "a", "b", "convex"}
+    assert len(tree.root.coefficients) == 13
+    np.testing.assert_allclose(tree.root.proxy_value(roof), 0, atol=1e-9)
+    # The ridge is sharp: above it f > 0 on one side, below f < 0, as the sides agree.
+    above, below = tree.root.proxy_value(np.array([[0, 0, 0.1], [0, 0, -0.1]]))
+    assert above * below < 0
+    smooth = clustersurf.reconstruct(roof, noise_factor=0, creases=False)
+    assert len(smooth) > 1 and "crease" not in {n.proxy_type for n in smooth.nodes}

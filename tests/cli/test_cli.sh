@@ -271,6 +271,12 @@ run -q reconstruct "$bunny" -o "$tmp/c.cstree"
 check "same input gives the same tree bytes" cmp -s "$tmp/b.cstree" "$tmp/c.cstree"
 run -q --threads 1 reconstruct "$bunny" -o "$tmp/d.cstree"
 check "one thread gives the same tree bytes" cmp -s "$tmp/b.cstree" "$tmp/d.cstree"
+run --json info "$tmp/b.cstree"
+expect_contains "crease leaves are on by default" "$out" '"creases": true'
+run -q reconstruct "$bunny" -o "$tmp/nc.cstree" --no-creases
+run --json info "$tmp/nc.cstree"
+expect_contains "--no-creases is stored in the tree" "$out" '"creases": false'
+expect_contains "--no-creases: no crease leaf" "$out" '"crease": 0'
 run --json mesh "$tmp/b.cstree" -o "$tmp/m2.obj" --resolution 64
 expect_rc "mesh exits 0" 0
 tris=$(json_field triangles)
