@@ -3,6 +3,7 @@
 #include <clustersurf/implicit_surface.hpp>
 
 #include "cluster/support_fit.hpp"
+#include "proxy/crease_fit.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -52,16 +53,34 @@ SupportError SupportFit::check(ClusterNode& node, std::span<const std::uint32_t>
   sampler_.inside(node.support.center, node.support.radius, kSupportPointsPerClusterPoint * node.point_count,
                  kSupportSample, inside);
   if (std::holds_alternative<PolyProxy>(node.proxy.variant())) refit(node, range, inside);
+  return weighted_error(node.proxy, node.support, inside);
+}
+
+SupportError SupportFit::weighted_error(const Proxy& proxy, const Sphere& support, std::span<const Neighbor> inside) const {
+  const double r2 = support.radius * support.radius;
   double sum = 0, weight = 0, weight2 = 0;
   for (const auto& nb : inside) {
     const double w = blend_weight(nb.distance_squared / r2);
-    const double q = node.proxy.value(input_.row(nb.index).transpose());
+    const double q = proxy.value(input_.row(nb.index).transpose());
     sum += w * q * q;
     weight += w;
     weight2 += w * w;
   }
   if (!(weight > 0)) return {};
   return {std::sqrt(sum / weight), weight * weight / weight2};
+}
+
+std::optional<SupportFit::SupportCrease> SupportFit::crease(const ClusterNode& node, const Frame& frame) const {
+  if (!(node.support.radius > 0)) return std::nullopt;
+  thread_local std::vector<Neighbor> inside;
+  thread_local std::vector<std::uint32_t> ids;
+  sampler_.inside(node.support.center, node.support.radius, kSupportPointsPerClusterPoint * node.point_count,
+                  kSupportSample, inside);
+  ids.clear();
+  for (const auto& nb : inside) ids.push_back(nb.index);
+  const auto fit = fit_crease(input_, ids, frame, 2 * node.support.radius);
+  if (!fit) return std::nullopt;
+  return SupportCrease{fit->proxy, weighted_error(fit->proxy, node.support, inside)};
 }
 
 /// Refits a polynomial proxy, in its cluster's frame, to the support points weighted by the

@@ -5,6 +5,8 @@
 #include "cluster/build_state.hpp"
 #include "cluster/support_sampler.hpp"
 
+#include <optional>
+
 namespace clustersurf::detail {
 
 /// The weighted RMS of |Q| over a support and the effective number of points behind it,
@@ -32,7 +34,18 @@ class SupportFit {
   /// polynomial proxy is first refitted to them (refit()); returns the weighted RMS of |Q|.
   SupportError check(ClusterNode& node, std::span<const std::uint32_t> range) const;
 
+  /// The crease that fits the points inside the node's support (the same sample as check()),
+  /// with its edge anywhere within the support, and its weighted RMS there; nullopt when they
+  /// do not lie on two faces (fit_crease()).
+  struct SupportCrease {
+    CreaseProxy proxy;
+    SupportError error;
+  };
+  std::optional<SupportCrease> crease(const ClusterNode& node, const Frame& frame) const;
+
  private:
+  /// The weighted RMS of |Q| of `proxy` over the support points `inside` of `support`.
+  SupportError weighted_error(const Proxy& proxy, const Sphere& support, std::span<const Neighbor> inside) const;
   void refit(ClusterNode& node, std::span<const std::uint32_t> range, std::span<const Neighbor> inside) const;
 
   const Points& input_;

@@ -128,6 +128,25 @@ class Builder {
       // neighbours' surface.
       if (support_ != nullptr) {
         if (!support) support = support_->check(node, range);
+        // A leaf beside a sharp edge whose support reaches the other face: its smooth proxy,
+        // extended across the edge, would blend a lip into the edge. When a crease fits the
+        // support points (the edge within the support), still fits the leaf's own points, and
+        // explains the support misfit as above, the leaf takes it.
+        if (options_.creases && !smooth && support->rms > allowed(tolerance_, support->effective_points)) {
+          if (const auto crease = support_->crease(node, frame)) {
+            const ProxyError own = proxy_error(Proxy(crease->proxy), points_, range);
+            const double ce = options_.metric == ErrorMetric::Rms ? own.rms : own.max;
+            const double noise2 = noise_ * noise_;
+            if (ce <= std::max(threshold, e) &&
+                crease->error.rms * crease->error.rms - noise2 <= 0.25 * (support->rms * support->rms - noise2)) {
+              node.proxy = crease->proxy;
+              node.rms_error = own.rms;
+              node.max_error = own.max;
+              e = ce;
+              support = crease->error;
+            }
+          }
+        }
         // A leaf held at min_points may miss the threshold on its own points too; measure its
         // support against what it achieves there.
         const double own = std::sqrt(std::max(0.0, e * e - noise_ * noise_));
