@@ -181,9 +181,12 @@ ClusterTree build_cluster_tree(const CloudIndex& cloud, const BuildOptions& opti
 /// points. `what` names the points in the message.
 void require_tree_input(const ClusterTree& tree, const Points& input, std::string_view what = "the points");
 
-/// The rows of `input` (the tree's input points) that the tree clusters: all but its outliers
-/// (all of them when the tree holds no point-leaf table). Throws OptionError when `input` is
-/// not the tree's input (require_tree_input()).
+/// The indices of the input rows the tree clusters, increasing: all but its outliers (every
+/// row when it left none out or holds no point-leaf table).
+std::vector<std::uint32_t> clustered_rows(const ClusterTree& tree);
+
+/// The rows of `input` (the tree's input points) that the tree clusters (clustered_rows()).
+/// Throws OptionError when `input` is not the tree's input (require_tree_input()).
 Points clustered_points(const ClusterTree& tree, const Points& input);
 
 /// Figures of a tree for reports (`clustersurf info`).

@@ -286,13 +286,10 @@ without the GIL.)doc")
              std::optional<std::int64_t> lod_depth, std::optional<double> lod_error, const py::object& points, double trim,
              std::size_t min_component_points, bool close_pinholes, const std::string& color, const py::object& progress) {
             SurfaceMeshOptions o;
-            if (const auto* cells = std::get_if<std::int64_t>(&resolution)) {
-              if (*cells < 2 || *cells > 100000) throw OptionError("resolution must be in [2, 100000]");
+            const auto* number = std::get_if<std::int64_t>(&resolution);
+            if (const auto cells = parse_resolution(number ? std::to_string(*number) : std::get<std::string>(resolution))) {
               o.auto_resolution = false;
-              o.grid.resolution = static_cast<std::uint32_t>(*cells);
-            } else if (const auto cells_text = parse_resolution(std::get<std::string>(resolution))) {
-              o.auto_resolution = false;
-              o.grid.resolution = *cells_text;
+              o.grid.resolution = *cells;
             }
             if (voxel_size && !(*voxel_size > 0)) throw OptionError("voxel_size must be positive");
             o.grid.voxel_size = voxel_size;

@@ -3,6 +3,7 @@
 #include <clustersurf/cluster_tree.hpp>
 #include <clustersurf/errors.hpp>
 
+#include <numeric>
 #include <string>
 
 namespace clustersurf {
@@ -13,14 +14,23 @@ void require_tree_input(const ClusterTree& tree, const Points& input, std::strin
                       std::to_string(tree.input_points) + " points): pass the cloud the tree was built from");
 }
 
+std::vector<std::uint32_t> clustered_rows(const ClusterTree& tree) {
+  std::vector<std::uint32_t> rows;
+  if (tree.outliers() == 0 || tree.point_leaf.empty()) {
+    rows.resize(static_cast<std::size_t>(tree.input_points));
+    std::iota(rows.begin(), rows.end(), 0u);
+    return rows;
+  }
+  rows.reserve(tree.point_leaf.size());
+  for (std::size_t i = 0; i < tree.point_leaf.size(); ++i)
+    if (tree.point_leaf[i] >= 0) rows.push_back(static_cast<std::uint32_t>(i));
+  return rows;
+}
+
 Points clustered_points(const ClusterTree& tree, const Points& input) {
   require_tree_input(tree, input);
   if (tree.outliers() == 0 || tree.point_leaf.empty()) return input;
-  std::vector<Eigen::Index> rows;
-  rows.reserve(tree.point_leaf.size());
-  for (std::size_t i = 0; i < tree.point_leaf.size(); ++i)
-    if (tree.point_leaf[i] >= 0) rows.push_back(static_cast<Eigen::Index>(i));
-  return input(rows, Eigen::all);
+  return input(clustered_rows(tree), Eigen::all);
 }
 
 }  // namespace clustersurf

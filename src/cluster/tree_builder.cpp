@@ -161,11 +161,7 @@ class Builder {
       progress_.advance(range.size());
       return;
     }
-    if (smooth) {  // split after all: an inner node keeps the smooth proxy
-      const Sphere support = node.support, bound = node.bound;
-      node = *smooth;
-      node.support = support, node.bound = bound;
-    }
+    if (smooth) node = *smooth;  // split after all: an inner node keeps the smooth proxy
     work_.apply(bn.begin, range);
     bn.left = std::make_unique<BuildNode>();
     bn.right = std::make_unique<BuildNode>();

@@ -45,6 +45,11 @@ std::optional<PlaneProxy> fit_face(const Points& points, std::span<const std::ui
 
 double plane_value(const PlaneProxy& p, const Eigen::Vector3d& x) { return p.normal.dot(x - p.point); }
 
+/// The face a point belongs to: 0 when it is nearer to plane a (or as near), else 1.
+std::uint8_t nearer_face(const PlaneProxy& a, const PlaneProxy& b, const Eigen::Vector3d& x) {
+  return std::abs(plane_value(a, x)) <= std::abs(plane_value(b, x)) ? 0 : 1;
+}
+
 /// k-planes from the split of `range` by the sign of (x − origin) · axis.
 std::optional<std::array<PlaneProxy, 2>> k_planes(const Points& points, std::span<const std::uint32_t> range,
                                                   const Eigen::Vector3d& origin, const Eigen::Vector3d& axis) {
@@ -61,18 +66,13 @@ std::optional<std::array<PlaneProxy, 2>> k_planes(const Points& points, std::spa
     bool changed = false;
     for (std::size_t k = 0; k < range.size(); ++k) {
       const Eigen::Vector3d x = points.row(range[k]).transpose();
-      const auto side = static_cast<std::uint8_t>(std::abs(plane_value(planes[0], x)) <= std::abs(plane_value(planes[1], x)) ? 0 : 1);
+      const std::uint8_t side = nearer_face(planes[0], planes[1], x);
       changed = changed || side != label[k];
       label[k] = side;
     }
     if (!changed) return planes;
   }
   return planes;
-}
-
-/// RMS and max of |Q| of `crease` over points[range].
-ProxyError crease_error(const CreaseProxy& crease, const Points& points, std::span<const std::uint32_t> range) {
-  return proxy_error(Proxy(crease), points, range);
 }
 
 /// The line where planes a and b meet: its point nearest to `c` and its unit direction
@@ -89,16 +89,15 @@ std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> edge_line(const Plane
   return std::pair{Eigen::Vector3d(m.colPivHouseholderQr().solve(rhs)), Eigen::Vector3d(dir.normalized())};
 }
 
-/// The direction from the edge into face `side` (the points nearer to its plane): towards their
+/// The directions from the edge into each face (the points nearer to its plane): towards their
 /// centroid, perpendicular to the edge.
-Eigen::Vector3d inward(const CreaseProxy& c, const Points& points, std::span<const std::uint32_t> range,
-                       const std::pair<Eigen::Vector3d, Eigen::Vector3d>& edge, int side) {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+std::array<Eigen::Vector3d, 2> inward(const CreaseProxy& c, const Points& points, std::span<const std::uint32_t> range,
+                                      const std::pair<Eigen::Vector3d, Eigen::Vector3d>& edge) {
+  std::array<Eigen::Vector3d, 2> sum = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
   for (auto i : range) {
     const Eigen::Vector3d x = points.row(i).transpose();
-    if ((std::abs(plane_value(c.a, x)) <= std::abs(plane_value(c.b, x)) ? 0 : 1) != side) continue;
     const Eigen::Vector3d d = x - edge.first;
-    sum += d - d.dot(edge.second) * edge.second;
+    sum[nearer_face(c.a, c.b, x)] += d - d.dot(edge.second) * edge.second;
   }
   return sum;
 }
@@ -127,7 +126,7 @@ std::optional<CreaseFit> fit_crease(const Points& points, std::span<const std::u
     // directions from the edge into each face. A plane flipped against the other would make
     // max or min an unsigned distance: it fits the points as well, but is positive on both
     // sides of them.
-    const Eigen::Vector3d da = inward(c, points, fitted, *edge, 0), db = inward(c, points, fitted, *edge, 1);
+    const auto [da, db] = inward(c, points, fitted, *edge);
     if (c.a.normal.dot(db) * c.b.normal.dot(da) < 0) c.b.normal = -c.b.normal;
     // Faces facing apart (normals more than 90 degrees apart, as the sheet split judges) are as
     // likely both sides of a thin part as a sharp wedge: a crease there would end the part at
@@ -135,7 +134,7 @@ std::optional<CreaseFit> fit_crease(const Points& points, std::span<const std::u
     if (c.a.normal.dot(c.b.normal) < 0) continue;
     for (const bool convex : {true, false}) {
       c.convex = convex;
-      const ProxyError e = crease_error(c, points, range);
+      const ProxyError e = proxy_error(Proxy(c), points, range);
       if (!best || e.rms < best->error.rms) best = CreaseFit{c, e};
     }
   }

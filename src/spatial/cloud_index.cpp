@@ -51,12 +51,7 @@ CloudIndex::Subset CloudIndex::rows(std::span<const std::uint32_t> kept) const {
 
 CloudIndex::Subset CloudIndex::clustered(const ClusterTree& tree) const {
   require_tree_input(tree, impl_->cloud.positions);
-  if (tree.outliers() == 0 || tree.point_leaf.empty()) return {impl_->cloud.positions, points()};
-  std::vector<std::uint32_t> kept;
-  kept.reserve(tree.point_leaf.size());
-  for (std::size_t i = 0; i < tree.point_leaf.size(); ++i)
-    if (tree.point_leaf[i] >= 0) kept.push_back(static_cast<std::uint32_t>(i));
-  return rows(kept);
+  return rows(clustered_rows(tree));
 }
 
 }  // namespace clustersurf
