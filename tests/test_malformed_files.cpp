@@ -203,7 +203,7 @@ std::vector<BadFile> bad_files() {
   t.push_back({"pts count mismatch", "c.pts", "3\n1 2 3 0 1 2 3\n4 5 6 0 1 2 3\n", Expect::Input,
                "the count line says 3 points but the file has 2", 1});
   t.push_back({"pts bad count line", "b.pts", "many\n1 2 3\n", Expect::Input, "expected \"x y z\" or a point count", 1});
-  t.push_back({"xyz as mesh", "m.xyz", "1 2 3\n", Expect::Input, "holds points, not a mesh", std::nullopt,
+  t.push_back({"xyz as mesh", "m.xyz", "1 2 3\n", Expect::Input, "cannot read a mesh from a XYZ file", std::nullopt,
                std::nullopt, true});
   // OBJ
   t.push_back({"obj undefined vertex", "u.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\nv 0 1 0\n", Expect::Input,

@@ -10,6 +10,7 @@
 #include <zlib.h>
 
 #include <cstring>
+#include <limits>
 
 #include "test_support.hpp"
 
@@ -34,10 +35,12 @@ void poke(std::string& b, std::size_t offset, T value) {
   std::memcpy(b.data() + offset, &value, sizeof(T));
 }
 
-// Offsets of fields in version 2 (docs/file-format.md).
+// Offsets of fields in version 3 (docs/file-format.md).
 constexpr std::size_t kVersionOffset = 8;
 constexpr std::size_t kProxyKindOffset = 16;
-constexpr std::size_t kNodeCountOffset = 16 + 4 + 8 + 8 + 4 + 4 + 8 + 16 + 8 + 8 + 16 + 48 + 8 + 8;
+constexpr std::size_t kSpacingOffset = 16 + 4 + 8 + 8 + 4 + 4 + 8 + 16 + 8 + 8 + 16 + 48 + 8;
+constexpr std::size_t kOriginOffset = kSpacingOffset + 8;
+constexpr std::size_t kNodeCountOffset = kOriginOffset + 24;
 constexpr std::size_t kFirstNode = kNodeCountOffset + 8;
 constexpr std::size_t kFlagsOffset = 16 + 4 + 8 + 8 + 4 + 4 + 8 + 4 + 4 + 4;
 
@@ -102,6 +105,33 @@ TEST(TreeFile, StoresTheInputsPointSpacing) {
   const ClusterTree t = deserialize_tree(serialize_tree(build_cluster_tree(cloud)));
   EXPECT_EQ(t.point_spacing, compute_stats(cloud).median_spacing);
   for (const ClusterNode& n : t.nodes) EXPECT_GT(n.extent, 0);
+}
+
+// Version 3 stores the input's origin: a cloud far from zero is built next to zero, and its
+// tree (and its meshes) know where it came from, bit for bit. A version-2 file (the same bytes
+// without the origin) still loads, at origin 0.
+TEST(TreeFile, StoresTheInputsOriginAndReadsVersion2) {
+  PointCloud cloud = test::sample_torus(3000);
+  cloud.positions.rowwise() += Eigen::RowVector3d(636590.49, 849216.55, 0.25);
+  const Points far = cloud.positions;
+  const Eigen::Vector3d shift = shift_to_origin(cloud);
+  EXPECT_NEAR(shift.x(), 636590.49, 1.0);
+  EXPECT_NEAR(shift.y(), 849216.55, 1.0);
+  EXPECT_EQ(shift.z(), 0);  // near zero already
+  EXPECT_LT(cloud.positions.cwiseAbs().maxCoeff(), 2.0);
+  EXPECT_EQ(Points(cloud.positions.rowwise() + cloud.origin.transpose()), far);  // exact
+  const ClusterTree built = build_cluster_tree(cloud);
+  const std::string bytes = serialize_tree(built);
+  const ClusterTree t = deserialize_tree(bytes);
+  EXPECT_EQ(t.origin, cloud.origin);
+  EXPECT_EQ(serialize_tree(t), bytes);
+  std::string v2 = bytes;
+  v2.erase(kOriginOffset, 24);
+  poke<std::uint32_t>(v2, kVersionOffset, 2);
+  fix_crc(v2);
+  const ClusterTree old = deserialize_tree(v2);
+  EXPECT_EQ(old.origin, Eigen::Vector3d::Zero());
+  EXPECT_EQ(old.nodes.size(), t.nodes.size());
 }
 
 // A file written by version 1 (tests/data/bunny400_v1.cstree, from tests/data/bunny400.ply)
@@ -255,7 +285,7 @@ TEST(TreeFile, CorruptedFilesAreRejected) {
       {"negative point spacing",
        [](const std::string& g) {
          std::string b = g;
-         poke<double>(b, kNodeCountOffset - 8, -0.5);
+         poke<double>(b, kSpacingOffset, -0.5);
          fix_crc(b);
          return b;
        },
@@ -283,7 +313,15 @@ TEST(TreeFile, CorruptedFilesAreRejected) {
          fix_crc(b);
          return b;
        },
-       "(this build reads versions 1 to 2)"},
+       "(this build reads versions 1 to 3)"},
+      {"a non-finite origin",
+       [](const std::string& g) {
+         std::string b = g;
+         poke<double>(b, kOriginOffset + 8, std::numeric_limits<double>::infinity());
+         fix_crc(b);
+         return b;
+       },
+       "not a finite number"},
       {"trailing garbage",
        [](const std::string& g) {
          std::string b = g;

@@ -65,7 +65,8 @@ int run_reconstruct(Console& console, const ReconstructArgs& args) {
     j["input"] = args.input.file;
     if (!args.tree_output.empty()) j["tree"] = args.tree_output;
     j["timing"] = {{"read_seconds", read_seconds}, {"build_seconds", result.build_seconds}};
-    j["orientation"] = {{"used_normals", orientation.used_normals}, {"components", orientation.components},
+    j["orientation"] = {{"used_normals", orientation.used_normals}, {"used_scanners", orientation.used_scanners},
+                        {"components", orientation.components},
                         {"flipped", orientation.flipped}};
     if (result.mesh) j["mesh"] = write_surface_mesh(console, *result.mesh, args.mesh, args.mesh_output);
     if (!args.tree_output.empty()) save_tree(args.tree_output, result.tree);
@@ -73,9 +74,9 @@ int run_reconstruct(Console& console, const ReconstructArgs& args) {
     return 0;
   }
   for (const auto& line : tree_report_lines(result.tree)) console.print(line);
-  console.print("orientation     " + (orientation.used_normals
-                                          ? std::string("by input normals")
-                                          : fmt::format("by propagation ({} component{})", orientation.components,
+  console.print("orientation     " + (orientation.used_normals    ? std::string("by input normals")
+                                      : orientation.used_scanners ? std::string("towards the scanners")
+                                                                  : fmt::format("by propagation ({} component{})", orientation.components,
                                                         orientation.components == 1 ? "" : "s")));
   console.print(fmt::format("time            read {:.3f} s, build {:.3f} s", read_seconds, result.build_seconds));
   if (result.mesh) write_surface_mesh(console, *result.mesh, args.mesh, args.mesh_output);

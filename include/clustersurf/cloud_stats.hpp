@@ -9,7 +9,10 @@ namespace clustersurf {
 /// What `clustersurf stats` reports about a cloud.
 struct CloudStats {
   std::size_t points = 0;
+  /// In the file's coordinates (the cloud's origin added back).
   BoundingBox bbox;
+  /// The cloud's origin (PointCloud::origin).
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   double diagonal = 0;
   /// Mean distance from a point to its nearest other point (0 for fewer than two points).
   double mean_spacing = 0;
@@ -17,6 +20,10 @@ struct CloudStats {
   double median_spacing = 0;
   bool has_normals = false;
   bool has_colors = false;
+  /// Names of the per-point attributes (intensity, classification, ...).
+  std::vector<std::string> attributes;
+  /// How many scanner positions the file gave (0: unknown).
+  std::size_t scanners = 0;
 };
 
 /// How densely points sample a surface: the mean and the median distance from a point to its

@@ -143,6 +143,9 @@ struct ClusterTree {
   /// unknown (trees from version-1 files).
   double point_spacing = 0;
   BoundingBox bbox;                      ///< of the clustered points (the input without outliers)
+  /// The input's origin (PointCloud::origin): nodes, bbox and meshes are relative to it, and
+  /// meshes of the tree are written back at it.
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   std::uint64_t input_points = 0;        ///< all input points; the root holds those not outliers
   std::vector<ClusterNode> nodes;        ///< pre-order, nodes[0] is the root
   /// Node index of each input point's leaf (-1 for an outlier), or empty.

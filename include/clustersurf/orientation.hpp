@@ -8,7 +8,8 @@ namespace clustersurf {
 
 /// What orient_tree() did.
 struct OrientationReport {
-  bool used_normals = false;     ///< oriented by the input normals (else by propagation)
+  bool used_normals = false;     ///< oriented by the input normals
+  bool used_scanners = false;    ///< oriented towards the scanners that saw the points
   std::size_t flipped = 0;       ///< nodes whose proxy was flipped
   std::size_t components = 0;    ///< connected groups of overlapping leaves (propagation only)
 };
@@ -21,7 +22,10 @@ struct OrientationReport {
 /// where they meet) or, without a point-leaf table, when their supports overlap. Each connected
 /// component starts from the leaf reaching farthest in +x, whose outward side is certain.
 /// Internal nodes then follow the point-weighted mean of their leaves' normals.
-/// Pass an empty cloud (or one without normals) to force propagation. Non-finite input normals
+/// Without normals but with scanner positions (PointCloud::scanner_of_point), each node follows
+/// the sum of its points' unit directions towards their scanners instead: a scanner sees the
+/// outer side, so no propagation is needed.
+/// Pass an empty cloud (or one without normals or scanners) to force propagation. Non-finite input normals
 /// are ignored (each leaf follows the finite normals of its points).
 OrientationReport orient_tree(ClusterTree& tree, const PointCloud& cloud);
 /// The same with the cloud's shared index (its k-d tree is built once for every stage);

@@ -4,6 +4,8 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <limits>
+#include <string>
+#include <vector>
 
 namespace clustersurf {
 
@@ -15,25 +17,46 @@ using Colors = Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 3, Eigen::RowMajor>;
 /// n x 3 matrix of vertex indices, one triangle per row.
 using Triangles = Eigen::Matrix<std::int32_t, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
-/// A set of points with optional per-point normals and colors. `normals` and `colors` are
-/// either empty (0 rows) or have exactly as many rows as `positions`.
+/// A named per-point scalar a scanner file carries (LAS intensity and classification, E57 and
+/// PTX intensity): one value per point.
+struct PointAttribute {
+  std::string name;
+  Eigen::VectorXf values;
+};
+
+/// A set of points with optional per-point normals, colors, attributes and scanner positions.
+/// Every per-point member is either empty or has exactly as many rows as `positions`.
 struct PointCloud {
   Points positions;
   Points normals;
   Colors colors;
+  /// Where the points are in the file's coordinates: a point is positions.row(i) + origin.
+  /// Readers move a cloud that lies far from zero next to it (see shift_to_origin) so that no
+  /// stage loses precision; writers add the origin back. Zero for clouds near zero.
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  /// Extra scalars per point, kept through every selection of rows.
+  std::vector<PointAttribute> attributes;
+  /// Where the scanners stood (one row per scan, in the same frame as `positions`) and which
+  /// scan saw each point; both empty when the file does not say. The side of the surface a
+  /// point's scanner was on is outside, so orientation needs no propagation.
+  Points scanner_positions;
+  std::vector<std::uint32_t> scanner_of_point;
 
   Eigen::Index size() const noexcept { return positions.rows(); }
   bool empty() const noexcept { return positions.rows() == 0; }
   bool has_normals() const noexcept { return normals.rows() != 0; }
   bool has_colors() const noexcept { return colors.rows() != 0; }
+  bool has_scanners() const noexcept { return !scanner_of_point.empty(); }
 };
 
 /// An indexed triangle mesh; `normals` and `colors` are per vertex, empty or one row per vertex.
+/// A vertex is at vertices.row(i) + origin in the coordinates of the files it came from.
 struct TriangleMesh {
   Points vertices;
   Triangles triangles;
   Points normals;
   Colors colors;
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
 };
 
 /// Axis-aligned bounding box; empty() when min > max.
@@ -52,5 +75,18 @@ struct BoundingBox {
 
 /// Bounding box of the rows of `points` (empty box for no points).
 BoundingBox bounding_box(const Points& points);
+
+/// The rows `indices` of every per-point member of `cloud`, in that order (origin and scanner
+/// positions kept).
+PointCloud select(const PointCloud& cloud, const std::vector<Eigen::Index>& indices);
+
+/// Moves a cloud that lies far from zero next to it: along each axis whose bounding-box centre
+/// is farther from zero than 16 diagonals (there float32, which the mesher and the viewer use,
+/// would round coordinates by more than 2^-20 of the diagonal), subtracts the centre from the
+/// positions (and the scanner positions) and adds it to `origin`. The subtraction and the
+/// writers' addition are exact in double precision (Sterbenz), so positions + origin
+/// round-trips bit for bit, while every stage works on small numbers. Returns the shift (zero:
+/// nothing moved).
+Eigen::Vector3d shift_to_origin(PointCloud& cloud);
 
 }  // namespace clustersurf

@@ -1,23 +1,29 @@
 #pragma once
-// Reading and writing point clouds and triangle meshes: PLY (ascii, binary little/big endian),
-// XYZ/PTS/TXT and OBJ. Readers validate everything they read and throw InputError naming the
-// file and the line or byte offset; writers write atomically (temporary file, then rename).
+// Reading and writing point clouds and triangle meshes. Clouds: PLY (ascii, binary little/big
+// endian), XYZ/PTS/TXT, OBJ, and the scanners' LAS, E57, PTX and PCD. Meshes: PLY and OBJ in;
+// PLY, OBJ, OFF, binary STL and glTF binary (GLB) out. Readers validate everything they read
+// and throw InputError naming the file and the line or byte offset; writers write atomically
+// (temporary file, then rename) and put the points back at their origin.
 
 #include <clustersurf/point_cloud.hpp>
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 
 namespace clustersurf {
 
 /// File formats known to the readers and writers.
-enum class FileFormat { Ply, Xyz, Obj };
+enum class FileFormat { Ply, Xyz, Obj, Las, E57, Ptx, Pcd, Off, Stl, Glb };
 
-/// The format implied by a file name's extension (.ply, .xyz/.pts/.txt/.csv, .obj), or throws
-/// InputError for an unknown extension.
+/// The format implied by a file name's extension (.ply, .xyz/.pts/.txt/.csv, .obj, .las, .e57,
+/// .ptx, .pcd, .off, .stl, .glb), or throws InputError for an unknown extension.
 FileFormat format_from_extension(const std::filesystem::path& file);
+
+/// The format a file's first bytes prove (PLY, LAS, E57 and PCD have a signature), if any.
+std::optional<FileFormat> format_from_magic(std::string_view bytes);
 
 /// Options for the point-cloud readers.
 struct ReadOptions {
@@ -33,10 +39,13 @@ struct ReadOptions {
   bool normals_from_faces = true;
 };
 
-/// Reads the points of a PLY, XYZ/PTS/TXT or OBJ file (format by extension; PLY also by magic).
-/// A mesh's vertices are its points (with normals from its faces: ReadOptions::
-/// normals_from_faces); faces and unknown properties are skipped. Throws
-/// InputError (malformed content, no points) or IoError (cannot open or read).
+/// Reads the points of a PLY, XYZ/PTS/TXT, OBJ, LAS, E57, PTX or PCD file (format by signature,
+/// else by extension). A mesh's vertices are its points (with normals from its faces:
+/// ReadOptions::normals_from_faces); faces and unknown properties are skipped. Scanner files
+/// bring their attributes (intensity, classification) and, where the file knows where the
+/// scanner stood, the scanner positions. A cloud far from zero is moved next to it
+/// (shift_to_origin). Throws InputError (malformed content, no points) or IoError (cannot open
+/// or read).
 PointCloud read_point_cloud(const std::filesystem::path& file, const ReadOptions& options = {});
 
 /// Unit vertex normals of `mesh`: at each vertex the sum of its triangles' cross products
@@ -48,8 +57,8 @@ Points vertex_normals(const TriangleMesh& mesh);
 /// read_point_cloud, and InputError when a face index is out of range.
 TriangleMesh read_triangle_mesh(const std::filesystem::path& file, const ReadOptions& options = {});
 
-/// Parses a whole file's bytes already in memory, in `format` (bytes starting with the PLY magic
-/// are PLY whatever `format` says); `name` names them in errors. Validates and throws exactly
+/// Parses a whole file's bytes already in memory, in `format` (bytes with a signature are read
+/// in the format it proves, whatever `format` says); `name` names them in errors. Validates and throws exactly
 /// like read_point_cloud (InputError), which reads a file through it.
 PointCloud parse_point_cloud(std::string_view bytes, FileFormat format, const std::filesystem::path& name = "<memory>",
                              const ReadOptions& options = {});
@@ -61,7 +70,8 @@ TriangleMesh parse_triangle_mesh(std::string_view bytes, FileFormat format,
 struct PlyWriteOptions {
   /// Binary little-endian (default) or ascii.
   bool binary = true;
-  /// Store coordinates and normals as double (bit-exact round trip) instead of float.
+  /// Store coordinates and normals as double (bit-exact round trip) instead of float. Points
+  /// with a non-zero origin are always written in double: float would lose their georeference.
   bool double_precision = false;
 };
 
@@ -74,9 +84,17 @@ void write_ply(const std::filesystem::path& file, const TriangleMesh& mesh, cons
 void write_xyz(const std::filesystem::path& file, const PointCloud& cloud);
 /// Writes a triangle mesh as OBJ (v, vn when normals exist, f). Atomic.
 void write_obj(const std::filesystem::path& file, const TriangleMesh& mesh);
+/// Writes a triangle mesh as OFF (with per-vertex colors, COFF, when present). Atomic.
+void write_off(const std::filesystem::path& file, const TriangleMesh& mesh);
+/// Writes a triangle mesh as binary STL (facet normals from the winding; float coordinates,
+/// relative to the mesh's origin when it is non-zero, as STL has no place for one). Atomic.
+void write_stl(const std::filesystem::path& file, const TriangleMesh& mesh);
+/// Writes a triangle mesh as glTF 2.0 binary (.glb): float positions, normals and colors when
+/// present, 32-bit indices; a non-zero origin becomes the node's translation. Atomic.
+void write_glb(const std::filesystem::path& file, const TriangleMesh& mesh);
 /// Writes a point cloud in the format its extension names (PLY with `ply` options). Atomic.
 void write_point_cloud(const std::filesystem::path& file, const PointCloud& cloud, const PlyWriteOptions& ply = {});
-/// Writes a triangle mesh as PLY or OBJ by extension. Atomic.
+/// Writes a triangle mesh as PLY, OBJ, OFF, STL or GLB by extension. Atomic.
 void write_triangle_mesh(const std::filesystem::path& file, const TriangleMesh& mesh, const PlyWriteOptions& ply = {});
 
 }  // namespace clustersurf

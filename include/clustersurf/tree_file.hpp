@@ -9,10 +9,10 @@
 
 namespace clustersurf {
 
-/// Current version of the format written by save_tree(). Version 2 added the input's point
-/// spacing and each node's cluster extent; version-1 files still load (spacing 0, extent
-/// support radius / alpha).
-inline constexpr std::uint32_t kTreeFileVersion = 2;
+/// Current version of the format written by save_tree(). Version 3 added the input's origin;
+/// version 2 the input's point spacing and each node's cluster extent. Older files still load
+/// (origin 0; spacing 0 and extent support radius / alpha for version 1).
+inline constexpr std::uint32_t kTreeFileVersion = 3;
 
 /// The file's bytes for `tree`.
 std::string serialize_tree(const ClusterTree& tree);

@@ -10,11 +10,17 @@ proxies into one implicit surface f (positive outside), then mesh it, evaluate i
     clustersurf.write_mesh("bunny.ply", mesh.vertices, mesh.faces, mesh.normals)
     tree.save("bunny.cstree")                                       # == `clustersurf reconstruct`
 
-Arrays are numpy (n, 3) float64 (float32 input is converted). Long operations release the GIL.
+Arrays are numpy (n, 3) float64 (float32 input is converted). A PointCloud's positions and a
+Mesh's vertices are relative to its ``origin`` (zero unless a file lay far from zero); their
+``world_positions`` / ``world_vertices`` are the file's coordinates. Wherever a mesh is taken,
+a Mesh, trimesh.Trimesh or Open3D mesh (anything with ``.vertices`` and ``.faces`` or
+``.triangles``) may stand for its arrays; to_open3d() / from_open3d() convert to and from
+Open3D (optional, imported when used). Long operations release the GIL.
 Errors are raised as InputError (malformed file), IoError (an OSError), OptionError (a
 ValueError) or Cancelled, all subclasses of clustersurf.Error, with the CLI's messages.
 """
 
+from ._open3d import from_open3d
 from ._types import Mesh, PointCloud
 from ._clustersurf import (
     Cancelled,
@@ -51,6 +57,7 @@ __all__ = [
     "__version__",
     "compare_surfaces",
     "evaluate",
+    "from_open3d",
     "load",
     "read_mesh",
     "read_points",

@@ -119,16 +119,127 @@ void ProgressBridge::rethrow_if_interrupted() {
   if (error) throw std::move(*error);
 }
 
+namespace {
+
+/// A 1-D numpy array owning `v`'s storage (moved, not copied).
+template <class Vector>
+py::array_t<typename Vector::value_type> owning_vector(Vector&& v) {
+  using Scalar = typename Vector::value_type;
+  auto* heap = new Vector(std::move(v));
+  py::capsule owner(heap, [](void* p) { delete static_cast<Vector*>(p); });
+  return py::array_t<Scalar>({static_cast<py::ssize_t>(heap->size())}, heap->data(), owner);
+}
+
+py::array_t<float> float_vector(Eigen::VectorXf&& v) {
+  auto* heap = new Eigen::VectorXf(std::move(v));
+  py::capsule owner(heap, [](void* p) { delete static_cast<Eigen::VectorXf*>(p); });
+  return py::array_t<float>({static_cast<py::ssize_t>(heap->size())}, heap->data(), owner);
+}
+
+py::module_ types_module() { return py::module_::import("clustersurf._types"); }
+
+}  // namespace
+
 py::object cloud_object(PointCloud&& cloud) {
-  const py::object make = py::module_::import("clustersurf._types").attr("PointCloud");
-  return make(to_array(std::move(cloud.positions)), to_array_or_none(std::move(cloud.normals)),
-              to_array_or_none(std::move(cloud.colors)));
+  using namespace pybind11::literals;
+  py::dict attributes;
+  for (PointAttribute& a : cloud.attributes) attributes[py::str(a.name)] = float_vector(std::move(a.values));
+  py::object scanner_of_point = py::none();
+  if (cloud.has_scanners()) scanner_of_point = owning_vector(std::move(cloud.scanner_of_point));
+  return types_module().attr("PointCloud")(
+      to_array(std::move(cloud.positions)), "normals"_a = to_array_or_none(std::move(cloud.normals)),
+      "colors"_a = to_array_or_none(std::move(cloud.colors)), "origin"_a = vector_array(cloud.origin),
+      "attributes"_a = attributes,
+      "scanner_positions"_a = cloud.has_scanners() ? py::object(to_array(std::move(cloud.scanner_positions))) : py::none(),
+      "scanner_of_point"_a = scanner_of_point);
 }
 
 py::object mesh_object(TriangleMesh&& mesh) {
-  const py::object make = py::module_::import("clustersurf._types").attr("Mesh");
-  return make(to_array(std::move(mesh.vertices)), to_array(std::move(mesh.triangles)),
-              to_array_or_none(std::move(mesh.normals)), to_array_or_none(std::move(mesh.colors)));
+  using namespace pybind11::literals;
+  return types_module().attr("Mesh")(to_array(std::move(mesh.vertices)), to_array(std::move(mesh.triangles)),
+                                     "normals"_a = to_array_or_none(std::move(mesh.normals)),
+                                     "colors"_a = to_array_or_none(std::move(mesh.colors)),
+                                     "origin"_a = vector_array(mesh.origin));
+}
+
+Eigen::Vector3d to_vector3(const py::handle& value, const char* name) {
+  if (value.is_none()) return Eigen::Vector3d::Zero();
+  const auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
+  if (!a || a.ndim() != 1 || a.shape(0) != 3)
+    throw OptionError(std::string(name) + " must be (x, y, z): three numbers");
+  const Eigen::Vector3d v(a.at(0), a.at(1), a.at(2));
+  if (!v.allFinite()) throw OptionError(std::string(name) + " must be finite (no NaN or infinity)");
+  return v;
+}
+
+bool is_surface_object(const py::handle& object) {
+  return !object.is_none() && !py::isinstance<py::array>(object) &&
+         (py::hasattr(object, "vertices") || py::hasattr(object, "positions"));
+}
+
+namespace {
+
+/// The parts of a surface object: (vertices, faces, normals, colors, origin, scanner_positions,
+/// scanner_of_point), None for what it does not have.
+py::tuple surface_parts(const py::handle& object) {
+  return types_module().attr("_surface_parts")(object).cast<py::tuple>();
+}
+
+py::handle either(py::handle given, py::handle own) { return given.is_none() ? own : given; }
+
+}  // namespace
+
+TriangleMesh mesh_argument(const py::handle& object, const py::handle& faces, const py::handle& normals,
+                           const py::handle& colors, const py::handle& origin, const std::string& prefix) {
+  const py::tuple parts =
+      is_surface_object(object) ? surface_parts(object) : py::make_tuple(object, py::none(), py::none(), py::none(), py::none());
+  TriangleMesh mesh;
+  mesh.vertices = to_points(parts[0], (prefix + "vertices").c_str());
+  const py::handle f = either(faces, parts[1]);
+  mesh.triangles = f.is_none() ? Triangles(0, 3) : to_triangles(f, (prefix + "faces").c_str(), mesh.vertices.rows());
+  const py::handle n = either(normals, parts[2]);
+  if (!n.is_none()) mesh.normals = to_points(n, (prefix + "normals").c_str());
+  const py::handle c = either(colors, parts[3]);
+  if (!c.is_none()) mesh.colors = to_colors(c, (prefix + "colors").c_str());
+  mesh.origin = to_vector3(either(origin, parts[4]), (prefix + "origin").c_str());
+  if (mesh.normals.rows() != 0 && mesh.normals.rows() != mesh.vertices.rows())
+    throw OptionError(prefix + "normals must have one row per vertex");
+  if (mesh.colors.rows() != 0 && mesh.colors.rows() != mesh.vertices.rows())
+    throw OptionError(prefix + "colors must have one row per vertex");
+  return mesh;
+}
+
+PointCloud cloud_argument(const py::handle& object, const py::handle& normals, const py::handle& colors,
+                          const py::handle& origin, const std::string& name) {
+  const py::tuple parts = is_surface_object(object)
+                              ? surface_parts(object)
+                              : py::make_tuple(object, py::none(), py::none(), py::none(), py::none(), py::none(), py::none());
+  PointCloud cloud;
+  cloud.positions = to_points(parts[0], name.c_str());
+  const py::handle n = either(normals, parts[2]);
+  if (!n.is_none()) cloud.normals = to_points(n, "normals");
+  const py::handle c = either(colors, parts[3]);
+  if (!c.is_none()) cloud.colors = to_colors(c, "colors");
+  cloud.origin = to_vector3(either(origin, parts[4]), "origin");
+  if (cloud.normals.rows() != 0 && cloud.normals.rows() != cloud.size())
+    throw OptionError("normals must have one row per point");
+  if (cloud.colors.rows() != 0 && cloud.colors.rows() != cloud.size()) throw OptionError("colors must have one row per point");
+  if (!parts[5].is_none() && !parts[6].is_none()) {
+    cloud.scanner_positions = to_points(parts[5], "scanner_positions");
+    const auto which = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(parts[6]);
+    if (!which || which.ndim() != 1 || which.shape(0) != cloud.size())
+      throw OptionError("scanner_of_point must have one entry per point");
+    const auto scans = static_cast<std::int64_t>(cloud.scanner_positions.rows());
+    cloud.scanner_of_point.reserve(static_cast<std::size_t>(which.shape(0)));
+    const std::int64_t* index = which.data();
+    for (py::ssize_t i = 0; i < which.shape(0); ++i) {
+      const std::int64_t s = index[i];
+      if (s < 0 || s >= scans)
+        throw OptionError("scanner_of_point has a scan index outside [0, " + std::to_string(scans) + ")");
+      cloud.scanner_of_point.push_back(static_cast<std::uint32_t>(s));
+    }
+  }
+  return cloud;
 }
 
 }  // namespace clustersurf::python

@@ -36,9 +36,33 @@ py::object to_array_or_none(Points&& m);
 py::object to_array_or_none(Colors&& m);
 
 /// A clustersurf.PointCloud / clustersurf.Mesh (python/clustersurf/_types.py) taking over the
-/// arrays (moved, not copied); absent normals and colors become None.
+/// arrays (moved, not copied); absent normals, colors and scanners become None, the origin a
+/// (3,) float64 array and the attributes a dict of float32 arrays.
 py::object cloud_object(PointCloud&& cloud);
 py::object mesh_object(TriangleMesh&& mesh);
+
+/// (x, y, z) from any 3-element sequence or array (None: zero); OptionError naming `name` else.
+Eigen::Vector3d to_vector3(const py::handle& value, const char* name);
+
+/// True when `object` stands for a whole surface or cloud instead of an array: it has
+/// `.vertices` or `.positions` (a clustersurf Mesh or PointCloud, trimesh.Trimesh, an Open3D
+/// mesh, any object with those attributes).
+bool is_surface_object(const py::handle& object);
+
+/// A mesh argument: `object` is either a surface object (its parts come from
+/// clustersurf._types._surface_parts(): vertices, faces or triangles, origin, and normals and
+/// colors of clustersurf's own types) or the vertices array, with `faces`, `normals`, `colors`
+/// and `origin` beside it; any of these that is not None overrides the object's. No faces (None)
+/// makes a point set. OptionError messages name prefix + "vertices", prefix + "faces", ...
+TriangleMesh mesh_argument(const py::handle& object, const py::handle& faces, const py::handle& normals,
+                           const py::handle& colors, const py::handle& origin, const std::string& prefix);
+
+/// A point-cloud argument: an (n, 3) array or a surface object (positions or vertices, and of a
+/// clustersurf PointCloud its normals, colors, origin and scanners); `normals`, `colors` and
+/// `origin` override the object's when not None. Validates shapes and scanner indices; `name`
+/// names the positions in OptionError messages.
+PointCloud cloud_argument(const py::handle& object, const py::handle& normals, const py::handle& colors,
+                          const py::handle& origin, const std::string& name);
 
 /// A non-negative integer option that must fit `std::uint32_t`; throws OptionError naming it.
 std::uint32_t to_uint32(std::int64_t value, const char* name);

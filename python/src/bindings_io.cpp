@@ -11,6 +11,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <vector>
@@ -38,30 +39,45 @@ auto read_with_warnings(bool drop_non_finite, Read&& read) {
   return result;
 }
 
-/// A TriangleMesh from arrays; `faces` None (or empty) makes a point cloud for evaluation.
-TriangleMesh mesh_from_arrays(const py::handle& vertices, const py::handle& faces, const py::handle& normals,
-                              const py::handle& colors, const std::string& what) {
-  TriangleMesh mesh;
-  mesh.vertices = to_points(vertices, (what + "vertices").c_str());
-  mesh.triangles = faces.is_none() ? Triangles(0, 3) : to_triangles(faces, (what + "faces").c_str(), mesh.vertices.rows());
-  if (!normals.is_none()) mesh.normals = to_points(normals, (what + "normals").c_str());
-  if (!colors.is_none()) mesh.colors = to_colors(colors, (what + "colors").c_str());
-  if (mesh.normals.rows() != 0 && mesh.normals.rows() != mesh.vertices.rows())
-    throw OptionError(what + "normals must have one row per vertex");
-  if (mesh.colors.rows() != 0 && mesh.colors.rows() != mesh.vertices.rows())
-    throw OptionError(what + "colors must have one row per vertex");
-  return mesh;
+/// The two sides of compare_surfaces() from its four leading arguments, read in order: each side
+/// is one surface object, or vertices followed by their faces (None: a point cloud); None
+/// between sides is skipped. The reconstruction is moved into the reference's frame (origin).
+std::array<TriangleMesh, 2> two_surfaces(const std::array<py::handle, 4>& slots, const py::handle& recon_normals,
+                                         const py::handle& ref_normals) {
+  std::vector<TriangleMesh> sides;
+  for (std::size_t i = 0; i < slots.size();) {
+    if (slots[i].is_none()) {
+      ++i;
+      continue;
+    }
+    if (sides.size() == 2)
+      throw OptionError("compare_surfaces takes two surfaces, each a mesh or cloud object or vertices and faces");
+    const bool recon = sides.empty();
+    const std::string prefix = recon ? "recon_" : "ref_";
+    const py::handle normals = recon ? recon_normals : ref_normals;
+    if (is_surface_object(slots[i])) {
+      sides.push_back(mesh_argument(slots[i], py::none(), normals, py::none(), py::none(), prefix));
+      ++i;
+    } else {
+      const py::handle faces = i + 1 < slots.size() ? slots[i + 1] : py::handle(py::none());
+      sides.push_back(mesh_argument(slots[i], faces, normals, py::none(), py::none(), prefix));
+      i += 2;
+    }
+  }
+  if (sides.size() < 2) throw OptionError("compare_surfaces needs a reference surface (ref_vertices)");
+  std::array<TriangleMesh, 2> out{std::move(sides[0]), std::move(sides[1])};
+  if (out[0].origin != out[1].origin) {
+    out[0].vertices.rowwise() += (out[0].origin - out[1].origin).transpose();
+    out[0].origin = out[1].origin;
+  }
+  return out;
 }
 
-PointCloud cloud_from_arrays(const py::handle& positions, const py::handle& normals, const py::handle& colors) {
-  PointCloud cloud;
-  cloud.positions = to_points(positions, "positions");
-  if (!normals.is_none()) cloud.normals = to_points(normals, "normals");
-  if (!colors.is_none()) cloud.colors = to_colors(colors, "colors");
-  if (cloud.normals.rows() != 0 && cloud.normals.rows() != cloud.size())
-    throw OptionError("normals must have one row per point");
-  if (cloud.colors.rows() != 0 && cloud.colors.rows() != cloud.size()) throw OptionError("colors must have one row per point");
-  return cloud;
+/// Sampling and scanning need triangles: arrays without faces are an error.
+TriangleMesh surface_to_sample(const py::handle& vertices, const py::handle& faces) {
+  TriangleMesh mesh = mesh_argument(vertices, faces, py::none(), py::none(), py::none(), "");
+  if (mesh.triangles.rows() == 0) throw OptionError("faces are required: pass vertices and faces, or a mesh object");
+  return mesh;
 }
 
 py::dict topology_dict(const MeshTopology& t) {
@@ -80,12 +96,20 @@ void bind_io(py::module_& m) {
         return cloud_object(read_with_warnings(drop_non_finite, [&](const ReadOptions& o) { return read_point_cloud(file, o); }));
       },
       py::arg("path"), py::arg("drop_non_finite") = false, R"doc(
-Reads a point cloud: PLY (ascii or binary), XYZ/PTS/TXT/CSV or OBJ (format by extension).
+Reads a point cloud file into a PointCloud: PLY, XYZ/PTS/TXT/CSV, OBJ, LAS, E57, PTX or PCD.
 
-Returns a PointCloud with ``positions`` (n, 3) float64 and ``normals`` (n, 3) float64 and
-``colors`` (n, 3) uint8, each None when the file has none. A mesh's vertices are its points.
-With ``drop_non_finite`` points with NaN/Inf coordinates are dropped (with a warning) instead
-of failing. Raises InputError (malformed file: the message names the line or byte) or IoError.)doc");
+``path``: the file; its format is the one its first bytes prove (PLY, LAS, E57, PCD), else
+its extension's. ``drop_non_finite`` (default False): drop points with NaN/Inf coordinates,
+with a warning, instead of failing.
+
+The PointCloud has ``positions`` (n, 3) float64, ``normals`` (n, 3) float64 and ``colors``
+(n, 3) uint8 (None when the file has none), ``origin`` (3,) float64: a cloud far from zero
+(georeferenced scans) is moved next to it, a point is at positions[i] + origin in the file's
+coordinates (``world_positions``); ``attributes``: dict of per-point float32 arrays the
+scanner file carries (LAS intensity and classification, E57/PTX intensity); and
+``scanner_positions`` (k, 3) and ``scanner_of_point`` (n,) uint32 where the file says where
+its scans stood (else None). A mesh's vertices are its points, with normals from its faces.
+Raises InputError (malformed file: the message names the line or byte) or IoError.)doc");
 
   m.def(
       "read_mesh",
@@ -93,16 +117,18 @@ of failing. Raises InputError (malformed file: the message names the line or byt
         return mesh_object(read_with_warnings(false, [&](const ReadOptions& o) { return read_triangle_mesh(file, o); }));
       },
       py::arg("path"), R"doc(
-Reads a triangle mesh from PLY or OBJ (polygons are fan-triangulated).
+Reads a triangle mesh file into a Mesh: PLY or OBJ (polygons are fan-triangulated).
 
-Returns a Mesh with ``vertices`` (n, 3) float64, ``faces`` (m, 3) int32 and ``normals``
-(float64) and ``colors`` (uint8) per vertex, or None. Raises InputError or IoError.)doc");
+``path``: the file. The Mesh has ``vertices`` (n, 3) float64, ``faces`` (m, 3) int32,
+per-vertex ``normals`` (float64) and ``colors`` (uint8) or None, and ``origin`` (3,)
+float64: the vertices are relative to it, ``world_vertices`` (vertices + origin) are the
+file's coordinates. Raises InputError or IoError.)doc");
 
   m.def(
       "write_points",
       [](const std::filesystem::path& file, const py::handle& positions, const py::handle& normals, const py::handle& colors,
-         bool ascii, bool double_precision) {
-        const PointCloud cloud = cloud_from_arrays(positions, normals, colors);
+         bool ascii, bool double_precision, const py::handle& origin) {
+        const PointCloud cloud = cloud_argument(positions, normals, colors, origin, "positions");
         PlyWriteOptions ply;
         ply.binary = !ascii;
         ply.double_precision = double_precision;
@@ -110,32 +136,46 @@ Returns a Mesh with ``vertices`` (n, 3) float64, ``faces`` (m, 3) int32 and ``no
         write_point_cloud(file, cloud, ply);
       },
       py::arg("path"), py::arg("positions"), py::arg("normals") = py::none(), py::arg("colors") = py::none(),
-      py::arg("ascii") = false, py::arg("double") = false, R"doc(
-Writes a point cloud as PLY (binary unless ``ascii``; float32 unless ``double``) or XYZ, by
-extension, atomically. ``positions`` and ``normals`` are (n, 3) arrays, ``colors`` (n, 3)
-uint8. Raises IoError.)doc");
+      py::arg("ascii") = false, py::arg("double") = false, py::arg("origin") = py::none(), R"doc(
+Writes a point cloud as PLY, XYZ or OBJ (by the extension of ``path``), atomically.
+
+``positions``: (n, 3) array, or a PointCloud (or any object with ``.positions`` or
+``.vertices``) whose normals, colors and origin are written unless given here. ``normals``:
+(n, 3) array or None; ``colors``: (n, 3) uint8 or None. ``ascii`` (default False): ascii PLY
+instead of binary; ``double`` (default False): float64 PLY coordinates instead of float32
+(always float64 when the origin is not zero). ``origin``: (x, y, z) added to every point in
+the file (default: the cloud's origin, else zero). Raises OptionError (bad shapes) or IoError.)doc");
 
   m.def(
       "write_mesh",
       [](const std::filesystem::path& file, const py::handle& vertices, const py::handle& faces, const py::handle& normals,
-         const py::handle& colors, bool ascii) {
-        const TriangleMesh mesh = mesh_from_arrays(vertices, faces, normals, colors, "");
+         const py::handle& colors, bool ascii, const py::handle& origin) {
+        const TriangleMesh mesh = mesh_argument(vertices, faces, normals, colors, origin, "");
+        if (!is_surface_object(vertices) && faces.is_none())
+          throw OptionError("faces are required: pass vertices and faces, or a mesh object");
         PlyWriteOptions ply;
         ply.binary = !ascii;
         py::gil_scoped_release release;
         write_triangle_mesh(file, mesh, ply);
       },
-      py::arg("path"), py::arg("vertices"), py::arg("faces"), py::arg("normals") = py::none(), py::arg("colors") = py::none(),
-      py::arg("ascii") = false, R"doc(
-Writes a triangle mesh as PLY (binary unless ``ascii``) or OBJ, by extension, atomically.
-``vertices`` (n, 3), ``faces`` (m, 3) integer indices, optional per-vertex ``normals`` (n, 3)
-and ``colors`` (n, 3) uint8. Raises OptionError (bad shapes or indices) or IoError.)doc");
+      py::arg("path"), py::arg("vertices"), py::arg("faces") = py::none(), py::arg("normals") = py::none(),
+      py::arg("colors") = py::none(), py::arg("ascii") = false, py::arg("origin") = py::none(), R"doc(
+Writes a triangle mesh as PLY, OBJ, OFF, STL or GLB (by the extension of ``path``), atomically.
+
+``vertices``: (n, 3) array with ``faces`` (m, 3) integer indices, or a mesh object in place of
+both: a clustersurf Mesh (its normals, colors and origin are written unless given here), a
+trimesh.Trimesh, an Open3D TriangleMesh, anything with ``.vertices`` and ``.faces`` or
+``.triangles``. ``normals``: per-vertex (n, 3) or None; ``colors``: per-vertex (n, 3) uint8
+or None. ``ascii`` (default False): ascii PLY instead of binary. ``origin``: (x, y, z) added
+to every vertex in the file (default: the mesh's origin, else zero; STL keeps coordinates
+relative to it, GLB makes it the node's translation). Raises OptionError (bad shapes or
+indices) or IoError.)doc");
 
   m.def(
       "sample_surface",
       [](const py::handle& vertices, const py::handle& faces, std::int64_t n, double noise, double outliers, std::uint64_t seed) {
         if (n < 1) throw OptionError("n must be positive, not " + std::to_string(n));
-        const TriangleMesh mesh = mesh_from_arrays(vertices, faces, py::none(), py::none(), "");
+        const TriangleMesh mesh = surface_to_sample(vertices, faces);
         SurfaceSamplingOptions options;
         options.count = static_cast<std::size_t>(n);
         options.noise = noise;
@@ -145,16 +185,20 @@ and ``colors`` (n, 3) uint8. Raises OptionError (bad shapes or indices) or IoErr
           py::gil_scoped_release release;
           return sample_surface(mesh, options);
         }();
+        cloud.origin = mesh.origin;
         return cloud_object(std::move(cloud));
       },
-      py::arg("vertices"), py::arg("faces"), py::arg("n") = SurfaceSamplingOptions{}.count,
+      py::arg("vertices"), py::arg("faces") = py::none(), py::arg("n") = SurfaceSamplingOptions{}.count,
       py::arg("noise") = SurfaceSamplingOptions{}.noise, py::arg("outliers") = SurfaceSamplingOptions{}.outliers,
       py::arg("seed") = SurfaceSamplingOptions{}.seed, R"doc(
 Draws ``n`` points uniformly by area from a triangle mesh, as ``clustersurf sample`` does.
 
-``noise``: Gaussian sigma as a fraction of the bounding-box diagonal; ``outliers``: uniform
-points in the box, as a fraction of n. Returns a PointCloud whose normals are the normals of
-the triangles drawn from. Deterministic for a seed.)doc");
+``vertices`` (n, 3) and ``faces`` (m, 3), or a mesh object in place of both (anything with
+``.vertices`` and ``.faces`` or ``.triangles``, as write_mesh() takes). ``n``: points on the
+surface; ``noise``: Gaussian sigma as a fraction of the bounding-box diagonal; ``outliers``:
+uniform points in the box, as a fraction of n; ``seed``: the same seed gives the same points.
+Returns a PointCloud whose normals are the normals of the triangles drawn from, with the
+mesh's origin.)doc");
 
   m.def(
       "scan_surface",
@@ -162,7 +206,7 @@ the triangles drawn from. Deterministic for a seed.)doc");
          double registration, double distance, std::uint64_t seed) {
         if (n < 1) throw OptionError("n must be positive, not " + std::to_string(n));
         if (scans < 1) throw OptionError("scans must be positive, not " + std::to_string(scans));
-        const TriangleMesh mesh = mesh_from_arrays(vertices, faces, py::none(), py::none(), "");
+        const TriangleMesh mesh = surface_to_sample(vertices, faces);
         RangeScanOptions options;
         options.count = static_cast<std::size_t>(n);
         options.scans = static_cast<std::size_t>(scans);
@@ -174,19 +218,22 @@ the triangles drawn from. Deterministic for a seed.)doc");
           py::gil_scoped_release release;
           return scan_surface(mesh, options);
         }();
+        cloud.origin = mesh.origin;
         return cloud_object(std::move(cloud));
       },
-      py::arg("vertices"), py::arg("faces"), py::arg("n") = RangeScanOptions{}.count,
+      py::arg("vertices"), py::arg("faces") = py::none(), py::arg("n") = RangeScanOptions{}.count,
       py::arg("scans") = RangeScanOptions{}.scans, py::arg("noise") = RangeScanOptions{}.noise,
       py::arg("registration") = RangeScanOptions{}.registration, py::arg("distance") = RangeScanOptions{}.distance,
       py::arg("seed") = RangeScanOptions{}.seed, R"doc(
 Scans a triangle mesh with a virtual range scanner, as ``clustersurf sample --scanner`` does.
 
+``vertices`` and ``faces``, or a mesh object in place of both, as in sample_surface().
 About ``n`` points over ``scans`` viewpoints around the mesh (occlusion holes, grazing returns
 dropped); ``noise``: Gaussian sigma along the line of sight and ``registration``: each scan's
 rigid misregistration, both fractions of the bounding-box diagonal; ``distance``: the scanners'
-distance to the box center, in diagonals. Returns a PointCloud with normals from each scan's
-grid, pointing towards its scanner. Deterministic for a seed.)doc");
+distance to the box center, in diagonals; ``seed``: the same seed gives the same points.
+Returns a PointCloud with normals from each scan's grid, pointing towards its scanner, with
+the mesh's origin.)doc");
 
   const ComparisonOptions comparison;
   m.def(
@@ -195,8 +242,10 @@ grid, pointing towards its scanner. Deterministic for a seed.)doc");
          const py::handle& ref_faces, const py::handle& recon_normals, const py::handle& ref_normals, std::int64_t samples,
          std::uint64_t seed, std::vector<double> fscore_thresholds) {
         if (samples < 1) throw OptionError("samples must be positive, not " + std::to_string(samples));
-        const TriangleMesh recon = mesh_from_arrays(recon_vertices, recon_faces, recon_normals, py::none(), "recon_");
-        const TriangleMesh reference = mesh_from_arrays(ref_vertices, ref_faces, ref_normals, py::none(), "ref_");
+        const std::array<TriangleMesh, 2> sides =
+            two_surfaces({recon_vertices, recon_faces, ref_vertices, ref_faces}, recon_normals, ref_normals);
+        const TriangleMesh& recon = sides[0];
+        const TriangleMesh& reference = sides[1];
         ComparisonOptions options;
         options.samples = static_cast<std::size_t>(samples);
         options.seed = seed;
@@ -217,16 +266,25 @@ grid, pointing towards its scanner. Deterministic for a seed.)doc");
                         "reconstruction_mesh"_a = topology_dict(e.reconstruction_topology),
                         "reference_mesh"_a = topology_dict(e.reference_topology));
       },
-      py::arg("recon_vertices"), py::arg("recon_faces"), py::arg("ref_vertices"), py::arg("ref_faces"),
+      py::arg("recon_vertices"), py::arg("recon_faces") = py::none(), py::arg("ref_vertices") = py::none(),
+      py::arg("ref_faces") = py::none(),
       py::arg("recon_normals") = py::none(), py::arg("ref_normals") = py::none(), py::arg("samples") = comparison.samples,
       py::arg("seed") = comparison.seed, py::arg("fscore_thresholds") = comparison.fscore_thresholds, R"doc(
 Scores a reconstruction against a reference surface, as ``clustersurf eval --json`` does
 (``evaluate`` is its old name).
 
-Each side is a mesh (vertices, faces) or, with faces None, a point cloud. Distances are
-fractions of the reference's bounding-box diagonal. Returns a dict with diagonal, accuracy,
-completeness, chamfer, hausdorff, normal_consistency (None without normals), fscore (list of
-dicts tau/precision/recall/fscore), samples, reconstruction_mesh and reference_mesh.)doc");
+Each side is ``recon_vertices``, ``recon_faces`` (resp. ``ref_vertices``, ``ref_faces``): a
+mesh, or with faces None a point cloud; or one object in place of the pair: a clustersurf Mesh
+or PointCloud, trimesh.Trimesh, Open3D TriangleMesh, anything with ``.vertices`` (or
+``.positions``) and ``.faces`` or ``.triangles`` (none: a cloud). So
+``compare_surfaces(mesh, reference)`` and ``compare_surfaces(v, f, reference)`` both work.
+Sides with different origins are compared in the reference's frame. ``recon_normals`` /
+``ref_normals``: per-point normals of a cloud side (default: a PointCloud's own); ``samples``:
+points drawn on each mesh side; ``seed``: the draw's seed; ``fscore_thresholds``: the F-score
+thresholds tau. Distances are fractions of the reference's bounding-box diagonal. Returns a
+dict with diagonal, accuracy, completeness, chamfer, hausdorff, normal_consistency (None
+without normals), fscore (list of dicts tau/precision/recall/fscore), samples,
+reconstruction_mesh and reference_mesh.)doc");
 }
 
 }  // namespace clustersurf::python

@@ -118,15 +118,15 @@ pre-order, root 0; a node's children come after it.)doc")
                              "Largest |Q| over the cluster's points (input units).")
       .def_property_readonly("proxy_type", [](const NodeRef& n) { return to_string(n.node().proxy.kind()); },
                              "\"point\", \"plane\", \"poly\", \"quadric\" or \"crease\".")
-      .def_property_readonly("proxy", [](const NodeRef& n) { return proxy_dict(n.node().proxy); }, R"doc(
-The proxy's parameters as a dict with "type" and: point: center; plane: point, normal; poly:
-origin, axes (3x3, columns e1 e2 e3) and coeffs c0..c5 of w = c0 + c1 u + c2 v + c3 u² +
+      .def_property_readonly("proxy", [](const NodeRef& n) { return proxy_dict(n.node().proxy); },
+                             R"doc(The proxy's parameters as a dict with "type" and: point: center; plane: point,
+normal; poly: origin, axes (3x3, columns e1 e2 e3) and coeffs c0..c5 of w = c0 + c1 u + c2 v + c3 u² +
 c4 uv + c5 v² in local coordinates (u, v, w); quadric: center, scale and the 10 coeffs of the
 quadric in y = (x - center) / scale; crease: planes a and b (each a dict of point, normal) and
 convex (Q = max of the two planes' values when True, min when False).)doc")
-      .def_property_readonly("coefficients", [](const NodeRef& n) { return coefficients(n.node().proxy); }, R"doc(
-The proxy's numbers, flat, in the order of the .cstree file: point 3, plane 6, poly 18
-(origin, axes column by column, c0..c5), quadric 14 (center, scale, c0..c9), crease 13 (the
+      .def_property_readonly("coefficients", [](const NodeRef& n) { return coefficients(n.node().proxy); },
+                             R"doc(The proxy's numbers, flat, in the order of the .cstree file: point 3, plane 6,
+poly 18 (origin, axes column by column, c0..c5), quadric 14 (center, scale, c0..c9), crease 13 (the
 two planes' point and normal, then 1 for a convex edge or 0 for a concave one).)doc")
       .def_property_readonly(
           "support",

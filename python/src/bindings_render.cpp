@@ -58,7 +58,7 @@ void bind_render(py::class_<TreeRef>& tree_class) {
         o.framing = tree.bbox;
         Points reference;
         if (!points.is_none()) {
-          reference = to_points(py::hasattr(points, "positions") ? points.attr("positions") : points, "points");
+          reference = cloud_argument(points, py::none(), py::none(), py::none(), "points").positions;
           o.reference_points = &reference;
         }
         if (o.show == ShowMode::Error && o.reference_points == nullptr)

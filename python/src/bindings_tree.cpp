@@ -41,23 +41,6 @@ std::uint32_t min_points_option(const py::handle& value) {
   return parse_min_points(std::to_string(value.cast<std::int64_t>()));
 }
 
-/// Positions (and normals) from an (n, 3) array or a PointCloud; `normals` overrides the cloud's.
-PointCloud input_cloud(const py::object& points, const py::object& normals) {
-  PointCloud cloud;
-  py::object given_normals = normals;
-  if (py::hasattr(points, "positions")) {  // a PointCloud from read_points()
-    cloud.positions = to_points(points.attr("positions"), "points");
-    if (given_normals.is_none()) given_normals = points.attr("normals");
-  } else {
-    cloud.positions = to_points(points, "points");
-  }
-  if (!given_normals.is_none()) {
-    cloud.normals = to_points(given_normals, "normals");
-    if (cloud.normals.rows() != cloud.positions.rows()) throw OptionError("normals must have one row per point");
-  }
-  return cloud;
-}
-
 py::dict percentiles(const std::array<double, 5>& a) {
   return py::dict("min"_a = a[0], "p25"_a = a[1], "median"_a = a[2], "p75"_a = a[3], "max"_a = a[4]);
 }
@@ -154,7 +137,7 @@ void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class) {
         b.remove_outliers = !keep_outliers;
         b.use_normals = !ignore_normals;
         b.creases = creases;
-        const PointCloud cloud = input_cloud(points, normals);
+        const PointCloud cloud = cloud_argument(points, normals, py::none(), py::none(), "points");
         auto tree = run_released(progress, [&](const ProgressCallback& callback) {
           return std::make_shared<const ClusterTree>(reconstruct(cloud, o, callback).tree);
         });
@@ -173,7 +156,8 @@ Builds and orients the cluster tree of a point cloud, as ``clustersurf reconstru
 (the library's reconstruct(): the same checks, the same tree).
 
 ``points``: (n, 3) array (float32 or float64), or a PointCloud from read_points() (its normals
-are used unless ``normals`` is given). ``normals``: optional (n, 3) array orienting the surface;
+are used unless ``normals`` is given; the tree is built on its ``positions``, relative to its
+``origin``), or any object with ``.positions`` or ``.vertices``. ``normals``: optional (n, 3) array orienting the surface;
 without them the orientation propagates between touching clusters.
 
 Options mirror the CLI's (same names with ``_`` for ``-``, same defaults): ``proxy`` "plane",
@@ -201,7 +185,7 @@ the same tree for any thread count, byte-identical to the CLI's when saved.)doc"
         }();
         return TreeRef{std::move(tree)};
       },
-      py::arg("path"), "Reads a .cstree file (validated and checksummed). Raises IoError or InputError.");
+      py::arg("path"), "Reads the .cstree file at ``path`` (validated and checksummed) into a Tree. Raises IoError or InputError.");
 
   tree_class
       .def(
@@ -210,7 +194,8 @@ the same tree for any thread count, byte-identical to the CLI's when saved.)doc"
             py::gil_scoped_release release;
             save_tree(file, *t.tree);
           },
-          py::arg("path"), "Writes the tree as a .cstree file, atomically; the same tree always gives the same bytes.")
+          py::arg("path"),
+          "Writes the tree as the .cstree file ``path``, atomically; the same tree always gives the same bytes.")
       .def(
           "to_bytes", [](const TreeRef& t) { return py::bytes(serialize_tree(*t.tree)); },
           "The .cstree file's bytes.")
@@ -220,7 +205,7 @@ the same tree for any thread count, byte-identical to the CLI's when saved.)doc"
             const std::string_view view(bytes);
             return TreeRef{std::make_shared<const ClusterTree>(deserialize_tree(view))};
           },
-          py::arg("data"), "A tree from .cstree bytes (as to_bytes() gives). Raises InputError when they are corrupt.")
+          py::arg("data"), "A tree from ``data``, .cstree bytes (as to_bytes() gives). Raises InputError when they are corrupt.")
       .def(py::pickle([](const TreeRef& t) { return py::bytes(serialize_tree(*t.tree)); },
                       [](const py::bytes& bytes) { return TreeRef{std::make_shared<const ClusterTree>(deserialize_tree(std::string_view(bytes)))}; }))
       .def("info", [](const TreeRef& t) { return info_dict(*t.tree); }, R"doc(
@@ -229,7 +214,7 @@ leaves, depth, input_points, outliers, has_point_leaves, bbox_min, bbox_max, dia
 leaf_size, leaf_rms_error, leaves_over_threshold, noise_sigma, error_threshold, parameters.)doc")
       .def("__len__", [](const TreeRef& t) { return t.tree->nodes.size(); }, "Number of nodes.")
       .def("node", &node_at, py::arg("index"), "The node at `index` (pre-order; negative counts from the end).")
-      .def("__getitem__", &node_at, py::arg("index"))
+      .def("__getitem__", &node_at, py::arg("index"), "tree[index]: the node at ``index``, as node(index).")
       .def_property_readonly("root", [](const TreeRef& t) { return NodeRef{t.tree, 0}; }, "The root node.")
       .def_property_readonly(
           "nodes",
@@ -279,7 +264,10 @@ without the GIL.)doc")
              std::optional<double> lod_error) { return sample(*t.tree, xyz, min_weight, lod_depth, lod_error, true); },
           py::arg("xyz"), py::kw_only(), py::arg("min_weight") = kMinWeight, py::arg("lod_depth") = py::none(),
           py::arg("lod_error") = py::none(),
-          "The exact gradient of f at each row of xyz: an (n, 3) array, NaN rows where f is undefined (see evaluate).")
+          R"doc(
+The exact gradient of f at each row of ``xyz`` (n, 3): an (n, 3) float64 array, NaN rows where
+f is undefined or the weight is not above ``min_weight``; ``lod_depth`` / ``lod_error`` blend a
+coarser cut of the tree, as in evaluate() and mesh().)doc")
       .def(
           "mesh",
           [](const TreeRef& t, const std::variant<std::int64_t, std::string>& resolution, std::optional<double> voxel_size,
@@ -300,12 +288,17 @@ without the GIL.)doc")
             o.trim.close_pinholes = close_pinholes;
             o.coloring = parse_mesh_coloring(color);
             PointCloud input;
-            if (!points.is_none())
-              input.positions = to_points(py::hasattr(points, "positions") ? py::object(points.attr("positions")) : points, "points");
+            Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+            if (!points.is_none()) {
+              PointCloud given = cloud_argument(points, py::none(), py::none(), py::none(), "points");
+              input.positions = std::move(given.positions);
+              origin = given.origin;
+            }
             SurfaceMesh mesh = run_released(progress, [&](const ProgressCallback& callback) {
               const CloudIndex index(input);
               return mesh_tree(*t.tree, o, points.is_none() ? nullptr : &index, callback);
             });
+            mesh.mesh.origin = origin;
             return mesh_object(std::move(mesh.mesh));
           },
           py::kw_only(), py::arg("resolution") = "auto", py::arg("voxel_size") = py::none(), py::arg("lod_depth") = py::none(),
@@ -315,7 +308,10 @@ without the GIL.)doc")
           py::arg("progress") = py::none(), R"doc(
 Meshes the surface f = 0, as ``clustersurf mesh`` does (the library's mesh_tree(): same
 options, same mesh). Returns a Mesh (vertices (n, 3) float64, faces (m, 3) int32, normals
-(n, 3) float64, colors (n, 3) uint8 or None), triangles facing outward.
+(n, 3) float64, colors (n, 3) uint8 or None), triangles facing outward. Its vertices are in
+the tree's coordinates, those of the positions it was built from; its ``origin`` is the
+origin of ``points`` when that is a PointCloud (a scan read far from zero), else zero, so
+``world_vertices`` are the file's coordinates.
 
 ``resolution``: grid cells along the longest bbox side, or ``"auto"`` (the default): cells two
 median point spacings of the input wide (the tree stores the spacing; a tree from a version-1

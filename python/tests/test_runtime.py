@@ -115,6 +115,8 @@ def test_cmake_install_gives_an_importable_package(tmp_path):
     subprocess.run([cmake, "--install", build, "--prefix", str(tmp_path / "prefix")], check=True, capture_output=True)
     packages = list((tmp_path / "prefix").rglob("clustersurf/__init__.py"))
     assert len(packages) == 1
+    for typed in ("py.typed", "__init__.pyi", "_clustersurf.pyi", "_open3d.py"):  # PEP 561: stubs ship along
+        assert (packages[0].parent / typed).exists(), typed
     env = dict(os.environ, PYTHONPATH=str(packages[0].parent.parent))
     result = subprocess.run([sys.executable, "-c", "import clustersurf; print(clustersurf.__file__)"], env=env,
                             cwd=tmp_path, capture_output=True, text=True, check=True)

@@ -269,6 +269,7 @@ ClusterTree build_cluster_tree(const CloudIndex& cloud_index, const BuildOptions
   const KdTree& index = clustered.index;
 
   tree.bbox = bounding_box(*points);
+  tree.origin = cloud.origin;
   const double diagonal = tree.bbox.diagonal();
   const double tolerance = p.threshold_mode == ThresholdMode::Absolute ? options.tolerance : options.tolerance * diagonal;
   double noise = 0;  // the noise the leaves may keep on top of the tolerance

@@ -30,44 +30,65 @@ void check_finite(const std::filesystem::path& file, io::ParsedFile& parsed, con
   PointCloud& c = parsed.cloud;
   const Eigen::Index n = c.size();
   std::vector<Eigen::Index> keep;
-  bool any_bad = false;
+  keep.reserve(static_cast<std::size_t>(n));
   for (Eigen::Index i = 0; i < n; ++i) {
     const bool ok = c.positions.row(i).allFinite() && (!c.has_normals() || c.normals.row(i).allFinite());
     if (!ok && !options.drop_non_finite)
       throw InputError(file, parsed.first_non_finite.value_or(FileLocation{}),
                        "point " + std::to_string(i) + " (0-based) has a non-finite coordinate or normal "
                        "(NaN or Inf); use the option to drop such points");
-    any_bad = any_bad || !ok;
+    if (ok) keep.push_back(i);
   }
-  if (!any_bad) return;
-  keep.reserve(static_cast<std::size_t>(n));
-  for (Eigen::Index i = 0; i < n; ++i)
-    if (c.positions.row(i).allFinite() && (!c.has_normals() || c.normals.row(i).allFinite())) keep.push_back(i);
+  const auto m = static_cast<Eigen::Index>(keep.size());
+  if (m == n) return;
   if (parsed.triangles.rows() != 0)
     throw InputError(file, parsed.first_non_finite.value_or(FileLocation{}),
                      "mesh has vertices with non-finite coordinates; they cannot be dropped without breaking faces");
-  const auto m = static_cast<Eigen::Index>(keep.size());
-  PointCloud out;
-  out.positions = c.positions(keep, Eigen::all);
-  if (c.has_normals()) out.normals = c.normals(keep, Eigen::all);
-  if (c.has_colors()) out.colors = c.colors(keep, Eigen::all);
+  c = select(c, keep);
   if (options.warn)
     options.warn(file.string() + ": dropped " + std::to_string(n - m) + " of " + std::to_string(n) +
                  " points with non-finite coordinates or normals");
-  c = std::move(out);
+}
+
+const char* format_name(FileFormat format) {
+  switch (format) {
+    case FileFormat::Ply: return "PLY";
+    case FileFormat::Xyz: return "XYZ";
+    case FileFormat::Obj: return "OBJ";
+    case FileFormat::Las: return "LAS";
+    case FileFormat::E57: return "E57";
+    case FileFormat::Ptx: return "PTX";
+    case FileFormat::Pcd: return "PCD";
+    case FileFormat::Off: return "OFF";
+    case FileFormat::Stl: return "STL";
+    case FileFormat::Glb: return "glTF";
+  }
+  return "?";
 }
 
 io::ParsedFile parse(std::string_view bytes, FileFormat format, const std::filesystem::path& file,
                      const ReadOptions& options, bool want_faces) {
   if (bytes.empty()) throw InputError(file, {}, "file is empty");
+  format = format_from_magic(bytes).value_or(format);
+  const bool holds_faces = format == FileFormat::Ply || format == FileFormat::Obj;
+  if (want_faces && !holds_faces)
+    throw InputError(file, {}, std::string("cannot read a mesh from a ") + format_name(format) +
+                                   " file (meshes are read from .ply or .obj)");
   io::ParsedFile parsed;
-  switch (has_ply_magic(bytes) ? FileFormat::Ply : format) {
+  switch (format) {
     case FileFormat::Ply: parsed = io::read_ply(file, bytes, want_faces); break;
     case FileFormat::Obj: parsed = io::read_obj(file, bytes, want_faces); break;
-    case FileFormat::Xyz:
-      if (want_faces) throw InputError(file, {}, "an XYZ file holds points, not a mesh");
-      parsed = io::read_xyz(file, bytes);
-      break;
+    case FileFormat::Xyz: parsed = io::read_xyz(file, bytes); break;
+    case FileFormat::Las: parsed = io::read_las(file, bytes); break;
+    case FileFormat::E57: parsed = io::read_e57(file, bytes); break;
+    case FileFormat::Ptx: parsed = io::read_ptx(file, bytes); break;
+    case FileFormat::Pcd: parsed = io::read_pcd(file, bytes); break;
+    case FileFormat::Off:
+    case FileFormat::Stl:
+    case FileFormat::Glb:
+      throw InputError(file, {}, std::string("cannot read ") + format_name(format) +
+                                     " files: clustersurf writes them (read clouds from .ply, .xyz, .obj, "
+                                     ".las, .e57, .ptx or .pcd)");
   }
   check_finite(file, parsed, options);
   if (parsed.cloud.empty()) throw InputError(file, {}, "file holds no points");
@@ -77,9 +98,9 @@ io::ParsedFile parse(std::string_view bytes, FileFormat format, const std::files
 io::ParsedFile read(const std::filesystem::path& file, const ReadOptions& options, bool want_faces) {
   const io::MappedFile mapped(file);
   const std::string_view bytes = mapped.view();
-  // The magic decides before the extension (a PLY file named .xyz is still read), and an empty
-  // file is reported as such whatever its name.
-  const FileFormat format = bytes.empty() || has_ply_magic(bytes) ? FileFormat::Ply : format_from_extension(file);
+  // The signature decides before the extension (a PLY file named .xyz is still read), and an
+  // empty file is reported as such whatever its name.
+  const FileFormat format = bytes.empty() ? FileFormat::Ply : format_from_magic(bytes).value_or(format_from_extension(file));
   return parse(bytes, format, file, options, want_faces);
 }
 
@@ -110,7 +131,25 @@ FileFormat format_from_extension(const std::filesystem::path& file) {
   if (ext == ".ply") return FileFormat::Ply;
   if (ext == ".xyz" || ext == ".pts" || ext == ".txt" || ext == ".csv" || ext == ".xyzn") return FileFormat::Xyz;
   if (ext == ".obj") return FileFormat::Obj;
-  throw InputError(file, {}, "unknown file format \"" + ext + "\" (expected .ply, .xyz, .pts, .txt, .csv or .obj)");
+  if (ext == ".las") return FileFormat::Las;
+  if (ext == ".laz")
+    throw InputError(file, {}, "LAZ (compressed LAS) is not supported: decompress it to .las first (e.g. laszip or PDAL)");
+  if (ext == ".e57") return FileFormat::E57;
+  if (ext == ".ptx") return FileFormat::Ptx;
+  if (ext == ".pcd") return FileFormat::Pcd;
+  if (ext == ".off") return FileFormat::Off;
+  if (ext == ".stl") return FileFormat::Stl;
+  if (ext == ".glb") return FileFormat::Glb;
+  throw InputError(file, {}, "unknown file format \"" + ext +
+                                 "\" (expected .ply, .xyz, .pts, .txt, .csv, .obj, .las, .e57, .ptx, .pcd, .off, .stl or .glb)");
+}
+
+std::optional<FileFormat> format_from_magic(std::string_view bytes) {
+  if (has_ply_magic(bytes)) return FileFormat::Ply;
+  if (bytes.substr(0, 4) == "LASF") return FileFormat::Las;
+  if (bytes.substr(0, 8) == "ASTM-E57") return FileFormat::E57;
+  if (bytes.substr(0, 6) == "# .PCD" || bytes.substr(0, 8) == "VERSION ") return FileFormat::Pcd;
+  return std::nullopt;
 }
 
 Points vertex_normals(const TriangleMesh& mesh) {
@@ -133,7 +172,7 @@ Points vertex_normals(const TriangleMesh& mesh) {
 PointCloud read_point_cloud(const std::filesystem::path& file, const ReadOptions& options) {
   const io::MappedFile mapped(file);
   const std::string_view bytes = mapped.view();
-  const FileFormat format = bytes.empty() || has_ply_magic(bytes) ? FileFormat::Ply : format_from_extension(file);
+  const FileFormat format = bytes.empty() ? FileFormat::Ply : format_from_magic(bytes).value_or(format_from_extension(file));
   return parse_point_cloud(bytes, format, file, options);
 }
 
@@ -144,8 +183,11 @@ TriangleMesh read_triangle_mesh(const std::filesystem::path& file, const ReadOpt
 PointCloud parse_point_cloud(std::string_view bytes, FileFormat format, const std::filesystem::path& name,
                              const ReadOptions& options) {
   PointCloud cloud = parse(bytes, format, name, options, false).cloud;
-  if (has_ply_magic(bytes)) format = FileFormat::Ply;
-  if (!options.normals_from_faces || cloud.has_normals() || format == FileFormat::Xyz || !declares_faces(bytes)) return cloud;
+  shift_to_origin(cloud);
+  format = format_from_magic(bytes).value_or(format);
+  if (!options.normals_from_faces || cloud.has_normals() || (format != FileFormat::Ply && format != FileFormat::Obj) ||
+      !declares_faces(bytes))
+    return cloud;
   // A mesh without normals: its faces orient its vertices, when they are whole and cover them.
   TriangleMesh mesh;
   try {
@@ -166,24 +208,35 @@ TriangleMesh parse_triangle_mesh(std::string_view bytes, FileFormat format, cons
 }
 
 void write_point_cloud(const std::filesystem::path& file, const PointCloud& cloud, const PlyWriteOptions& ply) {
-  switch (format_from_extension(file)) {
+  const FileFormat format = format_from_extension(file);
+  switch (format) {
     case FileFormat::Ply: write_ply(file, cloud, ply); return;
     case FileFormat::Xyz: write_xyz(file, cloud); return;
     case FileFormat::Obj: {
       TriangleMesh m;
       m.vertices = cloud.positions;
       m.normals = cloud.normals;
+      m.origin = cloud.origin;
       write_obj(file, m);
       return;
     }
+    default:
+      throw OptionError(file.string() + ": cannot write a point cloud as " + format_name(format) +
+                        " (use .ply, .xyz or .obj)");
   }
 }
 
 void write_triangle_mesh(const std::filesystem::path& file, const TriangleMesh& mesh, const PlyWriteOptions& ply) {
-  switch (format_from_extension(file)) {
+  const FileFormat format = format_from_extension(file);
+  switch (format) {
     case FileFormat::Ply: write_ply(file, mesh, ply); return;
     case FileFormat::Obj: write_obj(file, mesh); return;
-    case FileFormat::Xyz: throw OptionError(file.string() + ": cannot write a mesh as XYZ (use .ply or .obj)");
+    case FileFormat::Off: write_off(file, mesh); return;
+    case FileFormat::Stl: write_stl(file, mesh); return;
+    case FileFormat::Glb: write_glb(file, mesh); return;
+    default:
+      throw OptionError(file.string() + ": cannot write a mesh as " + format_name(format) +
+                        " (use .ply, .obj, .off, .stl or .glb)");
   }
 }
 

@@ -32,5 +32,13 @@ inline void note_non_finite(ParsedFile& parsed, Eigen::Index row, const FileLoca
 ParsedFile read_ply(const std::filesystem::path& file, std::string_view bytes, bool want_faces);
 ParsedFile read_xyz(const std::filesystem::path& file, std::string_view bytes);
 ParsedFile read_obj(const std::filesystem::path& file, std::string_view bytes, bool want_faces);
+/// LAS 1.0-1.4, point formats 0-10 (las_reader.cpp).
+ParsedFile read_las(const std::filesystem::path& file, std::string_view bytes);
+/// E57: every scan, posed, with colors and intensity when present (e57_reader.cpp).
+ParsedFile read_e57(const std::filesystem::path& file, std::string_view bytes);
+/// PTX: every gridded scan with its transform; (0,0,0) is no return (ptx_reader.cpp).
+ParsedFile read_ptx(const std::filesystem::path& file, std::string_view bytes);
+/// PCD 0.5-0.7: ascii, binary and binary_compressed (pcd_reader.cpp).
+ParsedFile read_pcd(const std::filesystem::path& file, std::string_view bytes);
 
 }  // namespace clustersurf::io

@@ -57,7 +57,7 @@ inline bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c ==
 class TextCursor {
  public:
   TextCursor(std::string_view text, const std::filesystem::path& file, std::uint64_t first_line = 1)
-      : p_(text.data()), end_(text.data() + text.size()), line_start_(p_), file_(file), line_(first_line) {}
+      : begin_(text.data()), p_(text.data()), end_(text.data() + text.size()), line_start_(p_), file_(file), line_(first_line) {}
 
   /// Next token, crossing line breaks; empty at end of input. line() is the token's line.
   std::string_view next_token() {
@@ -102,6 +102,9 @@ class TextCursor {
   }
 
   std::uint64_t line() const noexcept { return line_; }
+  /// Byte offset of the cursor from the start of the text (after the last line read, its
+  /// terminator included): where a binary section that follows a text header begins.
+  std::size_t offset() const noexcept { return static_cast<std::size_t>(p_ - begin_); }
 
  private:
   /// Where the current line must end at the latest (or the end of the text).
@@ -109,6 +112,7 @@ class TextCursor {
     return static_cast<std::size_t>(end_ - line_start_) > kMaxLineBytes ? line_start_ + kMaxLineBytes : end_;
   }
 
+  const char* begin_;
   const char* p_;
   const char* end_;
   const char* line_start_;

@@ -192,6 +192,7 @@ std::string serialize_tree(const ClusterTree& tree) {
   w.put_vec(tree.bbox.min), w.put_vec(tree.bbox.max);
   w.put(tree.input_points);
   w.put(tree.point_spacing);
+  w.put_vec(tree.origin);
   w.put(static_cast<std::uint64_t>(tree.nodes.size()));
   for (const ClusterNode& n : tree.nodes) {
     w.put(n.left), w.put(n.right), w.put(n.point_count);
@@ -261,6 +262,7 @@ ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path
     tree.point_spacing = r.finite("point spacing");
     if (tree.point_spacing < 0) r.fail_at(at, "point spacing is negative");
   }
+  if (version >= 3) tree.origin = r.vec("origin");
 
   const std::size_t count_at = r.pos();
   const auto node_count = r.get<std::uint64_t>("node count");

@@ -1,4 +1,5 @@
-// PLY (binary little-endian or ascii), XYZ and OBJ writers, all atomic.
+// PLY (binary little-endian or ascii), XYZ, OBJ and OFF writers, all atomic, all in the file's
+// coordinates (positions + origin).
 
 #include "io/atomic_file.hpp"
 
@@ -15,11 +16,15 @@ namespace clustersurf {
 
 namespace {
 
+/// A coordinate put back at its origin; an origin of 0 leaves it untouched (-0 stays -0).
+double at_origin(double x, double origin) { return origin == 0 ? x : x + origin; }
+
 static_assert(std::endian::native == std::endian::little, "binary writers assume a little-endian host");
 
-void write_ply_impl(const std::filesystem::path& file, const Points& v, const Points& n, const Colors& c,
-                    const Triangles* tris, const PlyWriteOptions& o) {
+void write_ply_impl(const std::filesystem::path& file, const Points& v, const Eigen::Vector3d& origin, const Points& n,
+                    const Colors& c, const Triangles* tris, PlyWriteOptions o) {
   const Eigen::Index nv = v.rows();
+  o.double_precision = o.double_precision || !origin.isZero();
   const bool has_n = n.rows() == nv && nv > 0;
   const bool has_c = c.rows() == nv && nv > 0;
   const char* real = o.double_precision ? "double" : "float";
@@ -53,7 +58,7 @@ void write_ply_impl(const std::filesystem::path& file, const Points& v, const Po
   fmt::memory_buffer text;
   for (Eigen::Index i = 0; i < nv; ++i) {
     if (o.binary) {
-      for (int k = 0; k < 3; ++k) put_real(v(i, k));
+      for (int k = 0; k < 3; ++k) put_real(at_origin(v(i, k), origin(k)));
       if (has_n)
         for (int k = 0; k < 3; ++k) put_real(n(i, k));
       if (has_c)
@@ -65,7 +70,8 @@ void write_ply_impl(const std::filesystem::path& file, const Points& v, const Po
         if (o.double_precision) fmt::format_to(std::back_inserter(text), "{}", x);
         else fmt::format_to(std::back_inserter(text), "{}", static_cast<float>(x));
       };
-      fmt_real(v(i, 0)), text.push_back(' '), fmt_real(v(i, 1)), text.push_back(' '), fmt_real(v(i, 2));
+      fmt_real(at_origin(v(i, 0), origin(0))), text.push_back(' '), fmt_real(at_origin(v(i, 1), origin(1))),
+          text.push_back(' '), fmt_real(at_origin(v(i, 2), origin(2)));
       if (has_n)
         for (int k = 0; k < 3; ++k) text.push_back(' '), fmt_real(n(i, k));
       if (has_c) fmt::format_to(std::back_inserter(text), " {} {} {}", c(i, 0), c(i, 1), c(i, 2));
@@ -93,18 +99,19 @@ void write_ply_impl(const std::filesystem::path& file, const Points& v, const Po
 }  // namespace
 
 void write_ply(const std::filesystem::path& file, const PointCloud& cloud, const PlyWriteOptions& options) {
-  write_ply_impl(file, cloud.positions, cloud.normals, cloud.colors, nullptr, options);
+  write_ply_impl(file, cloud.positions, cloud.origin, cloud.normals, cloud.colors, nullptr, options);
 }
 
 void write_ply(const std::filesystem::path& file, const TriangleMesh& mesh, const PlyWriteOptions& options) {
-  write_ply_impl(file, mesh.vertices, mesh.normals, mesh.colors, &mesh.triangles, options);
+  write_ply_impl(file, mesh.vertices, mesh.origin, mesh.normals, mesh.colors, &mesh.triangles, options);
 }
 
 void write_xyz(const std::filesystem::path& file, const PointCloud& cloud) {
   io::AtomicFile out(file);
   fmt::memory_buffer text;
   for (Eigen::Index i = 0; i < cloud.size(); ++i) {
-    fmt::format_to(std::back_inserter(text), "{} {} {}", cloud.positions(i, 0), cloud.positions(i, 1), cloud.positions(i, 2));
+    fmt::format_to(std::back_inserter(text), "{} {} {}", at_origin(cloud.positions(i, 0), cloud.origin.x()),
+                   at_origin(cloud.positions(i, 1), cloud.origin.y()), at_origin(cloud.positions(i, 2), cloud.origin.z()));
     if (cloud.has_normals())
       fmt::format_to(std::back_inserter(text), " {} {} {}", cloud.normals(i, 0), cloud.normals(i, 1), cloud.normals(i, 2));
     text.push_back('\n');
@@ -125,7 +132,8 @@ void write_obj(const std::filesystem::path& file, const TriangleMesh& mesh) {
     if (text.size() > (1u << 20)) out.write(text.data(), text.size()), text.clear();
   };
   for (Eigen::Index i = 0; i < mesh.vertices.rows(); ++i) {
-    fmt::format_to(std::back_inserter(text), "v {} {} {}", mesh.vertices(i, 0), mesh.vertices(i, 1), mesh.vertices(i, 2));
+    fmt::format_to(std::back_inserter(text), "v {} {} {}", at_origin(mesh.vertices(i, 0), mesh.origin.x()),
+                   at_origin(mesh.vertices(i, 1), mesh.origin.y()), at_origin(mesh.vertices(i, 2), mesh.origin.z()));
     if (has_c)
       fmt::format_to(std::back_inserter(text), " {:.4f} {:.4f} {:.4f}", mesh.colors(i, 0) / 255.0, mesh.colors(i, 1) / 255.0,
                      mesh.colors(i, 2) / 255.0);
@@ -141,6 +149,30 @@ void write_obj(const std::filesystem::path& file, const TriangleMesh& mesh) {
     const auto a = mesh.triangles(f, 0) + 1, b = mesh.triangles(f, 1) + 1, c = mesh.triangles(f, 2) + 1;
     if (has_n) fmt::format_to(std::back_inserter(text), "f {}//{} {}//{} {}//{}\n", a, a, b, b, c, c);
     else fmt::format_to(std::back_inserter(text), "f {} {} {}\n", a, b, c);
+    drain();
+  }
+  out.write(text.data(), text.size());
+  out.commit();
+}
+
+void write_off(const std::filesystem::path& file, const TriangleMesh& mesh) {
+  io::AtomicFile out(file);
+  const Eigen::Index nv = mesh.vertices.rows();
+  const bool has_c = mesh.colors.rows() == nv && nv > 0;
+  fmt::memory_buffer text;
+  fmt::format_to(std::back_inserter(text), "{}\n{} {} 0\n", has_c ? "COFF" : "OFF", nv, mesh.triangles.rows());
+  auto drain = [&] {
+    if (text.size() > (1u << 20)) out.write(text.data(), text.size()), text.clear();
+  };
+  for (Eigen::Index i = 0; i < nv; ++i) {
+    fmt::format_to(std::back_inserter(text), "{} {} {}", at_origin(mesh.vertices(i, 0), mesh.origin.x()),
+                   at_origin(mesh.vertices(i, 1), mesh.origin.y()), at_origin(mesh.vertices(i, 2), mesh.origin.z()));
+    if (has_c) fmt::format_to(std::back_inserter(text), " {} {} {} 255", mesh.colors(i, 0), mesh.colors(i, 1), mesh.colors(i, 2));
+    text.push_back('\n');
+    drain();
+  }
+  for (Eigen::Index f = 0; f < mesh.triangles.rows(); ++f) {
+    fmt::format_to(std::back_inserter(text), "3 {} {} {}\n", mesh.triangles(f, 0), mesh.triangles(f, 1), mesh.triangles(f, 2));
     drain();
   }
   out.write(text.data(), text.size());

@@ -112,6 +112,7 @@ TriangleMesh without_triangles(const TriangleMesh& mesh, const std::vector<std::
     }
 
   TriangleMesh out;
+  out.origin = mesh.origin;
   out.vertices = mesh.vertices(kept_vertices, Eigen::all);
   if (mesh.normals.rows() == nv) out.normals = mesh.normals(kept_vertices, Eigen::all);
   if (mesh.colors.rows() == nv) out.colors = mesh.colors(kept_vertices, Eigen::all);

@@ -38,8 +38,12 @@ CloudStats compute_stats(const PointCloud& cloud, std::size_t max_samples) {
   s.points = static_cast<std::size_t>(cloud.size());
   s.bbox = bounding_box(cloud.positions);
   s.diagonal = s.bbox.diagonal();
+  if (!s.bbox.empty()) s.bbox.min += cloud.origin, s.bbox.max += cloud.origin;
+  s.origin = cloud.origin;
   s.has_normals = cloud.has_normals();
   s.has_colors = cloud.has_colors();
+  for (const PointAttribute& a : cloud.attributes) s.attributes.push_back(a.name);
+  s.scanners = static_cast<std::size_t>(cloud.scanner_positions.rows());
   if (s.points < 2 || max_samples == 0) return s;
   const PointSpacing spacing = point_spacing(KdTree(cloud.positions), max_samples);
   s.mean_spacing = spacing.mean;

@@ -9,14 +9,6 @@
 
 namespace clustersurf {
 
-PointCloud select(const PointCloud& cloud, const std::vector<Eigen::Index>& indices) {
-  PointCloud out;
-  out.positions = cloud.positions(indices, Eigen::all);
-  if (cloud.has_normals()) out.normals = cloud.normals(indices, Eigen::all);
-  if (cloud.has_colors()) out.colors = cloud.colors(indices, Eigen::all);
-  return out;
-}
-
 PointCloud subsample(const PointCloud& cloud, std::size_t count, std::uint64_t seed) {
   const auto n = static_cast<std::size_t>(cloud.size());
   if (count >= n) return cloud;
@@ -48,6 +40,7 @@ PointCloud voxel_downsample(const PointCloud& cloud, double voxel_size) {
   std::sort(keyed.begin(), keyed.end());
   PointCloud out;
   std::vector<double> pos, nrm, col;
+  std::vector<std::vector<float>> attr(cloud.attributes.size());
   for (std::size_t a = 0; a < keyed.size();) {
     std::size_t b = a;
     Eigen::Vector3d p = Eigen::Vector3d::Zero(), nn = Eigen::Vector3d::Zero(), cc = Eigen::Vector3d::Zero();
@@ -58,6 +51,11 @@ PointCloud voxel_downsample(const PointCloud& cloud, double voxel_size) {
       if (cloud.has_colors()) cc += cloud.colors.row(i).transpose().cast<double>();
     }
     const double m = static_cast<double>(b - a);
+    for (std::size_t k = 0; k < attr.size(); ++k) {
+      double sum = 0;
+      for (std::size_t j = a; j < b; ++j) sum += cloud.attributes[k].values(keyed[j].second);
+      attr[k].push_back(static_cast<float>(sum / m));
+    }
     p /= m;
     pos.insert(pos.end(), {p.x(), p.y(), p.z()});
     if (cloud.has_normals()) {
@@ -74,6 +72,9 @@ PointCloud voxel_downsample(const PointCloud& cloud, double voxel_size) {
   out.positions = Eigen::Map<Points>(pos.data(), m, 3);
   if (cloud.has_normals()) out.normals = Eigen::Map<Points>(nrm.data(), m, 3);
   if (cloud.has_colors()) out.colors = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(col.data(), m, 3).cast<std::uint8_t>();
+  out.origin = cloud.origin;
+  for (std::size_t k = 0; k < attr.size(); ++k)
+    out.attributes.push_back({cloud.attributes[k].name, Eigen::Map<Eigen::VectorXf>(attr[k].data(), m)});
   return out;
 }
 

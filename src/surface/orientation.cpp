@@ -1,4 +1,5 @@
-// Orientation of the proxies: by input normals, or by minimum-spanning-tree propagation.
+// Orientation of the proxies: by input normals, by the scanners' positions, or by
+// minimum-spanning-tree propagation.
 
 #include <clustersurf/kd_tree.hpp>
 #include <clustersurf/orientation.hpp>
@@ -59,6 +60,27 @@ OrientationReport orient_by_normals(ClusterTree& tree, const PointCloud& cloud) 
   for (std::size_t p = 0; p < tree.point_leaf.size(); ++p) {
     const auto normal = cloud.normals.row(static_cast<Eigen::Index>(p));
     if (tree.point_leaf[p] >= 0 && normal.allFinite()) sum[static_cast<std::size_t>(tree.point_leaf[p])] += normal.transpose();
+  }
+  for (std::size_t i = tree.nodes.size(); i-- > 0;) {
+    ClusterNode& n = tree.nodes[i];
+    if (!n.is_leaf()) sum[i] = sum[static_cast<std::size_t>(n.left)] + sum[static_cast<std::size_t>(n.right)];
+    flip_if(n, n.proxy.normal().dot(sum[i]) < 0, report.flipped);
+  }
+  return report;
+}
+
+/// Each node follows the sum, over its points, of the unit directions towards the scanner that
+/// saw them: a scanner sees the outer side of a surface.
+OrientationReport orient_by_scanners(ClusterTree& tree, const PointCloud& cloud) {
+  OrientationReport report;
+  report.used_scanners = true;
+  std::vector<Eigen::Vector3d> sum(tree.nodes.size(), Eigen::Vector3d::Zero());
+  for (std::size_t p = 0; p < tree.point_leaf.size(); ++p) {
+    if (tree.point_leaf[p] < 0) continue;
+    const std::uint32_t scan = cloud.scanner_of_point[p];
+    const Eigen::Vector3d towards = cloud.scanner_positions.row(scan) - cloud.positions.row(static_cast<Eigen::Index>(p));
+    const double length = towards.norm();
+    if (length > 0 && std::isfinite(length)) sum[static_cast<std::size_t>(tree.point_leaf[p])] += towards / length;
   }
   for (std::size_t i = tree.nodes.size(); i-- > 0;) {
     ClusterNode& n = tree.nodes[i];
@@ -233,9 +255,12 @@ OrientationReport orient_tree(ClusterTree& tree, const PointCloud& cloud) { retu
 
 OrientationReport orient_tree(ClusterTree& tree, const CloudIndex& index, bool use_normals) {
   const PointCloud& cloud = index.cloud();
-  const bool normals = use_normals && cloud.has_normals() && !tree.point_leaf.empty() &&
-                       static_cast<std::uint64_t>(cloud.size()) == tree.point_leaf.size();
-  return normals ? orient_by_normals(tree, cloud) : orient_by_propagation(tree, index);
+  const bool per_point = !tree.point_leaf.empty() && static_cast<std::uint64_t>(cloud.size()) == tree.point_leaf.size();
+  if (use_normals && per_point && cloud.has_normals()) return orient_by_normals(tree, cloud);
+  const bool scanners = per_point && cloud.scanner_of_point.size() == tree.point_leaf.size() &&
+                        std::all_of(cloud.scanner_of_point.begin(), cloud.scanner_of_point.end(),
+                                    [&](std::uint32_t s) { return s < cloud.scanner_positions.rows(); });
+  return scanners ? orient_by_scanners(tree, cloud) : orient_by_propagation(tree, index);
 }
 
 }  // namespace clustersurf

@@ -1,0 +1,230 @@
+# Type stubs of the extension module clustersurf._clustersurf (python/src/*.cpp), hand-written:
+# python/tests/test_stubs.py fails when a binding, a keyword name or a default differs from them.
+
+import os
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ._types import Mesh, PointCloud
+
+__version__: str
+
+_Path = Union[str, os.PathLike[str]]
+# progress(stage, fraction): returning False cancels (Cancelled is raised).
+_Progress = Optional[Callable[[str, float], Optional[bool]]]
+# An (n, 3) array of points, or an object holding them: a PointCloud, or anything with
+# .positions or .vertices.
+_Points = Union[ArrayLike, PointCloud, Mesh, Any]
+# An (n, 3) vertex array (its faces beside it), or a whole mesh or cloud in its place: a Mesh,
+# PointCloud, trimesh.Trimesh, Open3D TriangleMesh, anything with .vertices (or .positions) and
+# .faces or .triangles.
+_Surface = Union[ArrayLike, Mesh, PointCloud, Any]
+_Vector3 = Union[Sequence[float], ArrayLike]
+
+class Error(Exception):
+    """Base of every clustersurf error; str(e) is the message the CLI prints."""
+
+class InputError(Error, ValueError):
+    """A file's content is malformed or unsupported; the message names the file and the line or byte."""
+
+class IoError(Error, OSError):
+    """The operating system refused an I/O operation (missing file, permission, disk full)."""
+
+class OptionError(Error, ValueError):
+    """An invalid option or argument (out of range, wrong array shape, inconsistent)."""
+
+class Cancelled(Error):
+    """A progress callback returned False; the operation left no partial output."""
+
+def read_points(path: _Path, drop_non_finite: bool = False) -> PointCloud: ...
+def read_mesh(path: _Path) -> Mesh: ...
+def write_points(
+    path: _Path,
+    positions: _Points,
+    normals: Optional[ArrayLike] = None,
+    colors: Optional[ArrayLike] = None,
+    ascii: bool = False,
+    double: bool = False,
+    origin: Optional[_Vector3] = None,
+) -> None: ...
+def write_mesh(
+    path: _Path,
+    vertices: _Surface,
+    faces: Optional[ArrayLike] = None,
+    normals: Optional[ArrayLike] = None,
+    colors: Optional[ArrayLike] = None,
+    ascii: bool = False,
+    origin: Optional[_Vector3] = None,
+) -> None: ...
+def sample_surface(
+    vertices: _Surface,
+    faces: Optional[ArrayLike] = None,
+    n: int = 200000,
+    noise: float = 0.0,
+    outliers: float = 0.0,
+    seed: int = 1,
+) -> PointCloud: ...
+def scan_surface(
+    vertices: _Surface,
+    faces: Optional[ArrayLike] = None,
+    n: int = 200000,
+    scans: int = 8,
+    noise: float = 0.0,
+    registration: float = 0.0,
+    distance: float = 1.5,
+    seed: int = 1,
+) -> PointCloud: ...
+def compare_surfaces(
+    recon_vertices: _Surface,
+    recon_faces: Optional[Union[ArrayLike, _Surface]] = None,
+    ref_vertices: Optional[_Surface] = None,
+    ref_faces: Optional[ArrayLike] = None,
+    recon_normals: Optional[ArrayLike] = None,
+    ref_normals: Optional[ArrayLike] = None,
+    samples: int = 200000,
+    seed: int = 1,
+    fscore_thresholds: List[float] = [0.005, 0.01],
+) -> Dict[str, Any]: ...
+def reconstruct(
+    points: _Points,
+    normals: Optional[ArrayLike] = None,
+    *,
+    proxy: str = "poly",
+    splitter: str = "split-plane",
+    tolerance: Union[str, float] = "auto",
+    absolute_tolerance: Optional[float] = None,
+    error: str = "rms",
+    min_points: Union[str, int] = "auto",
+    max_depth: int = 200,
+    alpha: float = 0.75,
+    kstep: int = 0,
+    lloyd_restarts: int = 4,
+    proxy_lloyd: int = 0,
+    noise_factor: float = 1.0,
+    support_factor: float = 2.0,
+    seed: int = 1,
+    ignore_normals: bool = False,
+    no_point_leaves: bool = False,
+    keep_outliers: bool = False,
+    creases: bool = True,
+    max_error: Optional[Union[str, float]] = None,
+    absolute_error: Optional[float] = None,
+    progress: _Progress = None,
+) -> Tree: ...
+def load(path: _Path) -> Tree: ...
+
+class Node:
+    """One node of a Tree (a view: it keeps the tree alive), numbered in depth-first pre-order."""
+
+    @property
+    def index(self) -> int: ...
+    @property
+    def parent(self) -> Optional[int]: ...
+    @property
+    def left(self) -> Optional[int]: ...
+    @property
+    def right(self) -> Optional[int]: ...
+    @property
+    def children(self) -> List[Node]: ...
+    @property
+    def is_leaf(self) -> bool: ...
+    @property
+    def depth(self) -> int: ...
+    @property
+    def point_count(self) -> int: ...
+    @property
+    def rms_error(self) -> float: ...
+    @property
+    def max_error(self) -> float: ...
+    @property
+    def proxy_type(self) -> str: ...
+    @property
+    def proxy(self) -> Dict[str, Any]: ...
+    @property
+    def coefficients(self) -> NDArray[np.float64]: ...
+    @property
+    def support(self) -> Tuple[NDArray[np.float64], float]: ...
+    @property
+    def bound(self) -> Tuple[NDArray[np.float64], float]: ...
+    def proxy_value(self, xyz: ArrayLike) -> NDArray[np.float64]: ...
+
+class Tree:
+    """A cluster tree: made by reconstruct() or load(), immutable, pickles as its .cstree bytes."""
+
+    def save(self, path: _Path) -> None: ...
+    def to_bytes(self) -> bytes: ...
+    @staticmethod
+    def from_bytes(data: bytes) -> Tree: ...
+    def info(self) -> Dict[str, Any]: ...
+    def __len__(self) -> int: ...
+    def node(self, index: int) -> Node: ...
+    def __getitem__(self, index: int) -> Node: ...
+    @property
+    def root(self) -> Node: ...
+    @property
+    def nodes(self) -> List[Node]: ...
+    @property
+    def leaves(self) -> NDArray[np.int32]: ...
+    @property
+    def depth(self) -> int: ...
+    @property
+    def bbox(self) -> Tuple[NDArray[np.float64], NDArray[np.float64]]: ...
+    def leaf_of_points(self) -> NDArray[np.int32]: ...
+    def evaluate(
+        self,
+        xyz: ArrayLike,
+        *,
+        min_weight: float = 0.02,
+        lod_depth: Optional[int] = None,
+        lod_error: Optional[float] = None,
+    ) -> NDArray[np.float64]: ...
+    def gradient(
+        self,
+        xyz: ArrayLike,
+        *,
+        min_weight: float = 0.02,
+        lod_depth: Optional[int] = None,
+        lod_error: Optional[float] = None,
+    ) -> NDArray[np.float64]: ...
+    def mesh(
+        self,
+        *,
+        resolution: Union[int, str] = "auto",
+        voxel_size: Optional[float] = None,
+        lod_depth: Optional[int] = None,
+        lod_error: Optional[float] = None,
+        points: Optional[_Points] = None,
+        trim: float = 2.0,
+        min_component_points: int = 30,
+        close_pinholes: bool = False,
+        color: str = "none",
+        progress: _Progress = None,
+    ) -> Mesh: ...
+    def render(
+        self,
+        *,
+        width: int = 1280,
+        height: int = 960,
+        samples: int = 1,
+        mode: str = "implicit",
+        show: str = "surface",
+        level: Optional[int] = None,
+        highlight: Optional[int] = None,
+        points: Optional[_Points] = None,
+        error_scale: Optional[float] = None,
+        azimuth: float = 30.0,
+        elevation: float = 20.0,
+        distance: Optional[float] = None,
+        fov: float = 35.0,
+        eye: Optional[_Vector3] = None,
+        target: Optional[_Vector3] = None,
+        up: Optional[_Vector3] = None,
+        background: str = "white",
+        ao: bool = False,
+        lod_depth: Optional[int] = None,
+        lod_error: Optional[float] = None,
+        min_weight: float = 0.02,
+        progress: _Progress = None,
+    ) -> NDArray[np.uint8]: ...

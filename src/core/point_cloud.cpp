@@ -1,0 +1,51 @@
+// Whole-cloud operations on the value types of point_cloud.hpp.
+
+#include <clustersurf/point_cloud.hpp>
+
+#include <cmath>
+
+namespace clustersurf {
+
+BoundingBox bounding_box(const Points& points) {
+  BoundingBox box;
+  if (points.rows() > 0) {
+    box.min = points.colwise().minCoeff().transpose();
+    box.max = points.colwise().maxCoeff().transpose();
+  }
+  return box;
+}
+
+PointCloud select(const PointCloud& cloud, const std::vector<Eigen::Index>& indices) {
+  PointCloud out;
+  out.positions = cloud.positions(indices, Eigen::all);
+  if (cloud.has_normals()) out.normals = cloud.normals(indices, Eigen::all);
+  if (cloud.has_colors()) out.colors = cloud.colors(indices, Eigen::all);
+  out.origin = cloud.origin;
+  for (const PointAttribute& a : cloud.attributes) out.attributes.push_back({a.name, a.values(indices)});
+  out.scanner_positions = cloud.scanner_positions;
+  if (cloud.has_scanners()) {
+    out.scanner_of_point.reserve(indices.size());
+    for (const Eigen::Index i : indices) out.scanner_of_point.push_back(cloud.scanner_of_point[static_cast<std::size_t>(i)]);
+  }
+  return out;
+}
+
+Eigen::Vector3d shift_to_origin(PointCloud& cloud) {
+  const BoundingBox box = bounding_box(cloud.positions);
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+  if (box.empty() || !box.min.allFinite() || !box.max.allFinite() || !(box.diagonal() > 0)) return shift;
+  const Eigen::Vector3d center = 0.5 * (box.min + box.max);
+  // Float32 (the mesher's grid, the renderer and the viewer) rounds a coordinate c to about
+  // |c| 2^-24: below 16 diagonals that is under 2^-20 of the diagonal, far finer than any mesh
+  // cell, so such clouds stay where they are.
+  const double far = 16 * box.diagonal();
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(center(k)) > far && std::abs(center(k)) > box.extent()(k)) shift(k) = center(k);
+  if (shift.isZero()) return shift;
+  cloud.positions.rowwise() -= shift.transpose();
+  if (cloud.scanner_positions.rows() != 0) cloud.scanner_positions.rowwise() -= shift.transpose();
+  cloud.origin += shift;
+  return shift;
+}
+
+}  // namespace clustersurf

@@ -1,0 +1,188 @@
+// Binary mesh writers: STL (printers) and glTF 2.0 binary (Blender, the web). Both atomic.
+
+#include "io/atomic_file.hpp"
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/point_cloud_io.hpp>
+
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace clustersurf {
+
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "binary writers assume a little-endian host");
+
+bool has_rows(const auto& m, Eigen::Index n) { return n > 0 && m.rows() == n; }
+
+/// Appends the bytes of `value` to `out`.
+template <class T>
+void put(std::vector<char>& out, const T& value) {
+  const char* p = reinterpret_cast<const char*>(&value);
+  out.insert(out.end(), p, p + sizeof(T));
+}
+
+/// Pads `out` with `fill` to a multiple of 4 bytes (glTF chunk and view alignment).
+void pad4(std::vector<char>& out, char fill) {
+  while (out.size() % 4 != 0) out.push_back(fill);
+}
+
+/// Unit vertex normals fit for glTF (which requires unit length), or empty when the mesh has
+/// none or one of them is zero or not finite.
+Points unit_normals(const TriangleMesh& mesh) {
+  const Eigen::Index nv = mesh.vertices.rows();
+  if (!has_rows(mesh.normals, nv)) return {};
+  Points n = mesh.normals;
+  for (Eigen::Index i = 0; i < nv; ++i) {
+    const double len = n.row(i).norm();
+    if (!(len > 0) || !std::isfinite(len)) return {};
+    n.row(i) /= len;
+  }
+  return n;
+}
+
+}  // namespace
+
+void write_stl(const std::filesystem::path& file, const TriangleMesh& mesh) {
+  const Eigen::Index nf = mesh.triangles.rows();
+  if (nf > std::numeric_limits<std::uint32_t>::max()) throw OptionError(file.string() + ": too many triangles for STL");
+  std::string header = mesh.origin.isZero()
+                           ? std::string("binary STL written by clustersurf")
+                           : fmt::format("clustersurf; coordinates relative to origin {} {} {}", mesh.origin.x(),
+                                         mesh.origin.y(), mesh.origin.z());
+  header.resize(80, ' ');
+  io::AtomicFile out(file);
+  out.write(header);
+  std::vector<char> buf;
+  buf.reserve(1 << 20);
+  put(buf, static_cast<std::uint32_t>(nf));
+  for (Eigen::Index f = 0; f < nf; ++f) {
+    const Eigen::Vector3d a = mesh.vertices.row(mesh.triangles(f, 0)), b = mesh.vertices.row(mesh.triangles(f, 1)),
+                          c = mesh.vertices.row(mesh.triangles(f, 2));
+    Eigen::Vector3d n = (b - a).cross(c - a);
+    const double len = n.norm();
+    n = len > 0 && std::isfinite(len) ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& v : {n, a, b, c})
+      for (int k = 0; k < 3; ++k) put(buf, static_cast<float>(v(k)));
+    put(buf, std::uint16_t{0});
+    if (buf.size() > (1u << 20) - 64) out.write(buf.data(), buf.size()), buf.clear();
+  }
+  out.write(buf.data(), buf.size());
+  out.commit();
+}
+
+void write_glb(const std::filesystem::path& file, const TriangleMesh& mesh) {
+  const Eigen::Index nv = mesh.vertices.rows(), nf = mesh.triangles.rows();
+  const Points normals = unit_normals(mesh);
+  const bool has_n = normals.rows() == nv && nv > 0;
+  const bool has_c = has_rows(mesh.colors, nv);
+
+  // The binary chunk: positions, then normals, then RGBA colors, then indices, each a view.
+  std::vector<char> bin;
+  struct View {
+    std::size_t offset, length;
+  };
+  std::vector<View> views;
+  auto begin_view = [&] {
+    pad4(bin, '\0');
+    views.push_back({bin.size(), 0});
+  };
+  auto end_view = [&] { views.back().length = bin.size() - views.back().offset; };
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::infinity()), hi = -lo;
+  begin_view();
+  for (Eigen::Index i = 0; i < nv; ++i) {
+    const Eigen::Vector3f p = mesh.vertices.row(i).transpose().cast<float>();
+    lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    for (int k = 0; k < 3; ++k) put(bin, p(k));
+  }
+  end_view();
+  if (has_n) {
+    begin_view();
+    for (Eigen::Index i = 0; i < nv; ++i)
+      for (int k = 0; k < 3; ++k) put(bin, static_cast<float>(normals(i, k)));
+    end_view();
+  }
+  if (has_c) {
+    begin_view();
+    for (Eigen::Index i = 0; i < nv; ++i) {
+      for (int k = 0; k < 3; ++k) put(bin, mesh.colors(i, k));
+      put(bin, std::uint8_t{255});
+    }
+    end_view();
+  }
+  begin_view();
+  for (Eigen::Index f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) put(bin, static_cast<std::uint32_t>(mesh.triangles(f, k)));
+  end_view();
+  pad4(bin, '\0');
+
+  // The JSON chunk: one scene, one node (translated to the origin), one indexed primitive.
+  std::string views_json, accessors_json, attributes_json;
+  int view = 0;
+  auto add_view = [&](int target) {
+    if (!views_json.empty()) views_json += ',';
+    views_json += fmt::format(R"({{"buffer":0,"byteOffset":{},"byteLength":{},"target":{}}})", views[view].offset,
+                              views[view].length, target);
+    return view++;
+  };
+  auto add_accessor = [&](int v, int component, Eigen::Index count, const char* type, const std::string& extra) {
+    if (!accessors_json.empty()) accessors_json += ',';
+    accessors_json += fmt::format(R"({{"bufferView":{},"componentType":{},"count":{},"type":"{}"{}}})", v, component,
+                                  count, type, extra);
+  };
+  constexpr int kFloat = 5126, kUnsignedByte = 5121, kUnsignedInt = 5125, kArrayBuffer = 34962, kElementArray = 34963;
+  int accessor = 0;
+  add_accessor(add_view(kArrayBuffer), kFloat, nv, "VEC3",
+               nv > 0 ? fmt::format(R"(,"min":[{},{},{}],"max":[{},{},{}])", lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z())
+                      : std::string());
+  attributes_json = fmt::format(R"("POSITION":{})", accessor++);
+  if (has_n) {
+    add_accessor(add_view(kArrayBuffer), kFloat, nv, "VEC3", "");
+    attributes_json += fmt::format(R"(,"NORMAL":{})", accessor++);
+  }
+  if (has_c) {
+    add_accessor(add_view(kArrayBuffer), kUnsignedByte, nv, "VEC4", R"(,"normalized":true)");
+    attributes_json += fmt::format(R"(,"COLOR_0":{})", accessor++);
+  }
+  add_accessor(add_view(kElementArray), kUnsignedInt, 3 * nf, "SCALAR", "");
+  const int indices = accessor++;
+  const std::string translation =
+      mesh.origin.isZero() ? std::string()
+                           : fmt::format(R"(,"translation":[{},{},{}])", mesh.origin.x(), mesh.origin.y(), mesh.origin.z());
+  std::string json = fmt::format(
+      R"({{"asset":{{"version":"2.0","generator":"clustersurf"}},"scene":0,"scenes":[{{"nodes":[0]}}],)"
+      R"("nodes":[{{"mesh":0{}}}],"meshes":[{{"primitives":[{{"attributes":{{{}}},"indices":{},"mode":4}}]}}],)"
+      R"("accessors":[{}],"bufferViews":[{}],"buffers":[{{"byteLength":{}}}]}})",
+      translation, attributes_json, indices, accessors_json, views_json, bin.size());
+  while (json.size() % 4 != 0) json.push_back(' ');
+
+  const std::size_t total = 12 + 8 + json.size() + 8 + bin.size();
+  if (total > std::numeric_limits<std::uint32_t>::max()) throw OptionError(file.string() + ": mesh too large for GLB (4 GB)");
+  std::vector<char> head;
+  put(head, std::uint32_t{0x46546C67});  // "glTF"
+  put(head, std::uint32_t{2});
+  put(head, static_cast<std::uint32_t>(total));
+  put(head, static_cast<std::uint32_t>(json.size()));
+  put(head, std::uint32_t{0x4E4F534A});  // "JSON"
+  io::AtomicFile out(file);
+  out.write(head.data(), head.size());
+  out.write(json);
+  head.clear();
+  put(head, static_cast<std::uint32_t>(bin.size()));
+  put(head, std::uint32_t{0x004E4942});  // "BIN\0"
+  out.write(head.data(), head.size());
+  out.write(bin.data(), bin.size());
+  out.commit();
+}
+
+}  // namespace clustersurf
