@@ -1,6 +1,8 @@
 # The HTML viewer's page template (web/viewer/): bundled by esbuild (node web/viewer/build.mjs)
 # and compiled into the library, so `clustersurf view` needs no file at run time.
-# Defines CLUSTERSURF_VIEWER_SOURCE (the generated .cpp) for src/CMakeLists.txt.
+# Defines CLUSTERSURF_VIEWER_SOURCE (the generated .cpp) for src/CMakeLists.txt. Included once
+# per directory: a second include would define the same custom command outputs again.
+include_guard(DIRECTORY)
 find_program(CLUSTERSURF_NODE node)
 foreach(module three esbuild)
   if(NOT EXISTS "${PROJECT_SOURCE_DIR}/node_modules/${module}/package.json")

@@ -19,12 +19,16 @@ inline void require(bool condition) {
   if (!condition) std::abort();
 }
 
-/// A cloud as the readers promise it: points, finite coordinates and normals, attribute rows
-/// matching the positions.
+/// A cloud as the readers promise it: points, finite coordinates, normals and origin,
+/// per-point rows matching the positions, every point's scanner one of the scanners.
 inline void check_cloud(const PointCloud& c) {
-  require(c.size() > 0 && c.positions.cols() == 3 && c.positions.allFinite());
+  require(c.size() > 0 && c.positions.cols() == 3 && c.positions.allFinite() && c.origin.allFinite());
   require(!c.has_normals() || (c.normals.rows() == c.size() && c.normals.allFinite()));
   require(!c.has_colors() || c.colors.rows() == c.size());
+  for (const PointAttribute& a : c.attributes) require(a.values.size() == c.size());
+  require(!c.has_scanners() || static_cast<Eigen::Index>(c.scanner_of_point.size()) == c.size());
+  for (const std::uint32_t s : c.scanner_of_point) require(s < c.scanner_positions.rows());
+  require(c.scanner_positions.allFinite());
 }
 
 /// A mesh as the readers promise it: every triangle index names a vertex.

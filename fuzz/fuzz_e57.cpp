@@ -1,6 +1,7 @@
 // libFuzzer target: the E57 reader. Each input is tried as it is (the page CRCs reject almost
-// every mutation) and with every page's CRC-32C recomputed, so that the fuzzer reaches the
-// header, XML, section, packet and bytestream checks.
+// every mutation) and made consistent again (padded to whole pages, the header's file length
+// and every page's CRC-32C rewritten), so that the fuzzer reaches the XML, section, packet and
+// bytestream checks.
 
 #include "fuzz_checks.hpp"
 
@@ -20,12 +21,12 @@ std::uint32_t crc32c(const char* p, std::size_t n) {
   return c ^ 0xFFFFFFFFU;
 }
 
-/// The page size the header claims, when it is one the reader accepts for this input.
+/// The page size the header claims, when the reader accepts it and it is at most 16 KiB (else 0).
 std::size_t page_size(const std::string& s) {
   if (s.size() < 48) return 0;
   std::uint64_t ps = 0;
   for (int i = 7; i >= 0; --i) ps = (ps << 8) | static_cast<unsigned char>(s[40 + static_cast<std::size_t>(i)]);
-  if (ps < 64 || ps > (1U << 20) || (ps & (ps - 1)) != 0 || s.size() % ps != 0) return 0;
+  if (ps < 64 || ps > 16384 || (ps & (ps - 1)) != 0) return 0;  // inputs are at most 16 KiB
   return static_cast<std::size_t>(ps);
 }
 
@@ -37,6 +38,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::string fixed(reinterpret_cast<const char*>(data), size);
   const std::size_t ps = page_size(fixed);
   if (ps == 0) return 0;
+  // Whole pages, the header's file length and every page's CRC made consistent.
+  fixed.resize((fixed.size() + ps - 1) / ps * ps, '\0');
+  for (std::size_t i = 0; i < 8; ++i) fixed[16 + i] = static_cast<char>((fixed.size() >> (8 * i)) & 0xFF);
   for (std::size_t p = 0; p < fixed.size(); p += ps) {
     const std::uint32_t c = crc32c(fixed.data() + p, ps - 4);
     for (std::size_t i = 0; i < 4; ++i) fixed[p + ps - 4 + i] = static_cast<char>(c >> (24 - 8 * i));

@@ -107,3 +107,37 @@ TEST(Orientation, ScannedBunnyWithNormalsStripped) {
   EXPECT_GE(a.leaves, 0.98);
   EXPECT_GE(a.points, 0.99);
 }
+
+// Without normals but with the scanners' positions (PTX, E57, PCD viewpoints), each leaf faces
+// the scanner that saw its points: a plane seen from above faces up, the same plane seen from
+// below faces down (propagation cannot tell the two apart), and a sphere seen by six scanners
+// around it faces out.
+TEST(Orientation, TowardsTheScanners) {
+  for (const double side : {1.0, -1.0}) {
+    PointCloud c = test::sample_plane(60, 60);
+    c.normals.resize(0, 3);
+    c.scanner_positions = Points(1, 3);
+    c.scanner_positions << 0.3, 0.6, 2.0 * side;
+    c.scanner_of_point.assign(static_cast<std::size_t>(c.size()), 0);
+    ClusterTree t = build_cluster_tree(c, {});
+    const OrientationReport r = orient_tree(t, c);
+    EXPECT_TRUE(r.used_scanners);
+    for (auto i : t.leaves()) EXPECT_GT(side * t.nodes[static_cast<std::size_t>(i)].proxy.normal().z(), 0) << "leaf " << i;
+  }
+  const PointCloud sphere = test::sample_sphere(20000);
+  PointCloud seen;
+  seen.positions = sphere.positions;
+  seen.scanner_positions = Points(6, 3);
+  seen.scanner_positions << 5, 0, 0, -5, 0, 0, 0, 5, 0, 0, -5, 0, 0, 0, 5, 0, 0, -5;
+  // Each point is seen by the scanner facing it most squarely (a scanner sees the front only).
+  for (Eigen::Index p = 0; p < sphere.size(); ++p) {
+    Eigen::Index best = 0;
+    Eigen::VectorXd facing = (seen.scanner_positions.rowwise() - sphere.positions.row(p)).rowwise().normalized() *
+                             sphere.normals.row(p).transpose();
+    facing.maxCoeff(&best);
+    seen.scanner_of_point.push_back(static_cast<std::uint32_t>(best));
+  }
+  ClusterTree t = build_cluster_tree(seen, {});
+  EXPECT_TRUE(orient_tree(t, seen).used_scanners);
+  EXPECT_EQ(agreement(t, sphere.normals).leaves, 1.0);
+}

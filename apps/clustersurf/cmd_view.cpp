@@ -8,6 +8,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
@@ -27,8 +29,16 @@ int run_view(Console& console, const ViewArgs& args) {
   } else {
     cloud = read_input(console, InputArgs{args.points, false});
   }
+  // A .glb mesh is embedded as it is (the page parses it); .ply/.obj meshes are read here.
+  std::string mesh_extension = std::filesystem::path(args.mesh).extension().string();
+  std::transform(mesh_extension.begin(), mesh_extension.end(), mesh_extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const bool glb = mesh_extension == ".glb";
   TriangleMesh mesh;
-  if (!args.mesh.empty()) {
+  GlbMesh glb_mesh;
+  if (glb) {
+    glb_mesh = read_glb_file(args.mesh);
+  } else if (!args.mesh.empty()) {
     ReadOptions options;
     options.warn = [&console](const std::string& message) { console.warn(message); };
     mesh = read_triangle_mesh(args.mesh, options);
@@ -37,8 +47,9 @@ int run_view(Console& console, const ViewArgs& args) {
   ViewerOptions options;
   options.max_points = args.max_points;
   options.title = std::filesystem::path(args.tree).filename().string();
-  const ViewerStats stats = write_viewer_html(args.output, tree, args.points.empty() ? nullptr : &cloud,
-                                              args.mesh.empty() ? nullptr : &mesh, options);
+  const PointCloud* points = args.points.empty() ? nullptr : &cloud;
+  const ViewerStats stats = glb ? write_viewer_html(args.output, tree, points, glb_mesh, options)
+                                : write_viewer_html(args.output, tree, points, args.mesh.empty() ? nullptr : &mesh, options);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (stats.points < static_cast<std::size_t>(cloud.size()))
     console.print(fmt::format("points          {} of {} embedded (--max-points)", stats.points, cloud.size()));

@@ -29,7 +29,7 @@ constexpr int kExitCancelled = 130;
 constexpr int kExitInternal = 70;
 
 void add_input(CLI::App& cmd, clustersurf::cli::InputArgs& in) {
-  cmd.add_option("input", in.file, "Point cloud (.ply, .xyz/.pts/.txt/.csv, .obj)")->required();
+  cmd.add_option("input", in.file, "Point cloud (.ply, .xyz/.pts/.txt/.csv, .obj, .las, .e57, .ptx, .pcd)")->required();
   cmd.add_flag("--drop-non-finite", in.drop_non_finite,
                "Drop points with NaN/Inf coordinates (counted in a warning) instead of failing");
 }
@@ -62,6 +62,14 @@ void add_mesh_options(CLI::App& cmd, clustersurf::cli::MeshArgs& m) {
   cmd.add_flag("--close-pinholes", o.trim.close_pinholes,
                "Close the small holes the input points cover with a fan each (fewer boundary edges, a little less "
                "accuracy; needs the points as --trim does)");
+  cmd.add_option("--decimate", o.decimation.target_triangles,
+                 "Reduce the mesh to at most this many triangles (edge collapses that keep vertices in place and "
+                 "the mesh's rims fixed). 0 keeps them all")
+      ->capture_default_str();
+  cmd.add_option("--decimate-tolerance", o.decimation.max_deviation,
+                 "Reduce the mesh while the surface moves by at most this distance (input units); with --decimate, "
+                 "stop at whichever comes first")
+      ->check(CLI::NonNegativeNumber);
   cmd.add_flag("--mesh-ascii", m.ascii, "Write the mesh as ascii PLY instead of binary");
 }
 
@@ -98,7 +106,7 @@ int main(int argc, char** argv) {
   auto* r = app.add_subcommand("reconstruct", "Build the cluster tree of a point cloud (and save it)");
   add_input(*r, rec.input);
   r->add_option("-o,--output", rec.tree_output, "Tree file to write (.cstree)");
-  r->add_option("--mesh", rec.mesh_output, "Also mesh the surface into this file (.ply or .obj)");
+  r->add_option("--mesh", rec.mesh_output, "Also mesh the surface into this file (.ply, .obj, .off, .stl or .glb)");
   add_mesh_options(*r, rec.mesh);
   r->add_flag("--ignore-normals", rec.ignore_normals, "Orient by propagation even when the input has normals");
   r->add_flag("--no-creases", rec.no_creases,
@@ -154,7 +162,7 @@ int main(int argc, char** argv) {
   MeshCommandArgs meshcmd;
   auto* m = app.add_subcommand("mesh", "Mesh the implicit surface of a tree file");
   m->add_option("tree", meshcmd.tree, "Tree file (.cstree)")->required();
-  m->add_option("-o,--output", meshcmd.output, "Mesh file to write (.ply or .obj)")->required();
+  m->add_option("-o,--output", meshcmd.output, "Mesh file to write (.ply, .obj, .off, .stl or .glb)")->required();
   m->add_option("--points", meshcmd.mesh.points, "The tree's input cloud, for --trim and --color distance");
   add_mesh_options(*m, meshcmd.mesh);
 

@@ -28,6 +28,10 @@ nlohmann::json write_surface_mesh(Console& console, const SurfaceMesh& result, c
   if (trimmed.removed_triangles > 0 || trimmed.closed_pinholes > 0)
     console.print(fmt::format("trimmed         {} triangles beyond the data or on {} unsupported fragments; {} pinholes closed",
                               trimmed.removed_triangles, trimmed.removed_components, trimmed.closed_pinholes));
+  if (result.decimation.triangles_after != result.decimation.triangles_before)
+    console.print(fmt::format("decimated       {} -> {} triangles, surface moved by at most {:.4g}",
+                              result.decimation.triangles_before, result.decimation.triangles_after,
+                              result.decimation.deviation));
   console.print(fmt::format("mesh time       {:.3f} s", result.seconds));
   console.print("wrote           " + output);
   return {{"file", output},
@@ -43,6 +47,8 @@ nlohmann::json write_surface_mesh(Console& console, const SurfaceMesh& result, c
           {"trimmed_triangles", trimmed.removed_triangles},
           {"removed_components", trimmed.removed_components},
           {"closed_pinholes", trimmed.closed_pinholes},
+          {"decimated_from_triangles", result.decimation.triangles_before},
+          {"decimation_deviation", result.decimation.deviation},
           {"mesh_seconds", result.seconds}};
 }
 

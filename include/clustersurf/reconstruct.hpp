@@ -6,6 +6,7 @@
 #include <clustersurf/cloud_index.hpp>
 #include <clustersurf/cluster_tree.hpp>
 #include <clustersurf/implicit_surface.hpp>
+#include <clustersurf/mesh_decimation.hpp>
 #include <clustersurf/mesh_extraction.hpp>
 #include <clustersurf/mesh_trim.hpp>
 #include <clustersurf/orientation.hpp>
@@ -42,6 +43,8 @@ struct SurfaceMeshOptions {
   bool auto_resolution = true;
   /// Applied when the input points are given.
   TrimOptions trim;
+  /// Fewer triangles after the trim (off by default).
+  DecimationOptions decimation;
   MeshColoring coloring = MeshColoring::None;
   /// ByDistance: the distance drawn full red, as a fraction of the tree's diagonal.
   double distance_scale = 0.005;
@@ -52,12 +55,14 @@ struct SurfaceMesh {
   TriangleMesh mesh;
   MeshReport grid;
   TrimReport trim;
+  DecimationReport decimation;
   std::size_t blended_nodes = 0;
   double seconds = 0;  ///< wall time of the mesh step
 };
 
 /// Meshes the tree's surface f = 0 (extract_mesh()), trims it to the clustered input points
-/// (trim_to_points()) and colors it. `input`: the tree's input cloud, indexed, or null (no
+/// (trim_to_points()), decimates it on request (decimate()) and colors it; the mesh carries the
+/// tree's origin. `input`: the tree's input cloud, indexed, or null (no
 /// trim; distance colors then throw OptionError). Throws OptionError when `input` is not the
 /// tree's input (require_tree_input()) or an option is invalid; Cancelled when `progress` says
 /// stop.

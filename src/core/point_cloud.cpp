@@ -34,7 +34,7 @@ Eigen::Vector3d shift_to_origin(PointCloud& cloud) {
   const BoundingBox box = bounding_box(cloud.positions);
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();
   if (box.empty() || !box.min.allFinite() || !box.max.allFinite() || !(box.diagonal() > 0)) return shift;
-  const Eigen::Vector3d center = 0.5 * (box.min + box.max);
+  const Eigen::Vector3d center = 0.5 * box.min + 0.5 * box.max;  // no overflow near the largest doubles
   // Float32 (the mesher's grid, the renderer and the viewer) rounds a coordinate c to about
   // |c| 2^-24: below 16 diagonals that is under 2^-20 of the diagonal, far finer than any mesh
   // cell, so such clouds stay where they are.

@@ -212,6 +212,7 @@ Scan read_scan(const Xml& xml, const pugi::xml_node& node, std::uint64_t& total_
   s.records = number_attribute<std::uint64_t>(xml, points, "recordCount", 0);
   if (!points.attribute("fileOffset") || !points.attribute("recordCount"))
     xml.fail(points, "<points> needs fileOffset and recordCount attributes");
+  if (s.records == 0) return s;  // an empty scan's section is never read
   s.section = e57::open_section(xml.pages, offset, s.records, bits, xml.where(points));
   // Sections do not overlap, so all scans' records together fit in the file too.
   const std::uint64_t max_bits = xml.pages.header().physical_length * 8;
@@ -240,9 +241,10 @@ ParsedFile read_e57(const std::filesystem::path& file, std::string_view bytes) {
   const PagedFile pages(file, bytes);
   const e57::FileHeader& header = pages.header();
   Xml xml{pages, pages.to_logical(header.xml_physical_offset, "xmlPhysicalOffset", 24)};
-  if (header.xml_logical_length > kMaxXmlBytes || header.xml_logical_length > pages.logical_size() - xml.logical)
-    pages.fail(32, "XML section of " + std::to_string(header.xml_logical_length) + " bytes reaches past the end of the file" +
-                       " or is larger than 64 MiB");
+  if (header.xml_logical_length > pages.logical_size() - xml.logical)
+    pages.fail(32, "XML section of " + std::to_string(header.xml_logical_length) + " bytes reaches past the end of the file");
+  if (header.xml_logical_length > kMaxXmlBytes)
+    pages.fail(32, "XML section of " + std::to_string(header.xml_logical_length) + " bytes is larger than the 64 MiB limit");
   std::string text(static_cast<std::size_t>(header.xml_logical_length), '\0');
   pages.read(xml.logical, text.size(), reinterpret_cast<unsigned char*>(text.data()));
   pugi::xml_document doc;

@@ -54,7 +54,7 @@ RecordLayout layout_of(unsigned format) {
 ParsedFile read_las(const std::filesystem::path& file, std::string_view bytes) {
   const auto size = static_cast<std::uint64_t>(bytes.size());
   auto fail = [&](std::uint64_t at, const std::string& message) -> InputError {
-    return InputError(file, FileLocation{.byte_offset = at}, message);
+    return InputError(file, FileLocation{std::nullopt, at}, message);
   };
   if (bytes.substr(0, 4) != "LASF") throw fail(0, "not a LAS file (no \"LASF\" signature)");
   if (size < 227) throw fail(size, "LAS header is truncated: the file has " + std::to_string(size) + " bytes, the header at least 227");

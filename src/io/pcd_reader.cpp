@@ -40,6 +40,16 @@ std::string lower(std::string_view s) {
   return out;
 }
 
+/// `x` as a float, NaN kept and magnitudes beyond float's range clamped to it (a plain cast
+/// of such a double is undefined).
+float to_float(double x) {
+  constexpr double kMax = std::numeric_limits<float>::max();
+  return std::isnan(x) ? std::numeric_limits<float>::quiet_NaN() : static_cast<float>(std::clamp(x, -kMax, kMax));
+}
+
+/// `x` rounded into [0, hi] (NaN: 0).
+std::uint32_t to_unsigned(double x, double hi) { return std::isnan(x) ? 0u : static_cast<std::uint32_t>(std::clamp(x, 0.0, hi)); }
+
 /// The value of element `bytes` (little-endian) of a field of `type` and `size`.
 double decode(const char* bytes, char type, unsigned size) {
   auto get = [&](auto value) {
@@ -106,16 +116,16 @@ class PointSink {
         // Packed 0x00RRGGBB in the bytes of a float or an unsigned int.
         const Field& f = fields_[static_cast<std::size_t>(roles_.packed_rgb)];
         std::uint32_t packed = 0;
-        if (f.type == 'F' && f.size == 4) std::memcpy(&packed, &(packed_float_ = static_cast<float>(value(roles_.packed_rgb))), 4);
-        else packed = static_cast<std::uint32_t>(value(roles_.packed_rgb));
+        if (f.type == 'F' && f.size == 4) std::memcpy(&packed, &(packed_float_ = to_float(value(roles_.packed_rgb))), 4);
+        else packed = to_unsigned(value(roles_.packed_rgb), 4294967295.0);
         for (int k = 0; k < 3; ++k) wide_rgb_.push_back(static_cast<std::uint16_t>((packed >> (16 - 8 * k)) & 0xFF));
       } else {
         for (int k = 0; k < 3; ++k)
-          wide_rgb_.push_back(static_cast<std::uint16_t>(std::clamp(value(roles_.rgb[k]), 0.0, 65535.0)));
+          wide_rgb_.push_back(static_cast<std::uint16_t>(to_unsigned(value(roles_.rgb[k]), 65535.0)));
       }
     }
-    if (roles_.intensity >= 0) intensity_.push_back(static_cast<float>(value(roles_.intensity)));
-    if (roles_.classification >= 0) classification_.push_back(static_cast<float>(value(roles_.classification)));
+    if (roles_.intensity >= 0) intensity_.push_back(to_float(value(roles_.intensity)));
+    if (roles_.classification >= 0) classification_.push_back(to_float(value(roles_.classification)));
   }
 
   void finish(PointCloud& cloud) {
@@ -160,16 +170,17 @@ ParsedFile read_pcd(const std::filesystem::path& file, std::string_view bytes) {
     split_fields(line, tokens);
     if (tokens.empty() || tokens[0].front() == '#') continue;
     const std::string key = lower(tokens[0]);
+    const std::string keyword(tokens[0]);  // as the file spells it, for messages
     const std::uint64_t at = cur.line();
     auto need_values = [&](std::size_t n) {
       if (n == 0 || tokens.size() - 1 != n)
-        throw InputError(file, {at, {}}, key + " needs " + (n ? std::to_string(n) : std::string("at least one")) +
+        throw InputError(file, {at, {}}, keyword + " needs " + (n ? std::to_string(n) : std::string("at least one")) +
                                               " value(s), found " + std::to_string(tokens.size() - 1));
     };
     auto integer = [&](std::size_t k, std::int64_t lo, std::int64_t hi) {
       std::int64_t v = 0;
       if (!parse_int(tokens[k], v) || v < lo || v > hi)
-        throw InputError(file, {at, {}}, key + ": expected an integer from " + std::to_string(lo) + " to " +
+        throw InputError(file, {at, {}}, keyword + ": expected an integer from " + std::to_string(lo) + " to " +
                                               std::to_string(hi) + ", found \"" + std::string(tokens[k].substr(0, 40)) + "\"");
       return v;
     };
@@ -231,6 +242,9 @@ ParsedFile read_pcd(const std::filesystem::path& file, std::string_view bytes) {
                                                 std::to_string(width) + " x " + std::to_string(height) + ")");
   std::uint64_t record = 0;
   for (Field& f : fields) {
+    if (f.type == 'F' && f.size != 4 && f.size != 8)
+      throw InputError(file, {data_line, {}}, "field " + f.name + " is a float of " + std::to_string(f.size) +
+                                                  " bytes (PCD floats have 4 or 8)");
     f.offset = record;
     record += f.size * f.count;
   }

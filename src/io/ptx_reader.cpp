@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -64,9 +65,9 @@ ParsedFile read_ptx(const std::filesystem::path& file, std::string_view bytes) {
                                                     std::to_string(scan + 1));
     double value[16];
     read_numbers(cur, file, fields, 1, value, "row count");
+    if (!(value[0] >= 1 && value[0] <= 2147483648.0) || value[0] != std::floor(value[0]))
+      throw InputError(file, {cur.line(), {}}, "expected the scan's row count (a positive integer up to 2^31)");
     rows = static_cast<std::int64_t>(value[0]);
-    if (value[0] != static_cast<double>(rows) || rows <= 0)
-      throw InputError(file, {cur.line(), {}}, "expected the scan's row count (a positive integer)");
     double position[3], axes[9];
     read_numbers(cur, file, fields, 3, position, "scanner position");
     for (int a = 0; a < 3; ++a) read_numbers(cur, file, fields, 3, axes + 3 * a, "scanner axis");
@@ -78,10 +79,10 @@ ParsedFile read_ptx(const std::filesystem::path& file, std::string_view bytes) {
     // Row vectors: world = [p 1] * M, the translation in the last row.
     const Eigen::Matrix3d linear = m.topLeftCorner<3, 3>();
     const Eigen::RowVector3d translation = m.block<1, 3>(3, 0);
-    // Each grid line needs at least 8 bytes ("0 0 0 0\n"): a grid larger than the rest of the
+    // Each grid line needs at least 6 bytes ("0 0 0\n"): a grid larger than the rest of the
     // file cannot be read and is refused before anything is reserved for it.
     const std::uint64_t cells = static_cast<std::uint64_t>(columns) * static_cast<std::uint64_t>(rows);
-    if (columns > (std::int64_t{1} << 31) || rows > (std::int64_t{1} << 31) || cells > bytes.size() / 8)
+    if (columns > (std::int64_t{1} << 31) || rows > (std::int64_t{1} << 31) || cells > bytes.size() / 6)
       throw InputError(file, {header_line, {}},
                        "scan " + std::to_string(scan + 1) + " declares " + std::to_string(columns) + " x " +
                            std::to_string(rows) + " points, more than the file can hold");
@@ -114,7 +115,10 @@ ParsedFile read_ptx(const std::filesystem::path& file, std::string_view bytes) {
       const Eigen::RowVector3d p = Eigen::RowVector3d(value[0], value[1], value[2]) * linear + translation;
       if (!first_non_finite && !p.allFinite()) first_non_finite = FileLocation{cur.line(), std::nullopt};
       pos.insert(pos.end(), p.data(), p.data() + 3);
-      intensity.push_back(n_fields > 3 ? static_cast<float>(value[3]) : 0.0f);
+      // Intensities are small numbers; a value beyond float's range is clamped to it (NaN kept).
+      constexpr double kMaxFloat = std::numeric_limits<float>::max();
+      intensity.push_back(n_fields > 3 && !std::isnan(value[3]) ? static_cast<float>(std::clamp(value[3], -kMaxFloat, kMaxFloat))
+                                                                 : n_fields > 3 ? std::numeric_limits<float>::quiet_NaN() : 0.0f);
       scan_of.push_back(scan);
       if (has_rgb)
         for (int k = 4; k < 7; ++k) rgb.push_back(static_cast<std::uint8_t>(std::lround(std::clamp(value[k], 0.0, 255.0))));

@@ -49,6 +49,7 @@ SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options
   out.mesh = extract_mesh(surface, grid, &out.grid, progress);
   // Trimmed to the clustered points: an outlier next to an extrapolated flap must not keep it.
   if (input != nullptr) out.mesh = trim_to_points(out.mesh, input->clustered(tree).index, options.trim, &out.trim);
+  if (options.decimation.enabled()) out.mesh = decimate(out.mesh, options.decimation, &out.decimation);
   if (options.coloring == MeshColoring::ByNode) out.mesh.colors = colors_by_node(out.mesh, surface);
   if (options.coloring == MeshColoring::ByDistance)
     out.mesh.colors = colors_by_distance(out.mesh, input->points(), options.distance_scale * tree.bbox.diagonal());

@@ -13,7 +13,10 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cerrno>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <numeric>
 #include <optional>
@@ -179,12 +182,55 @@ std::vector<std::size_t> embedded_points(std::size_t n, std::size_t max_points) 
   return keep;
 }
 
-}  // namespace
+/// What the page will show of a glTF binary file: its vertex and triangle counts.
+struct GlbSummary {
+  std::size_t vertices = 0, triangles = 0;
+};
 
-ViewerStats write_viewer_html(const std::filesystem::path& file, const ClusterTree& tree, const PointCloud* cloud,
-                              const TriangleMesh* mesh, const ViewerOptions& options) {
+/// Checks that `glb` is a self-contained glTF 2.0 binary the page can parse, and counts it.
+GlbSummary check_glb(const GlbMesh& glb) {
+  const std::vector<std::uint8_t>& b = glb.bytes;
+  const auto fail = [&](std::uint64_t at, const std::string& why) {
+    return InputError(glb.file, FileLocation{std::nullopt, at}, why);
+  };
+  const auto u32 = [&](std::size_t at) {
+    return std::uint32_t{b[at]} | std::uint32_t{b[at + 1]} << 8 | std::uint32_t{b[at + 2]} << 16 | std::uint32_t{b[at + 3]} << 24;
+  };
+  if (b.size() < 20 || u32(0) != 0x46546C67) throw fail(0, "not a glTF binary (.glb) file: no \"glTF\" header");
+  if (u32(4) != 2) throw fail(4, "glTF version " + std::to_string(u32(4)) + ", the viewer reads version 2");
+  if (u32(8) != b.size())
+    throw fail(8, "the header gives " + std::to_string(u32(8)) + " bytes, the file has " + std::to_string(b.size()));
+  const std::uint32_t json_length = u32(12);
+  if (u32(16) != 0x4E4F534A) throw fail(16, "the first chunk is not the JSON chunk");
+  if (json_length > b.size() - 20) throw fail(12, "the JSON chunk runs past the end of the file");
+  GlbSummary summary;
+  try {
+    const auto json = nlohmann::json::parse(b.begin() + 20, b.begin() + 20 + json_length);
+    for (const char* list : {"buffers", "images"})
+      for (const auto& item : json.value(list, nlohmann::json::array()))
+        if (item.contains("uri") && !item.at("uri").get<std::string>().starts_with("data:"))
+          throw fail(20, std::string("it refers to an external file (") + list + " uri \"" + item.at("uri").get<std::string>() +
+                             "\"): only self-contained .glb files can be embedded");
+    const auto& accessors = json.value("accessors", nlohmann::json::array());
+    const auto count = [&](const nlohmann::json& index) { return accessors.at(index.get<std::size_t>()).at("count").get<std::size_t>(); };
+    for (const auto& m : json.value("meshes", nlohmann::json::array()))
+      for (const auto& primitive : m.at("primitives")) {
+        const auto& attributes = primitive.at("attributes");
+        const std::size_t vertices = attributes.contains("POSITION") ? count(attributes.at("POSITION")) : 0;
+        summary.vertices += vertices;
+        if (primitive.value("mode", 4) == 4) summary.triangles += (primitive.contains("indices") ? count(primitive.at("indices")) : vertices) / 3;
+      }
+  } catch (const nlohmann::json::exception& e) {
+    throw fail(20, std::string("malformed glTF JSON chunk: ") + e.what());
+  }
+  return summary;
+}
+
+ViewerStats write_page(const std::filesystem::path& file, const ClusterTree& tree, const PointCloud* cloud,
+                       const TriangleMesh* mesh, const GlbMesh* glb, const ViewerOptions& options) {
   if (options.patch_grid < 2) throw OptionError("the proxy patch grid needs at least 2 vertices per side");
   if (tree.nodes.empty()) throw OptionError("the tree has no nodes");
+  const GlbSummary glb_summary = glb != nullptr ? check_glb(*glb) : GlbSummary{};
   if (cloud != nullptr) {
     require_tree_input(tree, cloud->positions);
     if (tree.point_leaf.size() != static_cast<std::size_t>(cloud->size()))
@@ -271,24 +317,33 @@ ViewerStats write_viewer_html(const std::filesystem::path& file, const ClusterTr
   blobs.push_back(make_blob("patch_frame", patch_frames));
   blobs.push_back(make_blob("patch_height", heights));
 
+  // The mesh: arrays relative to the center (a TriangleMesh, moved from its origin to the
+  // tree's), or a .glb file's bytes as they are (the page places its scene by the tree's origin).
   nlohmann::json mesh_info = nullptr;
   if (mesh != nullptr) {
+    const Eigen::Vector3d offset = mesh->origin - tree.origin - center;  // -center when the origins agree
     std::vector<float> vertices(3 * static_cast<std::size_t>(mesh->vertices.rows()));
     for (Eigen::Index v = 0; v < mesh->vertices.rows(); ++v)
-      for (int c = 0; c < 3; ++c) vertices[3 * static_cast<std::size_t>(v) + static_cast<std::size_t>(c)] = static_cast<float>(mesh->vertices(v, c) - center[c]);
+      for (int c = 0; c < 3; ++c)
+        vertices[3 * static_cast<std::size_t>(v) + static_cast<std::size_t>(c)] = static_cast<float>(mesh->vertices(v, c) + offset[c]);
     std::vector<std::uint32_t> triangles(3 * static_cast<std::size_t>(mesh->triangles.rows()));
     for (Eigen::Index t = 0; t < mesh->triangles.rows(); ++t)
       for (int c = 0; c < 3; ++c) triangles[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(c)] = static_cast<std::uint32_t>(mesh->triangles(t, c));
     blobs.push_back(make_blob("mesh_vertices", vertices));
     blobs.push_back(make_blob("mesh_triangles", triangles));
-    mesh_info = {{"vertices", mesh->vertices.rows()}, {"triangles", mesh->triangles.rows()}};
+    mesh_info = {{"format", "arrays"}, {"vertices", mesh->vertices.rows()}, {"triangles", mesh->triangles.rows()}};
     stats.triangles = static_cast<std::size_t>(mesh->triangles.rows());
+  } else if (glb != nullptr) {
+    blobs.push_back(make_blob("mesh_glb", glb->bytes));
+    mesh_info = {{"format", "glb"}, {"vertices", glb_summary.vertices}, {"triangles", glb_summary.triangles}};
+    stats.triangles = glb_summary.triangles;
   }
 
   nlohmann::json blob_info = nlohmann::json::object();
   for (const Blob& b : blobs) blob_info[b.name] = {{"type", b.type}, {"length", b.length}};
   const nlohmann::json meta = {{"version", 1},
                                {"title", options.title},
+                               {"origin", {tree.origin.x(), tree.origin.y(), tree.origin.z()}},
                                {"center", {center.x(), center.y(), center.z()}},
                                {"diagonal", tree.bbox.diagonal()},
                                {"nodes", n},
@@ -317,6 +372,26 @@ ViewerStats write_viewer_html(const std::filesystem::path& file, const ClusterTr
   std::error_code ec;
   stats.bytes = std::filesystem::file_size(file, ec);
   return stats;
+}
+
+}  // namespace
+
+GlbMesh read_glb_file(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw IoError(file.string() + ": cannot open: " + std::strerror(errno));
+  GlbMesh glb{std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()), file};
+  if (in.bad()) throw IoError(file.string() + ": read error");
+  return glb;
+}
+
+ViewerStats write_viewer_html(const std::filesystem::path& file, const ClusterTree& tree, const PointCloud* cloud,
+                              const TriangleMesh* mesh, const ViewerOptions& options) {
+  return write_page(file, tree, cloud, mesh, nullptr, options);
+}
+
+ViewerStats write_viewer_html(const std::filesystem::path& file, const ClusterTree& tree, const PointCloud* cloud,
+                              const GlbMesh& mesh, const ViewerOptions& options) {
+  return write_page(file, tree, cloud, nullptr, &mesh, options);
 }
 
 }  // namespace clustersurf

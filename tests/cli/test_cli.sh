@@ -485,6 +485,53 @@ else
   not_ok "bunny at 1e8: input" "$tmp/bunny.xyz missing"
 fi
 
+# --- scanner formats in, mesh formats out ------------------------------------------------------
+mkdir "$tmp/fmt"
+printf 'LASF' >"$tmp/fmt/a.laz"
+run reconstruct "$tmp/fmt/a.laz" -o "$tmp/fmt/a.cstree"
+expect_rc "LAZ: exit code 3" 3
+expect_contains "LAZ: says it is not supported" "$err" "LAZ (compressed LAS) is not supported"
+# Meshes in every output format, decimated on request, back at the data's coordinates.
+run --json reconstruct "$bunny" -o "$tmp/fmt/b.cstree" --mesh "$tmp/fmt/b.glb" --decimate 2000
+expect_rc "reconstruct --mesh b.glb --decimate 2000: exit code 0" 0
+glb_tris=$(python3 -c 'import json,sys; print(json.loads(sys.stdin.read())["mesh"]["triangles"])' <<<"$out" 2>/dev/null)
+if [ -n "$glb_tris" ] && [ "$glb_tris" -le 2000 ] && [ "$glb_tris" -gt 1000 ]; then ok "decimated to $glb_tris triangles"; else not_ok "decimate 2000" "$glb_tris"; fi
+expect_eq "GLB magic" "$(head -c 4 "$tmp/fmt/b.glb")" "glTF"
+for ext in stl off; do
+  run mesh "$tmp/fmt/b.cstree" -o "$tmp/fmt/b.$ext"
+  expect_rc "mesh -o b.$ext: exit code 0" 0
+done
+expect_eq "binary STL: 84 + 50 bytes per triangle" "$((($(stat -c %s "$tmp/fmt/b.stl") - 84) % 50))" 0
+expect_eq "OFF header" "$(head -n1 "$tmp/fmt/b.off")" "OFF"
+if [ -n "$shared" ] && [ -f "$shared/formats/las/4_6_crop.las" ]; then
+  las="$shared/formats/las/4_6_crop.las"
+  run --json stats "$las"
+  expect_eq "LAS: 23875 points" "$(json_field points)" 23875
+  las_box="$(json_field bbox_min) $(json_field bbox_max)"
+  expect_contains "LAS: intensity and classification kept" "$(json_field attributes)" "classification"
+  run --json reconstruct "$las" -o "$tmp/fmt/las.cstree" --mesh "$tmp/fmt/las.ply"
+  expect_rc "LAS: reconstruct and mesh" 0
+  run --json stats "$tmp/fmt/las.ply"
+  mesh_box="$(json_field bbox_min) $(json_field bbox_max)"
+  # The mesh is written back in the file's projected coordinates, within a few cells of the data.
+  if python3 -c '
+import json, sys
+a = [v for part in sys.argv[1].split("] [") for v in json.loads("[" + part.strip("[] ") + "]")]
+b = [v for part in sys.argv[2].split("] [") for v in json.loads("[" + part.strip("[] ") + "]")]
+sys.exit(0 if a[0] > 1e5 and all(abs(x - y) < 10 for x, y in zip(a, b)) else 1)' "$las_box" "$mesh_box"; then
+    ok "LAS: the mesh is back at the data's coordinates ($mesh_box)"
+  else
+    not_ok "LAS: mesh coordinates" "data $las_box, mesh $mesh_box"
+  fi
+  run --json stats "$shared/formats/ptx/multiple-and-transform.ptx"
+  expect_eq "PTX: two scanners" "$(json_field scanners)" 2
+  run stats "$shared/formats/las/bad_vlr_count.las"
+  expect_rc "LAS with a broken VLR count: exit code 3" 3
+  expect_contains "LAS with a broken VLR count: byte offset" "$err" "bad_vlr_count.las: byte 429: "
+else
+  echo "skip - shared format samples not found in '${shared}': LAS/PTX checks skipped"
+fi
+
 # --- interrupt (SIGINT): no output, a clear message, existing files untouched -------------------
 big="$tmp/big.ply"
 run sample "$bunny" -o "$big" -n 2000000 --seed 3

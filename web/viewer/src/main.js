@@ -1,7 +1,9 @@
 // The clustersurf viewer: input points colored by cluster at a tree level, the mesh, proxy
-// patches and support spheres (three.js), next to the collapsible cluster tree. Everything it
-// shows comes from the data the CLI embedded in the page (see data.js). Rendering is on demand:
-// a frame is drawn only when something changed.
+// patches and support spheres (three.js), next to the collapsible cluster tree. What it shows
+// comes from the data the CLI embedded in the page (see data.js), plus any .glb mesh the user
+// opens or drops on the view (mesh.js). Without points, the leaf proxies and their support
+// spheres are shown by default. Rendering is on demand: a frame is drawn only when something
+// changed.
 
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
@@ -9,6 +11,7 @@ import { loadData, nodeTable, PROXY_NAMES } from './data.js';
 import { nodePalette } from './colors.js';
 import { patchGeometry, hasPatch } from './patches.js';
 import { TreePanel } from './tree_panel.js';
+import { arraysMesh, disposeMesh, glbMesh, meshCounts } from './mesh.js';
 
 const GREY = [205, 205, 205];
 const HIGHLIGHT = 0xe02020;
@@ -26,9 +29,24 @@ function start() {
   const diagonal = meta.diagonal > 0 ? meta.diagonal : 1;
   document.title = `${meta.title} · clustersurf view`;
   document.getElementById('cs-title').textContent = meta.title;
-  document.getElementById('cs-summary').textContent =
-    `${nodes.n} nodes, ${meta.leaves} leaves, depth ${nodes.maxDepth}; ` +
-    `${meta.points} of ${meta.input_points} points shown${meta.mesh ? `; mesh ${meta.mesh.triangles} triangles` : ''}`;
+  const origin = meta.origin ?? [0, 0, 0], center = meta.center ?? [0, 0, 0];
+  const showSummary = (triangles) => {
+    document.getElementById('cs-summary').textContent =
+      `${nodes.n} nodes, ${meta.leaves} leaves, depth ${nodes.maxDepth}; ` +
+      `${meta.points} of ${meta.input_points} points shown${triangles !== null ? `; mesh ${triangles} triangles` : ''}`;
+  };
+  showSummary(meta.mesh ? meta.mesh.triangles : null);
+
+  // Default layers: the points when the page holds them, else the leaf proxies and their
+  // support spheres (the index.html defaults are for points).
+  if (meta.points === 0) {
+    const pointBox = document.getElementById('cs-show-points');
+    pointBox.checked = false;
+    pointBox.disabled = true;
+    document.getElementById('cs-point-size').disabled = true;
+    document.getElementById('cs-show-proxies').checked = true;
+    document.getElementById('cs-show-spheres').checked = true;
+  }
 
   // --- renderer, camera, lights ------------------------------------------------------------
   const view = document.getElementById('cs-view');
@@ -95,21 +113,63 @@ function start() {
   scene.add(points);
 
   // --- mesh ----------------------------------------------------------------------------------
-  let mesh = null;
-  if (meta.mesh) {
-    const g = new THREE.BufferGeometry();
-    g.setAttribute('position', new THREE.BufferAttribute(blobs.mesh_vertices, 3));
-    g.setIndex(new THREE.BufferAttribute(blobs.mesh_triangles, 1));
-    g.computeVertexNormals();
-    mesh = new THREE.Mesh(g, new THREE.MeshStandardMaterial({
-      color: 0xd8d8d8, roughness: 0.8, side: THREE.DoubleSide, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,
-    }));
+  // One mesh at a time: the embedded one, replaced by any .glb the user opens.
+  let mesh = null, meshInfo = null;
+  const meshBox = document.getElementById('cs-show-mesh');
+  const status = document.getElementById('cs-status');
+  const setStatus = (text, error = false) => {
+    status.textContent = text;
+    status.classList.toggle('error', error);
+  };
+  const setMesh = (object, source) => {
+    if (mesh) { scene.remove(mesh); disposeMesh(mesh); }
+    mesh = object;
+    const bounds = new THREE.Box3().setFromObject(object);
+    meshInfo = { source, ...meshCounts(object), min: bounds.min.toArray(), max: bounds.max.toArray() };
+    meshBox.disabled = false;
+    mesh.visible = meshBox.checked;
     scene.add(mesh);
-  } else {
-    const box = document.getElementById('cs-show-mesh');
-    box.checked = false;
-    box.disabled = true;
+    showSummary(meshInfo.triangles);
+    requestRender();
+  };
+  /// Parses a .glb (ArrayBuffer or Uint8Array) and shows it as the mesh; `source` names it.
+  const loadGlb = async (data, source) => setMesh(await glbMesh(data, origin, center), source);
+  if (meta.mesh && meta.mesh.format !== 'glb') setMesh(arraysMesh(blobs.mesh_vertices, blobs.mesh_triangles), 'embedded');
+  if (!meta.mesh) {
+    meshBox.checked = false;
+    meshBox.disabled = true;
   }
+
+  // A .glb the user picks (file input) or drops on the view: shown as the mesh, checked on.
+  const openFile = async (file) => {
+    if (!file) return;
+    setStatus(`loading ${file.name} …`);
+    try {
+      await loadGlb(await file.arrayBuffer(), file.name);
+      meshBox.checked = true;
+      mesh.visible = true;
+      requestRender();
+      setStatus(`${file.name}: ${meshInfo.vertices} vertices, ${meshInfo.triangles} triangles`);
+    } catch (error) {
+      setStatus(`${file.name}: ${error.message}`, true);
+      console.warn(`clustersurf view: ${file.name}: ${error.message}`);
+    }
+  };
+  const fileInput = document.getElementById('cs-open-mesh');
+  fileInput.addEventListener('change', () => { openFile(fileInput.files[0]).finally(() => { fileInput.value = ''; }); });
+  view.addEventListener('dragover', (event) => {
+    if (!event.dataTransfer?.types.includes('Files')) return;
+    event.preventDefault();
+    event.dataTransfer.dropEffect = 'copy';
+    view.classList.add('dropping');
+  });
+  view.addEventListener('dragleave', (event) => { if (event.target === view || !view.contains(event.relatedTarget)) view.classList.remove('dropping'); });
+  view.addEventListener('drop', (event) => {
+    view.classList.remove('dropping');
+    if (!event.dataTransfer?.files.length) return;
+    event.preventDefault();
+    openFile(event.dataTransfer.files[0]);
+  });
 
   // --- proxies and spheres -------------------------------------------------------------------
   const frames = blobs.patch_frame, heights = blobs.patch_height, grid = meta.patch_grid;
@@ -287,6 +347,14 @@ function start() {
       return performance.now() - t;
     },
     selected: () => selected,
+    /// Which layers are shown (the toggles' states, and whether each layer exists).
+    layers: () => ({ points: points.visible && pointCount > 0, mesh: Boolean(mesh?.visible),
+                     spheres: Boolean(cutSpheres?.visible), proxies: Boolean(leafPatches?.visible) }),
+    /// The mesh shown: { source ('embedded' or the file's name), vertices, triangles, min, max (page frame) }, or null.
+    mesh: () => meshInfo,
+    /// Parses a .glb (ArrayBuffer / Uint8Array) and shows it as the mesh, like an opened file.
+    loadGlb: (data, name = 'script') => loadGlb(data, name).then(() => meshInfo),
+    origin, center,
     node: (i) => ({ index: i, depth: nodes.depth[i], point_count: nodes.count[i], proxy: PROXY_NAMES[nodes.kind[i]],
                     rms_error: nodes.rms(i), max_error: nodes.max(i), parent: nodes.parent[i], left: nodes.left[i], right: nodes.right[i] }),
   };
@@ -295,7 +363,9 @@ function start() {
     const gl = renderer.getContext();
     gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
   };
-  requestAnimationFrame(() => {
+  // The first frame follows the embedded .glb's parsing (asynchronous), if any.
+  const meshReady = meta.mesh?.format === 'glb' ? loadGlb(blobs.mesh_glb, 'embedded') : Promise.resolve();
+  meshReady.then(() => requestAnimationFrame(() => {
     draw(previewPoints === meta.points);
     finish();
     hook.readyMs = performance.now();
@@ -310,16 +380,21 @@ function start() {
       timings.fullDetail = performance.now();
       hook.fullDetail = true;
     }, 0);
-  });
+  }), (error) => fail(error, hook));
+}
+
+/// Shows a fatal error over the view and in the hook.
+function fail(error, hook = {}) {
+  const box = document.createElement('div');
+  box.id = 'cs-error';
+  box.textContent = `clustersurf view: ${error.message}`;
+  document.getElementById('cs-view').appendChild(box);
+  window.clustersurfViewer = Object.assign(hook, { ready: false, error: String(error.message) });
 }
 
 try {
   start();
 } catch (error) {
-  const box = document.createElement('div');
-  box.id = 'cs-error';
-  box.textContent = `clustersurf view: ${error.message}`;
-  document.getElementById('cs-view').appendChild(box);
-  window.clustersurfViewer = { ready: false, error: String(error.message) };
+  fail(error);
   throw error;
 }

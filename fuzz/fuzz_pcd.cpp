@@ -1,0 +1,7 @@
+// libFuzzer target: the PCD reader.
+
+#include "fuzz_checks.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  return clustersurf::fuzz::parse_everything(data, size, clustersurf::FileFormat::Pcd, "fuzz.pcd", false);
+}
