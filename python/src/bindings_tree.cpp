@@ -236,7 +236,11 @@ leaf_size, leaf_rms_error, leaves_over_threshold, noise_sigma, error_threshold, 
       .def_property_readonly("depth", [](const TreeRef& t) { return t.tree->depth(); }, "Largest node depth (root: 0).")
       .def_property_readonly(
           "bbox", [](const TreeRef& t) { return py::make_tuple(vector_array(t.tree->bbox.min), vector_array(t.tree->bbox.max)); },
-          "(min, max) corners of the input's bounding box.")
+          "(min, max) corners of the input's bounding box, relative to ``origin``.")
+      .def_property_readonly(
+          "origin", [](const TreeRef& t) { return vector_array(t.tree->origin); },
+          "Where the input lay: the tree (nodes, bbox, meshes) is relative to this point of the file's coordinates "
+          "(zero unless the input was read far from zero).")
       .def(
           "leaf_of_points",
           [](const TreeRef& t) {
@@ -288,17 +292,11 @@ coarser cut of the tree, as in evaluate() and mesh().)doc")
             o.trim.close_pinholes = close_pinholes;
             o.coloring = parse_mesh_coloring(color);
             PointCloud input;
-            Eigen::Vector3d origin = Eigen::Vector3d::Zero();
-            if (!points.is_none()) {
-              PointCloud given = cloud_argument(points, py::none(), py::none(), py::none(), "points");
-              input.positions = std::move(given.positions);
-              origin = given.origin;
-            }
+            if (!points.is_none()) input.positions = cloud_argument(points, py::none(), py::none(), py::none(), "points").positions;
             SurfaceMesh mesh = run_released(progress, [&](const ProgressCallback& callback) {
               const CloudIndex index(input);
               return mesh_tree(*t.tree, o, points.is_none() ? nullptr : &index, callback);
             });
-            mesh.mesh.origin = origin;
             return mesh_object(std::move(mesh.mesh));
           },
           py::kw_only(), py::arg("resolution") = "auto", py::arg("voxel_size") = py::none(), py::arg("lod_depth") = py::none(),
@@ -310,8 +308,7 @@ Meshes the surface f = 0, as ``clustersurf mesh`` does (the library's mesh_tree(
 options, same mesh). Returns a Mesh (vertices (n, 3) float64, faces (m, 3) int32, normals
 (n, 3) float64, colors (n, 3) uint8 or None), triangles facing outward. Its vertices are in
 the tree's coordinates, those of the positions it was built from; its ``origin`` is the
-origin of ``points`` when that is a PointCloud (a scan read far from zero), else zero, so
-``world_vertices`` are the file's coordinates.
+tree's (a scan read far from zero), so ``world_vertices`` are the file's coordinates.
 
 ``resolution``: grid cells along the longest bbox side, or ``"auto"`` (the default): cells two
 median point spacings of the input wide (the tree stores the spacing; a tree from a version-1

@@ -174,12 +174,16 @@ def test_faces_are_required_for_arrays(tmp_path):
         clustersurf.write_mesh(tmp_path / "x.ply", vertices)
 
 
-def test_tree_mesh_takes_the_origin_of_its_points(sphere_tree):
+def test_tree_keeps_the_origin_of_its_input():
     points, normals = sphere_points()
     cloud = clustersurf.PointCloud(points, normals, origin=(600000.0, 0, 0))
-    mesh = sphere_tree.mesh(resolution=32, points=cloud)
+    tree = clustersurf.reconstruct(cloud)
+    np.testing.assert_array_equal(tree.origin, [600000.0, 0, 0])
+    again = clustersurf.Tree.from_bytes(tree.to_bytes())  # stored in the tree file
+    np.testing.assert_array_equal(again.origin, tree.origin)
+    mesh = again.mesh(resolution=32, points=cloud)
     np.testing.assert_array_equal(mesh.origin, [600000.0, 0, 0])
-    plain = sphere_tree.mesh(resolution=32, points=points)
+    np.testing.assert_array_equal(mesh.world_vertices, mesh.vertices + [600000.0, 0, 0])
+    plain = clustersurf.reconstruct(points, normals=normals)
     np.testing.assert_array_equal(plain.origin, np.zeros(3))
-    np.testing.assert_array_equal(mesh.vertices, plain.vertices)
-    np.testing.assert_array_equal(mesh.world_vertices, plain.vertices + [600000.0, 0, 0])
+    np.testing.assert_array_equal(plain.mesh(resolution=32).vertices, again.mesh(resolution=32).vertices)
