@@ -1,8 +1,9 @@
 // The E57 reader: the real samples of the shared data folder (skipped, saying why, when absent),
-// files written here by a small E57 writer (bit-packed ScaledIntegers, spherical coordinates,
-// poses, packets and values straddling pages) and a hostile table (each refused with an
-// InputError naming the file and the byte offset of the problem).
+// files written here by the small E57 writer of e57_writer.hpp (bit-packed ScaledIntegers,
+// spherical coordinates, poses, packets and values straddling pages) and a hostile table (each
+// refused with an InputError naming the file and the byte offset of the problem).
 
+#include "e57_writer.hpp"
 #include "io_test_files.hpp"
 
 #include <clustersurf/errors.hpp>
@@ -11,7 +12,6 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include <bit>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -25,157 +25,6 @@ namespace clustersurf {
 namespace {
 
 using namespace clustersurf::test;
-
-// ---- a minimal E57 writer -----------------------------------------------------------------
-
-/// CRC-32C, bit by bit (independent of the reader's table-driven one).
-std::uint32_t crc32c(const char* p, std::size_t n) {
-  std::uint32_t c = 0xFFFFFFFFU;
-  for (std::size_t i = 0; i < n; ++i) {
-    c ^= static_cast<unsigned char>(p[i]);
-    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ ((c & 1U) != 0 ? 0x82F63B78U : 0U);
-  }
-  return c ^ 0xFFFFFFFFU;
-}
-
-void put_le(std::string& s, std::size_t at, std::uint64_t v, int bytes) {
-  for (int i = 0; i < bytes; ++i) s[at + static_cast<std::size_t>(i)] = static_cast<char>((v >> (8 * i)) & 0xFF);
-}
-void append_le(std::string& s, std::uint64_t v, int bytes) {
-  s.append(static_cast<std::size_t>(bytes), '\0');
-  put_le(s, s.size() - static_cast<std::size_t>(bytes), v, bytes);
-}
-
-/// Rewrites every page's CRC (big-endian, as libE57 stores it) after a test patched bytes.
-void refresh_crcs(std::string& file, std::size_t page = 1024) {
-  for (std::size_t p = 0; p + page <= file.size(); p += page) {
-    const std::uint32_t c = crc32c(file.data() + p, page - 4);
-    for (int i = 0; i < 4; ++i) file[p + page - 4 + static_cast<std::size_t>(i)] = static_cast<char>(c >> (24 - 8 * i));
-  }
-}
-
-/// A prototype field: its XML element, bits per record and the raw bits of every record.
-struct TestField {
-  std::string xml;
-  unsigned bits;
-  std::vector<std::uint64_t> raw;
-};
-
-TestField float_field(const std::string& name, const std::vector<double>& v, bool single = false) {
-  TestField f{"<" + name + " type=\"Float\"" + (single ? " precision=\"single\"" : "") + "/>", single ? 32U : 64U, {}};
-  for (double x : v) f.raw.push_back(single ? std::bit_cast<std::uint32_t>(static_cast<float>(x)) : std::bit_cast<std::uint64_t>(x));
-  return f;
-}
-
-/// An Integer (scale empty) or ScaledInteger field holding the integers `v` in [lo, hi].
-TestField int_field(const std::string& name, std::int64_t lo, std::int64_t hi, const std::vector<std::int64_t>& v,
-                    const std::string& scale = "") {
-  const std::string type = scale.empty() ? "Integer" : "ScaledInteger";
-  TestField f{"<" + name + " type=\"" + type + "\" minimum=\"" + std::to_string(lo) + "\" maximum=\"" + std::to_string(hi) + "\" " +
-                  scale + "/>",
-              static_cast<unsigned>(std::bit_width(static_cast<std::uint64_t>(hi - lo))), {}};
-  for (std::int64_t x : v) f.raw.push_back(static_cast<std::uint64_t>(x - lo));
-  return f;
-}
-
-struct TestScan {
-  TestScan(std::vector<TestField> f, std::string x = {}) : fields(std::move(f)), extra(std::move(x)) {}
-  std::vector<TestField> fields;
-  std::string extra;                        // XML inside the scan (pose, limits)
-  std::optional<std::string> record_count;  // replaces the recordCount attribute
-};
-
-struct WriteOptions {
-  std::size_t page = 1024;
-  std::size_t chunk = 4096;      // bytes of each bytestream per data packet, at most
-  bool extra_packets = false;    // an empty and an index packet after the first data packet
-  std::string xml_tail;          // more XML inside <e57Root>
-};
-
-struct TestFile {
-  std::string bytes;
-  std::vector<std::uint64_t> sections;  // physical offsets of the binary sections
-  std::vector<std::uint64_t> packets;   // physical offsets of each section's first data packet
-  std::uint64_t xml = 0;
-};
-
-/// `fields`' values bit-packed, least significant bit first, as libE57 writes a bytestream.
-std::string pack(const TestField& f) {
-  std::string out((f.raw.size() * f.bits + 7) / 8, '\0');
-  std::uint64_t bit = 0;
-  for (std::uint64_t v : f.raw)
-    for (unsigned b = 0; b < f.bits; ++b, ++bit)
-      if (((v >> b) & 1U) != 0) out[bit / 8] = static_cast<char>(out[bit / 8] | (1 << (bit % 8)));
-  return out;
-}
-
-TestFile write_e57(const std::vector<TestScan>& scans, const WriteOptions& o = {}) {
-  const std::size_t data = o.page - 4;
-  const auto phys = [&](std::uint64_t l) { return l / data * o.page + l % data; };
-  TestFile out;
-  std::string logical(48, '\0');
-  std::string xml = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<e57Root type=\"Structure\" xmlns=\"http://www.astm.org/COMMIT/E57/2010-e57-v1.0\">\n"
-                    "<formatName type=\"String\"><![CDATA[ASTM E57 3D Imaging Data File]]></formatName>\n"
-                    "<data3D type=\"Vector\" allowHeterogeneousChildren=\"1\">\n";
-  for (const TestScan& scan : scans) {
-    const std::size_t begin = logical.size(), records = scan.fields.front().raw.size();
-    logical.append(32, '\0');
-    std::vector<std::string> streams;
-    for (const TestField& f : scan.fields) streams.push_back(pack(f));
-    std::vector<std::size_t> cursor(streams.size(), 0);
-    bool first = true;
-    for (bool more = true; more || first;) {
-      const std::size_t start = logical.size();
-      if (first) out.packets.push_back(phys(start));
-      std::string packet = std::string("\x01\x00", 2) + "LL";
-      append_le(packet, streams.size(), 2);
-      std::string body;
-      for (std::size_t i = 0; i < streams.size(); ++i) {
-        const std::size_t n = std::min(o.chunk, streams[i].size() - cursor[i]);
-        append_le(packet, n, 2);
-        body += streams[i].substr(cursor[i], n);
-        cursor[i] += n;
-      }
-      packet += body;
-      while (packet.size() % 4 != 0) packet.push_back('\0');
-      put_le(packet, 2, packet.size() - 1, 2);
-      logical += packet;
-      if (first && o.extra_packets) {
-        logical += std::string("\x02\x00\x07\x00\x00\x00\x00\x00", 8);  // empty packet, 8 bytes
-        std::string index(16, '\0');                                    // index packet, no entries
-        put_le(index, 2, 15, 2);
-        logical += index;
-      }
-      first = false;
-      more = false;
-      for (std::size_t i = 0; i < streams.size(); ++i) more = more || cursor[i] < streams[i].size();
-    }
-    logical[begin] = 1;
-    put_le(logical, begin + 8, logical.size() - begin, 8);
-    put_le(logical, begin + 16, phys(begin + 32), 8);
-    out.sections.push_back(phys(begin));
-    xml += "<vectorChild type=\"Structure\">\n" + scan.extra + "\n<points type=\"CompressedVector\" fileOffset=\"" +
-           std::to_string(phys(begin)) + "\" recordCount=\"" + scan.record_count.value_or(std::to_string(records)) +
-           "\">\n<prototype type=\"Structure\">\n";
-    for (const TestField& f : scan.fields) xml += f.xml + "\n";
-    xml += "</prototype>\n<codecs type=\"Vector\" allowHeterogeneousChildren=\"1\"/>\n</points>\n</vectorChild>\n";
-  }
-  xml += "</data3D>\n" + o.xml_tail + "</e57Root>\n";
-  const std::size_t xml_start = logical.size();
-  logical += xml;
-  const std::size_t pages = (logical.size() + data - 1) / data;
-  logical.resize(pages * data, '\0');
-  logical.replace(0, 8, "ASTM-E57");
-  put_le(logical, 8, 1, 4);
-  put_le(logical, 16, pages * o.page, 8);
-  put_le(logical, 24, phys(xml_start), 8);
-  put_le(logical, 32, xml.size(), 8);
-  put_le(logical, 40, o.page, 8);
-  for (std::size_t p = 0; p < pages; ++p) out.bytes += logical.substr(p * data, data) + "CRC!";
-  refresh_crcs(out.bytes, o.page);
-  out.xml = phys(xml_start);
-  return out;
-}
 
 PointCloud parse(const std::string& bytes, const ReadOptions& o = {}) {
   return parse_point_cloud(bytes, FileFormat::E57, "test.e57", o);

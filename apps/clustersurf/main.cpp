@@ -70,6 +70,12 @@ void add_mesh_options(CLI::App& cmd, clustersurf::cli::MeshArgs& m) {
                  "Reduce the mesh while the surface moves by at most this distance (input units); with --decimate, "
                  "stop at whichever comes first")
       ->check(CLI::NonNegativeNumber);
+  cmd.add_flag("--watertight", o.closing.enabled,
+               "A closed, manifold mesh whatever holes the data has: where the leaves define the surface it is "
+               "the same; elsewhere the surface is filled smoothly and its vertices are marked (\"filled\")");
+  cmd.add_option("--fill-holes", o.closing.max_hole_size,
+                 "With --watertight: fill only holes up to this size (input units); larger openings stay open")
+      ->check(CLI::NonNegativeNumber);
   cmd.add_flag("--mesh-ascii", m.ascii, "Write the mesh as ascii PLY instead of binary");
 }
 
@@ -248,7 +254,7 @@ int main(int argc, char** argv) {
   vw->add_option("tree", view.tree, "Tree file (.cstree)")->required();
   vw->add_option("-o,--output", view.output, "Page to write (.html, self-contained: open it in a browser)")->required();
   vw->add_option("--points", view.points, "The cloud the tree was built from (tree files do not hold the positions)");
-  vw->add_option("--mesh", view.mesh, "A mesh to show as well (.ply or .obj)");
+  vw->add_option("--mesh", view.mesh, "A mesh to show as well (.ply, .obj or .glb)");
   vw->add_option("--max-points", view.max_points, "Embed at most this many points, evenly spread over the input (0: all)")
       ->check(CLI::NonNegativeNumber)
       ->default_val(2000000);

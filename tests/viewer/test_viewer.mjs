@@ -202,7 +202,7 @@ try {
 
     await v.tab.uncheck('#cs-show-proxies');
     await v.tab.uncheck('#cs-show-spheres');
-    await v.tab.setInputFiles('#cs-open-mesh', glb);
+    await v.tab.setInputFiles('#cs-open-mesh', glb, { timeout: 5000 });
     await v.tab.waitForFunction((name) => window.clustersurfViewer.mesh?.()?.source === name, basename(glb), { timeout: 30000 });
     const mesh = await v.tab.evaluate(() => window.clustersurfViewer.mesh());
     check('an opened .glb has the mesh\'s vertices and triangles', mesh.vertices === glbMesh.vertices && mesh.triangles === glbMesh.triangles,
