@@ -104,6 +104,13 @@ struct EvalArgs {
   std::uint64_t seed = ComparisonOptions{}.seed;
 };
 int run_eval(Console& console, const EvalArgs& args);
+
+/// `check`: is a mesh ready to print (check_mesh()); reports only, exit code 0 either way.
+struct CheckArgs {
+  std::string mesh;
+};
+int run_check(Console& console, const CheckArgs& args);
+
 struct RenderArgs {
   std::vector<std::string> inputs;  // tree files (.cstree), meshes or point clouds
   std::string output;               // .png

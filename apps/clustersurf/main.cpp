@@ -206,6 +206,12 @@ int main(int argc, char** argv) {
   ev->add_option("-r,--reference", eval.reference, "Reference mesh or cloud (the ground truth)")->required();
   ev->add_option("--samples", eval.samples, "Points sampled on each mesh surface")->check(CLI::PositiveNumber)->capture_default_str();
   ev->add_option("--seed", eval.seed, "Random seed for the samples")->capture_default_str();
+
+  CheckArgs checkargs;
+  auto* ck = app.add_subcommand("check", "Is a mesh ready to print: boundary and non-manifold edges, orientation, "
+                                         "components, Euler characteristic and genus, volume, self-intersections");
+  ck->add_option("mesh", checkargs.mesh, "Triangle mesh (.ply or .obj)")->required();
+
   RenderArgs rnd;
   auto* v = app.add_subcommand("render", "Ray-trace a picture of a tree's surface (or of meshes and point clouds)");
   v->add_option("input", rnd.inputs, "Tree file (.cstree), mesh or point cloud; several with --grid")->required();
@@ -278,6 +284,7 @@ int main(int argc, char** argv) {
     if (m->parsed()) return run_mesh(console, meshcmd);
     if (sm->parsed()) return run_sample(console, sample);
     if (ev->parsed()) return run_eval(console, eval);
+    if (ck->parsed()) return run_check(console, checkargs);
     if (v->parsed()) return run_render(console, rnd);
     if (vw->parsed()) return run_view(console, view);
     return kExitUsage;

@@ -28,6 +28,11 @@ nlohmann::json write_surface_mesh(Console& console, const SurfaceMesh& result, c
   if (trimmed.removed_triangles > 0 || trimmed.closed_pinholes > 0)
     console.print(fmt::format("trimmed         {} triangles beyond the data or on {} unsupported fragments; {} pinholes closed",
                               trimmed.removed_triangles, trimmed.removed_components, trimmed.closed_pinholes));
+  if (result.closing.closed)
+    console.print(fmt::format("closed          {} of {} vertices filled in (the \"filled\" attribute), {} triangles; "
+                              "{} holes larger than --fill-holes left open; fill grid cell {:.4g}",
+                              result.closing.filled_vertices, topo.vertices, result.closing.filled_triangles,
+                              result.closing.opened_holes, result.closing.fill_cell));
   if (result.decimation.triangles_after != result.decimation.triangles_before)
     console.print(fmt::format("decimated       {} -> {} triangles, surface moved by at most {:.4g}",
                               result.decimation.triangles_before, result.decimation.triangles_after,
@@ -47,6 +52,10 @@ nlohmann::json write_surface_mesh(Console& console, const SurfaceMesh& result, c
           {"trimmed_triangles", trimmed.removed_triangles},
           {"removed_components", trimmed.removed_components},
           {"closed_pinholes", trimmed.closed_pinholes},
+          {"watertight", is_watertight(topo)},
+          {"filled_vertices", result.closing.filled_vertices},
+          {"filled_triangles", result.closing.filled_triangles},
+          {"opened_holes", result.closing.opened_holes},
           {"decimated_from_triangles", result.decimation.triangles_before},
           {"decimation_deviation", result.decimation.deviation},
           {"mesh_seconds", result.seconds}};

@@ -31,7 +31,7 @@ struct DecimationReport {
   double deviation = 0;
 };
 
-/// The mesh with fewer triangles: surviving vertices keep their positions, normals and colors,
+/// The mesh with fewer triangles: surviving vertices keep their positions, normals, colors and attributes,
 /// unused vertices are dropped (order kept), the origin is kept. The same mesh and options give
 /// the same result. Throws OptionError for a negative or non-finite bound.
 TriangleMesh decimate(const TriangleMesh& mesh, const DecimationOptions& options, DecimationReport* report = nullptr);

@@ -1,6 +1,7 @@
 #pragma once
-// Triangle mesh of the zero set of an ImplicitSurface.
+// Triangle mesh of the zero set of an ImplicitSurface (or of its closed extension).
 
+#include <clustersurf/closed_surface.hpp>
 #include <clustersurf/implicit_surface.hpp>
 #include <clustersurf/point_cloud.hpp>
 #include <clustersurf/progress.hpp>
@@ -53,6 +54,12 @@ struct MeshReport {
 /// and unused vertices are removed. Triangles face outward (towards f > 0). Deterministic.
 /// Throws OptionError for invalid options, Cancelled when `progress` says stop.
 TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& options = {}, MeshReport* report = nullptr,
+                          const ProgressCallback& progress = {});
+/// The same walk on a closed surface's F: identical where the blend (or the fill band) defines
+/// f, the harmonic fill elsewhere (vertices there keep the polygonizer's position and take the
+/// fill's gradient as normal), so the mesh is closed: no cell is left out for an undefined
+/// corner inside the fill grid.
+TriangleMesh extract_mesh(const ClosedSurface& closed, const MeshOptions& options = {}, MeshReport* report = nullptr,
                           const ProgressCallback& progress = {});
 
 /// A mesh grid cell size matched to how densely the input samples the surface:

@@ -57,6 +57,9 @@ struct TriangleMesh {
   Points normals;
   Colors colors;
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  /// Extra scalars per vertex (`filled`: 1 where a closed mesh was filled in, not fitted),
+  /// kept by every operation that keeps vertices and written to PLY as float properties.
+  std::vector<PointAttribute> attributes;
 };
 
 /// Axis-aligned bounding box; empty() when min > max.

@@ -75,9 +75,11 @@ struct PlyWriteOptions {
   bool double_precision = false;
 };
 
-/// Writes a point cloud as PLY (with normals and colors when present). Atomic. Throws IoError.
+/// Writes a point cloud as PLY (with normals, colors and attributes, as float properties, when
+/// present). Atomic. Throws IoError.
 void write_ply(const std::filesystem::path& file, const PointCloud& cloud, const PlyWriteOptions& options = {});
-/// Writes a triangle mesh as PLY (with per-vertex normals and colors when present). Atomic.
+/// Writes a triangle mesh as PLY (with per-vertex normals, colors and attributes when present).
+/// Atomic.
 void write_ply(const std::filesystem::path& file, const TriangleMesh& mesh, const PlyWriteOptions& options = {});
 /// Writes a point cloud as text, one "x y z [nx ny nz]" line per point, with 17 significant
 /// digits (bit-exact round trip). Atomic.

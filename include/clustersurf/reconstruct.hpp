@@ -43,11 +43,25 @@ struct SurfaceMeshOptions {
   bool auto_resolution = true;
   /// Applied when the input points are given.
   TrimOptions trim;
+  /// A closed mesh (off by default): the holes filled from the harmonic fill of a
+  /// ClosedSurface, the trim then only marking what the data does not reach (the "filled"
+  /// vertex attribute) and dropping unsupported fragments.
+  ClosingOptions closing;
   /// Fewer triangles after the trim (off by default).
   DecimationOptions decimation;
   MeshColoring coloring = MeshColoring::None;
   /// ByDistance: the distance drawn full red, as a fraction of the tree's diagonal.
   double distance_scale = 0.005;
+};
+
+/// What closing the mesh did (SurfaceMeshOptions::closing).
+struct ClosingReport {
+  bool closed = false;                ///< the mesh was closed (the option was on)
+  std::size_t filled_vertices = 0;    ///< vertices marked "filled": invented, not fitted
+  std::size_t filled_triangles = 0;   ///< triangles with a filled vertex
+  std::size_t opened_holes = 0;       ///< filled patches wider than max_hole_size, left open
+  double fill_cell = 0;               ///< the fill grid's cell size
+  std::size_t fill_nodes = 0;         ///< grid nodes the fill solved for
 };
 
 /// A mesh of a tree's surface and what made it.
@@ -56,6 +70,7 @@ struct SurfaceMesh {
   MeshReport grid;
   TrimReport trim;
   DecimationReport decimation;
+  ClosingReport closing;
   std::size_t blended_nodes = 0;
   double seconds = 0;  ///< wall time of the mesh step
 };

@@ -22,7 +22,7 @@ double at_origin(double x, double origin) { return origin == 0 ? x : x + origin;
 static_assert(std::endian::native == std::endian::little, "binary writers assume a little-endian host");
 
 void write_ply_impl(const std::filesystem::path& file, const Points& v, const Eigen::Vector3d& origin, const Points& n,
-                    const Colors& c, const Triangles* tris, PlyWriteOptions o) {
+                    const Colors& c, const std::vector<PointAttribute>& attributes, const Triangles* tris, PlyWriteOptions o) {
   const Eigen::Index nv = v.rows();
   o.double_precision = o.double_precision || !origin.isZero();
   const bool has_n = n.rows() == nv && nv > 0;
@@ -34,6 +34,12 @@ void write_ply_impl(const std::filesystem::path& file, const Points& v, const Ei
   h += fmt::format("element vertex {}\nproperty {} x\nproperty {} y\nproperty {} z\n", nv, real, real, real);
   if (has_n) h += fmt::format("property {} nx\nproperty {} ny\nproperty {} nz\n", real, real, real);
   if (has_c) h += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  std::vector<const PointAttribute*> extra;  // the attributes with a value per vertex
+  for (const PointAttribute& a : attributes)
+    if (a.values.size() == nv && nv > 0 && !a.name.empty() && a.name.find_first_of(" \t\r\n") == std::string::npos) {
+      extra.push_back(&a);
+      h += "property float " + a.name + "\n";
+    }
   if (tris != nullptr) h += fmt::format("element face {}\nproperty list uchar int vertex_indices\n", tris->rows());
   h += "end_header\n";
 
@@ -63,6 +69,7 @@ void write_ply_impl(const std::filesystem::path& file, const Points& v, const Ei
         for (int k = 0; k < 3; ++k) put_real(n(i, k));
       if (has_c)
         for (int k = 0; k < 3; ++k) put(c(i, k));
+      for (const PointAttribute* a : extra) put(a->values(i));
       flush_if_full();
     } else {
       // Shortest representation that reads back to the same value ({} in fmt).
@@ -75,6 +82,7 @@ void write_ply_impl(const std::filesystem::path& file, const Points& v, const Ei
       if (has_n)
         for (int k = 0; k < 3; ++k) text.push_back(' '), fmt_real(n(i, k));
       if (has_c) fmt::format_to(std::back_inserter(text), " {} {} {}", c(i, 0), c(i, 1), c(i, 2));
+      for (const PointAttribute* a : extra) fmt::format_to(std::back_inserter(text), " {}", a->values(i));
       text.push_back('\n');
       if (text.size() > (1u << 20)) out.write(text.data(), text.size()), text.clear();
     }
@@ -99,11 +107,11 @@ void write_ply_impl(const std::filesystem::path& file, const Points& v, const Ei
 }  // namespace
 
 void write_ply(const std::filesystem::path& file, const PointCloud& cloud, const PlyWriteOptions& options) {
-  write_ply_impl(file, cloud.positions, cloud.origin, cloud.normals, cloud.colors, nullptr, options);
+  write_ply_impl(file, cloud.positions, cloud.origin, cloud.normals, cloud.colors, cloud.attributes, nullptr, options);
 }
 
 void write_ply(const std::filesystem::path& file, const TriangleMesh& mesh, const PlyWriteOptions& options) {
-  write_ply_impl(file, mesh.vertices, mesh.origin, mesh.normals, mesh.colors, &mesh.triangles, options);
+  write_ply_impl(file, mesh.vertices, mesh.origin, mesh.normals, mesh.colors, mesh.attributes, &mesh.triangles, options);
 }
 
 void write_xyz(const std::filesystem::path& file, const PointCloud& cloud) {

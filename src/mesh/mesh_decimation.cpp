@@ -47,6 +47,7 @@ TriangleMesh decimate(const TriangleMesh& mesh, const DecimationOptions& options
   out.vertices = mesh.vertices(rows, Eigen::all);
   if (mesh.normals.rows() == mesh.vertices.rows()) out.normals = mesh.normals(rows, Eigen::all);
   if (mesh.colors.rows() == mesh.vertices.rows()) out.colors = mesh.colors(rows, Eigen::all);
+  for (const PointAttribute& a : mesh.attributes) out.attributes.push_back({a.name, a.values(rows)});
   out.triangles.resize(static_cast<Eigen::Index>(kept.size() / 3), 3);
   for (std::size_t i = 0; i < kept.size(); ++i) out.triangles(static_cast<Eigen::Index>(i / 3), static_cast<Eigen::Index>(i % 3)) = remap[kept[i]];
   done.triangles_after = kept.size() / 3;

@@ -63,10 +63,10 @@ Eigen::Vector3d any_tangent(const Eigen::Vector3d& n) {
   return n.cross(a).normalized();
 }
 
-}  // namespace
-
-TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& options, MeshReport* report,
-                          const ProgressCallback& progress) {
+/// extract_mesh() of `surface`, or of `closed` (whose surface() it is) when given: then F is
+/// defined everywhere and the walk follows its zero set across the holes.
+TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed, const MeshOptions& options,
+                     MeshReport* report, const ProgressCallback& progress) {
   const ClusterTree& tree = surface.tree();
   const BoundingBox box = tree.bbox;
   const double longest = box.extent().maxCoeff();
@@ -144,6 +144,7 @@ TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& opt
         const Eigen::Vector3d x = corner_position(i, j, k);
         auto v = surface.value(x, options.min_weight);
         if (!v && fill) v = wide.value(x, options.min_weight);
+        if (!v && closed != nullptr) v = closed->fill_value(x);
         values[t] = v ? static_cast<float>(*v) : std::numeric_limits<float>::quiet_NaN();
       }
     });
@@ -206,6 +207,14 @@ TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& opt
       }
       SurfaceSample s = surface.sample(x);
       if (!s.defined && fill) s = wide.sample(x);
+      if (!s.defined && closed != nullptr) {
+        // A filled vertex: the fill's gradient by central differences over half a cell.
+        const double d = h / 2;
+        for (int a = 0; a < 3; ++a) {
+          const Eigen::Vector3d e = d * Eigen::Vector3d::Unit(a);
+          s.gradient(a) = (closed->fill_value(x + e) - closed->fill_value(x - e)) / (2 * d);
+        }
+      }
       mesh.vertices.row(v) = x.transpose();
       const double g = s.gradient.norm();
       mesh.normals.row(v) = (g > 0 ? Eigen::Vector3d(s.gradient / g) : Eigen::Vector3d::UnitZ()).transpose();
@@ -255,6 +264,18 @@ TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& opt
     report->surface_cells = surface_cells.size();
   }
   return mesh;
+}
+
+}  // namespace
+
+TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& options, MeshReport* report,
+                          const ProgressCallback& progress) {
+  return extract(surface, nullptr, options, report, progress);
+}
+
+TriangleMesh extract_mesh(const ClosedSurface& closed, const MeshOptions& options, MeshReport* report,
+                          const ProgressCallback& progress) {
+  return extract(closed.surface(), &closed, options, report, progress);
 }
 
 }  // namespace clustersurf

@@ -4,6 +4,7 @@
 #include <clustersurf/kd_tree.hpp>
 #include <clustersurf/mesh_trim.hpp>
 
+#include "mesh/data_reach.hpp"
 #include "mesh/mesh_components.hpp"
 #include "mesh/pinhole_fill.hpp"
 
@@ -23,9 +24,9 @@ namespace {
 /// spanning a long slit or border (16 closed more and cost more accuracy on the ogre, 4 fewer).
 constexpr double kMaxPinholeSpreads = 8;
 
-/// Which vertices lie within reach of the data: no farther from their nearest input point than
-/// `spread_factor` times that point's spread.
-std::vector<std::uint8_t> vertices_near_data(const TriangleMesh& mesh, const KdTree& index, const TrimOptions& options) {
+}  // namespace
+
+std::vector<std::uint8_t> detail::vertices_near_data(const TriangleMesh& mesh, const KdTree& index, const TrimOptions& options) {
   // The nearest input point of every vertex, then the spread of each such point (once per
   // point: many vertices share one).
   const Eigen::Index nv = mesh.vertices.rows();
@@ -55,6 +56,8 @@ std::vector<std::uint8_t> vertices_near_data(const TriangleMesh& mesh, const KdT
     near[v] = std::sqrt(nearest[v].distance_squared) <= options.spread_factor * spread[nearest[v].index];
   return near;
 }
+
+namespace {
 
 /// Clears keep[t] for the triangles of every component (triangles sharing a vertex) on which
 /// fewer than `min_points` input points have their nearest vertex; the best-supported
@@ -116,6 +119,7 @@ TriangleMesh without_triangles(const TriangleMesh& mesh, const std::vector<std::
   out.vertices = mesh.vertices(kept_vertices, Eigen::all);
   if (mesh.normals.rows() == nv) out.normals = mesh.normals(kept_vertices, Eigen::all);
   if (mesh.colors.rows() == nv) out.colors = mesh.colors(kept_vertices, Eigen::all);
+  for (const PointAttribute& a : mesh.attributes) out.attributes.push_back({a.name, a.values(kept_vertices)});
   out.triangles.resize(static_cast<Eigen::Index>(kept_triangles.size()), 3);
   for (std::size_t t = 0; t < kept_triangles.size(); ++t)
     for (int k = 0; k < 3; ++k)
@@ -140,7 +144,7 @@ TriangleMesh trim_to_points(const TriangleMesh& mesh, const KdTree& data, const 
   const bool enough_points = points.rows() > static_cast<Eigen::Index>(options.neighbors);
   const bool use_index = enough_points && !keep.empty();
   if (options.spread_factor > 0 && use_index) {
-    const std::vector<std::uint8_t> near = vertices_near_data(mesh, data, options);
+    const std::vector<std::uint8_t> near = detail::vertices_near_data(mesh, data, options);
     for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
       const auto tri = mesh.triangles.row(t);
       keep[static_cast<std::size_t>(t)] = near[static_cast<std::size_t>(tri(0))] && near[static_cast<std::size_t>(tri(1))] &&

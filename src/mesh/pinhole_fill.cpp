@@ -87,6 +87,16 @@ std::size_t close_pinholes(TriangleMesh& mesh, const KdTree& index, double sprea
   mesh.vertices.conservativeResize(v_next + static_cast<Eigen::Index>(closed.size()), 3);
   if (with_normals) mesh.normals.conservativeResize(mesh.vertices.rows(), 3);
   if (with_colors) mesh.colors.conservativeResize(mesh.vertices.rows(), 3);
+  for (PointAttribute& a : mesh.attributes) {
+    // A fan's centre is new, like its loop's vertices: it takes their mean.
+    const Eigen::Index old_rows = a.values.size();
+    a.values.conservativeResize(mesh.vertices.rows());
+    for (std::size_t h = 0; h < closed.size(); ++h) {
+      float sum = 0;
+      for (auto v : closed[h]) sum += a.values(v);
+      a.values(old_rows + static_cast<Eigen::Index>(h)) = sum / static_cast<float>(closed[h].size());
+    }
+  }
   mesh.triangles.conservativeResize(t_next + static_cast<Eigen::Index>(fan_triangles), 3);
   for (std::size_t h = 0; h < closed.size(); ++h, ++v_next) {
     const auto& loop = closed[h];

@@ -5,6 +5,8 @@
 #include <clustersurf/mesh_colors.hpp>
 #include <clustersurf/reconstruct.hpp>
 
+#include "mesh/mesh_closing.hpp"
+
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -26,6 +28,38 @@ MeshColoring parse_mesh_coloring(std::string_view text) {
   throw OptionError("color must be none, leaf or distance, not \"" + std::string(text) + "\"");
 }
 
+namespace {
+
+/// The closed mesh of `surface`: meshed through its ClosedSurface, the vertices the data does
+/// not support marked "filled", fragments the data does not support dropped (the trim's vote,
+/// no triangle cut), and filled patches wider than the limit opened again.
+TriangleMesh closed_mesh(const ImplicitSurface& surface, const SurfaceMeshOptions& options, const MeshOptions& grid,
+                         const KdTree* data, SurfaceMesh& out, const ProgressCallback& progress) {
+  if (!(options.closing.max_hole_size >= 0) || !std::isfinite(options.closing.max_hole_size))
+    throw OptionError("the largest hole to fill must be a finite size >= 0 (0: fill every hole)");
+  const ClosedSurface closed(surface, options.closing, grid.min_weight, progress);
+  TriangleMesh mesh = extract_mesh(closed, grid, &out.grid, progress);
+  mesh.attributes.push_back({"filled", detail::filled_vertices(mesh, closed, data, options.trim)});
+  if (data != nullptr) {
+    TrimOptions debris = options.trim;
+    debris.spread_factor = 0;  // keep every triangle: the holes are closed on purpose
+    debris.close_pinholes = false;
+    mesh = trim_to_points(mesh, *data, debris, &out.trim);
+  }
+  if (options.closing.max_hole_size > 0)
+    out.closing.opened_holes = detail::open_large_fills(mesh, mesh.attributes.back().values, options.closing.max_hole_size);
+  const Eigen::VectorXf& filled = mesh.attributes.back().values;
+  out.closing.closed = true;
+  out.closing.filled_vertices = static_cast<std::size_t>((filled.array() > 0).count());
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
+    out.closing.filled_triangles += filled(mesh.triangles(t, 0)) > 0 || filled(mesh.triangles(t, 1)) > 0 || filled(mesh.triangles(t, 2)) > 0;
+  out.closing.fill_cell = closed.cell_size();
+  out.closing.fill_nodes = closed.filled_nodes();
+  return mesh;
+}
+
+}  // namespace
+
 SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options, const CloudIndex* input,
                       const ProgressCallback& progress) {
   if (options.coloring == MeshColoring::ByDistance && input == nullptr)
@@ -46,9 +80,13 @@ SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options
   SurfaceMesh out;
   const ImplicitSurface surface(tree, level_of_detail(tree, options.lod_depth, options.lod_error));
   out.blended_nodes = surface.cut().size();
-  out.mesh = extract_mesh(surface, grid, &out.grid, progress);
-  // Trimmed to the clustered points: an outlier next to an extrapolated flap must not keep it.
-  if (input != nullptr) out.mesh = trim_to_points(out.mesh, input->clustered(tree).index, options.trim, &out.trim);
+  if (options.closing.enabled) {
+    out.mesh = closed_mesh(surface, options, grid, input == nullptr ? nullptr : &input->clustered(tree).index, out, progress);
+  } else {
+    out.mesh = extract_mesh(surface, grid, &out.grid, progress);
+    // Trimmed to the clustered points: an outlier next to an extrapolated flap must not keep it.
+    if (input != nullptr) out.mesh = trim_to_points(out.mesh, input->clustered(tree).index, options.trim, &out.trim);
+  }
   if (options.decimation.enabled()) out.mesh = decimate(out.mesh, options.decimation, &out.decimation);
   if (options.coloring == MeshColoring::ByNode) out.mesh.colors = colors_by_node(out.mesh, surface);
   if (options.coloring == MeshColoring::ByDistance)

@@ -1,0 +1,85 @@
+#include "mesh_check_report.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <cmath>
+
+namespace clustersurf::cli {
+
+namespace {
+
+std::string plural(std::size_t n, const char* one, const char* many) { return fmt::format("{} {}", n, n == 1 ? one : many); }
+
+}  // namespace
+
+std::vector<std::string> mesh_check_problems(const MeshCheck& c) {
+  const MeshTopology& t = c.topology;
+  std::vector<std::string> out;
+  if (t.triangles == 0) out.emplace_back("no triangles");
+  if (t.boundary_edges > 0) out.push_back(plural(t.boundary_edges, "boundary edge", "boundary edges"));
+  if (t.non_manifold_edges > 0) out.push_back(plural(t.non_manifold_edges, "non-manifold edge", "non-manifold edges"));
+  if (t.inconsistent_edges > 0)
+    out.push_back(plural(t.inconsistent_edges, "inconsistently oriented edge", "inconsistently oriented edges"));
+  if (c.self_intersections > 0)
+    out.push_back(plural(c.self_intersections, "self-intersecting triangle pair", "self-intersecting triangle pairs"));
+  if (c.watertight && !(c.volume > 0))
+    out.emplace_back(c.volume < 0 ? "negative volume (the triangles face inward)" : "no volume enclosed");
+  return out;
+}
+
+nlohmann::json mesh_check_json(const MeshCheck& c) {
+  const MeshTopology& t = c.topology;
+  nlohmann::json pairs = nlohmann::json::array();
+  for (const auto& p : c.intersecting_pairs) pairs.push_back({p[0], p[1]});
+  return {{"vertices", t.vertices},
+          {"triangles", t.triangles},
+          {"edges", t.edges},
+          {"boundary_edges", t.boundary_edges},
+          {"non_manifold_edges", t.non_manifold_edges},
+          {"inconsistent_edges", t.inconsistent_edges},
+          {"components", t.components},
+          {"euler_characteristic", t.euler_characteristic},
+          {"genus", c.genus >= 0 ? nlohmann::json(c.genus) : nlohmann::json(nullptr)},
+          {"volume", std::isnan(c.volume) ? nlohmann::json(nullptr) : nlohmann::json(c.volume)},
+          {"self_intersections", c.self_intersections},
+          {"intersecting_pairs", pairs},
+          {"watertight", c.watertight},
+          {"consistently_oriented", c.consistently_oriented},
+          {"printable", c.printable},
+          {"problems", mesh_check_problems(c)}};
+}
+
+std::vector<std::string> mesh_check_lines(const MeshCheck& c) {
+  const MeshTopology& t = c.topology;
+  std::vector<std::string> out;
+  out.push_back(fmt::format("vertices        {}", t.vertices));
+  out.push_back(fmt::format("triangles       {}", t.triangles));
+  out.push_back(fmt::format("edges           {}: {} boundary, {} non-manifold, {} inconsistently oriented", t.edges,
+                            t.boundary_edges, t.non_manifold_edges, t.inconsistent_edges));
+  out.push_back(fmt::format("components      {}", t.components));
+  out.push_back(c.genus >= 0 ? fmt::format("euler           {} (genus {})", t.euler_characteristic, c.genus)
+                             : fmt::format("euler           {} (genus not defined: {})", t.euler_characteristic,
+                                           !c.watertight            ? "not closed"
+                                           : !c.consistently_oriented ? "not consistently oriented"
+                                                                      : "components pinched at vertices"));
+  out.push_back(std::isnan(c.volume) ? std::string("volume          n/a (not closed)")
+                                     : fmt::format("volume          {:.6g}{}", c.volume,
+                                                   c.volume < 0 ? " (negative: the triangles face inward)" : ""));
+  std::string pairs;
+  if (!c.intersecting_pairs.empty()) {
+    std::vector<std::string> shown;
+    for (std::size_t k = 0; k < c.intersecting_pairs.size() && k < 5; ++k)
+      shown.push_back(fmt::format("{}&{}", c.intersecting_pairs[k][0], c.intersecting_pairs[k][1]));
+    pairs = fmt::format(" (triangles {}{})", fmt::join(shown, ", "), c.self_intersections > shown.size() ? ", ..." : "");
+  }
+  out.push_back(fmt::format("self-intersect  {}{}", plural(c.self_intersections, "triangle pair", "triangle pairs"), pairs));
+  out.push_back(fmt::format("watertight      {}", c.watertight ? "yes" : "no"));
+  out.push_back(fmt::format("oriented        {}", c.consistently_oriented ? "yes" : "no"));
+  const std::vector<std::string> problems = mesh_check_problems(c);
+  out.push_back(c.printable ? std::string("printable       yes")
+                            : fmt::format("printable       no: {}", fmt::join(problems, ", ")));
+  return out;
+}
+
+}  // namespace clustersurf::cli

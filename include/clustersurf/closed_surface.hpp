@@ -1,0 +1,74 @@
+#pragma once
+// Inside and outside everywhere: the blend f of an ImplicitSurface extended to the whole of
+// space, so that its zero set is closed whatever holes the data has. Where f is defined it is
+// kept as it is; elsewhere (unscanned holes, the inside of a closed part beyond every support)
+// a harmonic fill takes over: on a coarse grid over the bounding box, the nodes where f is
+// undefined solve Laplace's equation with f as boundary values at the nodes where it is
+// defined and "outside" on the grid's border (Davis, Marschner, Garr & Levoy 2002, volumetric
+// diffusion; here on the tree's blend instead of line-of-sight distances). A hole then closes
+// with the smoothest field that agrees with the surface around it, like a soap film bounded
+// by the hole's rim, and the inside of a part stays inside.
+
+#include <clustersurf/implicit_surface.hpp>
+#include <clustersurf/progress.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace clustersurf {
+
+/// Options of closing a surface (ClosedSurface, `--watertight`).
+struct ClosingOptions {
+  /// Close the mesh (mesh_tree(), `--watertight`). Off by default: holes stay where no
+  /// scanner saw the surface.
+  bool enabled = false;
+  /// Fill only holes whose filled patch spans at most this distance (input units; the
+  /// patch's bounding-box diagonal); larger openings stay open. 0: fill every hole.
+  double max_hole_size = 0;
+  /// Cells of the fill grid along the longest side of the bounding box. The fill is smooth,
+  /// so a coarse grid serves; the surface where f is defined keeps the mesher's resolution.
+  std::uint32_t resolution = 128;
+};
+
+/// F: the blend where it is defined (total weight above min_weight), the harmonic fill
+/// elsewhere; positive outside. Immutable once built; value() and inside() are thread-safe.
+class ClosedSurface {
+ public:
+  /// Builds the fill grid (evaluating f at its nodes, then solving). Deterministic and
+  /// independent of the thread count. Throws OptionError for a resolution below 8 or above
+  /// 1024, Cancelled when `progress` says stop.
+  ClosedSurface(const ImplicitSurface& surface, const ClosingOptions& options = {}, double min_weight = kMinWeight,
+                const ProgressCallback& progress = {});
+
+  /// F at x: f where the blend is defined, else the fill (trilinear on the grid); beyond
+  /// the grid, positive (outside), growing with the distance to it.
+  double value(const Eigen::Vector3d& x) const;
+  /// The fill alone at x (what value() returns where f is undefined).
+  double fill_value(const Eigen::Vector3d& x) const;
+  /// Whether x lies inside the closed surface (F < 0).
+  bool inside(const Eigen::Vector3d& x) const { return value(x) < 0; }
+  /// Whether f is undefined at x, so the closed surface there is filled in, not fitted.
+  bool filled(const Eigen::Vector3d& x) const { return !surface_->value(x, min_weight_).has_value(); }
+
+  const ImplicitSurface& surface() const noexcept { return *surface_; }
+  /// The fill grid's cell size.
+  double cell_size() const noexcept { return cell_; }
+  /// How many grid nodes the fill solved for (where f is undefined).
+  std::size_t filled_nodes() const noexcept { return unknowns_; }
+
+ private:
+  double node(std::int64_t i, std::int64_t j, std::int64_t k) const {
+    return grid_[static_cast<std::size_t>((k * dims_[1] + j) * dims_[0] + i)];
+  }
+
+  const ImplicitSurface* surface_;
+  double min_weight_;
+  Eigen::Vector3d corner_;       // the grid's first node
+  double cell_ = 0;
+  std::int64_t dims_[3] = {0, 0, 0};  // nodes per axis
+  std::vector<float> grid_;      // F at the nodes, x fastest
+  double outside_ = 0;           // the value on the grid's border
+  std::size_t unknowns_ = 0;
+};
+
+}  // namespace clustersurf

@@ -1,0 +1,19 @@
+#pragma once
+// Which mesh vertices the input points reach: the trim's test, shared with the closed mesh's
+// marking of what was filled in.
+
+#include <clustersurf/kd_tree.hpp>
+#include <clustersurf/mesh_trim.hpp>
+#include <clustersurf/point_cloud.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace clustersurf::detail {
+
+/// Per vertex of `mesh`, 1 when it lies no farther from its nearest point of `index` than
+/// options.spread_factor times that point's spread (mean distance to its options.neighbors
+/// nearest points), else 0.
+std::vector<std::uint8_t> vertices_near_data(const TriangleMesh& mesh, const KdTree& index, const TrimOptions& options);
+
+}  // namespace clustersurf::detail
