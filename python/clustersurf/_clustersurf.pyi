@@ -202,8 +202,11 @@ class Tree:
         min_component_points: int = 30,
         close_pinholes: bool = False,
         color: str = "none",
+        watertight: bool = False,
+        fill_holes: float = 0.0,
         progress: _Progress = None,
     ) -> Mesh: ...
+    def inside(self, xyz: ArrayLike, *, resolution: int = 128) -> NDArray[np.bool_]: ...
     def render(
         self,
         *,

@@ -105,6 +105,8 @@ class Mesh:
     float64 or None; colors: (n, 3) uint8 or None (per vertex); origin: (3,) float64 (set it from
     any (x, y, z)): a vertex is at vertices[i] + origin in the file's coordinates
     (``world_vertices``). Meshes of trees built from positions near zero have a zero origin.
+    attributes: dict name -> (n,) float32, one value per vertex (``"filled"``: 1 where a
+    watertight mesh was filled in, not fitted).
     """
 
     vertices: np.ndarray
@@ -112,10 +114,13 @@ class Mesh:
     normals: Optional[np.ndarray] = None
     colors: Optional[np.ndarray] = None
     origin: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    attributes: Dict[str, np.ndarray] = field(default_factory=dict)
 
     def __setattr__(self, name: str, value: Any) -> None:
         if name == "origin":
             value = _origin(value)
+        elif name == "attributes":
+            value = _attributes(value, len(self.vertices))
         object.__setattr__(self, name, value)
 
     @property

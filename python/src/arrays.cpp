@@ -156,10 +156,12 @@ py::object cloud_object(PointCloud&& cloud) {
 
 py::object mesh_object(TriangleMesh&& mesh) {
   using namespace pybind11::literals;
+  py::dict attributes;
+  for (PointAttribute& a : mesh.attributes) attributes[py::str(a.name)] = float_vector(std::move(a.values));
   return types_module().attr("Mesh")(to_array(std::move(mesh.vertices)), to_array(std::move(mesh.triangles)),
                                      "normals"_a = to_array_or_none(std::move(mesh.normals)),
                                      "colors"_a = to_array_or_none(std::move(mesh.colors)),
-                                     "origin"_a = vector_array(mesh.origin));
+                                     "origin"_a = vector_array(mesh.origin), "attributes"_a = attributes);
 }
 
 Eigen::Vector3d to_vector3(const py::handle& value, const char* name) {

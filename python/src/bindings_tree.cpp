@@ -4,7 +4,10 @@
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/implicit_surface.hpp>
+#include <clustersurf/closed_surface.hpp>
 #include <clustersurf/reconstruct.hpp>
+
+#include <tbb/parallel_for.h>
 #include <clustersurf/tree_file.hpp>
 
 #include <pybind11/stl.h>
@@ -263,6 +266,32 @@ weight is not above ``min_weight`` (0.02: where the mesher and the renderer stop
 ``lod_depth`` / ``lod_error`` blend a coarser cut of the tree, as in mesh(). Runs in parallel
 without the GIL.)doc")
       .def(
+          "inside",
+          [](const TreeRef& t, const py::handle& xyz, std::int64_t resolution) {
+            const Points p = to_points(xyz, "xyz");
+            ClosingOptions o;
+            o.resolution = to_uint32(resolution, "resolution");
+            py::array_t<bool> out(p.rows());
+            auto r = out.mutable_unchecked<1>();
+            {
+              py::gil_scoped_release release;
+              const ImplicitSurface surface(*t.tree);
+              const ClosedSurface closed(surface, o);
+              std::vector<std::uint8_t> inside(static_cast<std::size_t>(p.rows()));
+              tbb::parallel_for(Eigen::Index{0}, p.rows(), [&](Eigen::Index i) {
+                inside[static_cast<std::size_t>(i)] = closed.inside(p.row(i).transpose());
+              });
+              for (Eigen::Index i = 0; i < p.rows(); ++i) r(i) = inside[static_cast<std::size_t>(i)] != 0;
+            }
+            return out;
+          },
+          py::arg("xyz"), py::kw_only(), py::arg("resolution") = ClosingOptions{}.resolution, R"doc(
+Whether each row of ``xyz`` (n, 3), in the tree's coordinates, lies inside the closed surface:
+f < 0 where the blend defines f, else the harmonic fill that closes the holes, the same field
+``mesh(watertight=True)`` meshes; everything beyond the fill grid (the bounding box and a few
+cells) is outside. ``resolution``: cells of the fill grid along the longest side (default
+128). Builds the fill each call (about a second for 10^5 points); a bool array of n.)doc")
+      .def(
           "gradient",
           [](const TreeRef& t, const py::handle& xyz, double min_weight, std::optional<std::int64_t> lod_depth,
              std::optional<double> lod_error) { return sample(*t.tree, xyz, min_weight, lod_depth, lod_error, true); },
@@ -276,8 +305,11 @@ coarser cut of the tree, as in evaluate() and mesh().)doc")
           "mesh",
           [](const TreeRef& t, const std::variant<std::int64_t, std::string>& resolution, std::optional<double> voxel_size,
              std::optional<std::int64_t> lod_depth, std::optional<double> lod_error, const py::object& points, double trim,
-             std::size_t min_component_points, bool close_pinholes, const std::string& color, const py::object& progress) {
+             std::size_t min_component_points, bool close_pinholes, const std::string& color, bool watertight,
+             double fill_holes, const py::object& progress) {
             SurfaceMeshOptions o;
+            o.closing.enabled = watertight;
+            o.closing.max_hole_size = fill_holes;
             const auto* number = std::get_if<std::int64_t>(&resolution);
             if (const auto cells = parse_resolution(number ? std::to_string(*number) : std::get<std::string>(resolution))) {
               o.auto_resolution = false;
@@ -303,6 +335,7 @@ coarser cut of the tree, as in evaluate() and mesh().)doc")
           py::arg("lod_error") = py::none(), py::arg("points") = py::none(), py::arg("trim") = TrimOptions{}.spread_factor,
           py::arg("min_component_points") = TrimOptions{}.min_component_points,
           py::arg("close_pinholes") = TrimOptions{}.close_pinholes, py::arg("color") = to_string(SurfaceMeshOptions{}.coloring),
+          py::arg("watertight") = ClosingOptions{}.enabled, py::arg("fill_holes") = ClosingOptions{}.max_hole_size,
           py::arg("progress") = py::none(), R"doc(
 Meshes the surface f = 0, as ``clustersurf mesh`` does (the library's mesh_tree(): same
 options, same mesh). Returns a Mesh (vertices (n, 3) float64, faces (m, 3) int32, normals
@@ -319,7 +352,10 @@ input ((n, 3) array or PointCloud; OptionError when it is not), to drop the tria
 from it than ``trim`` x the local spread (0: keep all) and the loose fragments on which fewer
 than ``min_component_points`` input points lie nearest (0: keep all), and to close the pinholes
 the points cover (``close_pinholes``), as ``clustersurf reconstruct --mesh`` does; ``color``:
-"none", "leaf" (per blended node) or "distance" (to ``points``). ``progress`` as in
+"none", "leaf" (per blended node) or "distance" (to ``points``); ``watertight`` (default
+False): a closed, manifold mesh whatever holes the data has (``--watertight``), the filled-in
+vertices marked 1 in ``attributes["filled"]``; ``fill_holes`` (default 0: every hole): with
+``watertight``, fill only holes up to this size (input units). ``progress`` as in
 reconstruct().)doc")
       .def("__repr__", [](const TreeRef& t) {
         return "<clustersurf.Tree: " + std::to_string(t.tree->nodes.size()) + " nodes, " +

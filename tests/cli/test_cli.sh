@@ -503,6 +503,15 @@ for ext in stl off; do
 done
 expect_eq "binary STL: 84 + 50 bytes per triangle" "$((($(stat -c %s "$tmp/fmt/b.stl") - 84) % 50))" 0
 expect_eq "OFF header" "$(head -n1 "$tmp/fmt/b.off")" "OFF"
+# Closed meshes on request: no boundary edge, the fill marked in the PLY, --fill-holes honoured.
+run --json mesh "$tmp/fmt/b.cstree" -o "$tmp/fmt/closed.ply" --points "$bunny" --watertight
+expect_rc "mesh --watertight: exit code 0" 0
+expect_eq "mesh --watertight: watertight" "$(python3 -c 'import json,sys; print(json.loads(sys.stdin.read())["watertight"])' <<<"$out" 2>/dev/null)" "True"
+expect_eq "mesh --watertight: no boundary edge" "$(python3 -c 'import json,sys; print(json.loads(sys.stdin.read())["boundary_edges"])' <<<"$out" 2>/dev/null)" 0
+expect_contains "mesh --watertight: the filled vertices are a PLY property" "$(head -c 400 "$tmp/fmt/closed.ply")" "property float filled"
+run --json mesh "$tmp/fmt/b.cstree" -o "$tmp/fmt/small.ply" --points "$bunny" --watertight --fill-holes 0.000001
+filled_open=$(python3 -c 'import json,sys; print(json.loads(sys.stdin.read())["opened_holes"])' <<<"$out" 2>/dev/null)
+if [ -n "$filled_open" ] && [ "$filled_open" -gt 0 ]; then ok "--fill-holes: larger holes left open ($filled_open)"; else not_ok "--fill-holes" "$out"; fi
 if [ -n "$shared" ] && [ -f "$shared/formats/las/4_6_crop.las" ]; then
   las="$shared/formats/las/4_6_crop.las"
   run --json stats "$las"
@@ -531,6 +540,40 @@ sys.exit(0 if a[0] > 1e5 and all(abs(x - y) < 10 for x, y in zip(a, b)) else 1)'
 else
   echo "skip - shared format samples not found in '${shared}': LAS/PTX checks skipped"
 fi
+
+# --- check: is a mesh ready to print ------------------------------------------------------------
+run check "$bunny"
+expect_rc "check of a closed mesh exits 0" 0
+expect_contains "check: the closed bunny is printable" "$out" "printable       yes"
+run --json check "$bunny"
+expect_eq "check --json: the bunny is watertight" "$(json_field watertight)" true
+expect_eq "check --json: the bunny has genus 0" "$(json_field genus)" 0
+expect_eq "check --json: the bunny does not intersect itself" "$(json_field self_intersections)" 0
+if python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) > 0 else 1)" "$(json_field volume)" 2>/dev/null; then
+  ok "check --json: the bunny encloses a positive volume"
+else
+  not_ok "check --json: volume" "$out"
+fi
+# The mesh reconstruct wrote from the bunny (open where the data stops): a report, exit code 0.
+run --json check "$tmp/m.ply"
+expect_rc "check of a reconstructed mesh exits 0 whether printable or not" 0
+missing=""
+for field in vertices triangles boundary_edges non_manifold_edges inconsistent_edges components euler_characteristic \
+  genus volume self_intersections watertight consistently_oriented printable problems; do
+  [[ "$out" == *"\"$field\":"* ]] || missing="$missing $field"
+done
+expect_eq "check --json reports every field" "$missing" ""
+expect_eq "check: the reconstructed mesh does not intersect itself" "$(json_field self_intersections)" 0
+# One triangle pushed through another: one intersecting pair, not printable, still exit code 0.
+printf 'ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\nproperty float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n2 0 0\n0 2 0\n0.4 0.4 -1\n0.6 0.4 1\n0.5 0.6 1\n3 0 1 2\n3 3 4 5\n' >"$tmp/pierced.ply"
+run check "$tmp/pierced.ply"
+expect_rc "check of a self-intersecting mesh exits 0" 0
+expect_contains "check names the intersecting pair" "$out" "self-intersect  1 triangle pair (triangles 0&1)"
+expect_contains "check says why it is not printable" "$out" "printable       no: 6 boundary edges, 1 self-intersecting triangle pair"
+run check "$testdata/bunny400.ply"
+expect_rc "check of a cloud without faces: exit code 3" 3
+run check "$tmp/missing.ply"
+expect_rc "check of a missing file: exit code 4" 4
 
 # --- interrupt (SIGINT): no output, a clear message, existing files untouched -------------------
 big="$tmp/big.ply"
