@@ -11,6 +11,7 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <random>
@@ -350,6 +351,18 @@ TEST(MeshCheck, FlatFacesOfATurnedCubeDoNotIntersect) {
   EXPECT_NEAR(c.volume, 1.2 * 1.2 * 1.2, 1e-6);
   EXPECT_EQ(c.self_intersections, 0u);
   EXPECT_TRUE(c.printable);
+  // Other turns, far from zero, and rounded to float as a PLY file stores them.
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> angle(0, 2 * std::numbers::pi), coordinate(-1, 1);
+  for (int k = 0; k < 12; ++k) {
+    const Eigen::Matrix3d r = Eigen::AngleAxisd(angle(rng), Vec(coordinate(rng), coordinate(rng), coordinate(rng)).normalized())
+                                  .toRotationMatrix();
+    TriangleMesh turned = grid_cube(10, 0.01 * r, 100.0 * Vec(coordinate(rng), coordinate(rng), coordinate(rng)));
+    if (k % 2 == 1) turned.vertices = turned.vertices.cast<float>().cast<double>().eval();
+    const MeshCheck t = check_mesh(turned);
+    EXPECT_EQ(t.self_intersections, 0u) << "turn " << k;
+    EXPECT_EQ(t.genus, 0) << "turn " << k;
+  }
 }
 
 TEST(MeshCheck, TriangleSoupCountsAsWelded) {
@@ -444,4 +457,11 @@ TEST(MeshCheck, EmptyAndInvalid) {
   TriangleMesh broken = uv_sphere(8, 4);
   broken.triangles(0, 0) = 1000;
   EXPECT_THROW(find_self_intersections(broken), OptionError);
+  // Non-finite corners: those triangles are left out, the others still tested.
+  TriangleMesh nan = join(uv_sphere(16, 8), uv_sphere(16, 8, 0.5, Vec(0.8, 0, 0)));
+  const std::size_t crossing = find_self_intersections(nan).count;
+  ASSERT_GT(crossing, 0u);
+  nan.vertices(0, 0) = std::numeric_limits<double>::quiet_NaN();  // the north pole of the first
+  nan.vertices(1, 1) = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(find_self_intersections(nan).count, crossing);
 }

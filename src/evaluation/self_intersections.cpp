@@ -257,9 +257,14 @@ std::vector<std::int32_t> position_ids(const Points& v) {
   const auto n = static_cast<std::int32_t>(v.rows());
   std::vector<std::int32_t> order(static_cast<std::size_t>(n));
   std::iota(order.begin(), order.end(), 0);
-  const auto less = [&v](std::int32_t a, std::int32_t b) {
-    for (int k = 0; k < 3; ++k)
-      if (v(a, k) != v(b, k)) return v(a, k) < v(b, k);
+  const auto before = [](double x, double y) {  // a strict weak order even with NaN (last)
+    return std::isnan(y) ? !std::isnan(x) : x < y;
+  };
+  const auto less = [&v, &before](std::int32_t a, std::int32_t b) {
+    for (int k = 0; k < 3; ++k) {
+      if (before(v(a, k), v(b, k))) return true;
+      if (before(v(b, k), v(a, k))) return false;
+    }
     return a < b;
   };
   tbb::parallel_sort(order.begin(), order.end(), less);

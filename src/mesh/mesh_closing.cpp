@@ -4,6 +4,7 @@
 
 #include "mesh/data_reach.hpp"
 #include "mesh/mesh_components.hpp"
+#include "mesh/mesh_subset.hpp"
 
 #include <tbb/parallel_for.h>
 
@@ -46,29 +47,12 @@ std::size_t open_large_fills(TriangleMesh& mesh, const Eigen::VectorXf& filled, 
       drop_patch_of[static_cast<std::size_t>(id)] = 1;
     }
   if (opened == 0) return 0;
-  std::vector<Eigen::Index> kept;
-  for (Eigen::Index t = 0; t < nt; ++t) {
-    const bool drop = in_fill[static_cast<std::size_t>(t)] &&
-                      drop_patch_of[static_cast<std::size_t>(patch[static_cast<std::size_t>(mesh.triangles(t, 0))])];
-    if (!drop) kept.push_back(t);
-  }
-  // Keep the vertices still used, in order, with everything they carry.
-  std::vector<std::int32_t> remap(static_cast<std::size_t>(mesh.vertices.rows()), -1);
-  for (const Eigen::Index t : kept)
-    for (int k = 0; k < 3; ++k) remap[static_cast<std::size_t>(mesh.triangles(t, k))] = 0;
-  std::vector<Eigen::Index> rows;
-  for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v)
-    if (remap[static_cast<std::size_t>(v)] == 0) remap[static_cast<std::size_t>(v)] = static_cast<std::int32_t>(rows.size()), rows.push_back(v);
-  TriangleMesh out;
-  out.origin = mesh.origin;
-  out.vertices = mesh.vertices(rows, Eigen::all);
-  if (mesh.normals.rows() == mesh.vertices.rows()) out.normals = mesh.normals(rows, Eigen::all);
-  if (mesh.colors.rows() == mesh.vertices.rows()) out.colors = mesh.colors(rows, Eigen::all);
-  for (const PointAttribute& a : mesh.attributes) out.attributes.push_back({a.name, a.values(rows)});
-  out.triangles.resize(static_cast<Eigen::Index>(kept.size()), 3);
-  for (std::size_t t = 0; t < kept.size(); ++t)
-    for (int k = 0; k < 3; ++k) out.triangles(static_cast<Eigen::Index>(t), k) = remap[static_cast<std::size_t>(mesh.triangles(kept[t], k))];
-  mesh = std::move(out);
+  std::vector<std::uint8_t> keep(static_cast<std::size_t>(nt), 1);
+  for (Eigen::Index t = 0; t < nt; ++t)
+    if (in_fill[static_cast<std::size_t>(t)] &&
+        drop_patch_of[static_cast<std::size_t>(patch[static_cast<std::size_t>(mesh.triangles(t, 0))])])
+      keep[static_cast<std::size_t>(t)] = 0;
+  mesh = with_triangles(mesh, keep);
   return opened;
 }
 

@@ -4,6 +4,8 @@
 #include <clustersurf/errors.hpp>
 #include <clustersurf/mesh_decimation.hpp>
 
+#include "mesh/mesh_subset.hpp"
+
 #include <meshoptimizer.h>
 
 #include <cmath>
@@ -36,20 +38,11 @@ TriangleMesh decimate(const TriangleMesh& mesh, const DecimationOptions& options
   kept.resize(meshopt_simplify(kept.data(), indices.data(), indices.size(), positions.data(), nv, 3 * sizeof(float), target,
                                relative, options.lock_boundary ? static_cast<unsigned>(meshopt_SimplifyLockBorder) : 0u, &error));
 
-  // Keep the vertices still used, in their original order.
-  std::vector<std::int32_t> remap(nv, -1);
-  for (const unsigned v : kept) remap[v] = 0;
-  std::vector<Eigen::Index> rows;
-  for (std::size_t v = 0; v < nv; ++v)
-    if (remap[v] == 0) remap[v] = static_cast<std::int32_t>(rows.size()), rows.push_back(static_cast<Eigen::Index>(v));
-  TriangleMesh out;
-  out.origin = mesh.origin;
-  out.vertices = mesh.vertices(rows, Eigen::all);
-  if (mesh.normals.rows() == mesh.vertices.rows()) out.normals = mesh.normals(rows, Eigen::all);
-  if (mesh.colors.rows() == mesh.vertices.rows()) out.colors = mesh.colors(rows, Eigen::all);
-  for (const PointAttribute& a : mesh.attributes) out.attributes.push_back({a.name, a.values(rows)});
+  TriangleMesh out = mesh;
   out.triangles.resize(static_cast<Eigen::Index>(kept.size() / 3), 3);
-  for (std::size_t i = 0; i < kept.size(); ++i) out.triangles(static_cast<Eigen::Index>(i / 3), static_cast<Eigen::Index>(i % 3)) = remap[kept[i]];
+  for (std::size_t i = 0; i < kept.size(); ++i)
+    out.triangles(static_cast<Eigen::Index>(i / 3), static_cast<Eigen::Index>(i % 3)) = static_cast<std::int32_t>(kept[i]);
+  out = detail::without_unused_vertices(out);
   done.triangles_after = kept.size() / 3;
   done.deviation = static_cast<double>(error) * static_cast<double>(scale);
   if (report) *report = done;

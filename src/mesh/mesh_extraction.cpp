@@ -6,6 +6,7 @@
 
 #include "core/progress_reporter.hpp"
 #include "mesh/cell_polygonizer.hpp"
+#include "mesh/mesh_subset.hpp"
 
 #include <tbb/parallel_for.h>
 
@@ -243,19 +244,10 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
     add(static_cast<std::int32_t>(tri[0]), static_cast<std::int32_t>(tri[1]), static_cast<std::int32_t>(tri[2]));
 
   // 6. Drop unreferenced vertices, keeping order.
-  std::vector<std::int32_t> remap(static_cast<std::size_t>(nv), -1);
-  for (const auto& t : tris)
-    for (auto v : t) remap[static_cast<std::size_t>(v)] = 0;
-  std::int32_t next_index = 0;
-  std::vector<Eigen::Index> keep;
-  for (Eigen::Index v = 0; v < nv; ++v)
-    if (remap[static_cast<std::size_t>(v)] == 0) remap[static_cast<std::size_t>(v)] = next_index++, keep.push_back(v);
-  mesh.vertices = Points(mesh.vertices(keep, Eigen::all));
-  mesh.normals = Points(mesh.normals(keep, Eigen::all));
   mesh.triangles.resize(static_cast<Eigen::Index>(tris.size()), 3);
   for (std::size_t t = 0; t < tris.size(); ++t)
-    for (int k = 0; k < 3; ++k)
-      mesh.triangles(static_cast<Eigen::Index>(t), k) = remap[static_cast<std::size_t>(tris[t][static_cast<std::size_t>(k)])];
+    for (int k = 0; k < 3; ++k) mesh.triangles(static_cast<Eigen::Index>(t), k) = tris[t][static_cast<std::size_t>(k)];
+  mesh = detail::without_unused_vertices(mesh);
 
   reporter.finish();
   if (report != nullptr) {

@@ -6,6 +6,7 @@
 
 #include "mesh/data_reach.hpp"
 #include "mesh/mesh_components.hpp"
+#include "mesh/mesh_subset.hpp"
 #include "mesh/pinhole_fill.hpp"
 
 #include <tbb/parallel_for.h>
@@ -97,36 +98,6 @@ std::size_t drop_unsupported_components(const TriangleMesh& mesh, const Points& 
   return dropped;
 }
 
-/// `mesh` with only the triangles whose keep[t] is set, and the vertices they use (in order,
-/// with their normals and colors).
-TriangleMesh without_triangles(const TriangleMesh& mesh, const std::vector<std::uint8_t>& keep) {
-  const Eigen::Index nv = mesh.vertices.rows();
-  std::vector<Eigen::Index> kept_triangles;
-  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
-    if (keep[static_cast<std::size_t>(t)]) kept_triangles.push_back(t);
-  std::vector<std::int32_t> remap(static_cast<std::size_t>(nv), -1);
-  for (auto t : kept_triangles)
-    for (int k = 0; k < 3; ++k) remap[static_cast<std::size_t>(mesh.triangles(t, k))] = 0;
-  std::vector<Eigen::Index> kept_vertices;
-  for (Eigen::Index v = 0; v < nv; ++v)
-    if (remap[static_cast<std::size_t>(v)] == 0) {
-      remap[static_cast<std::size_t>(v)] = static_cast<std::int32_t>(kept_vertices.size());
-      kept_vertices.push_back(v);
-    }
-
-  TriangleMesh out;
-  out.origin = mesh.origin;
-  out.vertices = mesh.vertices(kept_vertices, Eigen::all);
-  if (mesh.normals.rows() == nv) out.normals = mesh.normals(kept_vertices, Eigen::all);
-  if (mesh.colors.rows() == nv) out.colors = mesh.colors(kept_vertices, Eigen::all);
-  for (const PointAttribute& a : mesh.attributes) out.attributes.push_back({a.name, a.values(kept_vertices)});
-  out.triangles.resize(static_cast<Eigen::Index>(kept_triangles.size()), 3);
-  for (std::size_t t = 0; t < kept_triangles.size(); ++t)
-    for (int k = 0; k < 3; ++k)
-      out.triangles(static_cast<Eigen::Index>(t), k) = remap[static_cast<std::size_t>(mesh.triangles(kept_triangles[t], k))];
-  return out;
-}
-
 }  // namespace
 
 TriangleMesh trim_to_points(const TriangleMesh& mesh, const Points& points, const TrimOptions& options, TrimReport* report) {
@@ -154,7 +125,7 @@ TriangleMesh trim_to_points(const TriangleMesh& mesh, const KdTree& data, const 
   std::size_t dropped_components = 0;
   if (options.min_component_points > 0 && points.rows() > 0 && !keep.empty())
     dropped_components = drop_unsupported_components(mesh, points, options.min_component_points, keep);
-  TriangleMesh out = std::find(keep.begin(), keep.end(), 0) == keep.end() ? mesh : without_triangles(mesh, keep);
+  TriangleMesh out = std::find(keep.begin(), keep.end(), 0) == keep.end() ? mesh : detail::with_triangles(mesh, keep);
   if (report != nullptr) {
     report->removed_triangles = static_cast<std::size_t>(mesh.triangles.rows() - out.triangles.rows());
     report->removed_vertices = static_cast<std::size_t>(nv - out.vertices.rows());

@@ -1,0 +1,19 @@
+#pragma once
+// Sub-meshes: some of a mesh's triangles, with only the vertices they use.
+
+#include <clustersurf/point_cloud.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace clustersurf::detail {
+
+/// `mesh` without the vertices no triangle uses: the others keep their order, normals, colors
+/// and attributes, and the triangles are renumbered; the origin is kept.
+TriangleMesh without_unused_vertices(const TriangleMesh& mesh);
+
+/// `mesh` with only the triangles t whose keep[t] is set, without the vertices they leave
+/// unused (as without_unused_vertices()).
+TriangleMesh with_triangles(const TriangleMesh& mesh, const std::vector<std::uint8_t>& keep);
+
+}  // namespace clustersurf::detail
