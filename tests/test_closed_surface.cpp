@@ -4,6 +4,7 @@
 
 #include <clustersurf/closed_surface.hpp>
 #include <clustersurf/errors.hpp>
+#include <clustersurf/mesh_check.hpp>
 #include <clustersurf/point_cloud_io.hpp>
 #include <clustersurf/reconstruct.hpp>
 
@@ -66,6 +67,8 @@ TEST(ClosedSurface, SphereWithItsCapCutOffIsClosedAndTheFillStaysNearTheCap) {
   EXPECT_EQ(t.components, 1u);
   EXPECT_EQ(t.euler_characteristic, 2);
   EXPECT_GT(t.signed_volume, 0);
+  EXPECT_EQ(find_self_intersections(closed.mesh).count, 0u);
+  EXPECT_TRUE(check_mesh(closed.mesh).printable);
   // The fill spans the opening and stays between its rim and the true cap: a smooth lid, not a
   // bulge, a sag into the ball or a wall.
   const Eigen::VectorXf& filled = filled_of(closed.mesh);
@@ -117,7 +120,9 @@ TEST(ClosedSurface, OpeningsLargerThanTheLimitStayOpen) {
 }
 
 TEST(ClosedSurface, InsideAndOutsideEverywhere) {
-  ClusterTree tree = reconstruct(cap_cut_sphere(), ReconstructOptions{BuildOptions{}, false}).tree;
+  ReconstructOptions tree_only;
+  tree_only.mesh = false;
+  ClusterTree tree = reconstruct(cap_cut_sphere(), tree_only).tree;
   const ImplicitSurface surface(tree);
   const ClosedSurface closed(surface);
   for (const Eigen::Vector3d& x : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.3, 0, -0.5), Eigen::Vector3d(0, 0, 0.55)})
@@ -144,4 +149,8 @@ TEST(ClosedSurface, RealBunnyScansGiveOneClosedComponent) {
   EXPECT_EQ(t.components, 1u);
   EXPECT_GT(t.signed_volume, 0);
   EXPECT_GT(closed.closing.filled_vertices, 0u);
+  // The mesher's folds (Newton steps pulling close vertices across each other, the fill's
+  // seam) are smoothed away: printable.
+  EXPECT_EQ(closed.closing.self_intersections, 0u);
+  EXPECT_EQ(find_self_intersections(closed.mesh).count, 0u);
 }

@@ -1,5 +1,7 @@
 #include "mesh_stage.hpp"
 
+#include "mesh_check_report.hpp"
+
 #include <clustersurf/point_cloud_io.hpp>
 
 #include <fmt/format.h>
@@ -38,8 +40,15 @@ nlohmann::json write_surface_mesh(Console& console, const SurfaceMesh& result, c
                               result.decimation.triangles_before, result.decimation.triangles_after,
                               result.decimation.deviation));
   console.print(fmt::format("mesh time       {:.3f} s", result.seconds));
+  // A closed mesh is meant for printing and solids: say whether it is ready for that.
+  nlohmann::json check;
+  if (result.closing.closed) {
+    const MeshCheck checked = check_mesh(result.mesh);
+    for (const auto& line : mesh_check_lines(checked)) console.print(line);
+    check = mesh_check_json(checked);
+  }
   console.print("wrote           " + output);
-  return {{"file", output},
+  nlohmann::json report = {{"file", output},
           {"vertices", topo.vertices},
           {"triangles", topo.triangles},
           {"boundary_edges", topo.boundary_edges},
@@ -59,6 +68,8 @@ nlohmann::json write_surface_mesh(Console& console, const SurfaceMesh& result, c
           {"decimated_from_triangles", result.decimation.triangles_before},
           {"decimation_deviation", result.decimation.deviation},
           {"mesh_seconds", result.seconds}};
+  if (!check.is_null()) report["check"] = check;
+  return report;
 }
 
 }  // namespace clustersurf::cli

@@ -16,6 +16,7 @@
 #include <clustersurf/cloud_stats.hpp>
 #include <clustersurf/cluster_tree.hpp>
 #include <clustersurf/implicit_surface.hpp>
+#include <clustersurf/closed_surface.hpp>
 #include <clustersurf/kd_tree.hpp>
 #include <clustersurf/moments.hpp>
 #include <clustersurf/noise.hpp>
@@ -29,6 +30,7 @@
 #include <clustersurf/mesh_colors.hpp>
 #include <clustersurf/mesh_extraction.hpp>
 #include <clustersurf/mesh_trim.hpp>
+#include <clustersurf/mesh_decimation.hpp>
 #include <clustersurf/reconstruct.hpp>
 
 // pictures (clustersurf::render)
@@ -38,6 +40,7 @@
 
 // benchmark inputs and scores (clustersurf::evaluation)
 #include <clustersurf/mesh_distance.hpp>
+#include <clustersurf/mesh_check.hpp>
 #include <clustersurf/range_scan.hpp>
 #include <clustersurf/surface_comparison.hpp>
 #include <clustersurf/surface_sampling.hpp>

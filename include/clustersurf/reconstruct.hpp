@@ -60,6 +60,8 @@ struct ClosingReport {
   std::size_t filled_vertices = 0;    ///< vertices marked "filled": invented, not fitted
   std::size_t filled_triangles = 0;   ///< triangles with a filled vertex
   std::size_t opened_holes = 0;       ///< filled patches wider than max_hole_size, left open
+  std::size_t untangled_intersections = 0;  ///< self-intersecting triangle pairs smoothed away
+  std::size_t self_intersections = 0;       ///< pairs left (0 unless the smoothing gave up)
   double fill_cell = 0;               ///< the fill grid's cell size
   std::size_t fill_nodes = 0;         ///< grid nodes the fill solved for
 };

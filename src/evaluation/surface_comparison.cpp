@@ -26,7 +26,9 @@ PointCloud samples_of(const TriangleMesh& surface, const ComparisonOptions& opti
     o.seed = seed;
     return sample_surface(surface, o);
   }
-  PointCloud cloud{surface.vertices, surface.normals, {}};
+  PointCloud cloud;
+  cloud.positions = surface.vertices;
+  cloud.normals = surface.normals;
   if (static_cast<std::size_t>(cloud.size()) > options.samples) cloud = subsample(cloud, options.samples, seed);
   return cloud;
 }

@@ -125,7 +125,10 @@ TriangleMesh trim_to_points(const TriangleMesh& mesh, const KdTree& data, const 
   std::size_t dropped_components = 0;
   if (options.min_component_points > 0 && points.rows() > 0 && !keep.empty())
     dropped_components = drop_unsupported_components(mesh, points, options.min_component_points, keep);
-  TriangleMesh out = std::find(keep.begin(), keep.end(), 0) == keep.end() ? mesh : detail::with_triangles(mesh, keep);
+  // An if, not ?: between the const lvalue and the call: GCC 12 with ASan leaked that prvalue.
+  TriangleMesh out;
+  if (std::find(keep.begin(), keep.end(), 0) == keep.end()) out = mesh;
+  else out = detail::with_triangles(mesh, keep);
   if (report != nullptr) {
     report->removed_triangles = static_cast<std::size_t>(mesh.triangles.rows() - out.triangles.rows());
     report->removed_vertices = static_cast<std::size_t>(nv - out.vertices.rows());

@@ -6,6 +6,7 @@
 #include <clustersurf/reconstruct.hpp>
 
 #include "mesh/mesh_closing.hpp"
+#include "mesh/mesh_untangle.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -48,6 +49,10 @@ TriangleMesh closed_mesh(const ImplicitSurface& surface, const SurfaceMeshOption
   }
   if (options.closing.max_hole_size > 0)
     out.closing.opened_holes = detail::open_large_fills(mesh, mesh.attributes.back().values, options.closing.max_hole_size);
+  // A closed mesh is for solids and printers: no triangle may pass through another.
+  const detail::UntangleReport untangled = detail::untangle(mesh);
+  out.closing.untangled_intersections = untangled.intersections_before - untangled.intersections_after;
+  out.closing.self_intersections = untangled.intersections_after;
   const Eigen::VectorXf& filled = mesh.attributes.back().values;
   out.closing.closed = true;
   out.closing.filled_vertices = static_cast<std::size_t>((filled.array() > 0).count());
