@@ -262,7 +262,6 @@ ParsedFile read_pcd(const std::filesystem::path& file, std::string_view bytes) {
 
   ParsedFile out;
   PointSink sink(fields, roles, static_cast<std::size_t>(n));
-  std::optional<FileLocation> first_non_finite;
   if (data == "ascii") {
     std::vector<double> values;
     std::vector<std::size_t> first(fields.size());
