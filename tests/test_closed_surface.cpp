@@ -151,6 +151,7 @@ TEST(ClosedSurface, RealBunnyScansGiveOneClosedComponent) {
   EXPECT_GT(closed.closing.filled_vertices, 0u);
   // The mesher's folds (Newton steps pulling close vertices across each other, the fill's
   // seam) are smoothed away: printable.
-  EXPECT_EQ(closed.closing.self_intersections, 0u);
+  EXPECT_EQ(closed.closing.check.self_intersections, 0u);
+  EXPECT_TRUE(closed.closing.check.printable);
   EXPECT_EQ(find_self_intersections(closed.mesh).count, 0u);
 }

@@ -43,9 +43,8 @@ nlohmann::json write_surface_mesh(Console& console, const SurfaceMesh& result, c
   // A closed mesh is meant for printing and solids: say whether it is ready for that.
   nlohmann::json check;
   if (result.closing.closed) {
-    const MeshCheck checked = check_mesh(result.mesh);
-    for (const auto& line : mesh_check_lines(checked)) console.print(line);
-    check = mesh_check_json(checked);
+    for (const auto& line : mesh_check_lines(result.closing.check)) console.print(line);
+    check = mesh_check_json(result.closing.check);
   }
   console.print("wrote           " + output);
   nlohmann::json report = {{"file", output},

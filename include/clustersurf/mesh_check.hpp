@@ -59,6 +59,9 @@ struct MeshCheck {
 /// Topology (mesh_topology()), genus, volume and self-intersections of `mesh`. Deterministic,
 /// and the same whatever the number of threads.
 MeshCheck check_mesh(const TriangleMesh& mesh, const MeshCheckOptions& options = {});
+/// The same with the mesh's self-intersections already found (find_self_intersections()), so
+/// that a caller that has just searched for them does not search again.
+MeshCheck check_mesh(const TriangleMesh& mesh, SelfIntersections intersections);
 
 /// The pairs of triangles of `mesh` that intersect other than where they are connected. Vertices
 /// at the same position count as one vertex, so a mesh stored as a triangle soup gives the same

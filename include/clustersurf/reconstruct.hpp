@@ -6,6 +6,7 @@
 #include <clustersurf/cloud_index.hpp>
 #include <clustersurf/cluster_tree.hpp>
 #include <clustersurf/implicit_surface.hpp>
+#include <clustersurf/mesh_check.hpp>
 #include <clustersurf/mesh_decimation.hpp>
 #include <clustersurf/mesh_extraction.hpp>
 #include <clustersurf/mesh_trim.hpp>
@@ -61,7 +62,9 @@ struct ClosingReport {
   std::size_t filled_triangles = 0;   ///< triangles with a filled vertex
   std::size_t opened_holes = 0;       ///< filled patches wider than max_hole_size, left open
   std::size_t untangled_intersections = 0;  ///< self-intersecting triangle pairs smoothed away
-  std::size_t self_intersections = 0;       ///< pairs left (0 unless the smoothing gave up)
+  /// Print readiness of the closed mesh (check_mesh(): edges, genus, volume, self-intersections
+  /// left, 0 unless the smoothing gave up).
+  MeshCheck check;
   double fill_cell = 0;               ///< the fill grid's cell size
   std::size_t fill_nodes = 0;         ///< grid nodes the fill solved for
 };

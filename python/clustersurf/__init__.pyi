@@ -16,6 +16,7 @@ from ._clustersurf import load as load
 from ._clustersurf import read_mesh as read_mesh
 from ._clustersurf import read_points as read_points
 from ._clustersurf import reconstruct as reconstruct
+from ._clustersurf import check_mesh as check_mesh
 from ._clustersurf import sample_surface as sample_surface
 from ._clustersurf import scan_surface as scan_surface
 from ._clustersurf import write_mesh as write_mesh
@@ -42,6 +43,7 @@ __all__ = [
     "read_mesh",
     "read_points",
     "reconstruct",
+    "check_mesh",
     "sample_surface",
     "scan_surface",
     "write_mesh",

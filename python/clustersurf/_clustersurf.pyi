@@ -58,6 +58,7 @@ def write_mesh(
     ascii: bool = False,
     origin: Optional[_Vector3] = None,
 ) -> None: ...
+def check_mesh(vertices: _Surface, faces: Optional[ArrayLike] = None) -> Dict[str, Any]: ...
 def sample_surface(
     vertices: _Surface,
     faces: Optional[ArrayLike] = None,

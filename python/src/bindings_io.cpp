@@ -3,6 +3,7 @@
 #include "bindings.hpp"
 
 #include <clustersurf/errors.hpp>
+#include <clustersurf/mesh_check.hpp>
 #include <clustersurf/surface_comparison.hpp>
 #include <clustersurf/point_cloud_io.hpp>
 #include <clustersurf/range_scan.hpp>
@@ -170,6 +171,32 @@ or None. ``ascii`` (default False): ascii PLY instead of binary. ``origin``: (x,
 to every vertex in the file (default: the mesh's origin, else zero; STL keeps coordinates
 relative to it, GLB makes it the node's translation). Raises OptionError (bad shapes or
 indices) or IoError.)doc");
+
+  m.def(
+      "check_mesh",
+      [](const py::handle& vertices, const py::handle& faces) {
+        const TriangleMesh mesh = surface_to_sample(vertices, faces);
+        const MeshCheck c = [&] {
+          py::gil_scoped_release release;
+          return check_mesh(mesh);
+        }();
+        py::dict out = topology_dict(c.topology);
+        const auto nan_none = [](double x) { return std::isnan(x) ? py::object(py::none()) : py::object(py::float_(x)); };
+        out["genus"] = c.genus >= 0 ? py::object(py::int_(c.genus)) : py::object(py::none());
+        out["volume"] = nan_none(c.volume);
+        out["self_intersections"] = c.self_intersections;
+        out["intersecting_pairs"] = c.intersecting_pairs;
+        out["consistently_oriented"] = c.consistently_oriented;
+        out["printable"] = c.printable;
+        return out;
+      },
+      py::arg("vertices"), py::arg("faces") = py::none(), R"doc(
+Is a mesh ready to print? As ``clustersurf check``: ``vertices`` (n, 3) and ``faces`` (m, 3),
+or a mesh object in place of both. Returns a dict: the topology (vertices, faces, edges,
+boundary_edges, non_manifold_edges, inconsistent_edges, euler_characteristic, components,
+signed_volume, watertight), genus and volume (None when not closed), self_intersections (pairs
+of triangles crossing other than where they connect) with the first intersecting_pairs,
+consistently_oriented and printable.)doc");
 
   m.def(
       "sample_surface",

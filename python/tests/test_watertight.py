@@ -29,6 +29,9 @@ def test_watertight_mesh_is_closed_and_marks_the_fill():
     assert filled.dtype == np.float32 and filled.shape == (len(closed.vertices),)
     assert filled.any()
     assert (closed.vertices[filled > 0, 2] > 0.5).all()  # only the cap was invented
+    report = clustersurf.check_mesh(closed)
+    assert report["watertight"] and report["printable"] and report["genus"] == 0
+    assert not clustersurf.check_mesh(tree.mesh())["printable"]
     # An opening wider than the limit stays open.
     assert edges_with_one_face(tree.mesh(watertight=True, fill_holes=0.5).faces) > 0
 

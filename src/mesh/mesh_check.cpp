@@ -5,6 +5,10 @@
 namespace clustersurf {
 
 MeshCheck check_mesh(const TriangleMesh& mesh, const MeshCheckOptions& options) {
+  return check_mesh(mesh, find_self_intersections(mesh, options));
+}
+
+MeshCheck check_mesh(const TriangleMesh& mesh, SelfIntersections intersections) {
   MeshCheck c;
   c.topology = mesh_topology(mesh);
   const MeshTopology& t = c.topology;
@@ -16,9 +20,8 @@ MeshCheck check_mesh(const TriangleMesh& mesh, const MeshCheckOptions& options) 
     if (twice >= 0 && twice % 2 == 0) c.genus = twice / 2;
   }
   c.volume = c.watertight ? t.signed_volume : std::numeric_limits<double>::quiet_NaN();
-  SelfIntersections s = find_self_intersections(mesh, options);
-  c.self_intersections = s.count;
-  c.intersecting_pairs = std::move(s.pairs);
+  c.self_intersections = intersections.count;
+  c.intersecting_pairs = std::move(intersections.pairs);
   c.printable = c.watertight && c.consistently_oriented && c.self_intersections == 0 && c.volume > 0;
   return c;
 }

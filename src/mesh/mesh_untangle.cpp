@@ -2,8 +2,6 @@
 
 #include "mesh/mesh_untangle.hpp"
 
-#include <clustersurf/mesh_check.hpp>
-
 #include <algorithm>
 #include <vector>
 
@@ -25,9 +23,9 @@ UntangleReport untangle(TriangleMesh& mesh, std::size_t max_rounds) {
     n.erase(std::unique(n.begin(), n.end()), n.end());
   }
   for (std::size_t round = 0;; ++round) {
-    const SelfIntersections found = find_self_intersections(mesh, all);
+    report.remaining = find_self_intersections(mesh, all);
+    const SelfIntersections& found = report.remaining;
     if (round == 0) report.intersections_before = found.count;
-    report.intersections_after = found.count;
     if (found.count == 0 || round == max_rounds) break;
     std::vector<std::int32_t> moving;
     for (const auto& [a, b] : found.pairs)

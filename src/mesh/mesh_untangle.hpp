@@ -1,6 +1,7 @@
 #pragma once
 // Removing a mesh's self-intersections by local smoothing.
 
+#include <clustersurf/mesh_check.hpp>
 #include <clustersurf/point_cloud.hpp>
 
 #include <cstddef>
@@ -10,7 +11,7 @@ namespace clustersurf::detail {
 /// What untangle() did.
 struct UntangleReport {
   std::size_t intersections_before = 0;  ///< intersecting triangle pairs found first
-  std::size_t intersections_after = 0;   ///< left when it stopped
+  SelfIntersections remaining;           ///< the last search: what is left (all pairs listed)
   std::size_t moved_vertices = 0;        ///< vertex moves over all rounds
 };
 

@@ -8,6 +8,7 @@
 #include "mesh/mesh_closing.hpp"
 #include "mesh/mesh_untangle.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -50,9 +51,8 @@ TriangleMesh closed_mesh(const ImplicitSurface& surface, const SurfaceMeshOption
   if (options.closing.max_hole_size > 0)
     out.closing.opened_holes = detail::open_large_fills(mesh, mesh.attributes.back().values, options.closing.max_hole_size);
   // A closed mesh is for solids and printers: no triangle may pass through another.
-  const detail::UntangleReport untangled = detail::untangle(mesh);
-  out.closing.untangled_intersections = untangled.intersections_before - untangled.intersections_after;
-  out.closing.self_intersections = untangled.intersections_after;
+  detail::UntangleReport untangled = detail::untangle(mesh);
+  out.closing.untangled_intersections = untangled.intersections_before - untangled.remaining.count;
   const Eigen::VectorXf& filled = mesh.attributes.back().values;
   out.closing.closed = true;
   out.closing.filled_vertices = static_cast<std::size_t>((filled.array() > 0).count());
@@ -60,6 +60,8 @@ TriangleMesh closed_mesh(const ImplicitSurface& surface, const SurfaceMeshOption
     out.closing.filled_triangles += filled(mesh.triangles(t, 0)) > 0 || filled(mesh.triangles(t, 1)) > 0 || filled(mesh.triangles(t, 2)) > 0;
   out.closing.fill_cell = closed.cell_size();
   out.closing.fill_nodes = closed.filled_nodes();
+  untangled.remaining.pairs.resize(std::min(untangled.remaining.pairs.size(), MeshCheckOptions{}.max_pairs));
+  out.closing.check = check_mesh(mesh, std::move(untangled.remaining));
   return mesh;
 }
 
@@ -92,7 +94,10 @@ SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options
     // Trimmed to the clustered points: an outlier next to an extrapolated flap must not keep it.
     if (input != nullptr) out.mesh = trim_to_points(out.mesh, input->clustered(tree).index, options.trim, &out.trim);
   }
-  if (options.decimation.enabled()) out.mesh = decimate(out.mesh, options.decimation, &out.decimation);
+  if (options.decimation.enabled()) {
+    out.mesh = decimate(out.mesh, options.decimation, &out.decimation);
+    if (out.closing.closed) out.closing.check = check_mesh(out.mesh);  // of the mesh delivered
+  }
   if (options.coloring == MeshColoring::ByNode) out.mesh.colors = colors_by_node(out.mesh, surface);
   if (options.coloring == MeshColoring::ByDistance)
     out.mesh.colors = colors_by_distance(out.mesh, input->points(), options.distance_scale * tree.bbox.diagonal());
