@@ -205,6 +205,8 @@ class Tree:
         color: str = "none",
         watertight: bool = False,
         fill_holes: float = 0.0,
+        decimate: int = 0,
+        decimate_tolerance: float = 0.0,
         progress: _Progress = None,
     ) -> Mesh: ...
     def inside(self, xyz: ArrayLike, *, resolution: int = 128) -> NDArray[np.bool_]: ...

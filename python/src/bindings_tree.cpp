@@ -306,10 +306,12 @@ coarser cut of the tree, as in evaluate() and mesh().)doc")
           [](const TreeRef& t, const std::variant<std::int64_t, std::string>& resolution, std::optional<double> voxel_size,
              std::optional<std::int64_t> lod_depth, std::optional<double> lod_error, const py::object& points, double trim,
              std::size_t min_component_points, bool close_pinholes, const std::string& color, bool watertight,
-             double fill_holes, const py::object& progress) {
+             double fill_holes, std::size_t decimate, double decimate_tolerance, const py::object& progress) {
             SurfaceMeshOptions o;
             o.closing.enabled = watertight;
             o.closing.max_hole_size = fill_holes;
+            o.decimation.target_triangles = decimate;
+            o.decimation.max_deviation = decimate_tolerance;
             const auto* number = std::get_if<std::int64_t>(&resolution);
             if (const auto cells = parse_resolution(number ? std::to_string(*number) : std::get<std::string>(resolution))) {
               o.auto_resolution = false;
@@ -336,7 +338,8 @@ coarser cut of the tree, as in evaluate() and mesh().)doc")
           py::arg("min_component_points") = TrimOptions{}.min_component_points,
           py::arg("close_pinholes") = TrimOptions{}.close_pinholes, py::arg("color") = to_string(SurfaceMeshOptions{}.coloring),
           py::arg("watertight") = ClosingOptions{}.enabled, py::arg("fill_holes") = ClosingOptions{}.max_hole_size,
-          py::arg("progress") = py::none(), R"doc(
+          py::arg("decimate") = DecimationOptions{}.target_triangles,
+          py::arg("decimate_tolerance") = DecimationOptions{}.max_deviation, py::arg("progress") = py::none(), R"doc(
 Meshes the surface f = 0, as ``clustersurf mesh`` does (the library's mesh_tree(): same
 options, same mesh). Returns a Mesh (vertices (n, 3) float64, faces (m, 3) int32, normals
 (n, 3) float64, colors (n, 3) uint8 or None), triangles facing outward. Its vertices are in
@@ -355,8 +358,10 @@ the points cover (``close_pinholes``), as ``clustersurf reconstruct --mesh`` doe
 "none", "leaf" (per blended node) or "distance" (to ``points``); ``watertight`` (default
 False): a closed, manifold mesh whatever holes the data has (``--watertight``), the filled-in
 vertices marked 1 in ``attributes["filled"]``; ``fill_holes`` (default 0: every hole): with
-``watertight``, fill only holes up to this size (input units). ``progress`` as in
-reconstruct().)doc")
+``watertight``, fill only holes up to this size (input units); ``decimate`` (default 0: keep
+all): at most this many triangles, and ``decimate_tolerance`` (default 0: no bound): while the
+surface moves by at most about this distance, as ``--decimate`` / ``--decimate-tolerance``.
+``progress`` as in reconstruct().)doc")
       .def("__repr__", [](const TreeRef& t) {
         return "<clustersurf.Tree: " + std::to_string(t.tree->nodes.size()) + " nodes, " +
                std::to_string(t.tree->leaves().size()) + " leaves, depth " + std::to_string(t.tree->depth()) + ", " +

@@ -32,6 +32,8 @@ def test_watertight_mesh_is_closed_and_marks_the_fill():
     report = clustersurf.check_mesh(closed)
     assert report["watertight"] and report["printable"] and report["genus"] == 0
     assert not clustersurf.check_mesh(tree.mesh())["printable"]
+    smaller = tree.mesh(watertight=True, decimate=len(closed.faces) // 4)
+    assert len(smaller.faces) <= len(closed.faces) // 4 and edges_with_one_face(smaller.faces) == 0
     # An opening wider than the limit stays open.
     assert edges_with_one_face(tree.mesh(watertight=True, fill_holes=0.5).faces) > 0
 
