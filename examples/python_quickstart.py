@@ -35,7 +35,8 @@ print(f"root: {root_node.point_count} points, children {[c.index for c in root_n
 leaf = tree.node(int(tree.leaves[0]))
 center, radius = leaf.support
 print(f"first leaf: {leaf.proxy_type}, rms error {leaf.rms_error:.3g}, support radius {radius:.3g}")
-counts = np.bincount(tree.leaf_of_points(), minlength=len(tree))[tree.leaves]
+leaf_of_point = tree.leaf_of_points()  # -1: an outlier, left out of every cluster
+counts = np.bincount(leaf_of_point[leaf_of_point >= 0], minlength=len(tree))[tree.leaves]
 print(f"points per leaf: min {counts.min()}, median {int(np.median(counts))}, max {counts.max()}")
 
 # %% Evaluate the implicit function f (≈ signed distance, > 0 outside; NaN where undefined).

@@ -7,8 +7,10 @@
 #include <clustersurf/errors.hpp>
 #include <clustersurf/point_cloud_io.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -189,8 +191,10 @@ TEST(PlyReader, FacesAreFanTriangulated) {
                  "element face 3\nproperty list int ushort vertex_index\nelement vertex 4\n" + kXyzFloat) +
           "4 0 1 2 3\n2 0 1\n1 3\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n");
   EXPECT_TRUE(mat_eq(f.triangles, (Triangles(2, 3) << 0, 1, 2, 0, 2, 3).finished()));
-  // Read as a point cloud, faces are skipped.
-  EXPECT_EQ(read_point_cloud(dir / "f.ply").size(), 4);
+  // Read as a point cloud with its vertices, faces are skipped.
+  ReadOptions vertices;
+  vertices.mesh_samples = 0;
+  EXPECT_EQ(read_point_cloud(dir / "f.ply", vertices).size(), 4);
 }
 
 namespace {
@@ -208,7 +212,9 @@ std::string tetrahedron_ply(int extra = 0, const std::string& faces = "3 0 2 1\n
 }  // namespace
 
 TEST(PlyReader, AMeshReadAsACloudTakesItsNormalsFromItsFaces) {
-  const PointCloud c = parse_point_cloud(tetrahedron_ply(), FileFormat::Ply);
+  ReadOptions vertices;
+  vertices.mesh_samples = 0;
+  const PointCloud c = parse_point_cloud(tetrahedron_ply(), FileFormat::Ply, "<memory>", vertices);
   ASSERT_EQ(c.normals.rows(), 4);
   // Outward: away from the tetrahedron's centroid at every vertex.
   const Eigen::RowVector3d centroid(0.25, 0.25, 0.25);
@@ -219,13 +225,81 @@ TEST(PlyReader, AMeshReadAsACloudTakesItsNormalsFromItsFaces) {
   // The origin's three faces are the axis planes: equal weights, normal -(1,1,1)/√3.
   EXPECT_NEAR(c.normals(0, 0), -1 / std::sqrt(3.0), 1e-6);
   // Off by option, or where a vertex belongs to no face, or where the faces are broken: none.
-  ReadOptions off;
+  ReadOptions off = vertices;
   off.normals_from_faces = false;
   EXPECT_EQ(parse_point_cloud(tetrahedron_ply(), FileFormat::Ply, "<memory>", off).normals.rows(), 0);
-  EXPECT_EQ(parse_point_cloud(tetrahedron_ply(1), FileFormat::Ply).normals.rows(), 0);
-  const PointCloud broken = parse_point_cloud(tetrahedron_ply(0, "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 9\n"), FileFormat::Ply);
+  EXPECT_EQ(parse_point_cloud(tetrahedron_ply(1), FileFormat::Ply, "<memory>", vertices).normals.rows(), 0);
+  const PointCloud broken =
+      parse_point_cloud(tetrahedron_ply(0, "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 9\n"), FileFormat::Ply, "<memory>", vertices);
   EXPECT_EQ(broken.size(), 4);
   EXPECT_EQ(broken.normals.rows(), 0);
+}
+
+/// Distance from `p` to the surface of the tetrahedron (0,0,0), e_x, e_y, e_z: the smallest
+/// distance to its four face planes, for a point on or near a face.
+double distance_to_tetrahedron(const Eigen::Vector3d& p) {
+  const double slanted = std::abs(p.sum() - 1) / std::sqrt(3.0);
+  return std::min({std::abs(p.x()), std::abs(p.y()), std::abs(p.z()), slanted});
+}
+
+TEST(PlyReader, ASmallMeshIsReadAsSamplesOfItsFaces) {
+  ReadOptions options;
+  options.mesh_samples = 2000;
+  std::vector<std::string> warnings;
+  options.warn = [&](const std::string& m) { warnings.push_back(m); };
+  const PointCloud c = parse_point_cloud(tetrahedron_ply(), FileFormat::Ply, "tet.ply", options);
+  ASSERT_EQ(c.size(), 2000);
+  ASSERT_EQ(c.normals.rows(), 2000);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("tet.ply: a mesh of 4 vertices, read as 2000 points"), std::string::npos) << warnings[0];
+  // On the faces, facing out, and covering all four of them (area-uniform: the slanted face,
+  // √3 times the others' area, holds about 37 % of the points).
+  const Eigen::Vector3d centroid(0.25, 0.25, 0.25);
+  int slanted = 0;
+  for (Eigen::Index i = 0; i < c.size(); ++i) {
+    const Eigen::Vector3d p = c.positions.row(i).transpose(), n = c.normals.row(i).transpose();
+    EXPECT_LT(distance_to_tetrahedron(p), 1e-12) << "point " << i;
+    EXPECT_GT(n.dot(p - centroid), 0) << "point " << i;
+    slanted += std::abs(p.sum() - 1) < 1e-9;
+  }
+  EXPECT_NEAR(slanted / 2000.0, std::sqrt(3.0) / (3 + std::sqrt(3.0)), 0.04);
+  // The same points on every read.
+  EXPECT_TRUE(parse_point_cloud(tetrahedron_ply(), FileFormat::Ply, "tet.ply", options).positions == c.positions);
+  // Vertex normals that disagree with the winding turn the faces: the samples follow the normals.
+  const std::string inward_header =
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+      "property float nx\nproperty float ny\nproperty float nz\nelement face 4\nproperty list uchar int vertex_indices\n"
+      "end_header\n0 0 0 -1 -1 -1\n1 0 0 1 0 0\n0 1 0 0 1 0\n0 0 1 0 0 1\n";
+  const PointCloud flipped = parse_point_cloud(inward_header + "3 0 1 2\n3 0 3 1\n3 0 2 3\n3 1 3 2\n", FileFormat::Ply, "f.ply", options);
+  ASSERT_EQ(flipped.size(), 2000);
+  for (Eigen::Index i = 0; i < flipped.size(); ++i)
+    EXPECT_GT(flipped.normals.row(i).dot(flipped.positions.row(i) - centroid.transpose()), 0) << "point " << i;
+  // A mesh with as many vertices as the samples asked for, or none asked for: its vertices.
+  options.mesh_samples = 4;
+  EXPECT_EQ(parse_point_cloud(tetrahedron_ply(), FileFormat::Ply, "tet.ply", options).size(), 4);
+  options.mesh_samples = 0;
+  EXPECT_EQ(parse_point_cloud(tetrahedron_ply(), FileFormat::Ply, "tet.ply", options).size(), 4);
+  // Faces that do not hold together: the vertices stand alone.
+  options.mesh_samples = 2000;
+  EXPECT_EQ(parse_point_cloud(tetrahedron_ply(0, "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 9\n"), FileFormat::Ply, "b.ply", options).size(), 4);
+  EXPECT_EQ(parse_point_cloud(tetrahedron_ply(0, "3 0 0 1\n3 1 1 2\n3 2 2 3\n3 3 3 0\n"), FileFormat::Ply, "z.ply", options).size(), 4);
+}
+
+TEST(PlyReader, AMeshFarFromZeroIsSampledWhereItIs) {
+  const std::string far =
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\nproperty double z\n"
+      "element face 4\nproperty list uchar int vertex_indices\nend_header\n"
+      "5000000 7000000 100\n5000001 7000000 100\n5000000 7000001 100\n5000000 7000000 101\n"
+      "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  ReadOptions options;
+  options.mesh_samples = 500;
+  const PointCloud c = parse_point_cloud(far, FileFormat::Ply, "far.ply", options);
+  ASSERT_EQ(c.size(), 500);
+  EXPECT_GT(c.origin.norm(), 1e6);  // shifted next to zero, as the vertices would be
+  for (Eigen::Index i = 0; i < c.size(); ++i) {
+    const Eigen::Vector3d p = c.positions.row(i).transpose() + c.origin - Eigen::Vector3d(5000000, 7000000, 100);
+    EXPECT_LT(distance_to_tetrahedron(p), 1e-6) << "point " << i;
+  }
 }
 
 }  // namespace

@@ -4,10 +4,14 @@
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/mesh_colors.hpp>
+#include <clustersurf/point_cloud_io.hpp>
 #include <clustersurf/reconstruct.hpp>
+#include <clustersurf/surface_comparison.hpp>
 #include <clustersurf/tree_file.hpp>
 
 #include <gtest/gtest.h>
+
+#include <iostream>
 
 #include "test_support.hpp"
 
@@ -75,4 +79,25 @@ TEST(Reconstruct, PointsOfAnotherCloudAreAnOptionError) {
   SurfaceMeshOptions colored;
   colored.coloring = MeshColoring::ByDistance;
   EXPECT_THROW(mesh_tree(r.tree, colored), OptionError);  // distance colors need the points
+}
+
+// The README's main job: the default input (a mesh of 1,839 vertices) read as it is by default
+// (samples of its faces) becomes one surface close to the mesh, ears included. Read as its
+// vertices, the same options gave two pieces, Chamfer 3.3e-3 of the diagonal and normal
+// consistency 0.926: the ears, thinner than the vertices' spacing, fused into a spiral.
+TEST(Reconstruct, TheDefaultInputBecomesOneSurfaceCloseToItsMesh) {
+  const auto file = test::default_bunny();
+  if (!file) GTEST_SKIP() << "data/bunny.ply is absent: run scripts/setup";
+  const Reconstruction r = reconstruct(read_point_cloud(*file));
+  ASSERT_TRUE(r.mesh.has_value());
+  ComparisonOptions options;
+  options.samples = 50'000;
+  const SurfaceComparison c = compare_surfaces(r.mesh->mesh, read_triangle_mesh(*file), options);
+  std::cout << "default bunny: Chamfer " << c.chamfer << " of the diagonal, Hausdorff " << c.hausdorff
+            << ", normal consistency " << c.normal_consistency << ", " << c.reconstruction_topology.components
+            << " component(s)\n";
+  EXPECT_EQ(c.reconstruction_topology.components, 1u);
+  EXPECT_LT(c.chamfer, 3e-4);  // fractions of the diagonal
+  EXPECT_LT(c.hausdorff, 0.02);
+  EXPECT_GT(c.normal_consistency, 0.985);
 }

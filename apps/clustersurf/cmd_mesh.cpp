@@ -12,7 +12,7 @@ int run_mesh(Console& console, const MeshCommandArgs& args) {
   const SurfaceMeshOptions options = surface_mesh_options(args.mesh);
   const ClusterTree tree = load_tree(args.tree);
   PointCloud cloud;
-  if (!args.mesh.points.empty()) cloud = read_input(console, InputArgs{args.mesh.points, false});
+  if (!args.mesh.points.empty()) cloud = read_input(console, args.mesh.points);
   const CloudIndex input(cloud);
   const SurfaceMesh mesh = mesh_tree(tree, options, args.mesh.points.empty() ? nullptr : &input, console.progress());
   console.end_progress();

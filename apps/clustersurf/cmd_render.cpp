@@ -37,7 +37,7 @@ Scene load_scene(Console& console, const std::string& file) {
     TriangleMesh mesh = read_triangle_mesh(file, options);
     if (mesh.triangles.rows() > 0) return mesh;
   }
-  return read_input(console, InputArgs{file, false});
+  return read_input(console, file);
 }
 
 BoundingBox scene_box(const Scene& scene) {
@@ -88,7 +88,7 @@ int run_render(Console& console, const RenderArgs& args) {
   for (const std::string& file : args.inputs) scenes.push_back(load_scene(console, file));
   PointCloud reference;
   if (!args.points.empty()) {
-    reference = read_input(console, InputArgs{args.points, false});
+    reference = read_input(console, args.points);
     options.reference_points = &reference.positions;
   }
   BoundingBox framing;

@@ -27,7 +27,7 @@ int run_view(Console& console, const ViewArgs& args) {
     console.warn("no --points: the page shows the tree's proxies and spheres only (tree files do not hold the "
                  "positions; pass the cloud the tree was built from to see the points)");
   } else {
-    cloud = read_input(console, InputArgs{args.points, false});
+    cloud = read_input(console, args.points);
   }
   // A .glb mesh is embedded as it is (the page parses it); .ply/.obj meshes are read here.
   std::string mesh_extension = std::filesystem::path(args.mesh).extension().string();

@@ -4,6 +4,7 @@
 
 #include "console.hpp"
 
+#include <clustersurf/point_cloud_io.hpp>
 #include <clustersurf/range_scan.hpp>
 #include <clustersurf/reconstruct.hpp>
 #include <clustersurf/render.hpp>
@@ -21,6 +22,7 @@ namespace clustersurf::cli {
 struct InputArgs {
   std::string file;
   bool drop_non_finite = false;
+  std::size_t mesh_samples = ReadOptions{}.mesh_samples;
 };
 
 /// Options of the mesh stage, shared by `mesh` and `reconstruct --mesh`: the library's

@@ -10,8 +10,17 @@ namespace clustersurf::cli {
 inline PointCloud read_input(Console& console, const InputArgs& input) {
   ReadOptions options;
   options.drop_non_finite = input.drop_non_finite;
+  options.mesh_samples = input.mesh_samples;
   options.warn = [&console](const std::string& message) { console.warn(message); };
   return read_point_cloud(input.file, options);
+}
+
+/// A cloud named by a command's option (--points): read as `reconstruct` reads its input by
+/// default, so the tree's input is found again.
+inline PointCloud read_input(Console& console, const std::string& file) {
+  InputArgs input;
+  input.file = file;
+  return read_input(console, input);
 }
 
 }  // namespace clustersurf::cli

@@ -32,6 +32,10 @@ void add_input(CLI::App& cmd, clustersurf::cli::InputArgs& in) {
   cmd.add_option("input", in.file, "Point cloud (.ply, .xyz/.pts/.txt/.csv, .obj, .las, .e57, .ptx, .pcd)")->required();
   cmd.add_flag("--drop-non-finite", in.drop_non_finite,
                "Drop points with NaN/Inf coordinates (counted in a warning) instead of failing");
+  cmd.add_option("--mesh-samples", in.mesh_samples,
+                 "A mesh input (PLY/OBJ with faces) with fewer vertices than this is read as this many points drawn "
+                 "uniformly on its faces (seeded); 0 reads every mesh's vertices")
+      ->capture_default_str();
 }
 
 void add_mesh_options(CLI::App& cmd, clustersurf::cli::MeshArgs& m) {

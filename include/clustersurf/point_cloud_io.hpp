@@ -37,11 +37,20 @@ struct ReadOptions {
   /// when every vertex belongs to a face and the faces are valid. A mesh knows which side is
   /// out; its vertices alone do not.
   bool normals_from_faces = true;
+  /// read_point_cloud() of a mesh (PLY or OBJ with faces) with fewer vertices than this: this
+  /// many points drawn uniformly by area on its faces (sample_surface(), seed 1: the same points
+  /// on every read), with its faces' normals (turned to agree with its vertex normals where it
+  /// has them), its interpolated colors and its origin, instead of its vertices. A mesh's
+  /// vertices sample its surface only as finely as its edges: a coarse mesh's thin parts (a
+  /// bunny's ears) are thinner than that, and a surface fitted to the vertices loses them. 0
+  /// reads the vertices of every mesh.
+  std::size_t mesh_samples = 100'000;
 };
 
 /// Reads the points of a PLY, XYZ/PTS/TXT, OBJ, LAS, E57, PTX or PCD file (format by signature,
-/// else by extension). A mesh's vertices are its points (with normals from its faces:
-/// ReadOptions::normals_from_faces); faces and unknown properties are skipped. Scanner files
+/// else by extension). A mesh's points are samples of its faces (ReadOptions::mesh_samples), or
+/// its vertices (with normals from its faces: ReadOptions::normals_from_faces); unknown
+/// properties are skipped. Scanner files
 /// bring their attributes (intensity, classification) and, where the file knows where the
 /// scanner stood, the scanner positions. A cloud far from zero is moved next to it
 /// (shift_to_origin). Throws InputError (malformed content, no points) or IoError (cannot open

@@ -24,7 +24,8 @@ struct SurfaceSamplingOptions {
 };
 
 /// `options.count` points distributed uniformly by area over the triangles of `mesh`, with the
-/// unit normal of the triangle each was drawn from (outliers get a random unit normal).
+/// unit normal of the triangle each was drawn from (outliers get a random unit normal), the
+/// mesh's vertex colors interpolated where it has them (outliers grey), and its origin.
 /// Degenerate triangles (zero area) are never drawn. Throws OptionError when the mesh has no
 /// triangle of positive area or an option is out of range.
 PointCloud sample_surface(const TriangleMesh& mesh, const SurfaceSamplingOptions& options = {});

@@ -26,10 +26,8 @@ using namespace pybind11::literals;
 /// Reads with the GIL released; warnings (dropped points, skipped content) become Python
 /// warnings afterwards.
 template <class Read>
-auto read_with_warnings(bool drop_non_finite, Read&& read) {
+auto read_with_warnings(ReadOptions options, Read&& read) {
   std::vector<std::string> warnings;
-  ReadOptions options;
-  options.drop_non_finite = drop_non_finite;
   options.warn = [&warnings](const std::string& message) { warnings.push_back(message); };
   auto result = [&] {
     py::gil_scoped_release release;
@@ -93,15 +91,21 @@ py::dict topology_dict(const MeshTopology& t) {
 void bind_io(py::module_& m) {
   m.def(
       "read_points",
-      [](const std::filesystem::path& file, bool drop_non_finite) {
-        return cloud_object(read_with_warnings(drop_non_finite, [&](const ReadOptions& o) { return read_point_cloud(file, o); }));
+      [](const std::filesystem::path& file, bool drop_non_finite, std::size_t mesh_samples) {
+        ReadOptions options;
+        options.drop_non_finite = drop_non_finite;
+        options.mesh_samples = mesh_samples;
+        return cloud_object(read_with_warnings(options, [&](const ReadOptions& o) { return read_point_cloud(file, o); }));
       },
-      py::arg("path"), py::arg("drop_non_finite") = false, R"doc(
+      py::arg("path"), py::arg("drop_non_finite") = false, py::arg("mesh_samples") = ReadOptions{}.mesh_samples, R"doc(
 Reads a point cloud file into a PointCloud: PLY, XYZ/PTS/TXT/CSV, OBJ, LAS, E57, PTX or PCD.
 
 ``path``: the file; its format is the one its first bytes prove (PLY, LAS, E57, PCD), else
 its extension's. ``drop_non_finite`` (default False): drop points with NaN/Inf coordinates,
-with a warning, instead of failing.
+with a warning, instead of failing. ``mesh_samples`` (default 100000): a mesh (PLY or OBJ with
+faces) with fewer vertices is read as that many points drawn uniformly on its faces (seeded,
+with its faces' normals, and a warning saying so), since its vertices sample it too coarsely
+for its thin parts; 0 reads the vertices of every mesh.
 
 The PointCloud has ``positions`` (n, 3) float64, ``normals`` (n, 3) float64 and ``colors``
 (n, 3) uint8 (None when the file has none), ``origin`` (3,) float64: a cloud far from zero
@@ -109,13 +113,13 @@ The PointCloud has ``positions`` (n, 3) float64, ``normals`` (n, 3) float64 and 
 coordinates (``world_positions``); ``attributes``: dict of per-point float32 arrays the
 scanner file carries (LAS intensity and classification, E57/PTX intensity); and
 ``scanner_positions`` (k, 3) and ``scanner_of_point`` (n,) uint32 where the file says where
-its scans stood (else None). A mesh's vertices are its points, with normals from its faces.
+its scans stood (else None). A larger mesh's points are its vertices, with normals from its faces.
 Raises InputError (malformed file: the message names the line or byte) or IoError.)doc");
 
   m.def(
       "read_mesh",
       [](const std::filesystem::path& file) {
-        return mesh_object(read_with_warnings(false, [&](const ReadOptions& o) { return read_triangle_mesh(file, o); }));
+        return mesh_object(read_with_warnings(ReadOptions{}, [&](const ReadOptions& o) { return read_triangle_mesh(file, o); }));
       },
       py::arg("path"), R"doc(
 Reads a triangle mesh file into a Mesh: PLY or OBJ (polygons are fan-triangulated).

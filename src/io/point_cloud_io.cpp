@@ -5,8 +5,10 @@
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/surface_sampling.hpp>
 
 #include <Eigen/Geometry>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cctype>
@@ -124,6 +126,17 @@ TriangleMesh to_mesh(io::ParsedFile&& parsed) {
   return mesh;
 }
 
+/// Turns every triangle whose winding disagrees with the sum of its vertices' normals (a file
+/// whose normals and winding disagree), so its samples' normals follow the file's normals.
+void orient_faces_by_normals(TriangleMesh& mesh) {
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+    const auto tri = mesh.triangles.row(t);
+    const Eigen::Vector3d a = mesh.vertices.row(tri(0)), b = mesh.vertices.row(tri(1)), c = mesh.vertices.row(tri(2));
+    const Eigen::Vector3d n = (mesh.normals.row(tri(0)) + mesh.normals.row(tri(1)) + mesh.normals.row(tri(2))).transpose();
+    if ((b - a).cross(c - a).dot(n) < 0) std::swap(mesh.triangles(t, 1), mesh.triangles(t, 2));
+  }
+}
+
 }  // namespace
 
 FileFormat format_from_extension(const std::filesystem::path& file) {
@@ -185,10 +198,11 @@ PointCloud parse_point_cloud(std::string_view bytes, FileFormat format, const st
   PointCloud cloud = parse(bytes, format, name, options, false).cloud;
   shift_to_origin(cloud);
   format = format_from_magic(bytes).value_or(format);
-  if (!options.normals_from_faces || cloud.has_normals() || (format != FileFormat::Ply && format != FileFormat::Obj) ||
-      !declares_faces(bytes))
-    return cloud;
-  // A mesh without normals: its faces orient its vertices, when they are whole and cover them.
+  if ((format != FileFormat::Ply && format != FileFormat::Obj) || !declares_faces(bytes)) return cloud;
+  const bool sample = options.mesh_samples > static_cast<std::size_t>(cloud.size());
+  if (!sample && (!options.normals_from_faces || cloud.has_normals())) return cloud;
+  // A mesh: its faces carry its surface and which side is out, when they are whole and cover
+  // its vertices.
   TriangleMesh mesh;
   try {
     mesh = to_mesh(parse(bytes, format, name, options, true));
@@ -196,6 +210,24 @@ PointCloud parse_point_cloud(std::string_view bytes, FileFormat format, const st
     return cloud;  // faces the point reader skipped may be malformed; the points stand alone
   }
   if (mesh.vertices.rows() != cloud.size() || mesh.triangles.rows() == 0) return cloud;
+  mesh.vertices.rowwise() -= cloud.origin.transpose();  // as shift_to_origin moved the points
+  mesh.origin = cloud.origin;
+  if (sample) {
+    if (mesh.normals.rows() == mesh.vertices.rows()) orient_faces_by_normals(mesh);
+    try {
+      SurfaceSamplingOptions sampling;
+      sampling.count = options.mesh_samples;
+      PointCloud samples = sample_surface(mesh, sampling);
+      if (options.warn)
+        options.warn(fmt::format("{}: a mesh of {} vertices, read as {} points drawn uniformly on its {} faces: its "
+                                 "vertices alone sample it too coarsely (0 mesh samples reads them)",
+                                 name.string(), mesh.vertices.rows(), options.mesh_samples, mesh.triangles.rows()));
+      return samples;
+    } catch (const OptionError&) {
+      // No face of positive area: the vertices are all there is.
+    }
+  }
+  if (!options.normals_from_faces || cloud.has_normals()) return cloud;
   Points normals = vertex_normals(mesh);
   if (!normals.allFinite() || (normals.rowwise().squaredNorm().array() == 0).any()) return cloud;
   cloud.normals = std::move(normals);

@@ -10,20 +10,23 @@ set -uo pipefail
 cli=${1:?usage: test_cli.sh CLI DEFAULT_DATA_DIR [SHARED_DATA_DIR]}
 data=${2:?usage: test_cli.sh CLI DEFAULT_DATA_DIR [SHARED_DATA_DIR]}
 shared=${3:-}
-bunny="$data/bunny.ply"
+bunny_mesh="$data/bunny.ply"  # the default input: a mesh of 1,839 vertices
 testdata="$(cd "$(dirname "$0")/../data" && pwd)"  # tests/data: small files kept with the tests
 
 if [ ! -x "$cli" ]; then
   echo "CLI binary $cli not found or not executable" >&2
   exit 1
 fi
-if [ ! -f "$bunny" ]; then
-  echo "SKIP: $bunny is missing (run scripts/setup)"
+if [ ! -f "$bunny_mesh" ]; then
+  echo "SKIP: $bunny_mesh is missing (run scripts/setup)"
   exit 77
 fi
 
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/clustersurf-cli-XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
+# Most checks want a small cloud: the mesh's 1,839 vertices (with normals from its faces).
+bunny="$tmp/bunny-vertices.ply"
+"$cli" -q convert --ascii --mesh-samples 0 "$bunny_mesh" "$bunny" || { echo "cannot write $bunny" >&2; exit 1; }
 
 passed=0
 failed=0
@@ -114,6 +117,15 @@ expect_rc "stats (human) exits 0" 0
 expect_contains "stats (human) shows the count" "$out" "1839"
 run -q --json stats "$bunny"
 expect_eq "-q --json still prints the JSON" "$(json_field points)" 1839
+
+# A small mesh is read as samples of its faces; --mesh-samples 0 reads its vertices.
+run --json stats "$bunny_mesh"
+expect_eq "a mesh of 1839 vertices is read as 100000 samples of its faces" "$(json_field points)" 100000
+expect_contains "reading a mesh's samples says so" "$err" "1839 vertices, read as 100000 points"
+run --json stats --mesh-samples 0 "$bunny_mesh"
+expect_eq "--mesh-samples 0 reads the vertices" "$(json_field points)" 1839
+run --json stats --mesh-samples 1000 "$bunny_mesh"
+expect_eq "a mesh with more vertices than --mesh-samples is read as its vertices" "$(json_field points)" 1839
 
 # --- convert and back ---------------------------------------------------------------------------
 run convert --ascii "$bunny" "$tmp/a.ply"
@@ -337,25 +349,25 @@ else
 fi
 
 # --- sample and eval ---------------------------------------------------------------------------
-run --json sample "$bunny" -o "$tmp/sampled.ply" -n 5000 --seed 3
+run --json sample "$bunny_mesh" -o "$tmp/sampled.ply" -n 5000 --seed 3
 expect_rc "sample exits 0" 0
 expect_eq "sample writes N points" "$(count "$tmp/sampled.ply")" 5000
-run -q sample "$bunny" -o "$tmp/sampled2.ply" -n 5000 --seed 3
+run -q sample "$bunny_mesh" -o "$tmp/sampled2.ply" -n 5000 --seed 3
 check "sample with the same seed gives the same bytes" cmp -s "$tmp/sampled.ply" "$tmp/sampled2.ply"
-run sample "$bunny" -o "$tmp/sampled3.ply" -n 5000 --noise -1
+run sample "$bunny_mesh" -o "$tmp/sampled3.ply" -n 5000 --noise -1
 expect_rc "sample --noise -1 is a usage error" 2
 run sample "$tmp/sampled.ply" -o "$tmp/sampled4.ply"
 expect_rc "sample of a cloud without faces: exit code 3" 3
 expect_contains "sample of a cloud names the file" "$err" "$tmp/sampled.ply"
 check "failed sample leaves no output" test ! -e "$tmp/sampled4.ply"
 # The virtual range scanner: about N points over the scans, reproducible, then reconstructed.
-run --json sample "$bunny" -o "$tmp/scanned.ply" -n 20000 --scanner 6 --noise 0.0005 --registration 0.0002
+run --json sample "$bunny_mesh" -o "$tmp/scanned.ply" -n 20000 --scanner 6 --noise 0.0005 --registration 0.0002
 expect_rc "sample --scanner exits 0" 0
 scanned=$(count "$tmp/scanned.ply")
 if [ "$scanned" -gt 14000 ] && [ "$scanned" -lt 26000 ]; then ok "sample --scanner 6 -n 20000 writes about 20000 points ($scanned)"; else not_ok "sample --scanner count" "$scanned"; fi
-run -q sample "$bunny" -o "$tmp/scanned2.ply" -n 20000 --scanner 6 --noise 0.0005 --registration 0.0002
+run -q sample "$bunny_mesh" -o "$tmp/scanned2.ply" -n 20000 --scanner 6 --noise 0.0005 --registration 0.0002
 check "sample --scanner with the same seed gives the same bytes" cmp -s "$tmp/scanned.ply" "$tmp/scanned2.ply"
-run sample "$bunny" -o "$tmp/scanned3.ply" --scanner 6 --outliers 0.01
+run sample "$bunny_mesh" -o "$tmp/scanned3.ply" --scanner 6 --outliers 0.01
 expect_rc "sample --scanner with --outliers is an option error" 2
 check "sample --scanner --outliers writes nothing" test ! -e "$tmp/scanned3.ply"
 run --json reconstruct "$tmp/scanned.ply" --mesh "$tmp/scanned-mesh.ply"
@@ -364,10 +376,10 @@ run --json reconstruct "$tmp/scanned.ply" --mesh "$tmp/scanned-closed.ply" --clo
 expect_rc "reconstruct --close-pinholes exits 0" 0
 closed=$(python3 -c 'import json,sys; print(json.load(sys.stdin)["mesh"]["closed_pinholes"])' <<<"$out" 2>/dev/null || echo "")
 if [ -n "$closed" ] && [ "$closed" -ge 0 ]; then ok "reconstruct --close-pinholes reports the pinholes it closed ($closed)"; else not_ok "closed_pinholes in --json" "$out"; fi
-run --json eval "$tmp/scanned-mesh.ply" --reference "$bunny" --samples 20000
+run --json eval "$tmp/scanned-mesh.ply" --reference "$bunny_mesh" --samples 20000
 chamfer=$(json_field chamfer)
 if awk -v c="$chamfer" 'BEGIN { exit !(c > 0 && c < 0.005) }'; then ok "virtual scan reconstructed within 0.5 % of the diagonal (Chamfer $chamfer)"; else not_ok "virtual scan reconstruction" "$out"; fi
-run --json eval "$bunny" --reference "$bunny" --samples 20000
+run --json eval "$bunny_mesh" --reference "$bunny_mesh" --samples 20000
 expect_rc "eval of a mesh against itself exits 0" 0
 chamfer=$(json_field chamfer)
 if python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) < 1e-9 else 1)" "$chamfer"; then
@@ -375,7 +387,7 @@ if python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) < 1e-9 else 1)" "$ch
 else
   not_ok "eval: a mesh against itself has chamfer 0" "$chamfer"
 fi
-run --json eval "$tmp/sampled.ply" --reference "$bunny"
+run --json eval "$tmp/sampled.ply" --reference "$bunny_mesh"
 expect_rc "eval of a sampled cloud against its mesh exits 0" 0
 acc=$(json_field accuracy)
 if python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) < 1e-6 else 1)" "$acc"; then
@@ -385,19 +397,19 @@ else
 fi
 expect_contains "eval --json reports watertightness" "$out" '"watertight": true'
 # Outliers: 1 % uniform in the box are left out, and the surface is as if they were not there.
-run -q sample "$bunny" -o "$tmp/outl.ply" -n 20000 --seed 4 --outliers 0.01
+run -q sample "$bunny_mesh" -o "$tmp/outl.ply" -n 20000 --seed 4 --outliers 0.01
 run --json reconstruct "$tmp/outl.ply" --mesh "$tmp/outl_mesh.ply"
 expect_rc "reconstruct of a cloud with 1 % outliers exits 0" 0
 n_out=$(json_field outliers)
 if [ -n "$n_out" ] && [ "$n_out" -ge 150 ] && [ "$n_out" -le 260 ]; then ok "reconstruct leaves out the outliers ($n_out of 200)"; else not_ok "reconstruct leaves out about 200 outliers" "$n_out"; fi
-run --json eval "$tmp/outl_mesh.ply" --reference "$bunny" --samples 50000
+run --json eval "$tmp/outl_mesh.ply" --reference "$bunny_mesh" --samples 50000
 chamfer=$(json_field chamfer)
 if python3 -c "import sys; sys.exit(0 if float(sys.argv[1]) < 1.5e-3 else 1)" "$chamfer"; then
   ok "reconstruct with outliers stays on the bunny (chamfer $chamfer)"
 else
   not_ok "reconstruct with outliers stays on the bunny (chamfer < 1.5e-3)" "$chamfer"
 fi
-run eval "$tmp/missing.ply" --reference "$bunny"
+run eval "$tmp/missing.ply" --reference "$bunny_mesh"
 expect_rc "eval of a missing file: exit code 4" 4
 # --- render -----------------------------------------------------------------------------------
 is_png() { [ "$(head -c 8 "$1" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ]; }
@@ -415,7 +427,7 @@ run render "$tmp/b.cstree" -o "$tmp/r-err.png" --width 96 --height 72 --show err
 expect_rc "render --show error --points exits 0" 0
 run render "$tmp/b.cstree" -o "$tmp/r-hb.png" --width 96 --height 72 --mode hit-blend --highlight 1 --samples 2 --background transparent
 expect_rc "render --mode hit-blend --highlight exits 0" 0
-run render "$tmp/m.ply" "$bunny" "$tmp/b.cstree" --grid -o "$tmp/grid.png" --width 96 --height 72
+run render "$tmp/m.ply" "$bunny_mesh" "$tmp/b.cstree" --grid -o "$tmp/grid.png" --width 96 --height 72
 expect_rc "render --grid of a mesh, a cloud and a tree exits 0" 0
 check "render --grid writes a PNG" is_png "$tmp/grid.png"
 run render "$tmp/b.cstree" -o "$tmp/out/bad.png" --mode nonsense
@@ -542,10 +554,10 @@ else
 fi
 
 # --- check: is a mesh ready to print ------------------------------------------------------------
-run check "$bunny"
+run check "$bunny_mesh"
 expect_rc "check of a closed mesh exits 0" 0
 expect_contains "check: the closed bunny is printable" "$out" "printable       yes"
-run --json check "$bunny"
+run --json check "$bunny_mesh"
 expect_eq "check --json: the bunny is watertight" "$(json_field watertight)" true
 expect_eq "check --json: the bunny has genus 0" "$(json_field genus)" 0
 expect_eq "check --json: the bunny does not intersect itself" "$(json_field self_intersections)" 0
@@ -577,7 +589,7 @@ expect_rc "check of a missing file: exit code 4" 4
 
 # --- interrupt (SIGINT): no output, a clear message, existing files untouched -------------------
 big="$tmp/big.ply"
-run sample "$bunny" -o "$big" -n 2000000 --seed 3
+run sample "$bunny_mesh" -o "$big" -n 2000000 --seed 3
 expect_rc "sample a large cloud for the interrupt test" 0
 mkdir "$tmp/int"
 printf 'a good tree\n' >"$tmp/int/keep.cstree"

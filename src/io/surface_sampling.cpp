@@ -49,8 +49,11 @@ PointCloud sample_surface(const TriangleMesh& mesh, const SurfaceSamplingOptions
   const std::size_t n = options.count + outlier_count;
 
   PointCloud cloud;
+  cloud.origin = mesh.origin;
   cloud.positions.resize(static_cast<Eigen::Index>(n), 3);
   cloud.normals.resize(static_cast<Eigen::Index>(n), 3);
+  const bool colored = mesh.colors.rows() == vertex_count && vertex_count > 0;
+  if (colored) cloud.colors.resize(static_cast<Eigen::Index>(n), 3);
   PortableRandom random(options.seed);
   for (std::size_t i = 0; i < options.count; ++i) {
     const double target = random.uniform() * total;
@@ -61,7 +64,14 @@ PointCloud sample_surface(const TriangleMesh& mesh, const SurfaceSamplingOptions
     const Eigen::Vector3d a = mesh.vertices.row(tri(0)), b = mesh.vertices.row(tri(1)), c = mesh.vertices.row(tri(2));
     // Uniform barycentric coordinates by the square-root map (Osada et al. 2002).
     const double r1 = std::sqrt(random.uniform()), r2 = random.uniform();
-    Eigen::Vector3d p = (1 - r1) * a + r1 * (1 - r2) * b + r1 * r2 * c;
+    const Eigen::Vector3d weight(1 - r1, r1 * (1 - r2), r1 * r2);
+    Eigen::Vector3d p = weight(0) * a + weight(1) * b + weight(2) * c;
+    if (colored) {
+      Eigen::Vector3d rgb = Eigen::Vector3d::Zero();
+      for (int k = 0; k < 3; ++k) rgb += weight(k) * mesh.colors.row(tri(k)).cast<double>().transpose();
+      for (int channel = 0; channel < 3; ++channel)
+        cloud.colors(static_cast<Eigen::Index>(i), channel) = static_cast<std::uint8_t>(std::clamp(std::round(rgb(channel)), 0.0, 255.0));
+    }
     if (sigma > 0) p += sigma * Eigen::Vector3d(random.normal(), random.normal(), random.normal());
     cloud.positions.row(static_cast<Eigen::Index>(i)) = p;
     cloud.normals.row(static_cast<Eigen::Index>(i)) = normals[static_cast<std::size_t>(t)];
@@ -72,6 +82,7 @@ PointCloud sample_surface(const TriangleMesh& mesh, const SurfaceSamplingOptions
     const Eigen::Vector3d u(random.uniform(), random.uniform(), random.uniform());
     cloud.positions.row(static_cast<Eigen::Index>(i)) = lo + span.cwiseProduct(u);
     cloud.normals.row(static_cast<Eigen::Index>(i)) = random.unit_vector();
+    if (colored) cloud.colors.row(static_cast<Eigen::Index>(i)).setConstant(128);
   }
   return cloud;
 }
