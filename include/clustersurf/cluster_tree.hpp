@@ -3,6 +3,7 @@
 // sphere (thesis ch. 3, METHOD.md "Cluster tree").
 
 #include <clustersurf/cloud_index.hpp>
+#include <clustersurf/noise.hpp>
 #include <clustersurf/outliers.hpp>
 #include <clustersurf/point_cloud.hpp>
 #include <clustersurf/progress.hpp>
@@ -77,11 +78,17 @@ struct BuildOptions {
   /// apart (both sides of a thin part, the faces of a deep fold) is split into its two sheets,
   /// each of at least 3 points. Off, or without normals, the tree depends on the positions alone.
   bool use_normals = true;
+  /// With use_normals: a cluster's tangent plane comes from the mean of its input normals
+  /// instead of its principal components where the normals pin it down better (noisy positions,
+  /// consistent normals: a noisy thin part has no principal plane). Clean data keep the
+  /// principal plane either way.
+  bool frames_from_normals = true;
   /// A cluster on the two faces of a sharp edge, which no smooth proxy fits within the
   /// threshold, becomes a leaf whose proxy is the crease of two planes (CreaseProxy) when that
   /// fits: edges and corners of machined parts stay sharp instead of rounded and lumpy.
   bool creases = true;
   OutlierOptions outliers;                       ///< the outlier test
+  NoiseOptions noise;                            ///< the noise estimate of the Auto threshold
   bool keep_point_leaves = true;                 ///< store the leaf of every input point
 };
 

@@ -7,6 +7,7 @@
 #include <clustersurf/noise.hpp>
 
 #include "cluster/build_state.hpp"
+#include "cluster/cluster_frame.hpp"
 #include "proxy/crease_fit.hpp"
 #include "cluster/residual_structure.hpp"
 #include "cluster/splitters.hpp"
@@ -63,7 +64,7 @@ class Builder {
     node.depth = depth;
     node.point_count = static_cast<std::uint32_t>(range.size());
 
-    const Frame frame = pca_frame(points_, range);
+    const Frame frame = detail::cluster_frame(points_, range, options_.frames_from_normals ? normals_ : nullptr, work_.ids, noise_);
     node.proxy = options_.proxy == ProxyKind::Poly ? Proxy(fit_poly_in_frame(frame, points_, range))
                                                    : fit_proxy(options_.proxy, points_, range);
     const ProxyError err = proxy_error(node.proxy, points_, range);
@@ -275,7 +276,7 @@ ClusterTree build_cluster_tree(const CloudIndex& cloud_index, const BuildOptions
   double noise = 0;  // the noise the leaves may keep on top of the tolerance
   if (p.threshold_mode == ThresholdMode::Auto) {
     stage("estimating noise");
-    tree.noise_sigma = estimate_noise(*points, index);
+    tree.noise_sigma = estimate_noise(*points, index, options.noise);
     noise = options.noise_factor * tree.noise_sigma;
   }
   tree.error_threshold = std::hypot(tolerance, noise);
