@@ -49,6 +49,7 @@ int run_eval(Console& console, const EvalArgs& args) {
                      {"completeness", e.completeness},
                      {"chamfer", e.chamfer},
                      {"hausdorff", e.hausdorff},
+                     {"distance_p95", e.distance_p95},
                      {"normal_consistency", or_null(e.normal_consistency)},
                      {"samples", {{"reconstruction", e.reconstruction_samples}, {"reference", e.reference_samples}}},
                      {"reconstruction_mesh", facts(e.reconstruction_topology)},
@@ -64,6 +65,7 @@ int run_eval(Console& console, const EvalArgs& args) {
   console.print(fmt::format("accuracy        {:.6f}  (reconstruction -> reference, mean)", e.accuracy));
   console.print(fmt::format("completeness    {:.6f}  (reference -> reconstruction, mean)", e.completeness));
   console.print(fmt::format("chamfer         {:.6f}", e.chamfer));
+  console.print(fmt::format("95th percentile {:.6f}  (of both directions' distances)", e.distance_p95));
   console.print(fmt::format("hausdorff       {:.6f}", e.hausdorff));
   console.print(std::isnan(e.normal_consistency) ? std::string("normals         n/a (one side has no normals)")
                                                  : fmt::format("normals         {:.4f}  (mean |n.n'|)", e.normal_consistency));

@@ -37,6 +37,10 @@ struct SurfaceComparison {
   double completeness = 0;  ///< mean distance reference → reconstruction
   double chamfer = 0;       ///< (accuracy + completeness) / 2
   double hausdorff = 0;     ///< max of both directions' largest distance
+  /// The 95th percentile of the distances of both directions' samples together: the error of
+  /// all but the worst 5 % of the surface, which a mean hides and the Hausdorff distance's single
+  /// worst point overstates.
+  double distance_p95 = 0;
   /// Mean |n · n'| between each sample's normal and the normal of its nearest point on the other
   /// surface, over both directions; NaN when one side has no normals.
   double normal_consistency = 0;

@@ -289,7 +289,7 @@ the mesh's origin.)doc");
         for (const FScore& f : e.fscores)
           fscores.append(py::dict("tau"_a = f.threshold, "precision"_a = f.precision, "recall"_a = f.recall, "fscore"_a = f.fscore));
         return py::dict("diagonal"_a = e.diagonal, "accuracy"_a = e.accuracy, "completeness"_a = e.completeness,
-                        "chamfer"_a = e.chamfer, "hausdorff"_a = e.hausdorff,
+                        "chamfer"_a = e.chamfer, "hausdorff"_a = e.hausdorff, "distance_p95"_a = e.distance_p95,
                         "normal_consistency"_a = std::isnan(e.normal_consistency) ? py::object(py::none())
                                                                                     : py::object(py::float_(e.normal_consistency)),
                         "fscore"_a = fscores,
@@ -313,7 +313,8 @@ Sides with different origins are compared in the reference's frame. ``recon_norm
 ``ref_normals``: per-point normals of a cloud side (default: a PointCloud's own); ``samples``:
 points drawn on each mesh side; ``seed``: the draw's seed; ``fscore_thresholds``: the F-score
 thresholds tau. Distances are fractions of the reference's bounding-box diagonal. Returns a
-dict with diagonal, accuracy, completeness, chamfer, hausdorff, normal_consistency (None
+dict with diagonal, accuracy, completeness, chamfer, hausdorff, distance_p95 (the 95th
+percentile of both directions' distances), normal_consistency (None
 without normals), fscore (list of dicts tau/precision/recall/fscore), samples,
 reconstruction_mesh and reference_mesh.)doc");
 }

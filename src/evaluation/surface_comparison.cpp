@@ -95,6 +95,17 @@ double mean(const std::vector<double>& v) {
   return v.empty() ? 0 : s / static_cast<double>(v.size());
 }
 
+/// The q-quantile (nearest rank) of the values of `a` and `b` together; 0 when both are empty.
+double percentile(const std::vector<double>& a, const std::vector<double>& b, double q) {
+  std::vector<double> all(a);
+  all.insert(all.end(), b.begin(), b.end());
+  if (all.empty()) return 0;
+  const auto rank = static_cast<std::size_t>(std::ceil(q * static_cast<double>(all.size()))) - 1;
+  const auto k = std::min(rank, all.size() - 1);
+  std::nth_element(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(k), all.end());
+  return all[k];
+}
+
 double share_within(const std::vector<double>& v, double tau) {
   std::size_t k = 0;
   for (double x : v) k += x <= tau;
@@ -126,6 +137,7 @@ SurfaceComparison compare_surfaces(const TriangleMesh& reconstruction, const Tri
   e.chamfer = 0.5 * (e.accuracy + e.completeness);
   const auto max_of = [](const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); };
   e.hausdorff = std::max(max_of(forward.distance), max_of(backward.distance)) * scale;
+  e.distance_p95 = percentile(forward.distance, backward.distance, 0.95) * scale;
   const std::size_t nc = forward.normal_count + backward.normal_count;
   e.normal_consistency = nc > 0 && forward.normal_count > 0 && backward.normal_count > 0
                              ? (forward.normal_sum + backward.normal_sum) / static_cast<double>(nc)
