@@ -41,11 +41,13 @@ struct LocalFit {
   /// the fit's tangent plane (chosen there, so the noise does not choose it). Noise is
   /// independent from point to point, detail is not: detail left by the fit is nearly the same
   /// at neighbouring points and cancels, noise counts twice (Rice's difference estimator).
+  /// Computed on request only (0 otherwise): it costs k² distances per fit.
   double difference = 0;
 };
 
-/// The quadratic height-field fit to points[idx] and its two estimates of the noise.
-LocalFit fit_residual(const Points& points, const std::vector<std::uint32_t>& idx) {
+/// The quadratic height-field fit to points[idx] and its estimates of the noise (the
+/// differences' only when `differences` is set).
+LocalFit fit_residual(const Points& points, const std::vector<std::uint32_t>& idx, bool differences) {
   const Frame frame = pca_frame(points, idx);
   const PolyProxy poly = fit_poly_in_frame(frame, points, idx);
   thread_local std::vector<Eigen::Vector3d> local;  // tangent-plane position, residual
@@ -58,7 +60,7 @@ LocalFit fit_residual(const Points& points, const std::vector<std::uint32_t>& id
     ss += r * r;
   }
   double sd = 0;
-  for (std::size_t i = 0; i < local.size(); ++i) {
+  for (std::size_t i = 0; differences && i < local.size(); ++i) {
     double nearest = std::numeric_limits<double>::infinity(), dr = 0;
     for (std::size_t j = 0; j < local.size(); ++j) {
       if (j == i) continue;
@@ -96,7 +98,8 @@ std::array<LocalNoise, 3> local_noise(const Points& points, const KdTree& tree, 
         idx.clear();
         for (std::size_t j = 0; j < m; ++j) idx.push_back(nb[j].index);
         width[scale][s] = std::sqrt(nb[m - 1].distance_squared);
-        const LocalFit fit = fit_residual(points, idx);
+        // Only the narrowest fits' differences are ever used (estimate_noise()).
+        const LocalFit fit = fit_residual(points, idx, options.residual_differences && scale == 2);
         sigma[scale][s] = fit.residual;
         difference[scale][s] = fit.difference;
       }

@@ -7,6 +7,7 @@
 #include "core/progress_reporter.hpp"
 #include "mesh/cell_polygonizer.hpp"
 #include "mesh/mesh_subset.hpp"
+#include "mesh/position_ids.hpp"
 
 #include <tbb/parallel_for.h>
 
@@ -23,25 +24,6 @@
 namespace clustersurf {
 
 namespace {
-
-/// For each vertex, the first vertex at exactly the same position (itself when none is).
-std::vector<std::int32_t> coincident_vertices(const Points& vertices) {
-  struct Hash {
-    std::size_t operator()(const std::array<double, 3>& p) const noexcept {
-      std::size_t h = 0;
-      for (double x : p) h = h * 1000003u ^ std::hash<double>{}(x);
-      return h;
-    }
-  };
-  std::unordered_map<std::array<double, 3>, std::int32_t, Hash> first;
-  first.reserve(static_cast<std::size_t>(vertices.rows()));
-  std::vector<std::int32_t> out(static_cast<std::size_t>(vertices.rows()));
-  for (Eigen::Index v = 0; v < vertices.rows(); ++v) {
-    const std::array<double, 3> p{vertices(v, 0), vertices(v, 1), vertices(v, 2)};
-    out[static_cast<std::size_t>(v)] = first.try_emplace(p, static_cast<std::int32_t>(v)).first->second;
-  }
-  return out;
-}
 
 using Key = std::uint64_t;
 constexpr std::int64_t kBias = std::int64_t{1} << 20;  // grid coordinates in [-2^20, 2^20)
@@ -246,7 +228,7 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
   //    place (two cell edges' crossings projected onto a crease's edge line) are one vertex:
   //    the triangle between them collapses with its edge, where dropping it alone would leave
   //    a hole.
-  const std::vector<std::int32_t> same = coincident_vertices(mesh.vertices);
+  const std::vector<std::int32_t> same = detail::position_ids(mesh.vertices);
   std::vector<std::array<std::int32_t, 3>> tris;
   auto add = [&](std::int32_t a, std::int32_t b, std::int32_t c) {
     a = same[static_cast<std::size_t>(a)], b = same[static_cast<std::size_t>(b)], c = same[static_cast<std::size_t>(c)];

@@ -17,6 +17,8 @@
 #include <clustersurf/errors.hpp>
 #include <clustersurf/mesh_check.hpp>
 
+#include "mesh/position_ids.hpp"
+
 #include <Eigen/Geometry>
 #include <embree3/rtcore.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -252,31 +254,6 @@ struct EmbreeCollider {
   EmbreeCollider& operator=(const EmbreeCollider&) = delete;
 };
 
-/// One id per distinct position: the lowest index of the vertices there.
-std::vector<std::int32_t> position_ids(const Points& v) {
-  const auto n = static_cast<std::int32_t>(v.rows());
-  std::vector<std::int32_t> order(static_cast<std::size_t>(n));
-  std::iota(order.begin(), order.end(), 0);
-  const auto before = [](double x, double y) {  // a strict weak order even with NaN (last)
-    return std::isnan(y) ? !std::isnan(x) : x < y;
-  };
-  const auto less = [&v, &before](std::int32_t a, std::int32_t b) {
-    for (int k = 0; k < 3; ++k) {
-      if (before(v(a, k), v(b, k))) return true;
-      if (before(v(b, k), v(a, k))) return false;
-    }
-    return a < b;
-  };
-  tbb::parallel_sort(order.begin(), order.end(), less);
-  std::vector<std::int32_t> id(order.size());
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    const std::int32_t i = order[k];
-    id[static_cast<std::size_t>(i)] =
-        k > 0 && v.row(i) == v.row(order[k - 1]) ? id[static_cast<std::size_t>(order[k - 1])] : i;
-  }
-  return id;
-}
-
 }  // namespace
 
 bool triangles_intersect(const std::array<Eigen::Vector3d, 3>& a, const std::array<Eigen::Vector3d, 3>& b,
@@ -305,7 +282,7 @@ SelfIntersections find_self_intersections(const TriangleMesh& mesh, const MeshCh
   if ((mesh.triangles.array() < 0).any() || (mesh.triangles.array() >= nv).any())
     throw OptionError("mesh check: a triangle refers to a vertex that does not exist");
 
-  const std::vector<std::int32_t> vertex_id = position_ids(mesh.vertices);
+  const std::vector<std::int32_t> vertex_id = detail::position_ids(mesh.vertices);
   std::vector<Plane> planes(static_cast<std::size_t>(nt));
   tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, nt), [&](const tbb::blocked_range<Eigen::Index>& r) {
     for (Eigen::Index f = r.begin(); f < r.end(); ++f) {

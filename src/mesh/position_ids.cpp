@@ -1,0 +1,36 @@
+// Vertices at the same position, as one.
+
+#include "mesh/position_ids.hpp"
+
+#include <tbb/parallel_sort.h>
+
+#include <cmath>
+#include <numeric>
+
+namespace clustersurf::detail {
+
+std::vector<std::int32_t> position_ids(const Points& v) {
+  const auto n = static_cast<std::int32_t>(v.rows());
+  std::vector<std::int32_t> order(static_cast<std::size_t>(n));
+  std::iota(order.begin(), order.end(), 0);
+  const auto before = [](double x, double y) {  // a strict weak order even with NaN (last)
+    return std::isnan(y) ? !std::isnan(x) : x < y;
+  };
+  const auto less = [&v, &before](std::int32_t a, std::int32_t b) {
+    for (int k = 0; k < 3; ++k) {
+      if (before(v(a, k), v(b, k))) return true;
+      if (before(v(b, k), v(a, k))) return false;
+    }
+    return a < b;
+  };
+  tbb::parallel_sort(order.begin(), order.end(), less);
+  std::vector<std::int32_t> id(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const std::int32_t i = order[k];
+    id[static_cast<std::size_t>(i)] =
+        k > 0 && v.row(i) == v.row(order[k - 1]) ? id[static_cast<std::size_t>(order[k - 1])] : i;
+  }
+  return id;
+}
+
+}  // namespace clustersurf::detail
