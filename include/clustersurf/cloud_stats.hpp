@@ -36,6 +36,9 @@ struct PointSpacing {
 /// PointSpacing of the points `index` holds: every point up to `max_samples` points, then an
 /// evenly strided deterministic subset of that size (0 for fewer than two points).
 PointSpacing point_spacing(const KdTree& index, std::size_t max_samples = 200000);
+/// The same over the first `rows` points only, their neighbours among all the points `index`
+/// holds (a region's own points, its halo after them).
+PointSpacing point_spacing(const KdTree& index, std::size_t max_samples, std::size_t rows);
 
 /// Computes CloudStats; spacing uses every point up to `max_samples` points, then an evenly
 /// strided deterministic subset of that size.

@@ -10,6 +10,7 @@
 #include <clustersurf/point_cloud.hpp>
 #include <clustersurf/point_cloud_io.hpp>
 #include <clustersurf/progress.hpp>
+#include <clustersurf/tiling.hpp>
 #include <clustersurf/tree_file.hpp>
 
 // points, proxies, the tree and its implicit surface (clustersurf::tree)

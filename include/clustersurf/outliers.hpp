@@ -37,5 +37,8 @@ struct OutlierReport {
 OutlierReport find_outliers(const Points& points, const OutlierOptions& options = {});
 /// The same with a k-d tree of `points` the caller already has.
 OutlierReport find_outliers(const Points& points, const KdTree& index, const OutlierOptions& options = {});
+/// The same judged against a given median spread instead of the points' own (the whole
+/// cloud's, for a region of it with a halo); report.median_spread is that value.
+OutlierReport find_outliers(const Points& points, const KdTree& index, const OutlierOptions& options, double median_spread);
 
 }  // namespace clustersurf

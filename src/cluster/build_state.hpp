@@ -43,6 +43,23 @@ struct WorkingSet {
   void apply(std::uint32_t begin, std::span<std::uint32_t> order);
 };
 
+/// What a build measures over the whole cloud: the clustered points' box (the relative
+/// tolerance is a fraction of its diagonal), the median point spacing and the noise estimate
+/// (used by the Auto threshold). A region of a larger cloud is built with its cloud's.
+struct BuildScale {
+  BoundingBox bbox;
+  double point_spacing = 0;
+  double noise_sigma = 0;
+};
+
+/// The tree of the rows `ids` of `cloud` (their positions: `clustered`, in that order): the
+/// recursion, the flattening and the point-leaf table of build_cluster_tree(), at the given
+/// scale, with the support checks over `support_points` (indexed by `support_index`: the
+/// clustered points, or those and their region's halo). The tree's bbox is that of `clustered`.
+ClusterTree build_tree(const PointCloud& cloud, std::vector<std::uint32_t> ids, const Points& clustered,
+                       const Points& support_points, const KdTree& support_index, const BuildScale& scale,
+                       const BuildOptions& options, const ProgressCallback& progress);
+
 /// Smallest sphere containing spheres a and b (padded so rounding never leaves one outside).
 Sphere enclose(const Sphere& a, const Sphere& b);
 

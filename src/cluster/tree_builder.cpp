@@ -224,6 +224,39 @@ ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& opti
 ClusterTree build_cluster_tree(const CloudIndex& cloud_index, const BuildOptions& options, const ProgressCallback& progress) {
   const PointCloud& cloud = cloud_index.cloud();
   validate(cloud, options);
+  const auto stage = [&progress](std::string_view name) {
+    if (progress && !progress(name, 0.0)) throw Cancelled();
+  };
+  // The k-d tree of the whole input gives its point spacing and finds the outliers; the points
+  // clustered are the input without them, and the k-d tree of those serves the noise estimate
+  // and the support checks (and, through the index, the trim).
+  stage("indexing points");
+  detail::BuildScale scale;
+  scale.point_spacing = cloud_index.median_spacing();
+  std::vector<std::uint32_t> ids;  // input index of each clustered point
+  if (options.remove_outliers) {
+    stage("finding outliers");
+    const OutlierReport found = find_outliers(cloud.positions, cloud_index.points(), options.outliers);
+    if (!found.outliers.empty() && !found.kept.empty()) ids.assign(found.kept.begin(), found.kept.end());
+  }
+  if (ids.empty()) {
+    ids.resize(static_cast<std::size_t>(cloud.size()));
+    std::iota(ids.begin(), ids.end(), 0u);
+  }
+  const CloudIndex::Subset clustered = cloud_index.rows(ids);
+  scale.bbox = bounding_box(clustered.positions);
+  if (options.threshold_mode == ThresholdMode::Auto && options.noise_factor > 0) {
+    stage("estimating noise");
+    scale.noise_sigma = estimate_noise(clustered.positions, clustered.index, options.noise);
+  }
+  return detail::build_tree(cloud, ids, clustered.positions, clustered.positions, clustered.index, scale, options, progress);
+}
+
+ClusterTree detail::build_tree(const PointCloud& cloud, std::vector<std::uint32_t> ids, const Points& clustered,
+                               const Points& support_points, const KdTree& support_index, const BuildScale& scale,
+                               const BuildOptions& options, const ProgressCallback& progress) {
+  validate(cloud, options);
+  if (ids.empty()) throw OptionError("cannot build a tree without points to cluster");
   ClusterTree tree;
   tree.input_points = static_cast<std::uint64_t>(cloud.size());
   TreeParameters& p = tree.parameters;
@@ -243,40 +276,18 @@ ClusterTree build_cluster_tree(const CloudIndex& cloud_index, const BuildOptions
   p.support_factor = options.support_factor;
   p.seed = options.seed;
   p.creases = options.creases;
-  const auto stage = [&progress](std::string_view name) {
-    if (progress && !progress(name, 0.0)) throw Cancelled();
-  };
 
-  // The k-d tree of the whole input gives its point spacing and finds the outliers; the points
-  // clustered are the input without them, and the k-d tree of those serves the noise estimate
-  // and the support checks (and, through the index, the trim).
-  stage("indexing points");
-  tree.point_spacing = cloud_index.median_spacing();
-  std::vector<std::uint32_t> ids;  // input index of each clustered point
   // The input normals, indexed like the input (the working set's ids), outliers or not.
   const bool use_normals = options.use_normals && cloud.normals.rows() == cloud.positions.rows() && cloud.size() > 0;
   const Points* normals = use_normals ? &cloud.normals : nullptr;
-  if (options.remove_outliers) {
-    stage("finding outliers");
-    const OutlierReport found = find_outliers(cloud.positions, cloud_index.points(), options.outliers);
-    if (!found.outliers.empty() && !found.kept.empty()) ids.assign(found.kept.begin(), found.kept.end());
-  }
-  if (ids.empty()) {
-    ids.resize(static_cast<std::size_t>(cloud.size()));
-    std::iota(ids.begin(), ids.end(), 0u);
-  }
-  const CloudIndex::Subset clustered = cloud_index.rows(ids);
-  const Points* points = &clustered.positions;
-  const KdTree& index = clustered.index;
-
-  tree.bbox = bounding_box(*points);
+  tree.point_spacing = scale.point_spacing;
+  tree.bbox = bounding_box(clustered);
   tree.origin = cloud.origin;
-  const double diagonal = tree.bbox.diagonal();
+  const double diagonal = scale.bbox.diagonal();
   const double tolerance = p.threshold_mode == ThresholdMode::Absolute ? options.tolerance : options.tolerance * diagonal;
   double noise = 0;  // the noise the leaves may keep on top of the tolerance
   if (p.threshold_mode == ThresholdMode::Auto) {
-    stage("estimating noise");
-    tree.noise_sigma = estimate_noise(*points, index, options.noise);
+    tree.noise_sigma = scale.noise_sigma;
     noise = options.noise_factor * tree.noise_sigma;
   }
   tree.error_threshold = std::hypot(tolerance, noise);
@@ -286,13 +297,13 @@ ClusterTree build_cluster_tree(const CloudIndex& cloud_index, const BuildOptions
   p.min_points = resolved.min_points;
 
   const auto n = ids.size();
-  WorkingSet work{*points, std::move(ids), std::vector<std::uint32_t>(n)};
+  WorkingSet work{clustered, std::move(ids), std::vector<std::uint32_t>(n)};
   std::iota(work.local.begin(), work.local.end(), 0u);
   std::optional<detail::SupportSampler> sampler;
   std::optional<detail::SupportFit> support;
   if (options.support_factor > 0) {
-    sampler.emplace(*points, index);
-    support.emplace(*points, work.positions, *sampler, resolved, tolerance, noise);
+    sampler.emplace(support_points, support_index);
+    support.emplace(support_points, work.positions, *sampler, resolved, tolerance, noise);
   }
   detail::ProgressReporter reporter(progress, "building tree", n);
   BuildNode root;

@@ -6,6 +6,7 @@
 
 #include "core/progress_reporter.hpp"
 #include "mesh/cell_polygonizer.hpp"
+#include "mesh/clipped_extraction.hpp"
 #include "mesh/mesh_subset.hpp"
 #include "mesh/position_ids.hpp"
 
@@ -67,8 +68,8 @@ Eigen::Vector3d any_tangent(const Eigen::Vector3d& n) {
 
 /// extract_mesh() of `surface`, or of `closed` (whose surface() it is) when given: then F is
 /// defined everywhere and the walk follows its zero set across the holes.
-TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed, const MeshOptions& options,
-                     MeshReport* report, const ProgressCallback& progress) {
+TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed, const detail::MeshClip* clip,
+                     const MeshOptions& options, MeshReport* report, const ProgressCallback& progress) {
   const ClusterTree& tree = surface.tree();
   const BoundingBox box = tree.bbox;
   const double longest = box.extent().maxCoeff();
@@ -91,6 +92,22 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
     const Eigen::Vector3d c = ((x - origin) / h).array().floor();
     return pack(static_cast<std::int64_t>(c.x()), static_cast<std::int64_t>(c.y()), static_cast<std::int64_t>(c.z()));
   };
+  // The cells the walk may visit: all, or those meeting the clip box.
+  Eigen::Array3d clip_lo = Eigen::Array3d::Constant(-static_cast<double>(kBias)), clip_hi = -clip_lo;
+  if (clip != nullptr) {
+    clip_lo = ((clip->box.min - origin) / h).array().floor();
+    clip_hi = ((clip->box.max - origin) / h).array().floor();
+  }
+  auto allowed = [&](Key cell) {
+    const auto [i, j, k] = unpack(cell);
+    const Eigen::Array3d c(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k));
+    return (c >= clip_lo).all() && (c <= clip_hi).all();
+  };
+  auto support_meets_clip = [&](const Sphere& s) {
+    if (clip == nullptr) return true;
+    const Eigen::Vector3d below = (clip->box.min - s.center).cwiseMax(0.0), above = (s.center - clip->box.max).cwiseMax(0.0);
+    return (below + above).norm() <= s.radius;
+  };
 
   // 1. Seeds: points on every blended proxy near its center and at ±r/3 along two tangents,
   //    projected onto f = 0.
@@ -99,6 +116,7 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cut.size()), [&](const auto& r) {
     for (std::size_t c = r.begin(); c != r.end(); ++c) {
       const ClusterNode& n = tree.nodes[static_cast<std::size_t>(cut[c])];
+      if (!support_meets_clip(n.support)) continue;
       const Eigen::Vector3d normal = n.proxy.normal();
       const Eigen::Vector3d t1 = any_tangent(normal), t2 = normal.cross(t1);
       const double step = n.support.radius / 3;
@@ -117,8 +135,11 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
         for (int dj = -1; dj <= 1; ++dj)
           for (int dk = -1; dk <= 1; ++dk) frontier.push_back(pack(i + di, j + dj, k + dk));
     }
+  if (clip != nullptr && clip->seeds != nullptr)
+    for (Eigen::Index p = 0; p < clip->seeds->rows(); ++p) frontier.push_back(cell_of(clip->seeds->row(p).transpose()));
   std::sort(frontier.begin(), frontier.end());
   frontier.erase(std::unique(frontier.begin(), frontier.end()), frontier.end());
+  if (clip != nullptr) std::erase_if(frontier, [&](Key cell) { return !allowed(cell); });
 
   // 2. Breadth-first walk over cells crossed by the surface, evaluating corners in batches.
   detail::ProgressReporter reporter(progress, "meshing", 1000);
@@ -169,7 +190,7 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
         for (int c : kFaceCorners[f]) (v[c] < 0 ? neg : pos) = true;
         if (!(neg && pos)) continue;
         const Key nb = pack(i + kFaceStep[f][0], j + kFaceStep[f][1], k + kFaceStep[f][2]);
-        if (visited.insert(nb).second) next.push_back(nb);
+        if ((clip == nullptr || allowed(nb)) && visited.insert(nb).second) next.push_back(nb);
       }
     }
     std::sort(next.begin(), next.end());
@@ -268,12 +289,18 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
 
 TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& options, MeshReport* report,
                           const ProgressCallback& progress) {
-  return extract(surface, nullptr, options, report, progress);
+  return extract(surface, nullptr, nullptr, options, report, progress);
 }
 
 TriangleMesh extract_mesh(const ClosedSurface& closed, const MeshOptions& options, MeshReport* report,
                           const ProgressCallback& progress) {
-  return extract(closed.surface(), &closed, options, report, progress);
+  return extract(closed.surface(), &closed, nullptr, options, report, progress);
+}
+
+TriangleMesh detail::extract_clipped(const ImplicitSurface& surface, const MeshClip& clip, const MeshOptions& options,
+                                     MeshReport* report, const ProgressCallback& progress) {
+  if (clip.box.empty()) throw OptionError("the mesh clip box is empty");
+  return extract(surface, nullptr, &clip, options, report, progress);
 }
 
 }  // namespace clustersurf

@@ -10,9 +10,13 @@
 namespace clustersurf {
 
 PointSpacing point_spacing(const KdTree& index, std::size_t max_samples) {
+  return point_spacing(index, max_samples, index.size());
+}
+
+PointSpacing point_spacing(const KdTree& index, std::size_t max_samples, std::size_t rows) {
   const Points& points = index.points();
-  const auto count = static_cast<std::size_t>(points.rows());
-  if (count < 2 || max_samples == 0) return {};
+  const auto count = std::min(rows, static_cast<std::size_t>(points.rows()));
+  if (count < 1 || points.rows() < 2 || max_samples == 0) return {};
   const std::size_t samples = std::min(count, max_samples);
   const double stride = static_cast<double>(count) / static_cast<double>(samples);
   std::vector<double> nearest(samples);

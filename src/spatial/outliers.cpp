@@ -58,6 +58,9 @@ OutlierReport nothing_flagged(std::size_t n) {
   return report;
 }
 
+/// find_outliers() against `median_spread`, or the points' own median spread when null.
+OutlierReport flag_outliers(const Points& points, const KdTree& index, const OutlierOptions& options, const double* median_spread);
+
 }  // namespace
 
 OutlierReport find_outliers(const Points& points, const OutlierOptions& options) {
@@ -66,6 +69,17 @@ OutlierReport find_outliers(const Points& points, const OutlierOptions& options)
 }
 
 OutlierReport find_outliers(const Points& points, const KdTree& index, const OutlierOptions& options) {
+  return flag_outliers(points, index, options, nullptr);
+}
+
+OutlierReport find_outliers(const Points& points, const KdTree& index, const OutlierOptions& options, double median_spread) {
+  if (!(median_spread >= 0) || !std::isfinite(median_spread)) throw OptionError("outlier test: the median spread must be finite and >= 0");
+  return flag_outliers(points, index, options, &median_spread);
+}
+
+namespace {
+
+OutlierReport flag_outliers(const Points& points, const KdTree& index, const OutlierOptions& options, const double* median_spread) {
   if (options.neighbors < 1) throw OptionError("outlier test: neighbors must be at least 1");
   if (!(options.local_ratio >= 0) || !(options.global_ratio >= 0) || !std::isfinite(options.local_ratio) ||
       !std::isfinite(options.global_ratio))
@@ -92,8 +106,12 @@ OutlierReport find_outliers(const Points& points, const KdTree& index, const Out
       spread[i] = sum / static_cast<double>(k);
     }
   });
-  std::vector<double> sorted = spread;
-  report.median_spread = median_of(sorted);
+  if (median_spread != nullptr) {
+    report.median_spread = *median_spread;
+  } else {
+    std::vector<double> sorted = spread;
+    report.median_spread = median_of(sorted);
+  }
   const double global_limit = options.global_ratio > 0 && report.median_spread > 0
                                   ? options.global_ratio * report.median_spread
                                   : std::numeric_limits<double>::infinity();
@@ -111,5 +129,7 @@ OutlierReport find_outliers(const Points& points, const KdTree& index, const Out
   for (std::size_t i = 0; i < n; ++i) (outlier[i] ? report.outliers : report.kept).push_back(static_cast<Eigen::Index>(i));
   return report;
 }
+
+}  // namespace
 
 }  // namespace clustersurf

@@ -1,0 +1,110 @@
+// One tile of a tiled mesh: the lattice around a region, meshed, trimmed and cut to the region.
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/kd_tree.hpp>
+#include <clustersurf/tiling.hpp>
+
+#include "mesh/clipped_extraction.hpp"
+#include "mesh/mesh_subset.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+
+namespace clustersurf {
+
+namespace {
+
+/// Cells of lattice meshed around a tile's region: a triangle whose centroid lies in the region
+/// comes from cells within two of it (a quad spans the two cells on each side of its edge, and
+/// the projection moves a vertex at most one cell), whose corner values every tile that
+/// visits them computes alike; beyond, the walk's edge differs from the neighbour's.
+constexpr double kMarginCells = 4;
+
+}  // namespace
+
+MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::int32_t region_index,
+                   const RegionCloud& region, const MeshOptions& grid, const TrimOptions& trim,
+                   const ProgressCallback& progress) {
+  if (region_index < 0 || static_cast<std::size_t>(region_index) >= plan.regions())
+    throw OptionError("region " + std::to_string(region_index) + " is not in the plan");
+  if (!grid.voxel_size || !(*grid.voxel_size > 0) || !std::isfinite(*grid.voxel_size))
+    throw OptionError("a tile needs the lattice's cell size (a positive voxel size)");
+  if (!region.outliers.empty() && region.outliers.size() != static_cast<std::size_t>(region.points.size()))
+    throw OptionError("the region's outlier marks do not match its points");
+  MeshTile tile;
+  tile.region = region_index;
+  if (region.own == 0) return tile;
+  const double h = *grid.voxel_size;
+  // The region's points but its outliers: the seeds of the walk and the data of the trim.
+  std::vector<Eigen::Index> rows;
+  for (Eigen::Index r = 0; r < region.points.size(); ++r)
+    if (region.outliers.empty() || !region.outliers[static_cast<std::size_t>(r)]) rows.push_back(r);
+  const Points data = region.points.positions(rows, Eigen::all);
+  std::size_t own_data = 0;  // rows of `data` that are the region's own
+  while (own_data < rows.size() && rows[own_data] < static_cast<Eigen::Index>(region.own)) ++own_data;
+
+  detail::MeshClip clip;
+  clip.box = plan.region_box(region_index);
+  clip.box.min.array() -= kMarginCells * h;
+  clip.box.max.array() += kMarginCells * h;
+  clip.seeds = &data;
+  TriangleMesh mesh = detail::extract_clipped(surface, clip, grid, &tile.grid, progress);
+
+  // The reach trim over the region's data; the fragment test waits for the whole mesh.
+  const KdTree index(data);
+  TrimOptions reach = trim;
+  reach.min_component_points = 0;
+  reach.close_pinholes = false;
+  mesh = trim_to_points(mesh, index, reach);
+
+  // The triangles the region owns: centroid in its cell (every tile computes the same centroid
+  // of the same triangle, and exactly one cell holds it).
+  std::vector<std::uint8_t> owned(static_cast<std::size_t>(mesh.triangles.rows()));
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+    const Eigen::Vector3d c = (mesh.vertices.row(mesh.triangles(t, 0)) + mesh.vertices.row(mesh.triangles(t, 1)) +
+                               mesh.vertices.row(mesh.triangles(t, 2))).transpose() / 3.0;
+    owned[static_cast<std::size_t>(t)] = plan.region_of(c) == region_index;
+  }
+  // The votes of the region's own points for their nearest vertex of the trimmed mesh (kept
+  // whether or not the region owns a triangle there: the neighbour that does gets them when
+  // the tiles are joined).
+  Eigen::VectorXf votes = Eigen::VectorXf::Zero(mesh.vertices.rows());
+  if (mesh.vertices.rows() > 0 && own_data > 0) {
+    const KdTree vertices(mesh.vertices);
+    std::vector<std::uint32_t> nearest(own_data);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, own_data, 1024), [&](const auto& r) {
+      std::vector<Neighbor> nb;
+      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+        vertices.knn(data.row(static_cast<Eigen::Index>(i)).transpose(), 1, nb);
+        nearest[i] = nb[0].index;
+      }
+    });
+    for (const std::uint32_t v : nearest) votes(v) += 1;
+  }
+  // Keep the owned triangles and every voted vertex (a voted vertex no owned triangle uses
+  // joins its owner's copy, or goes with its own triangles when the join drops them).
+  Triangles kept(mesh.triangles.rows(), 3);
+  Eigen::Index count = 0;
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
+    if (owned[static_cast<std::size_t>(t)]) kept.row(count++) = mesh.triangles.row(t);
+  kept.conservativeResize(count, 3);
+  std::vector<std::uint8_t> used(static_cast<std::size_t>(mesh.vertices.rows()), 0);
+  for (Eigen::Index t = 0; t < kept.rows(); ++t)
+    for (int k = 0; k < 3; ++k) used[static_cast<std::size_t>(kept(t, k))] = 1;
+  for (Eigen::Index v = 0; v < votes.size(); ++v) used[static_cast<std::size_t>(v)] |= votes(v) > 0;
+  std::vector<Eigen::Index> keep_rows, remap(static_cast<std::size_t>(mesh.vertices.rows()), -1);
+  for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v)
+    if (used[static_cast<std::size_t>(v)]) remap[static_cast<std::size_t>(v)] = static_cast<Eigen::Index>(keep_rows.size()), keep_rows.push_back(v);
+  tile.mesh.vertices = mesh.vertices(keep_rows, Eigen::all);
+  if (mesh.normals.rows() == mesh.vertices.rows()) tile.mesh.normals = mesh.normals(keep_rows, Eigen::all);
+  tile.mesh.triangles.resize(kept.rows(), 3);
+  for (Eigen::Index t = 0; t < kept.rows(); ++t)
+    for (int k = 0; k < 3; ++k)
+      tile.mesh.triangles(t, k) = static_cast<std::int32_t>(remap[static_cast<std::size_t>(kept(t, k))]);
+  tile.mesh.attributes.push_back({"votes", votes(keep_rows)});
+  tile.mesh.origin = surface.tree().origin;
+  return tile;
+}
+
+}  // namespace clustersurf

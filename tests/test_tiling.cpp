@@ -1,0 +1,124 @@
+// Regions and tiles: a cloud split into regions built apart and meshed as tiles of one lattice
+// gives the in-core surface, without seams along the tile borders.
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/surface_comparison.hpp>
+#include <clustersurf/tiling.hpp>
+#include <clustersurf/tree_file.hpp>
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <set>
+
+#include "test_support.hpp"
+
+using namespace clustersurf;
+
+namespace {
+
+RegionOptions regions_of(std::uint64_t points) {
+  RegionOptions o;
+  o.max_points = points;
+  return o;
+}
+
+/// The triangles of a mesh as corner positions, each starting at its smallest corner.
+std::set<std::array<double, 9>> triangle_set(const TriangleMesh& mesh) {
+  std::set<std::array<double, 9>> out;
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+    std::array<std::array<double, 3>, 3> c;
+    for (int k = 0; k < 3; ++k)
+      for (int a = 0; a < 3; ++a) c[static_cast<std::size_t>(k)][static_cast<std::size_t>(a)] = mesh.vertices(mesh.triangles(t, k), a);
+    const auto first = static_cast<std::size_t>(std::min_element(c.begin(), c.end()) - c.begin());
+    std::array<double, 9> key;
+    for (std::size_t k = 0; k < 3; ++k)
+      for (std::size_t a = 0; a < 3; ++a) key[3 * k + a] = c[(first + k) % 3][a];
+    out.insert(key);
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(RegionPlan, BalancesRegionsByPointCount) {
+  const PointCloud cloud = test::sample_torus(40000);
+  const RegionPlan plan = plan_regions(cloud.positions, 40000, bounding_box(cloud.positions), 0.01, regions_of(5000));
+  ASSERT_GE(plan.regions(), 8u);
+  std::vector<std::size_t> own(plan.regions(), 0);
+  for (Eigen::Index i = 0; i < cloud.size(); ++i) ++own[static_cast<std::size_t>(plan.region_of(cloud.positions.row(i).transpose()))];
+  for (const std::size_t n : own) {
+    EXPECT_LE(n, 5000u);
+    EXPECT_GE(n, 2000u);  // median cuts: no region far below half the limit
+  }
+  // The halo: exactly the other regions whose cell is within the halo width.
+  std::vector<std::int32_t> near;
+  for (Eigen::Index i = 0; i < cloud.size(); i += 97) {
+    const Eigen::Vector3d x = cloud.positions.row(i).transpose();
+    plan.halo_regions(x, near);
+    for (std::int32_t r = 0; r < static_cast<std::int32_t>(plan.regions()); ++r) {
+      const BoundingBox& box = plan.region_box(r);
+      const double d = ((box.min - x).cwiseMax(0.0) + (x - box.max).cwiseMax(0.0)).norm();
+      const bool listed = std::find(near.begin(), near.end(), r) != near.end();
+      EXPECT_EQ(listed, r != plan.region_of(x) && d <= plan.halo) << "point " << i << " region " << r;
+    }
+  }
+}
+
+TEST(Tiling, OneRegionIsTheInCoreTree) {
+  const PointCloud cloud = test::sample_torus(12000);
+  ReconstructOptions options;
+  options.mesh = false;
+  const Reconstruction in_core = reconstruct(cloud, options);
+  const Reconstruction tiled = reconstruct_tiled(cloud, regions_of(1'000'000), options);
+  EXPECT_EQ(serialize_tree(tiled.tree), serialize_tree(in_core.tree));
+}
+
+TEST(Tiling, TilesMeetWithoutSeams) {
+  const PointCloud cloud = test::sample_torus(60000);
+  const Reconstruction tiled = reconstruct_tiled(cloud, regions_of(8000));
+  ASSERT_TRUE(tiled.mesh);
+  // The tiles welded are the mesh of the merged tree meshed whole, triangle for triangle, to
+  // the bit: nothing differs along a tile border.
+  const CloudIndex index(cloud);
+  const SurfaceMesh whole = mesh_tree(tiled.tree, {}, &index);
+  EXPECT_EQ(triangle_set(tiled.mesh->mesh), triangle_set(whole.mesh));
+  EXPECT_EQ(tiled.mesh->mesh.vertices.rows(), whole.mesh.vertices.rows());
+  const MeshTopology topology = mesh_topology(tiled.mesh->mesh);
+  EXPECT_EQ(topology.non_manifold_edges, 0u);
+  EXPECT_EQ(topology.components, 1u);
+  EXPECT_GT(topology.signed_volume, 0);
+}
+
+TEST(Tiling, TiledSurfaceIsTheInCoreSurface) {
+  const PointCloud cloud = test::sample_torus(60000);
+  const Reconstruction in_core = reconstruct(cloud);
+  const Reconstruction tiled = reconstruct_tiled(cloud, regions_of(8000));
+  ASSERT_TRUE(tiled.mesh && in_core.mesh);
+  const double cell = in_core.mesh->grid.voxel_size;
+  // The cell follows the regions' spacing, a median of their medians.
+  EXPECT_NEAR(tiled.mesh->grid.voxel_size, cell, 0.01 * cell);
+  const SurfaceComparison c = compare_surfaces(tiled.mesh->mesh, in_core.mesh->mesh);
+  EXPECT_LT(c.hausdorff, 0.5 * cell);
+  EXPECT_LT(c.chamfer, 0.02 * cell);
+}
+
+TEST(Tiling, RegionsOrientedByPropagationAgree) {
+  PointCloud cloud = test::sample_torus(60000);
+  cloud.normals.resize(0, 3);
+  const Reconstruction tiled = reconstruct_tiled(cloud, regions_of(8000));
+  ASSERT_TRUE(tiled.mesh);
+  // One surface facing out: no region flipped against its neighbours, none inside out.
+  const MeshTopology topology = mesh_topology(tiled.mesh->mesh);
+  EXPECT_EQ(topology.components, 1u);
+  EXPECT_EQ(topology.inconsistent_edges, 0u);
+  EXPECT_GT(topology.signed_volume, 0);
+}
+
+TEST(Tiling, RefusesWhatTilesCannotDo) {
+  const PointCloud cloud = test::sample_sphere(3000);
+  ReconstructOptions options;
+  options.meshing.closing.enabled = true;
+  EXPECT_THROW(reconstruct_tiled(cloud, regions_of(1000), options), OptionError);
+  EXPECT_THROW(plan_regions(cloud.positions, 3000, bounding_box(cloud.positions), 0.01, regions_of(0)), OptionError);
+}
