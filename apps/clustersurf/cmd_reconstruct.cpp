@@ -4,6 +4,7 @@
 #include "tree_report.hpp"
 
 #include <clustersurf/errors.hpp>
+#include <clustersurf/tiled_run.hpp>
 #include <clustersurf/tree_file.hpp>
 
 #include <fmt/format.h>
@@ -46,10 +47,20 @@ int run_reconstruct(Console& console, const ReconstructArgs& args) {
     throw OptionError("nothing to write: give -o TREE.cstree and/or --mesh MESH.ply");
   const ReconstructOptions options = reconstruct_options(args);
   const auto t0 = std::chrono::steady_clock::now();
-  const PointCloud cloud = read_input(console, args.input);
-  const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  double read_seconds = 0;  // out of core: reading is part of the build
   Reconstruction result = [&] {
     try {
+      if (!args.memory_limit.empty()) {
+        OutOfCoreOptions out_of_core;
+        out_of_core.memory_limit = parse_memory_size(args.memory_limit);
+        out_of_core.work_directory =
+            !args.work_dir.empty() ? args.work_dir : (args.mesh_output.empty() ? args.tree_output : args.mesh_output) + ".work";
+        out_of_core.remove_work_directory = !args.keep_work_dir;
+        out_of_core.read = read_options(console, args.input);
+        return reconstruct_out_of_core(args.input.file, options, out_of_core, console.progress());
+      }
+      const PointCloud cloud = read_input(console, args.input);
+      read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       return reconstruct(cloud, options, console.progress());
     } catch (const InputError& e) {
       if (!e.file().empty()) throw;

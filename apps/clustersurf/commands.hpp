@@ -69,6 +69,9 @@ struct ReconstructArgs {
   bool keep_outliers = false;
   bool ignore_normals = false;
   bool no_creases = !BuildOptions{}.creases;
+  std::string memory_limit;  // parse_memory_size(); empty: in core
+  std::string work_dir;      // out of core: the run's files (default: the output's name + .work)
+  bool keep_work_dir = false;
 };
 int run_reconstruct(Console& console, const ReconstructArgs& args);
 

@@ -7,12 +7,17 @@
 
 namespace clustersurf::cli {
 
-inline PointCloud read_input(Console& console, const InputArgs& input) {
+/// How a command reads its input, warnings to the console.
+inline ReadOptions read_options(Console& console, const InputArgs& input) {
   ReadOptions options;
   options.drop_non_finite = input.drop_non_finite;
   options.mesh_samples = input.mesh_samples;
   options.warn = [&console](const std::string& message) { console.warn(message); };
-  return read_point_cloud(input.file, options);
+  return options;
+}
+
+inline PointCloud read_input(Console& console, const InputArgs& input) {
+  return read_point_cloud(input.file, read_options(console, input));
 }
 
 /// A cloud named by a command's option (--points): read as `reconstruct` reads its input by

@@ -164,6 +164,13 @@ int main(int argc, char** argv) {
               "Cluster every input point; by default isolated points (mean distance to their 8 nearest "
               "neighbours over 3x their neighbours' or 6x the cloud's median) are left out");
   r->add_flag("--no-point-leaves", rec.no_point_leaves, "Do not store each point's leaf in the tree file");
+  r->add_option("--memory-limit", rec.memory_limit,
+                "Build and mesh out of core within about this much memory (e.g. 4G): the input is split into "
+                "regions on disk, each built and meshed in turn, the tiles welded into one mesh");
+  r->add_option("--work-dir", rec.work_dir,
+                "Where an out-of-core run keeps its files (default: the mesh or tree file's name + .work); a run "
+                "interrupted and started again resumes there");
+  r->add_flag("--keep-work-dir", rec.keep_work_dir, "Keep an out-of-core run's files when it is done");
 
   InfoArgs info;
   auto* i = app.add_subcommand("info", "Describe a tree file: sizes, depth, proxies, errors, parameters");

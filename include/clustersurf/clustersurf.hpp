@@ -10,6 +10,8 @@
 #include <clustersurf/point_cloud.hpp>
 #include <clustersurf/point_cloud_io.hpp>
 #include <clustersurf/progress.hpp>
+#include <clustersurf/point_stream.hpp>
+#include <clustersurf/tiled_run.hpp>
 #include <clustersurf/tiling.hpp>
 #include <clustersurf/tree_file.hpp>
 

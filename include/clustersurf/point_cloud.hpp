@@ -91,5 +91,7 @@ PointCloud select(const PointCloud& cloud, const std::vector<Eigen::Index>& indi
 /// round-trips bit for bit, while every stage works on small numbers. Returns the shift (zero:
 /// nothing moved).
 Eigen::Vector3d shift_to_origin(PointCloud& cloud);
+/// The shift shift_to_origin() gives a cloud with bounding box `box` (zero: none).
+Eigen::Vector3d origin_shift(const BoundingBox& box);
 
 }  // namespace clustersurf

@@ -165,6 +165,14 @@ class RegionSource {
 Reconstruction reconstruct_regions(const RegionPlan& plan, const RegionSource& source,
                                    const ReconstructOptions& options = {}, const ProgressCallback& progress = {});
 
+/// Throws OptionError for what a tiled mesh cannot do: levels of detail, closing, distance
+/// colors, closing pinholes.
+void require_tiled_meshing(const SurfaceMeshOptions& options);
+
+/// The lattice cell of a tiled mesh of `tree`: options.grid's voxel size, else the tree's spacing
+/// (auto resolution, cell_size_for_spacing()), else its resolution along the longest side.
+double tiled_cell_size(const ClusterTree& tree, const SurfaceMeshOptions& options);
+
 /// reconstruct_regions() of a cloud in memory, split by plan_regions() of an even sample of
 /// it (the halo measured in the sample's spacing, scaled to the cloud's density). The same
 /// surface as reconstruct() within the difference of the leaves along region borders; one

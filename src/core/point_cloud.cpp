@@ -31,7 +31,15 @@ PointCloud select(const PointCloud& cloud, const std::vector<Eigen::Index>& indi
 }
 
 Eigen::Vector3d shift_to_origin(PointCloud& cloud) {
-  const BoundingBox box = bounding_box(cloud.positions);
+  const Eigen::Vector3d shift = origin_shift(bounding_box(cloud.positions));
+  if (shift.isZero()) return shift;
+  cloud.positions.rowwise() -= shift.transpose();
+  if (cloud.scanner_positions.rows() != 0) cloud.scanner_positions.rowwise() -= shift.transpose();
+  cloud.origin += shift;
+  return shift;
+}
+
+Eigen::Vector3d origin_shift(const BoundingBox& box) {
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();
   if (box.empty() || !box.min.allFinite() || !box.max.allFinite() || !(box.diagonal() > 0)) return shift;
   const Eigen::Vector3d center = 0.5 * box.min + 0.5 * box.max;  // no overflow near the largest doubles
@@ -41,10 +49,6 @@ Eigen::Vector3d shift_to_origin(PointCloud& cloud) {
   const double far = 16 * box.diagonal();
   for (int k = 0; k < 3; ++k)
     if (std::abs(center(k)) > far && std::abs(center(k)) > box.extent()(k)) shift(k) = center(k);
-  if (shift.isZero()) return shift;
-  cloud.positions.rowwise() -= shift.transpose();
-  if (cloud.scanner_positions.rows() != 0) cloud.scanner_positions.rowwise() -= shift.transpose();
-  cloud.origin += shift;
   return shift;
 }
 

@@ -1,5 +1,7 @@
 #include "io/mapped_file.hpp"
 
+#include <algorithm>
+
 #include <clustersurf/errors.hpp>
 
 #include <cerrno>
@@ -36,6 +38,13 @@ MappedFile::MappedFile(const std::filesystem::path& file) {
     data_ = static_cast<const char*>(p);
   }
   ::close(fd);
+}
+
+void MappedFile::release(std::size_t begin, std::size_t end) const noexcept {
+  const auto page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+  begin = (begin + page - 1) / page * page;  // whole pages inside the range only
+  end = std::min(end, size_) / page * page;
+  if (data_ != nullptr && begin < end) ::madvise(const_cast<char*>(data_) + begin, end - begin, MADV_DONTNEED);
 }
 
 MappedFile::~MappedFile() {

@@ -19,6 +19,9 @@ class MappedFile {
   const char* data() const noexcept { return data_; }
   std::size_t size() const noexcept { return size_; }
   std::string_view view() const noexcept { return {data_, size_}; }
+  /// Lets the kernel drop the pages of bytes [begin, end) from memory (they are read again from
+  /// the file if touched): a sequential reader keeps only what it still needs resident.
+  void release(std::size_t begin, std::size_t end) const noexcept;
 
  private:
   const char* data_ = nullptr;

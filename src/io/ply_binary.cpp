@@ -9,41 +9,6 @@
 
 namespace clustersurf::io::ply {
 
-namespace {
-
-template <class T>
-T load(const char* p, bool swap) {
-  T v;
-  std::memcpy(&v, p, sizeof(T));
-  if (swap) {
-    if constexpr (sizeof(T) == 2) {
-      auto u = std::bit_cast<std::uint16_t>(v);
-      v = std::bit_cast<T>(static_cast<std::uint16_t>(__builtin_bswap16(u)));
-    } else if constexpr (sizeof(T) == 4) {
-      v = std::bit_cast<T>(__builtin_bswap32(std::bit_cast<std::uint32_t>(v)));
-    } else if constexpr (sizeof(T) == 8) {
-      v = std::bit_cast<T>(__builtin_bswap64(std::bit_cast<std::uint64_t>(v)));
-    }
-  }
-  return v;
-}
-
-double load_scalar(const char* p, Scalar s, bool swap) {
-  switch (s) {
-    case Scalar::Int8: return static_cast<std::int8_t>(*p);
-    case Scalar::UInt8: return static_cast<std::uint8_t>(*p);
-    case Scalar::Int16: return load<std::int16_t>(p, swap);
-    case Scalar::UInt16: return load<std::uint16_t>(p, swap);
-    case Scalar::Int32: return load<std::int32_t>(p, swap);
-    case Scalar::UInt32: return load<std::uint32_t>(p, swap);
-    case Scalar::Float32: return load<float>(p, swap);
-    case Scalar::Float64: return load<double>(p, swap);
-  }
-  return 0;
-}
-
-}  // namespace
-
 ParsedFile read_binary(const std::filesystem::path& file, std::string_view bytes, const Header& h, bool want_faces) {
   const bool swap = (h.encoding == Encoding::BinaryBig) != (std::endian::native == std::endian::big);
   ParsedFile out;

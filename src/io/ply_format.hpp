@@ -9,6 +9,8 @@
 #include <clustersurf/errors.hpp>
 
 #include <array>
+#include <bit>
+#include <cstring>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -114,6 +116,42 @@ struct VertexLayout {
   bool normals() const { return nrm[0] >= 0 && nrm[1] >= 0 && nrm[2] >= 0; }
   bool colors() const { return rgb[0] >= 0 && rgb[1] >= 0 && rgb[2] >= 0; }
 };
+
+/// The vertex properties of `v` we use; InputError when x, y or z is missing or one of them is a list.
+VertexLayout vertex_layout(const std::filesystem::path& file, const Element& v);
+
+/// A binary scalar at p, byte-swapped when `swap`.
+template <class T>
+inline T load(const char* p, bool swap) {
+  T v;
+  std::memcpy(&v, p, sizeof(T));
+  if (swap) {
+    if constexpr (sizeof(T) == 2) {
+      auto u = std::bit_cast<std::uint16_t>(v);
+      v = std::bit_cast<T>(static_cast<std::uint16_t>(__builtin_bswap16(u)));
+    } else if constexpr (sizeof(T) == 4) {
+      v = std::bit_cast<T>(__builtin_bswap32(std::bit_cast<std::uint32_t>(v)));
+    } else if constexpr (sizeof(T) == 8) {
+      v = std::bit_cast<T>(__builtin_bswap64(std::bit_cast<std::uint64_t>(v)));
+    }
+  }
+  return v;
+}
+
+inline double load_scalar(const char* p, Scalar s, bool swap) {
+  switch (s) {
+    case Scalar::Int8: return static_cast<std::int8_t>(*p);
+    case Scalar::UInt8: return static_cast<std::uint8_t>(*p);
+    case Scalar::Int16: return load<std::int16_t>(p, swap);
+    case Scalar::UInt16: return load<std::uint16_t>(p, swap);
+    case Scalar::Int32: return load<std::int32_t>(p, swap);
+    case Scalar::UInt32: return load<std::uint32_t>(p, swap);
+    case Scalar::Float32: return load<float>(p, swap);
+    case Scalar::Float64: return load<double>(p, swap);
+  }
+  return 0;
+}
+
 
 /// The vertex element's records into out.cloud: the positions, and the normals and colors when
 /// the element has them, sized once; fill() stores one record from its property values.

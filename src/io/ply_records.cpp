@@ -23,6 +23,8 @@ std::uint8_t to_color(double v, Scalar type) {
   return static_cast<std::uint8_t>(std::lround(c));
 }
 
+}  // namespace
+
 VertexLayout vertex_layout(const std::filesystem::path& file, const Element& v) {
   VertexLayout l;
   l.pos = {v.find({"x"}), v.find({"y"}), v.find({"z"})};
@@ -37,8 +39,6 @@ VertexLayout vertex_layout(const std::filesystem::path& file, const Element& v) 
                                          "\" is a list; expected a scalar");
   return l;
 }
-
-}  // namespace
 
 VertexRecords::VertexRecords(const std::filesystem::path& file, const Element& vertex, ParsedFile& out)
     : element_(vertex), layout_(vertex_layout(file, vertex)), out_(out) {

@@ -51,15 +51,24 @@ double spacing_from_sample(const Points& sample, std::uint64_t total_points) {
   return spacing * std::sqrt(static_cast<double>(sample.rows()) / static_cast<double>(total_points));
 }
 
+void require_tiled_meshing(const SurfaceMeshOptions& meshing) {
+  if (meshing.lod_depth || meshing.lod_error) throw OptionError("a tiled mesh is of the leaves: levels of detail are not available");
+  if (meshing.closing.enabled) throw OptionError("a tiled mesh cannot be closed (watertight) yet");
+  if (meshing.coloring == MeshColoring::ByDistance) throw OptionError("a tiled mesh cannot be colored by distance");
+  if (meshing.trim.close_pinholes) throw OptionError("a tiled mesh cannot close pinholes");
+}
+
+double tiled_cell_size(const ClusterTree& tree, const SurfaceMeshOptions& options) {
+  if (options.grid.voxel_size) return *options.grid.voxel_size;
+  if (options.auto_resolution && tree.point_spacing > 0) return cell_size_for_spacing(tree.point_spacing);
+  if (options.grid.resolution < 2) throw OptionError("the mesh resolution must be at least 2 cells");
+  return tree.bbox.extent().maxCoeff() / options.grid.resolution;
+}
+
 Reconstruction reconstruct_regions(const RegionPlan& plan, const RegionSource& source, const ReconstructOptions& options,
                                    const ProgressCallback& progress) {
   const SurfaceMeshOptions& meshing = options.meshing;
-  if (options.mesh) {
-    if (meshing.lod_depth || meshing.lod_error) throw OptionError("a tiled mesh is of the leaves: levels of detail are not available");
-    if (meshing.closing.enabled) throw OptionError("a tiled mesh cannot be closed (watertight) yet");
-    if (meshing.coloring == MeshColoring::ByDistance) throw OptionError("a tiled mesh cannot be colored by distance");
-    if (meshing.trim.close_pinholes) throw OptionError("a tiled mesh cannot close pinholes");
-  }
+  if (options.mesh) require_tiled_meshing(meshing);
   const auto start = std::chrono::steady_clock::now();
   const auto n = static_cast<std::int32_t>(plan.regions());
   const auto report = [&](std::string_view stage, std::int32_t done) {
@@ -73,7 +82,7 @@ Reconstruction reconstruct_regions(const RegionPlan& plan, const RegionSource& s
   const CloudScale scale = combine_surveys(surveys);
   std::vector<ClusterTree> trees;
   Reconstruction out;
-  bool propagated = false;
+  bool propagated = false, first = true;
   for (std::int32_t r = 0; r < n; ++r) {
     report("building regions", r);
     RegionCloud region = source.load(r);
@@ -82,8 +91,9 @@ Reconstruction reconstruct_regions(const RegionPlan& plan, const RegionSource& s
     trees.push_back(build_region_tree(region, plan, r, scale, options.build, &oriented));
     if (trees.back().nodes.empty()) continue;
     propagated = propagated || (!oriented.used_normals && !oriented.used_scanners);
-    out.orientation.used_normals = oriented.used_normals;
-    out.orientation.used_scanners = oriented.used_scanners;
+    out.orientation.used_normals = (first || out.orientation.used_normals) && oriented.used_normals;
+    out.orientation.used_scanners = (first || out.orientation.used_scanners) && oriented.used_scanners;
+    first = false;
     out.orientation.flipped += oriented.flipped;
     out.orientation.components += oriented.components;
   }
@@ -94,11 +104,7 @@ Reconstruction reconstruct_regions(const RegionPlan& plan, const RegionSource& s
   const auto mesh_start = std::chrono::steady_clock::now();
   SurfaceMesh mesh;
   MeshOptions grid = meshing.grid;
-  if (!grid.voxel_size) {
-    grid.voxel_size = meshing.auto_resolution && out.tree.point_spacing > 0
-                          ? cell_size_for_spacing(out.tree.point_spacing)
-                          : out.tree.bbox.extent().maxCoeff() / std::max<std::uint32_t>(grid.resolution, 1);
-  }
+  grid.voxel_size = tiled_cell_size(out.tree, meshing);
   const ImplicitSurface surface(out.tree);
   mesh.blended_nodes = surface.cut().size();
   std::vector<MeshTile> tiles;

@@ -1,0 +1,45 @@
+#pragma once
+// A point cloud file read a block of points at a time, for inputs larger than memory.
+
+#include <clustersurf/point_cloud.hpp>
+#include <clustersurf/point_cloud_io.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+
+namespace clustersurf {
+
+/// A point file read in blocks, in file order, in the file's coordinates (no origin shift).
+/// A binary PLY file of points (a vertex element of scalar properties and no faces) is read in
+/// place: memory-mapped, each block's pages released once read, so memory stays at one block
+/// whatever the file's size. Other files (other formats, ascii PLY, meshes, which
+/// read_point_cloud() samples) are read whole first and served from memory. Positions and
+/// normals only.
+class PointStream {
+ public:
+  /// Opens `file`; IoError when it cannot be read, InputError when it is malformed (a binary
+  /// PLY's records are checked against the file's size here).
+  explicit PointStream(const std::filesystem::path& file, const ReadOptions& options = {});
+  ~PointStream();
+  PointStream(const PointStream&) = delete;
+  PointStream& operator=(const PointStream&) = delete;
+
+  /// Points in the file (before non-finite ones are dropped, when ReadOptions says so).
+  std::uint64_t size() const noexcept;
+  bool has_normals() const noexcept;
+  /// Read in place (binary PLY points) rather than whole.
+  bool streamed() const noexcept;
+  /// The next at most `count` points into `block` (its rows replaced); false at the end of the
+  /// file. InputError (with the byte offset) for a non-finite coordinate or normal unless
+  /// ReadOptions::drop_non_finite.
+  bool read(std::size_t count, PointCloud& block);
+  /// Back to the first point.
+  void rewind();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace clustersurf

@@ -1,0 +1,129 @@
+#pragma once
+// A tiled reconstruction on disk: the input partitioned into region files, then each region
+// surveyed, built and meshed as a task of its own that reads and writes files in one work
+// directory. Run one task after another, the whole stays within a memory limit (out-of-core);
+// run the tasks of a stage in parallel, on machines sharing the directory, it is distributed
+// (the Python module clustersurf.distributed runs them on Dask).
+
+#include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/tiling.hpp>
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace clustersurf {
+
+/// Options of TiledRun::partition().
+struct PartitionOptions {
+  RegionOptions regions;
+  /// Points read from the input per block.
+  std::size_t block_points = 1u << 20;
+  /// Memory for the region files' write buffers, shared by all regions.
+  std::size_t buffer_bytes = 256u << 20;
+  ReadOptions read;
+};
+
+/// The largest region that a build fits in `memory_limit` bytes: regions, their halo, the
+/// k-d trees and the tree under construction take about kRegionBytesPerPoint bytes per own
+/// point (measured, docs/benchmarks.md). Throws OptionError for a limit under 64 MiB.
+std::uint64_t region_points_for_memory(std::uint64_t memory_limit);
+inline constexpr std::uint64_t kRegionBytesPerPoint = 400;
+
+/// A size in bytes from text: a number with an optional suffix K, M, G or T (powers of 1024),
+/// e.g. "4G" or "512M". Throws OptionError otherwise.
+std::uint64_t parse_memory_size(std::string_view text);
+
+/// A work directory of a tiled reconstruction. Every task writes its result atomically (a
+/// temporary file renamed into place) and does nothing when that result is already there, so
+/// a task that failed can simply run again, and a run started again redoes only what is
+/// missing. Tasks of one stage are independent of each other; a stage needs the results of
+/// the one before (InputError naming the missing file otherwise).
+///
+/// Files: plan.txt (the partition, written last), region-R.own / region-R.halo (points),
+/// survey-R.txt, tree-R.cstree and orientation-R.txt, tree.cstree (merged), tile-R.bin.
+class TiledRun {
+ public:
+  /// Partitions `input` into region files under `directory` (created if missing): one pass
+  /// over the input for its count, bounding box and an even sample, the plan (plan_regions()),
+  /// and one pass writing each point to its region's file and to the halo files of the regions
+  /// near it. A directory already holding a partition of the same input (same size and
+  /// modification time) and options is reused as it is. Throws IoError, InputError,
+  /// OptionError, Cancelled.
+  static TiledRun partition(const std::filesystem::path& input, const std::filesystem::path& directory,
+                            const PartitionOptions& options = {}, const ProgressCallback& progress = {});
+
+  /// Opens a partitioned directory; InputError when its plan is missing or malformed.
+  explicit TiledRun(const std::filesystem::path& directory);
+  ~TiledRun();
+  TiledRun(TiledRun&&) noexcept;
+  TiledRun& operator=(TiledRun&&) noexcept;
+
+  const std::filesystem::path& directory() const noexcept;
+  const RegionPlan& plan() const noexcept;
+  std::size_t regions() const noexcept { return plan().regions(); }
+  /// Points in the input, and whether they carry normals.
+  std::uint64_t input_points() const noexcept;
+  bool has_normals() const noexcept;
+  /// Where the region files' positions are relative to (the input's origin_shift()).
+  const Eigen::Vector3d& origin() const noexcept;
+
+  /// The points of a region (own, then halo), relative to origin(). InputError when a region
+  /// file is missing, truncated or not a region file.
+  RegionCloud load(std::int32_t region) const;
+
+  /// Stage 1, per region: survey_region() → survey-R.txt.
+  void survey(std::int32_t region, const BuildOptions& options) const;
+  /// The scale every region's build shares (combine_surveys() of every survey).
+  CloudScale scale() const;
+  /// Stage 2, per region: outliers marked and the subtree built (build_region_tree()) →
+  /// orientation-R.txt, tree-R.cstree. The point-leaf table is not kept.
+  void build(std::int32_t region, const BuildOptions& options) const;
+  /// Stage 3, once: merge_region_trees() → tree.cstree; returns the merged tree.
+  ClusterTree merge() const;
+  /// The regions' orientation reports summed (after every build): normals or scanners when
+  /// every non-empty region used them.
+  OrientationReport orientation() const;
+  /// Stage 4, per region: mesh_tile() of the merged tree → tile-R.bin, the region's outliers
+  /// marked as its build did (options.build). The lattice's cell: options.meshing.grid's voxel
+  /// size, else from the tree's spacing (auto resolution), else its resolution along the
+  /// longest side.
+  void mesh(std::int32_t region, const ReconstructOptions& options) const;
+  /// Stage 5, once: join_tiles(), decimated and colored as mesh_tree() does, with the tree's
+  /// origin. Returns the mesh and what made it.
+  SurfaceMesh join(const SurfaceMeshOptions& options) const;
+
+  /// Whether a region's stage result is there: "survey", "build" or "mesh".
+  bool done(std::string_view stage, std::int32_t region) const;
+
+  /// Records the options of the run (options.txt), or, when the directory already holds
+  /// results, checks that they were made with the same: OptionError otherwise (a resumed run
+  /// must not mix results of different options).
+  void claim(const ReconstructOptions& options) const;
+
+ private:
+  struct Impl;
+  explicit TiledRun(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Options of reconstruct_out_of_core().
+struct OutOfCoreOptions {
+  /// Peak memory to stay within, in bytes: sets the regions' size (region_points_for_memory()).
+  std::uint64_t memory_limit = std::uint64_t{4} << 30;
+  /// The work directory (required).
+  std::filesystem::path work_directory;
+  /// Remove the run's files (and the directory, when that leaves it empty) once it is done.
+  bool remove_work_directory = true;
+  /// How the input is read.
+  ReadOptions read;
+};
+
+/// The whole pipeline out of core: TiledRun::partition() and every stage, one region at a
+/// time; the result equals reconstruct_tiled() of the same cloud and plan. Resumes a run
+/// interrupted in the same work directory. Throws IoError, InputError, OptionError, Cancelled.
+Reconstruction reconstruct_out_of_core(const std::filesystem::path& input, const ReconstructOptions& options,
+                                       const OutOfCoreOptions& out_of_core, const ProgressCallback& progress = {});
+
+}  // namespace clustersurf

@@ -1,0 +1,252 @@
+// The small files of a tiled run: plan, surveys, orientations (text) and tiles (binary).
+
+#include <clustersurf/errors.hpp>
+
+#include "io/atomic_file.hpp"
+#include "tiling/tiled_run_files.hpp"
+
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace clustersurf::detail {
+
+namespace {
+
+constexpr std::string_view kPlanMagic = "clustersurf-tiles 1";
+constexpr char kTileMagic[8] = {'C', 'S', 'T', 'I', 'L', 'E', '1', '\n'};
+
+/// Reads whitespace-separated fields of a text file, line by line, with the line in errors.
+class Lines {
+ public:
+  Lines(const std::filesystem::path& file, const std::string& text) : file_(file), in_(text) {}
+  /// The next line's fields, which must start with `key` (empty: any) and hold `count` more.
+  std::istringstream next(std::string_view key, const char* what) {
+    std::string line;
+    ++line_;
+    if (!std::getline(in_, line)) fail(std::string("file ends before ") + what);
+    std::istringstream fields(line);
+    if (!key.empty()) {
+      std::string word;
+      fields >> word;
+      if (word != key) fail("expected \"" + std::string(key) + "\" (" + what + ")");
+    }
+    return fields;
+  }
+  template <class... T>
+  void read(std::istringstream& fields, const char* what, T&... values) {
+    if (!(fields >> ... >> values)) fail(std::string("malformed ") + what);
+  }
+  [[noreturn]] void fail(const std::string& message) const { throw InputError(file_, FileLocation{line_, std::nullopt}, message); }
+
+ private:
+  std::filesystem::path file_;
+  std::istringstream in_;
+  std::uint64_t line_ = 0;
+};
+
+std::ostringstream text_stream() {
+  std::ostringstream out;
+  out << std::setprecision(17);  // doubles round-trip exactly
+  return out;
+}
+
+}  // namespace
+
+std::filesystem::path region_file(const std::filesystem::path& dir, std::string_view name, std::int32_t region,
+                                  std::string_view ext) {
+  char number[16];
+  std::snprintf(number, sizeof number, "%06d", static_cast<int>(region));
+  return dir / (std::string(name) + "-" + number + "." + std::string(ext));
+}
+
+std::string read_text(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw IoError(file.string() + ": cannot open: " + std::strerror(errno));
+  std::ostringstream out;
+  out << in.rdbuf();
+  return out.str();
+}
+
+void write_text(const std::filesystem::path& file, std::string_view text) {
+  io::AtomicFile out(file);
+  out.write(text);
+  out.commit();
+}
+
+void write_partition(const std::filesystem::path& file, const PartitionRecord& r) {
+  std::ostringstream out = text_stream();
+  out << kPlanMagic << "\n";
+  out << "input " << r.input_size << " " << r.input_mtime << " " << r.input_points << " " << (r.normals ? 1 : 0) << "\n";
+  out << "regions-options " << r.max_points << " " << r.halo_spacings << "\n";
+  out << "origin " << r.origin.x() << " " << r.origin.y() << " " << r.origin.z() << "\n";
+  out << "spacing " << r.plan.point_spacing << " " << r.plan.halo << "\n";
+  out << "cells " << r.plan.cells.size() << "\n";
+  for (const RegionPlan::Cell& c : r.plan.cells)
+    out << "cell " << c.left << " " << c.right << " " << c.axis << " " << c.split << " " << c.region << " " << c.box.min.x()
+        << " " << c.box.min.y() << " " << c.box.min.z() << " " << c.box.max.x() << " " << c.box.max.y() << " " << c.box.max.z() << "\n";
+  out << "regions " << r.plan.regions() << "\n";
+  for (std::size_t k = 0; k < r.plan.regions(); ++k) out << "region " << r.plan.region_cell[k] << " " << r.own[k] << " " << r.halo[k] << "\n";
+  write_text(file, out.str());
+}
+
+PartitionRecord read_partition(const std::filesystem::path& file) {
+  Lines lines(file, read_text(file));
+  PartitionRecord r;
+  {
+    std::istringstream f = lines.next("", "the header");
+    std::string word, version;
+    f >> word >> version;
+    if (word + " " + version != kPlanMagic) lines.fail("not a clustersurf tile plan (expected \"" + std::string(kPlanMagic) + "\")");
+  }
+  int normals = 0;
+  auto f = lines.next("input", "the input line");
+  lines.read(f, "input line", r.input_size, r.input_mtime, r.input_points, normals);
+  r.normals = normals != 0;
+  f = lines.next("regions-options", "the region options");
+  lines.read(f, "region options", r.max_points, r.halo_spacings);
+  f = lines.next("origin", "the origin");
+  lines.read(f, "origin", r.origin.x(), r.origin.y(), r.origin.z());
+  f = lines.next("spacing", "the spacing");
+  lines.read(f, "spacing", r.plan.point_spacing, r.plan.halo);
+  std::size_t cells = 0, regions = 0;
+  f = lines.next("cells", "the cell count");
+  lines.read(f, "cell count", cells);
+  if (cells == 0 || cells > (std::size_t{1} << 24)) lines.fail("cell count out of range");
+  r.plan.cells.resize(cells);
+  for (RegionPlan::Cell& c : r.plan.cells) {
+    f = lines.next("cell", "a cell");
+    lines.read(f, "cell", c.left, c.right, c.axis, c.split, c.region, c.box.min.x(), c.box.min.y(), c.box.min.z(), c.box.max.x(),
+               c.box.max.y(), c.box.max.z());
+  }
+  f = lines.next("regions", "the region count");
+  lines.read(f, "region count", regions);
+  if (regions == 0 || regions > cells) lines.fail("region count out of range");
+  r.own.resize(regions);
+  r.halo.resize(regions);
+  r.plan.region_cell.resize(regions);
+  for (std::size_t k = 0; k < regions; ++k) {
+    f = lines.next("region", "a region");
+    lines.read(f, "region", r.plan.region_cell[k], r.own[k], r.halo[k]);
+  }
+  // The cells must form the tree region_of() walks: children after their parent, leaves naming
+  // their region, regions naming their leaf.
+  const auto n = static_cast<std::int32_t>(cells);
+  for (std::int32_t i = 0; i < n; ++i) {
+    const RegionPlan::Cell& c = r.plan.cells[static_cast<std::size_t>(i)];
+    const bool leaf = c.left < 0 && c.right < 0;
+    const bool inner = c.left > i && c.left < n && c.right > i && c.right < n && c.axis >= 0 && c.axis < 3;
+    if (!(leaf ? c.region >= 0 && c.region < static_cast<std::int32_t>(regions) &&
+                     r.plan.region_cell[static_cast<std::size_t>(c.region)] == i
+               : inner))
+      lines.fail("cell " + std::to_string(i) + " is not a valid cell of the plan");
+  }
+  return r;
+}
+
+void write_survey(const std::filesystem::path& file, const RegionSurvey& s) {
+  std::ostringstream out = text_stream();
+  out << "survey " << s.points << " " << s.median_spacing << " " << s.median_spread << " " << s.noise_sigma << " " << s.outliers;
+  if (s.bbox.empty()) out << " empty\n";
+  else out << " " << s.bbox.min.x() << " " << s.bbox.min.y() << " " << s.bbox.min.z() << " " << s.bbox.max.x() << " "
+           << s.bbox.max.y() << " " << s.bbox.max.z() << "\n";
+  write_text(file, out.str());
+}
+
+RegionSurvey read_survey(const std::filesystem::path& file) {
+  Lines lines(file, read_text(file));
+  RegionSurvey s;
+  auto f = lines.next("survey", "the survey");
+  lines.read(f, "survey", s.points, s.median_spacing, s.median_spread, s.noise_sigma, s.outliers);
+  std::string rest;
+  if (f >> rest && rest != "empty") {
+    std::istringstream box(rest + " " + std::string(std::istreambuf_iterator<char>(f), {}));
+    lines.read(box, "survey box", s.bbox.min.x(), s.bbox.min.y(), s.bbox.min.z(), s.bbox.max.x(), s.bbox.max.y(), s.bbox.max.z());
+  }
+  return s;
+}
+
+void write_orientation(const std::filesystem::path& file, const OrientationReport& o, bool empty) {
+  std::ostringstream out = text_stream();
+  out << "orientation " << o.used_normals << " " << o.used_scanners << " " << o.flipped << " " << o.components << " "
+      << (empty ? "empty" : "tree") << "\n";
+  write_text(file, out.str());
+}
+
+OrientationReport read_orientation(const std::filesystem::path& file, bool& empty) {
+  Lines lines(file, read_text(file));
+  OrientationReport o;
+  auto f = lines.next("orientation", "the orientation");
+  std::string tree;
+  lines.read(f, "orientation", o.used_normals, o.used_scanners, o.flipped, o.components, tree);
+  if (tree != "empty" && tree != "tree") lines.fail("expected \"empty\" or \"tree\" after the orientation");
+  empty = tree == "empty";
+  return o;
+}
+
+void write_tile(const std::filesystem::path& file, const MeshTile& tile) {
+  const TriangleMesh& m = tile.mesh;
+  io::AtomicFile out(file);
+  out.write(kTileMagic, sizeof kTileMagic);
+  const std::int64_t header[4] = {tile.region, static_cast<std::int64_t>(m.vertices.rows()), static_cast<std::int64_t>(m.triangles.rows()),
+                                  static_cast<std::int64_t>(tile.grid.surface_cells)};
+  out.write(header, sizeof header);
+  const double grid[2] = {tile.grid.voxel_size, static_cast<double>(tile.grid.evaluated_corners)};
+  out.write(grid, sizeof grid);
+  out.write(m.origin.data(), 3 * sizeof(double));
+  out.write(m.vertices.data(), static_cast<std::size_t>(m.vertices.size()) * sizeof(double));
+  out.write(m.normals.data(), static_cast<std::size_t>(m.normals.size()) * sizeof(double));
+  out.write(m.attributes.at(0).values.data(), static_cast<std::size_t>(m.vertices.rows()) * sizeof(float));
+  out.write(m.triangles.data(), static_cast<std::size_t>(m.triangles.size()) * sizeof(std::int32_t));
+  out.commit();
+}
+
+MeshTile read_tile(const std::filesystem::path& file) {
+  const std::string bytes = read_text(file);
+  std::size_t at = 0;
+  const auto take = [&](void* out, std::size_t n, const char* what) {
+    if (n > bytes.size() - at)
+      throw InputError(file, FileLocation{std::nullopt, at}, std::string("file ends inside ") + what + " (not a whole mesh tile)");
+    std::memcpy(out, bytes.data() + at, n);
+    at += n;
+  };
+  char magic[sizeof kTileMagic];
+  take(magic, sizeof magic, "the signature");
+  if (std::memcmp(magic, kTileMagic, sizeof magic) != 0) throw InputError(file, FileLocation{std::nullopt, 0}, "not a clustersurf mesh tile");
+  std::int64_t header[4];
+  take(header, sizeof header, "the header");
+  const std::int64_t nv = header[1], nt = header[2];
+  const std::uint64_t per_vertex = 6 * sizeof(double) + sizeof(float), per_triangle = 3 * sizeof(std::int32_t);
+  if (nv < 0 || nt < 0 || static_cast<std::uint64_t>(nv) > bytes.size() / per_vertex || static_cast<std::uint64_t>(nt) > bytes.size() / per_triangle)
+    throw InputError(file, FileLocation{std::nullopt, 8}, "vertex or triangle count out of range for the file's size");
+  MeshTile tile;
+  tile.region = static_cast<std::int32_t>(header[0]);
+  tile.grid.surface_cells = static_cast<std::size_t>(header[3]);
+  double grid[2];
+  take(grid, sizeof grid, "the header");
+  tile.grid.voxel_size = grid[0];
+  tile.grid.evaluated_corners = static_cast<std::size_t>(grid[1]);
+  TriangleMesh& m = tile.mesh;
+  take(m.origin.data(), 3 * sizeof(double), "the origin");
+  m.vertices.resize(nv, 3);
+  m.normals.resize(nv, 3);
+  Eigen::VectorXf votes(nv);
+  m.triangles.resize(nt, 3);
+  take(m.vertices.data(), static_cast<std::size_t>(nv) * 3 * sizeof(double), "the vertices");
+  take(m.normals.data(), static_cast<std::size_t>(nv) * 3 * sizeof(double), "the normals");
+  take(votes.data(), static_cast<std::size_t>(nv) * sizeof(float), "the votes");
+  const std::size_t triangles_at = at;
+  take(m.triangles.data(), static_cast<std::size_t>(nt) * 3 * sizeof(std::int32_t), "the triangles");
+  if (at != bytes.size()) throw InputError(file, FileLocation{std::nullopt, at}, "unexpected bytes after the triangles");
+  for (Eigen::Index t = 0; t < nt; ++t)
+    for (int k = 0; k < 3; ++k)
+      if (m.triangles(t, k) < 0 || m.triangles(t, k) >= nv)
+        throw InputError(file, FileLocation{std::nullopt, triangles_at + static_cast<std::size_t>(3 * t + k) * sizeof(std::int32_t)},
+                         "triangle " + std::to_string(t) + " names vertex " + std::to_string(m.triangles(t, k)) + " of " + std::to_string(nv));
+  m.attributes.push_back({"votes", std::move(votes)});
+  return tile;
+}
+
+}  // namespace clustersurf::detail

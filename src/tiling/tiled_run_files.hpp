@@ -1,0 +1,53 @@
+#pragma once
+// The files of a tiled run's work directory: names, and the small text and binary formats the
+// tasks exchange (plan, surveys, orientations, tiles). Every file is written atomically.
+
+#include <clustersurf/orientation.hpp>
+#include <clustersurf/tiled_run.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace clustersurf::detail {
+
+/// What plan.txt holds: the partition and the input it came from.
+struct PartitionRecord {
+  std::uintmax_t input_size = 0;
+  std::int64_t input_mtime = 0;  ///< nanoseconds since the file clock's epoch
+  std::uint64_t max_points = 0;
+  double halo_spacings = 0;
+  std::uint64_t input_points = 0;
+  bool normals = false;
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  RegionPlan plan;
+  std::vector<std::uint64_t> own, halo;  ///< points in each region's files
+};
+
+/// "dir/name-000012.ext": a region's file.
+std::filesystem::path region_file(const std::filesystem::path& dir, std::string_view name, std::int32_t region,
+                                  std::string_view ext);
+
+void write_partition(const std::filesystem::path& file, const PartitionRecord& record);
+/// InputError (file, line) when the file is not a plan written by write_partition().
+PartitionRecord read_partition(const std::filesystem::path& file);
+
+void write_survey(const std::filesystem::path& file, const RegionSurvey& survey);
+RegionSurvey read_survey(const std::filesystem::path& file);
+
+/// A region's orientation report, and whether its tree is empty (no tree file then). Written
+/// after the tree file: its presence marks the region's build done.
+void write_orientation(const std::filesystem::path& file, const OrientationReport& report, bool empty);
+OrientationReport read_orientation(const std::filesystem::path& file, bool& empty);
+
+/// A mesh tile in binary: vertices, normals and votes exactly as computed (doubles, floats).
+void write_tile(const std::filesystem::path& file, const MeshTile& tile);
+/// InputError (file, byte) when the file is not a whole tile written by write_tile().
+MeshTile read_tile(const std::filesystem::path& file);
+
+/// The whole file as text; IoError when it cannot be read.
+std::string read_text(const std::filesystem::path& file);
+/// Writes `text` atomically.
+void write_text(const std::filesystem::path& file, std::string_view text);
+
+}  // namespace clustersurf::detail

@@ -1,0 +1,162 @@
+// A tiled run on disk: the partition, each stage a task that reads and writes files, the same
+// result as the tiled pipeline in memory; interrupted runs resume, damaged files are refused.
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/tiled_run.hpp>
+#include <clustersurf/tree_file.hpp>
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "test_support.hpp"
+
+using namespace clustersurf;
+
+namespace {
+
+/// A torus written as a binary PLY of doubles (read back bit for bit) and read again.
+struct TorusFile {
+  test::TempDir dir;
+  std::filesystem::path file = dir / "torus.ply";
+  PointCloud cloud;
+  explicit TorusFile(int n) {
+    PlyWriteOptions ply;
+    ply.double_precision = true;
+    write_ply(file, test::sample_torus(n), ply);
+    cloud = read_point_cloud(file);
+  }
+};
+
+PartitionOptions small_regions(std::uint64_t points) {
+  PartitionOptions o;
+  o.regions.max_points = points;
+  o.block_points = 1000;  // many blocks
+  return o;
+}
+
+/// Every stage of `run`, region after region.
+SurfaceMesh run_all(const TiledRun& run, const ReconstructOptions& options) {
+  for (std::int32_t r = 0; r < static_cast<std::int32_t>(run.regions()); ++r) run.survey(r, options.build);
+  for (std::int32_t r = 0; r < static_cast<std::int32_t>(run.regions()); ++r) run.build(r, options.build);
+  run.merge();
+  for (std::int32_t r = 0; r < static_cast<std::int32_t>(run.regions()); ++r) run.mesh(r, options);
+  return run.join(options.meshing);
+}
+
+bool same_mesh(const TriangleMesh& a, const TriangleMesh& b) {
+  return a.vertices == b.vertices && a.triangles == b.triangles && a.normals == b.normals;
+}
+
+}  // namespace
+
+TEST(TiledRun, FilesGiveTheTiledPipelinesResult) {
+  const TorusFile torus(30000);
+  const TiledRun run = TiledRun::partition(torus.file, torus.dir / "work", small_regions(5000));
+  ASSERT_GE(run.regions(), 6u);
+  EXPECT_EQ(run.input_points(), 30000u);
+  EXPECT_TRUE(run.has_normals());
+  const ReconstructOptions options;
+  const SurfaceMesh mesh = run_all(run, options);
+
+  RegionOptions regions;
+  regions.max_points = 5000;
+  ReconstructOptions in_memory = options;
+  in_memory.build.keep_point_leaves = false;
+  const Reconstruction tiled = reconstruct_tiled(torus.cloud, regions, in_memory);
+  EXPECT_EQ(serialize_tree(run.merge()), serialize_tree(tiled.tree));
+  EXPECT_TRUE(same_mesh(mesh.mesh, tiled.mesh->mesh));
+  EXPECT_TRUE(run.orientation().used_normals);
+}
+
+TEST(TiledRun, ResumedRunRedoesOnlyWhatIsMissing) {
+  const TorusFile torus(20000);
+  const std::filesystem::path work = torus.dir / "work";
+  const ReconstructOptions options;
+  SurfaceMesh expected;
+  {
+    const TiledRun run = TiledRun::partition(torus.file, torus.dir / "whole", small_regions(4000));
+    expected = run_all(run, options);
+  }
+  std::filesystem::file_time_type first_tree;
+  {
+    // Interrupted after the first region's build.
+    const TiledRun run = TiledRun::partition(torus.file, work, small_regions(4000));
+    for (std::int32_t r = 0; r < static_cast<std::int32_t>(run.regions()); ++r) run.survey(r, options.build);
+    run.build(0, options.build);
+    first_tree = std::filesystem::last_write_time(work / "tree-000000.cstree");
+    EXPECT_TRUE(run.done("build", 0));
+    EXPECT_FALSE(run.done("build", 1));
+    EXPECT_THROW(run.merge(), InputError);  // a stage needs the one before
+  }
+  const TiledRun resumed = TiledRun::partition(torus.file, work, small_regions(4000));
+  EXPECT_TRUE(resumed.done("survey", 1));  // the partition and the surveys were kept
+  const SurfaceMesh mesh = run_all(resumed, options);
+  EXPECT_EQ(std::filesystem::last_write_time(work / "tree-000000.cstree"), first_tree);
+  EXPECT_TRUE(same_mesh(mesh.mesh, expected.mesh));
+}
+
+TEST(TiledRun, OutOfCoreRunCleansUpAndEqualsTheTiledPipeline) {
+  const TorusFile torus(20000);
+  OutOfCoreOptions out_of_core;
+  out_of_core.memory_limit = std::uint64_t{64} << 20;
+  out_of_core.work_directory = torus.dir / "work";
+  const Reconstruction r = reconstruct_out_of_core(torus.file, {}, out_of_core);
+  ASSERT_TRUE(r.mesh);
+  EXPECT_FALSE(std::filesystem::exists(out_of_core.work_directory));
+  RegionOptions regions;
+  regions.max_points = region_points_for_memory(out_of_core.memory_limit);
+  ReconstructOptions in_memory;
+  in_memory.build.keep_point_leaves = false;
+  const Reconstruction tiled = reconstruct_tiled(torus.cloud, regions, in_memory);
+  EXPECT_EQ(serialize_tree(r.tree), serialize_tree(tiled.tree));
+  EXPECT_TRUE(same_mesh(r.mesh->mesh, tiled.mesh->mesh));
+  EXPECT_TRUE(r.orientation.used_normals);
+}
+
+TEST(TiledRun, RefusesOtherOptionsInTheSameDirectory) {
+  const TorusFile torus(5000);
+  const TiledRun run = TiledRun::partition(torus.file, torus.dir / "work", small_regions(2000));
+  ReconstructOptions options;
+  run.claim(options);
+  run.claim(options);  // the same options: fine
+  options.build.tolerance *= 2;
+  EXPECT_THROW(run.claim(options), OptionError);
+}
+
+TEST(TiledRun, DamagedFilesAreClearErrors) {
+  const TorusFile torus(5000);
+  const std::filesystem::path work = torus.dir / "work";
+  const TiledRun run = TiledRun::partition(torus.file, work, small_regions(2000));
+  const ReconstructOptions options;
+  run_all(run, options);
+  // A truncated region file: its size against the plan's count.
+  std::filesystem::resize_file(work / "region-000001.own", 100);
+  try {
+    run.load(1);
+    FAIL() << "a truncated region file was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("region-000001.own"), std::string::npos) << e.what();
+  }
+  // A truncated tile.
+  std::filesystem::resize_file(work / "tile-000000.bin", 200);
+  EXPECT_THROW(run.join(options.meshing), InputError);
+  // A plan that is not one: the line is named.
+  test::write_file(work / "plan.txt", "clustersurf-tiles 1\ninput 1 2 3\n");
+  try {
+    TiledRun reopened(work);
+    FAIL() << "a broken plan was read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().line, std::optional<std::uint64_t>(2)) << e.what();
+  }
+}
+
+TEST(TiledRun, MemorySizes) {
+  EXPECT_EQ(parse_memory_size("4G"), std::uint64_t{4} << 30);
+  EXPECT_EQ(parse_memory_size("512M"), std::uint64_t{512} << 20);
+  EXPECT_EQ(parse_memory_size("1.5GiB"), std::uint64_t{3} << 29);
+  EXPECT_EQ(parse_memory_size("1000"), 1000u);
+  for (const char* bad : {"", "G", "4X", "-1G", "0", "nan"}) EXPECT_THROW(parse_memory_size(bad), OptionError) << bad;
+  EXPECT_THROW(region_points_for_memory(1 << 20), OptionError);
+}
