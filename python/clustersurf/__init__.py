@@ -15,7 +15,9 @@ Mesh's vertices are relative to its ``origin`` (zero unless a file lay far from 
 ``world_positions`` / ``world_vertices`` are the file's coordinates. Wherever a mesh is taken,
 a Mesh, trimesh.Trimesh or Open3D mesh (anything with ``.vertices`` and ``.faces`` or
 ``.triangles``) may stand for its arrays; to_open3d() / from_open3d() convert to and from
-Open3D (optional, imported when used). Long operations release the GIL.
+Open3D (optional, imported when used). Long operations release the GIL. Files larger than
+memory: reconstruct_file(path, memory_limit="4G", work_dir=...); on a Dask cluster:
+clustersurf.distributed (``python3 -m clustersurf.distributed IN --mesh OUT``).
 Errors are raised as InputError (malformed file), IoError (an OSError), OptionError (a
 ValueError) or Cancelled, all subclasses of clustersurf.Error, with the CLI's messages.
 """
@@ -29,6 +31,7 @@ from ._clustersurf import (
     IoError,
     Node,
     OptionError,
+    TiledRun,
     Tree,
     __version__,
     compare_surfaces,
@@ -36,6 +39,8 @@ from ._clustersurf import (
     read_mesh,
     read_points,
     reconstruct,
+    reconstruct_file,
+    region_points_for_memory,
     check_mesh,
     sample_surface,
     scan_surface,
@@ -54,6 +59,7 @@ __all__ = [
     "Node",
     "OptionError",
     "PointCloud",
+    "TiledRun",
     "Tree",
     "__version__",
     "compare_surfaces",
@@ -63,6 +69,8 @@ __all__ = [
     "read_mesh",
     "read_points",
     "reconstruct",
+    "reconstruct_file",
+    "region_points_for_memory",
     "check_mesh",
     "sample_surface",
     "scan_surface",

@@ -8,6 +8,7 @@ from ._clustersurf import InputError as InputError
 from ._clustersurf import IoError as IoError
 from ._clustersurf import Node as Node
 from ._clustersurf import OptionError as OptionError
+from ._clustersurf import TiledRun as TiledRun
 from ._clustersurf import Tree as Tree
 from ._clustersurf import __version__ as __version__
 from ._clustersurf import compare_surfaces as compare_surfaces
@@ -16,6 +17,8 @@ from ._clustersurf import load as load
 from ._clustersurf import read_mesh as read_mesh
 from ._clustersurf import read_points as read_points
 from ._clustersurf import reconstruct as reconstruct
+from ._clustersurf import reconstruct_file as reconstruct_file
+from ._clustersurf import region_points_for_memory as region_points_for_memory
 from ._clustersurf import check_mesh as check_mesh
 from ._clustersurf import sample_surface as sample_surface
 from ._clustersurf import scan_surface as scan_surface
@@ -34,6 +37,7 @@ __all__ = [
     "Node",
     "OptionError",
     "PointCloud",
+    "TiledRun",
     "Tree",
     "__version__",
     "compare_surfaces",
@@ -43,6 +47,8 @@ __all__ = [
     "read_mesh",
     "read_points",
     "reconstruct",
+    "reconstruct_file",
+    "region_points_for_memory",
     "check_mesh",
     "sample_surface",
     "scan_surface",

@@ -6,6 +6,7 @@
 #include <clustersurf/cluster_tree.hpp>
 #include <clustersurf/point_cloud.hpp>
 #include <clustersurf/progress.hpp>
+#include <clustersurf/reconstruct.hpp>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -115,10 +116,19 @@ NodeRef node_at(const TreeRef& t, std::int64_t index);
 /// A 3-vector as a numpy array of 3 float64.
 py::array_t<double> vector_array(const Eigen::Vector3d& v);
 
+/// The options of reconstruct() and of a mesh from keyword arguments named as the CLI's options
+/// (proxy, splitter, tolerance, absolute_tolerance, error, min_points, max_depth, alpha, kstep,
+/// lloyd_restarts, proxy_lloyd, noise_factor, support_factor, seed, ignore_normals,
+/// no_point_leaves, keep_outliers, creases; resolution, voxel_size, trim,
+/// min_component_points, close_pinholes, color, decimate, decimate_tolerance). OptionError for
+/// an unknown name or a bad value.
+ReconstructOptions reconstruct_options(const py::dict& options);
+
 /// Groups of bindings, one per source file.
 void bind_io(py::module_& m);
 void bind_node(py::module_& m);
 void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class);
 void bind_render(py::class_<TreeRef>& tree_class);
+void bind_tiles(py::module_& m);
 
 }  // namespace clustersurf::python

@@ -23,27 +23,6 @@ namespace {
 
 using namespace pybind11::literals;
 
-/// A tolerance given as "auto", a number, or a number as text (parse_tolerance()); nullopt: auto.
-std::optional<double> tolerance_option(const py::handle& value) {
-  if (py::isinstance<py::str>(value)) return parse_tolerance(value.cast<std::string>());
-  double number = 0;
-  try {
-    number = py::cast<double>(value);
-  } catch (const py::cast_error&) {
-    throw OptionError("tolerance must be \"auto\" or a non-negative fraction of the diagonal");
-  }
-  if (!(number >= 0) || !std::isfinite(number))
-    throw OptionError("tolerance must be \"auto\" or a non-negative fraction of the diagonal, not " + std::to_string(number));
-  return number;
-}
-
-/// min_points given as "auto" or a whole number (parse_min_points()).
-std::uint32_t min_points_option(const py::handle& value) {
-  if (py::isinstance<py::str>(value)) return parse_min_points(value.cast<std::string>());
-  if (!py::isinstance<py::int_>(value)) throw OptionError("min points must be \"auto\" or a whole number from 1 to 2^30");
-  return parse_min_points(std::to_string(value.cast<std::int64_t>()));
-}
-
 py::dict percentiles(const std::array<double, 5>& a) {
   return py::dict("min"_a = a[0], "p25"_a = a[1], "median"_a = a[2], "p75"_a = a[3], "max"_a = a[4]);
 }
@@ -109,37 +88,17 @@ void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class) {
          std::int64_t proxy_lloyd, double noise_factor, double support_factor, std::uint64_t seed, bool ignore_normals,
          bool no_point_leaves, bool keep_outliers, bool creases, const py::object& max_error,
          std::optional<double> absolute_error, const py::object& progress) {
-        ReconstructOptions o;
-        o.mesh = false;
-        BuildOptions& b = o.build;
-        b.proxy = parse_proxy_kind(proxy);
-        b.splitter = parse_splitter(splitter);
-        b.metric = parse_error_metric(error);
         if (!max_error.is_none() && !(py::isinstance<py::str>(tolerance) && tolerance.cast<std::string>() == "auto"))
           throw OptionError("give tolerance or its old name max_error, not both");
         if (absolute_error && absolute_tolerance) throw OptionError("give absolute_tolerance or its old name absolute_error, not both");
-        if (absolute_error) absolute_tolerance = absolute_error;
-        if (absolute_tolerance) {
-          if (!(*absolute_tolerance >= 0) || !std::isfinite(*absolute_tolerance)) throw OptionError("absolute_tolerance must be >= 0");
-          b.threshold_mode = ThresholdMode::Absolute;
-          b.tolerance = *absolute_tolerance;
-        } else if (const auto t = tolerance_option(max_error.is_none() ? tolerance : max_error)) {
-          b.tolerance = *t;
-        }
-        b.min_points = min_points_option(min_points);
-        b.max_depth = to_uint32(max_depth, "max_depth");
-        b.alpha = alpha;
-        b.kstep = to_uint32(kstep, "kstep");
-        b.lloyd_restarts = to_uint32(lloyd_restarts, "lloyd_restarts");
-        if (b.lloyd_restarts < 1) throw OptionError("lloyd_restarts must be at least 1");
-        b.proxy_lloyd_iterations = to_uint32(proxy_lloyd, "proxy_lloyd");
-        b.noise_factor = noise_factor;
-        b.support_factor = support_factor;
-        b.seed = seed;
-        b.keep_point_leaves = !no_point_leaves;
-        b.remove_outliers = !keep_outliers;
-        b.use_normals = !ignore_normals;
-        b.creases = creases;
+        py::dict options("proxy"_a = proxy, "splitter"_a = splitter, "tolerance"_a = max_error.is_none() ? tolerance : max_error,
+                         "absolute_tolerance"_a = absolute_error ? absolute_error : absolute_tolerance, "error"_a = error,
+                         "min_points"_a = min_points, "max_depth"_a = max_depth, "alpha"_a = alpha, "kstep"_a = kstep,
+                         "lloyd_restarts"_a = lloyd_restarts, "proxy_lloyd"_a = proxy_lloyd, "noise_factor"_a = noise_factor,
+                         "support_factor"_a = support_factor, "seed"_a = seed, "ignore_normals"_a = ignore_normals,
+                         "no_point_leaves"_a = no_point_leaves, "keep_outliers"_a = keep_outliers, "creases"_a = creases);
+        ReconstructOptions o = reconstruct_options(options);
+        o.mesh = false;
         const PointCloud cloud = cloud_argument(points, normals, py::none(), py::none(), "points");
         auto tree = run_released(progress, [&](const ProgressCallback& callback) {
           return std::make_shared<const ClusterTree>(reconstruct(cloud, o, callback).tree);

@@ -76,4 +76,5 @@ reconstruct() or load(); saved bit-exactly with save(). Pickles as its .cstree b
   bind_node(m);
   bind_tree(m, tree_class);
   bind_render(tree_class);
+  bind_tiles(m);
 }

@@ -16,6 +16,7 @@
 #include <cstring>
 #include <iomanip>
 #include <mutex>
+#include <tuple>
 #include <sstream>
 
 namespace clustersurf {
@@ -27,9 +28,14 @@ constexpr std::uint64_t kPlanSample = 200000;
 
 using detail::region_file;
 
-std::int64_t modification_time(const std::filesystem::path& file) {
-  return static_cast<std::int64_t>(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::filesystem::last_write_time(file).time_since_epoch()).count());
+/// The input's size and modification time (nanoseconds), which say whether a partition is of it.
+std::pair<std::uintmax_t, std::int64_t> file_identity(const std::filesystem::path& file) {
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(file, ec);
+  if (ec) throw IoError(file.string() + ": cannot open: " + ec.message());
+  const auto time = std::filesystem::last_write_time(file, ec);
+  if (ec) throw IoError(file.string() + ": cannot stat: " + ec.message());
+  return {size, static_cast<std::int64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(time.time_since_epoch()).count())};
 }
 
 /// Appends doubles to a region file, buffered.
@@ -61,19 +67,24 @@ class RegionWriter {
   std::vector<double> buffer_;
 };
 
-/// The files a run makes in its directory (plan.txt last).
+/// The files a run makes in its directory (plan.txt last), and the temporary files of writes
+/// a killed task left behind (".NAME.tmpXXXXXX").
 bool is_run_file(const std::filesystem::path& file) {
-  const std::string name = file.filename().string();
+  std::string name = file.filename().string();
+  if (name.starts_with(".") && name.find(".tmp") != std::string::npos) name = name.substr(1, name.rfind(".tmp") - 1);
   for (const char* prefix : {"region-", "survey-", "tree-", "orientation-", "tile-"})
     if (name.starts_with(prefix)) return true;
   return name == "tree.cstree" || name == "options.txt" || name == "plan.txt";
 }
 
 void remove_run_files(const std::filesystem::path& dir) {
+  std::error_code ec;
   std::vector<std::filesystem::path> files;
-  for (const auto& entry : std::filesystem::directory_iterator(dir))
-    if (entry.is_regular_file() && is_run_file(entry.path())) files.push_back(entry.path());
-  for (const auto& f : files) std::filesystem::remove(f);
+  for (auto it = std::filesystem::directory_iterator(dir, ec); !ec && it != std::filesystem::directory_iterator(); it.increment(ec))
+    if (it->is_regular_file() && is_run_file(it->path())) files.push_back(it->path());
+  if (ec) throw IoError(dir.string() + ": cannot list the work directory: " + ec.message());
+  for (const auto& f : files)
+    if (!std::filesystem::remove(f, ec) && ec) throw IoError(f.string() + ": cannot remove: " + ec.message());
 }
 
 /// The options that decide a run's results, as text (options.txt).
@@ -141,12 +152,13 @@ TiledRun TiledRun::partition(const std::filesystem::path& input, const std::file
                              const PartitionOptions& options, const ProgressCallback& progress) {
   if (options.block_points == 0) throw OptionError("the input must be read in blocks of at least one point");
   if (options.regions.max_points == 0) throw OptionError("a region must hold at least one point");
-  std::filesystem::create_directories(directory);
   auto impl = std::make_unique<Impl>();
   impl->dir = directory;
   detail::PartitionRecord& r = impl->record;
-  r.input_size = std::filesystem::file_size(input);
-  r.input_mtime = modification_time(input);
+  std::tie(r.input_size, r.input_mtime) = file_identity(input);
+  std::error_code ec;
+  std::filesystem::create_directories(directory, ec);
+  if (ec) throw IoError(directory.string() + ": cannot create the work directory: " + ec.message());
   r.max_points = options.regions.max_points;
   r.halo_spacings = options.regions.halo_spacings;
   const std::filesystem::path plan_file = directory / "plan.txt";
@@ -242,7 +254,9 @@ RegionCloud TiledRun::load(std::int32_t region) const {
   for (const char* part : {"own", "halo"}) {
     const std::filesystem::path f = impl_->need(impl_->file("region", region, part), "the partition");
     const std::uint64_t expected = (part[0] == 'o' ? r.own[k] : r.halo[k]) * record * sizeof(double);
-    const std::uintmax_t size = std::filesystem::file_size(f);
+    std::error_code ec;
+    const std::uintmax_t size = std::filesystem::file_size(f, ec);
+    if (ec) throw IoError(f.string() + ": cannot open: " + ec.message());
     if (size != expected)
       throw InputError(f, FileLocation{std::nullopt, std::min<std::uint64_t>(size, expected)},
                        "region file holds " + std::to_string(size) + " bytes, the plan says " + std::to_string(expected));

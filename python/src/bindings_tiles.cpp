@@ -1,0 +1,150 @@
+// Out-of-core and distributed reconstruction: reconstruct_file() and the TiledRun work
+// directory whose per-region tasks clustersurf.distributed runs on Dask.
+
+#include "bindings.hpp"
+
+#include <clustersurf/tiled_run.hpp>
+
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+namespace clustersurf::python {
+
+namespace {
+
+using namespace pybind11::literals;
+
+/// A Python TiledRun: the work directory of one run (cheap to reopen in every task).
+struct RunRef {
+  std::shared_ptr<const TiledRun> run;
+};
+
+}  // namespace
+
+void bind_tiles(py::module_& m) {
+  m.def(
+      "reconstruct_file",
+      [](const std::filesystem::path& input, const std::string& memory_limit, const std::filesystem::path& work_dir,
+         bool keep_work_dir, bool mesh, const py::object& progress, const py::kwargs& kwargs) {
+        ReconstructOptions o = reconstruct_options(kwargs);
+        o.mesh = mesh;
+        OutOfCoreOptions out_of_core;
+        out_of_core.memory_limit = parse_memory_size(memory_limit);
+        out_of_core.work_directory = work_dir;
+        out_of_core.remove_work_directory = !keep_work_dir;
+        Reconstruction r = run_released(progress, [&](const ProgressCallback& callback) {
+          return reconstruct_out_of_core(input, o, out_of_core, callback);
+        });
+        py::object tree = py::cast(TreeRef{std::make_shared<const ClusterTree>(std::move(r.tree))});
+        py::object surface = r.mesh ? mesh_object(std::move(r.mesh->mesh)) : py::none();
+        return py::make_tuple(tree, surface);
+      },
+      py::arg("input"), py::kw_only(), py::arg("memory_limit") = "4G", py::arg("work_dir"), py::arg("keep_work_dir") = false,
+      py::arg("mesh") = true, py::arg("progress") = py::none(), R"doc(
+Reconstructs the point file ``input`` out of core, as ``clustersurf reconstruct IN --mesh OUT
+--memory-limit SIZE --work-dir DIR`` does: split into regions on disk (under ``work_dir``),
+built and meshed one region at a time within about ``memory_limit`` ("4G", "512M" or bytes),
+the tiles welded. Returns (Tree, Mesh) (Mesh None when ``mesh`` is False). A run interrupted
+and started again with the same ``work_dir`` and options resumes; the directory's files are
+removed at the end unless ``keep_work_dir``. Other keyword options are reconstruct()'s and
+Tree.mesh()'s (tolerance, min_points, ..., resolution, voxel_size, trim, color, decimate);
+levels of detail, watertight and distance colors are not available out of core.
+``progress`` as in reconstruct(); the GIL is released.)doc");
+
+  m.def(
+      "region_points_for_memory",
+      [](const std::string& memory_limit) { return region_points_for_memory(parse_memory_size(memory_limit)); },
+      py::arg("memory_limit"),
+      "The most points a region may hold for its build to fit in ``memory_limit`` (\"4G\", \"512M\" or bytes).");
+
+  py::class_<RunRef>(m, "TiledRun", R"doc(
+The work directory of a tiled reconstruction: the input split into region files (partition()),
+then per region a survey, a build and a mesh task, a merge between builds and meshes, and a
+join at the end. Every task writes its result atomically and does nothing when it is already
+there, so tasks can run in any order within a stage, on any machine sharing the directory,
+and be retried. clustersurf.distributed runs them on Dask.)doc")
+      .def(py::init([](const std::filesystem::path& directory) {
+             py::gil_scoped_release release;
+             return RunRef{std::make_shared<const TiledRun>(directory)};
+           }),
+           py::arg("directory"), "Opens a partitioned work directory.")
+      .def_static(
+          "partition",
+          [](const std::filesystem::path& input, const std::filesystem::path& directory, std::uint64_t max_region_points,
+             double halo_spacings, const py::object& progress) {
+            PartitionOptions o;
+            o.regions.max_points = max_region_points;
+            o.regions.halo_spacings = halo_spacings;
+            return run_released(progress, [&](const ProgressCallback& callback) {
+              return RunRef{std::make_shared<const TiledRun>(TiledRun::partition(input, directory, o, callback))};
+            });
+          },
+          py::arg("input"), py::arg("directory"), py::kw_only(), py::arg("max_region_points") = RegionOptions{}.max_points,
+          py::arg("halo_spacings") = RegionOptions{}.halo_spacings, py::arg("progress") = py::none(),
+          "Splits the point file ``input`` into regions of at most ``max_region_points`` points, each with a halo "
+          "``halo_spacings`` median point spacings wide, under ``directory`` (reused when it already holds this "
+          "input's partition); ``progress`` as in reconstruct().")
+      .def_property_readonly("directory", [](const RunRef& r) { return r.run->directory(); }, "The work directory.")
+      .def_property_readonly("regions", [](const RunRef& r) { return r.run->regions(); }, "How many regions the plan has.")
+      .def_property_readonly("input_points", [](const RunRef& r) { return r.run->input_points(); }, "Points in the input file.")
+      .def(
+          "done", [](const RunRef& r, const std::string& stage, std::int32_t region) { return r.run->done(stage, region); },
+          py::arg("stage"), py::arg("region"), "Whether the result of ``stage`` (\"survey\", \"build\" or \"mesh\") of ``region`` is there.")
+      .def(
+          "claim",
+          [](const RunRef& r, const py::kwargs& kwargs) { r.run->claim(reconstruct_options(kwargs)); },
+          "Records the run's options (reconstruct()'s and Tree.mesh()'s keywords), or raises OptionError when the "
+          "directory holds results of other options.")
+      .def(
+          "survey",
+          [](const RunRef& r, std::int32_t region, const py::kwargs& kwargs) {
+            const ReconstructOptions o = reconstruct_options(kwargs);
+            py::gil_scoped_release release;
+            r.run->survey(region, o.build);
+          },
+          py::arg("region"), "Stage 1 of a region: its survey (spacing, spread, noise, box).")
+      .def(
+          "build",
+          [](const RunRef& r, std::int32_t region, const py::kwargs& kwargs) {
+            const ReconstructOptions o = reconstruct_options(kwargs);
+            py::gil_scoped_release release;
+            r.run->build(region, o.build);
+          },
+          py::arg("region"), "Stage 2 of a region: its subtree (after every survey).")
+      .def(
+          "merge",
+          [](const RunRef& r) {
+            auto tree = [&] {
+              py::gil_scoped_release release;
+              return std::make_shared<const ClusterTree>(r.run->merge());
+            }();
+            return TreeRef{std::move(tree)};
+          },
+          "Stage 3: the regions' subtrees as one Tree (after every build).")
+      .def(
+          "mesh",
+          [](const RunRef& r, std::int32_t region, const py::kwargs& kwargs) {
+            const ReconstructOptions o = reconstruct_options(kwargs);
+            py::gil_scoped_release release;
+            r.run->mesh(region, o);
+          },
+          py::arg("region"), "Stage 4 of a region: its tile of the mesh (after the merge).")
+      .def(
+          "join",
+          [](const RunRef& r, const py::kwargs& kwargs) {
+            const ReconstructOptions o = reconstruct_options(kwargs);
+            SurfaceMesh mesh = [&] {
+              py::gil_scoped_release release;
+              return r.run->join(o.meshing);
+            }();
+            return mesh_object(std::move(mesh.mesh));
+          },
+          "Stage 5: the tiles welded into one Mesh (after every mesh task), decimated and colored as the keyword "
+          "options say.")
+      .def("__repr__", [](const RunRef& r) {
+        return "<clustersurf.TiledRun " + r.run->directory().string() + ": " + std::to_string(r.run->regions()) + " regions, " +
+               std::to_string(r.run->input_points()) + " points>";
+      });
+}
+
+}  // namespace clustersurf::python

@@ -1,0 +1,141 @@
+"""clustersurf.distributed: a tiled run's tasks on a Dask cluster (a LocalCluster of 2 worker
+processes) give the mesh of the same run done task after task; a worker killed mid-run and a
+run started again change nothing; the command line writes the mesh and reports."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import clustersurf
+from clustersurf import distributed as cd
+
+pytest.importorskip("distributed", reason="Dask's python3-distributed is not installed (scripts/setup installs it)")
+
+REGION_POINTS = 5000
+
+
+def torus_points(n: int, seed: int = 3):
+    """n points area-uniform on a torus (R = 1, r = 0.35) and their outward normals."""
+    rng = np.random.default_rng(seed)
+    big, small = 1.0, 0.35
+    u, v = [], []
+    while len(u) < n:
+        a, b = rng.uniform(0, 2 * np.pi, 2 * n), rng.uniform(0, 2 * np.pi, 2 * n)
+        keep = rng.uniform(0, 1, 2 * n) < (big + small * np.cos(b)) / (big + small)
+        u.extend(a[keep])
+        v.extend(b[keep])
+    u, v = np.array(u[:n]), np.array(v[:n])
+    normals = np.stack([np.cos(v) * np.cos(u), np.cos(v) * np.sin(u), np.sin(v)], axis=1)
+    centers = np.stack([big * np.cos(u), big * np.sin(u), np.zeros(n)], axis=1)
+    return centers + small * normals, normals
+
+
+@pytest.fixture(scope="module")
+def cloud_file(tmp_path_factory):
+    path = tmp_path_factory.mktemp("distributed") / "torus.ply"
+    points, normals = torus_points(30000)
+    clustersurf.write_points(path, points, normals)
+    return path
+
+
+@pytest.fixture(scope="module")
+def serial_mesh(cloud_file, tmp_path_factory):
+    """The mesh file of the same tiled run, its tasks one after another in this process."""
+    work = tmp_path_factory.mktemp("serial")
+    run = clustersurf.TiledRun.partition(cloud_file, work / "run", max_region_points=REGION_POINTS)
+    assert run.regions >= 4
+    for stage in ("survey", "build"):
+        for r in range(run.regions):
+            getattr(run, stage)(r)
+    run.merge()
+    for r in range(run.regions):
+        run.mesh(r)
+    path = work / "serial.ply"
+    clustersurf.write_mesh(path, run.join())
+    return path.read_bytes()
+
+
+@pytest.fixture(scope="module")
+def client():
+    from distributed import Client, LocalCluster
+
+    cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
+    client = Client(cluster)
+    yield client
+    client.close()
+    cluster.close()
+
+
+def test_cluster_gives_the_serial_runs_mesh(cloud_file, serial_mesh, client, tmp_path):
+    report = cd.reconstruct_distributed(cloud_file, client=client, work_dir=tmp_path / "run", mesh=tmp_path / "mesh.ply",
+                                        tree=tmp_path / "tree.cstree", max_region_points=REGION_POINTS)
+    assert (tmp_path / "mesh.ply").read_bytes() == serial_mesh
+    assert report["tasks"] == {"survey": report["regions"], "build": report["regions"], "mesh": report["regions"]}
+    assert clustersurf.load(tmp_path / "tree.cstree").info()["leaves"] == report["leaves"]
+    assert not (tmp_path / "run").exists()  # the run's files are removed at the end
+
+
+def test_a_worker_killed_mid_run_changes_nothing(cloud_file, serial_mesh, client, tmp_path):
+    killed = []
+
+    def kill_a_worker(stage, fraction):
+        # Once the first build task is back, kill a worker process outright: its running task
+        # is lost with it and must be run again elsewhere.
+        if stage == "build regions" and not killed:
+            pids = client.run(os.getpid)
+            victim = sorted(pids.values())[0]
+            os.kill(victim, signal.SIGKILL)
+            killed.append(victim)
+        return True
+
+    cd.reconstruct_distributed(cloud_file, client=client, work_dir=tmp_path / "run", mesh=tmp_path / "mesh.ply",
+                               max_region_points=REGION_POINTS, progress=kill_a_worker)
+    assert killed
+    assert (tmp_path / "mesh.ply").read_bytes() == serial_mesh
+    client.wait_for_workers(2, timeout=60)  # the nanny restarts it, for the next tests
+
+
+def test_a_run_started_again_redoes_only_what_is_missing(cloud_file, serial_mesh, client, tmp_path):
+    work = tmp_path / "run"
+    run = clustersurf.TiledRun.partition(cloud_file, work, max_region_points=REGION_POINTS)
+    for r in range(run.regions):
+        run.survey(r)
+    run.build(0)  # then the run stopped
+    report = cd.reconstruct_distributed(cloud_file, client=client, work_dir=work, mesh=tmp_path / "mesh.ply",
+                                        max_region_points=REGION_POINTS, keep_work_dir=True)
+    assert report["tasks"]["survey"] == 0
+    assert report["tasks"]["build"] == run.regions - 1
+    assert (tmp_path / "mesh.ply").read_bytes() == serial_mesh
+    # Other options in the same directory are refused, not mixed with these results.
+    with pytest.raises(clustersurf.OptionError):
+        cd.reconstruct_distributed(cloud_file, client=client, work_dir=work, mesh=tmp_path / "other.ply",
+                                   max_region_points=REGION_POINTS, tolerance=0.001)
+
+
+def _command(*args):
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([os.path.dirname(os.path.dirname(clustersurf.__file__)), env.get("PYTHONPATH", "")])
+    return subprocess.run([sys.executable, "-m", "clustersurf.distributed", *map(str, args)], env=env, capture_output=True,
+                          text=True, timeout=600)
+
+
+def test_command_line_writes_the_mesh_and_reports(cloud_file, serial_mesh, tmp_path):
+    out = tmp_path / "mesh.ply"
+    done = _command(cloud_file, "--mesh", out, "--local-workers", 2, "--max-region-points", REGION_POINTS, "--json")
+    assert done.returncode == 0, done.stderr
+    report = json.loads(done.stdout)
+    assert report["regions"] >= 4 and report["triangles"] > 10000
+    assert out.read_bytes() == serial_mesh
+
+
+def test_command_line_errors_are_clear(tmp_path):
+    missing = _command(tmp_path / "missing.ply", "--mesh", tmp_path / "m.ply", "--local-workers", 1)
+    assert missing.returncode == 4 and "missing.ply" in missing.stderr, missing.stderr
+    assert not (tmp_path / "m.ply").exists()
+    nothing = _command(tmp_path / "missing.ply")
+    assert nothing.returncode == 2 and "nothing to write" in nothing.stderr
