@@ -7,7 +7,7 @@
 #include <clustersurf/tiled_run.hpp>
 #include <clustersurf/tree_file.hpp>
 
-#include "tiling/tiled_run_files.hpp"
+#include "io/tiled_run_files.hpp"
 
 #include <cerrno>
 #include <chrono>

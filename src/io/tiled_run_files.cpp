@@ -3,9 +3,11 @@
 #include <clustersurf/errors.hpp>
 
 #include "io/atomic_file.hpp"
-#include "tiling/tiled_run_files.hpp"
+#include "io/tiled_run_files.hpp"
 
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <cstring>
 #include <fstream>
 #include <iomanip>
@@ -93,7 +95,8 @@ void write_partition(const std::filesystem::path& file, const PartitionRecord& r
 }
 
 PartitionRecord read_partition(const std::filesystem::path& file) {
-  Lines lines(file, read_text(file));
+  const std::string text = read_text(file);
+  Lines lines(file, text);
   PartitionRecord r;
   {
     std::istringstream f = lines.next("", "the header");
@@ -114,7 +117,9 @@ PartitionRecord read_partition(const std::filesystem::path& file) {
   std::size_t cells = 0, regions = 0;
   f = lines.next("cells", "the cell count");
   lines.read(f, "cell count", cells);
-  if (cells == 0 || cells > (std::size_t{1} << 24)) lines.fail("cell count out of range");
+  // A cell's line holds 12 fields, a region's 4: counts the text cannot hold are refused before
+  // anything is allocated.
+  if (cells == 0 || cells > text.size() / 24) lines.fail("cell count out of range for the file's size");
   r.plan.cells.resize(cells);
   for (RegionPlan::Cell& c : r.plan.cells) {
     f = lines.next("cell", "a cell");
@@ -123,7 +128,7 @@ PartitionRecord read_partition(const std::filesystem::path& file) {
   }
   f = lines.next("regions", "the region count");
   lines.read(f, "region count", regions);
-  if (regions == 0 || regions > cells) lines.fail("region count out of range");
+  if (regions == 0 || regions > cells || regions > text.size() / 8) lines.fail("region count out of range");
   r.own.resize(regions);
   r.halo.resize(regions);
   r.plan.region_cell.resize(regions);
@@ -131,6 +136,17 @@ PartitionRecord read_partition(const std::filesystem::path& file) {
     f = lines.next("region", "a region");
     lines.read(f, "region", r.plan.region_cell[k], r.own[k], r.halo[k]);
   }
+  constexpr std::uint64_t kMaxPoints = std::uint64_t{1} << 40;
+  if (r.input_points == 0 || r.input_points > kMaxPoints) lines.fail("input point count out of range");
+  std::uint64_t owned = 0;
+  for (std::size_t k = 0; k < regions; ++k) {
+    if (r.own[k] > r.input_points || r.halo[k] > r.input_points) lines.fail("region " + std::to_string(k) + ": point counts out of range");
+    owned += r.own[k];
+  }
+  if (owned != r.input_points) lines.fail("the regions' own points do not add up to the input's");
+  if (!r.origin.allFinite() || !(r.plan.point_spacing >= 0) || !std::isfinite(r.plan.point_spacing) || !(r.plan.halo >= 0) ||
+      !std::isfinite(r.plan.halo))
+    lines.fail("origin, spacing or halo is not a finite number (spacing and halo >= 0)");
   // The cells must form the tree region_of() walks: children after their parent, leaves naming
   // their region, regions naming their leaf.
   const auto n = static_cast<std::int32_t>(cells);
@@ -142,6 +158,12 @@ PartitionRecord read_partition(const std::filesystem::path& file) {
                      r.plan.region_cell[static_cast<std::size_t>(c.region)] == i
                : inner))
       lines.fail("cell " + std::to_string(i) + " is not a valid cell of the plan");
+  }
+  for (std::size_t k = 0; k < regions; ++k) {
+    const std::int32_t c = r.plan.region_cell[k];
+    if (c < 0 || c >= n || r.plan.cells[static_cast<std::size_t>(c)].left >= 0 ||
+        r.plan.cells[static_cast<std::size_t>(c)].region != static_cast<std::int32_t>(k))
+      lines.fail("region " + std::to_string(k) + " does not name its cell");
   }
   return r;
 }
@@ -160,6 +182,8 @@ RegionSurvey read_survey(const std::filesystem::path& file) {
   RegionSurvey s;
   auto f = lines.next("survey", "the survey");
   lines.read(f, "survey", s.points, s.median_spacing, s.median_spread, s.noise_sigma, s.outliers);
+  for (const double v : {s.median_spacing, s.median_spread, s.noise_sigma})
+    if (!(v >= 0) || !std::isfinite(v)) lines.fail("survey values must be finite and >= 0");
   std::string rest;
   if (f >> rest && rest != "empty") {
     std::istringstream box(rest + " " + std::string(std::istreambuf_iterator<char>(f), {}));
@@ -190,11 +214,10 @@ void write_tile(const std::filesystem::path& file, const MeshTile& tile) {
   const TriangleMesh& m = tile.mesh;
   io::AtomicFile out(file);
   out.write(kTileMagic, sizeof kTileMagic);
-  const std::int64_t header[4] = {tile.region, static_cast<std::int64_t>(m.vertices.rows()), static_cast<std::int64_t>(m.triangles.rows()),
-                                  static_cast<std::int64_t>(tile.grid.surface_cells)};
+  const std::int64_t header[5] = {tile.region, static_cast<std::int64_t>(m.vertices.rows()), static_cast<std::int64_t>(m.triangles.rows()),
+                                  static_cast<std::int64_t>(tile.grid.surface_cells), static_cast<std::int64_t>(tile.grid.evaluated_corners)};
   out.write(header, sizeof header);
-  const double grid[2] = {tile.grid.voxel_size, static_cast<double>(tile.grid.evaluated_corners)};
-  out.write(grid, sizeof grid);
+  out.write(&tile.grid.voxel_size, sizeof(double));
   out.write(m.origin.data(), 3 * sizeof(double));
   out.write(m.vertices.data(), static_cast<std::size_t>(m.vertices.size()) * sizeof(double));
   out.write(m.normals.data(), static_cast<std::size_t>(m.normals.size()) * sizeof(double));
@@ -209,27 +232,32 @@ MeshTile read_tile(const std::filesystem::path& file) {
   const auto take = [&](void* out, std::size_t n, const char* what) {
     if (n > bytes.size() - at)
       throw InputError(file, FileLocation{std::nullopt, at}, std::string("file ends inside ") + what + " (not a whole mesh tile)");
-    std::memcpy(out, bytes.data() + at, n);
+    if (n > 0) std::memcpy(out, bytes.data() + at, n);  // an empty matrix has no storage
     at += n;
   };
   char magic[sizeof kTileMagic];
   take(magic, sizeof magic, "the signature");
   if (std::memcmp(magic, kTileMagic, sizeof magic) != 0) throw InputError(file, FileLocation{std::nullopt, 0}, "not a clustersurf mesh tile");
-  std::int64_t header[4];
+  std::int64_t header[5];
   take(header, sizeof header, "the header");
   const std::int64_t nv = header[1], nt = header[2];
   const std::uint64_t per_vertex = 6 * sizeof(double) + sizeof(float), per_triangle = 3 * sizeof(std::int32_t);
+  if (header[0] < 0 || header[0] > std::numeric_limits<std::int32_t>::max() || header[3] < 0 || header[4] < 0)
+    throw InputError(file, FileLocation{std::nullopt, sizeof kTileMagic}, "region or cell counts out of range");
   if (nv < 0 || nt < 0 || static_cast<std::uint64_t>(nv) > bytes.size() / per_vertex || static_cast<std::uint64_t>(nt) > bytes.size() / per_triangle)
-    throw InputError(file, FileLocation{std::nullopt, 8}, "vertex or triangle count out of range for the file's size");
+    throw InputError(file, FileLocation{std::nullopt, sizeof kTileMagic + 8}, "vertex or triangle count out of range for the file's size");
   MeshTile tile;
   tile.region = static_cast<std::int32_t>(header[0]);
   tile.grid.surface_cells = static_cast<std::size_t>(header[3]);
-  double grid[2];
-  take(grid, sizeof grid, "the header");
-  tile.grid.voxel_size = grid[0];
-  tile.grid.evaluated_corners = static_cast<std::size_t>(grid[1]);
+  tile.grid.evaluated_corners = static_cast<std::size_t>(header[4]);
+  const std::size_t voxel_at = at;
+  take(&tile.grid.voxel_size, sizeof(double), "the header");
+  if (!(tile.grid.voxel_size > 0) || !std::isfinite(tile.grid.voxel_size))
+    throw InputError(file, FileLocation{std::nullopt, voxel_at}, "the cell size must be a positive number");
   TriangleMesh& m = tile.mesh;
+  const std::size_t origin_at = at;
   take(m.origin.data(), 3 * sizeof(double), "the origin");
+  if (!m.origin.allFinite()) throw InputError(file, FileLocation{std::nullopt, origin_at}, "the origin is not finite");
   m.vertices.resize(nv, 3);
   m.normals.resize(nv, 3);
   Eigen::VectorXf votes(nv);
@@ -240,6 +268,8 @@ MeshTile read_tile(const std::filesystem::path& file) {
   const std::size_t triangles_at = at;
   take(m.triangles.data(), static_cast<std::size_t>(nt) * 3 * sizeof(std::int32_t), "the triangles");
   if (at != bytes.size()) throw InputError(file, FileLocation{std::nullopt, at}, "unexpected bytes after the triangles");
+  if (!m.vertices.allFinite() || !m.normals.allFinite() || !votes.allFinite() || (nv > 0 && votes.minCoeff() < 0))
+    throw InputError(file, FileLocation{std::nullopt, sizeof kTileMagic}, "a vertex, normal or vote is not a finite number (votes >= 0)");
   for (Eigen::Index t = 0; t < nt; ++t)
     for (int k = 0; k < 3; ++k)
       if (m.triangles(t, k) < 0 || m.triangles(t, k) >= nv)

@@ -1,0 +1,35 @@
+// libFuzzer target: PointStream, which reads a binary PLY of points in place, a block at a
+// time (other files it reads whole through the readers fuzz_ply covers). Every block must hold
+// finite points, and the blocks together the file's points.
+
+#include "fuzz_checks.hpp"
+
+#include <clustersurf/point_stream.hpp>
+
+#include <fstream>
+#include <string>
+#include <unistd.h>
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace clustersurf;
+  static const std::string file = "/tmp/clustersurf-fuzz-stream-" + std::to_string(::getpid()) + ".ply";
+  std::ofstream(file, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  for (const bool drop : {false, true}) {
+    try {
+      ReadOptions options;
+      options.drop_non_finite = drop;
+      PointStream stream(file, options);
+      PointCloud block;
+      std::uint64_t total = 0;
+      while (stream.read(7, block)) {
+        fuzz::require(block.positions.allFinite() && block.size() <= 7);
+        fuzz::require(!stream.has_normals() || (block.normals.rows() == block.size() && block.normals.allFinite()));
+        total += static_cast<std::uint64_t>(block.size());
+      }
+      fuzz::require(total <= stream.size());
+      fuzz::require(drop || total == stream.size());
+    } catch (const InputError&) {
+    }
+  }
+  return 0;
+}
