@@ -102,8 +102,10 @@ TEST(TiledRun, OutOfCoreRunCleansUpAndEqualsTheTiledPipeline) {
   OutOfCoreOptions out_of_core;
   out_of_core.memory_limit = std::uint64_t{64} << 20;
   out_of_core.work_directory = torus.dir / "work";
-  const Reconstruction r = reconstruct_out_of_core(torus.file, {}, out_of_core);
+  out_of_core.mesh_output = torus.dir / "mesh.ply";
+  const OutOfCoreReconstruction r = reconstruct_out_of_core(torus.file, {}, out_of_core);
   ASSERT_TRUE(r.mesh);
+  EXPECT_TRUE(r.mesh->streamed);
   EXPECT_FALSE(std::filesystem::exists(out_of_core.work_directory));
   RegionOptions regions;
   regions.max_points = region_points_for_memory(out_of_core.memory_limit);
@@ -111,8 +113,28 @@ TEST(TiledRun, OutOfCoreRunCleansUpAndEqualsTheTiledPipeline) {
   in_memory.build.keep_point_leaves = false;
   const Reconstruction tiled = reconstruct_tiled(torus.cloud, regions, in_memory);
   EXPECT_EQ(serialize_tree(r.tree), serialize_tree(tiled.tree));
-  EXPECT_TRUE(same_mesh(r.mesh->mesh, tiled.mesh->mesh));
+  write_ply(torus.dir / "tiled.ply", tiled.mesh->mesh);
+  EXPECT_EQ(test::read_file(out_of_core.mesh_output), test::read_file(torus.dir / "tiled.ply"));
+  EXPECT_EQ(r.mesh->vertices, static_cast<std::size_t>(tiled.mesh->mesh.vertices.rows()));
   EXPECT_TRUE(r.orientation.used_normals);
+}
+
+TEST(TiledRun, MeshJoinedIntoTheFileTileByTileIsTheJoinedMeshWritten) {
+  const TorusFile torus(30000);
+  const TiledRun run = TiledRun::partition(torus.file, torus.dir / "work", small_regions(4000));
+  ReconstructOptions options;
+  options.meshing.coloring = MeshColoring::ByNode;
+  options.meshing.trim.min_component_points = 2000;  // drops fragments, so that the vote decides something
+  const SurfaceMesh joined = run_all(run, options);
+  write_ply(torus.dir / "joined.ply", joined.mesh);
+  const WrittenMesh streamed = run.write_mesh(torus.dir / "streamed.ply", options.meshing);
+  EXPECT_TRUE(streamed.streamed);
+  EXPECT_EQ(streamed.triangles, static_cast<std::size_t>(joined.mesh.triangles.rows()));
+  EXPECT_EQ(test::read_file(torus.dir / "streamed.ply"), test::read_file(torus.dir / "joined.ply"));
+  // Other formats, ascii and decimated meshes are joined in memory and written.
+  const WrittenMesh obj = run.write_mesh(torus.dir / "mesh.obj", options.meshing);
+  EXPECT_FALSE(obj.streamed);
+  EXPECT_EQ(obj.triangles, streamed.triangles);
 }
 
 TEST(TiledRun, RefusesOtherOptionsInTheSameDirectory) {

@@ -42,25 +42,67 @@ ReconstructOptions reconstruct_options(const ReconstructArgs& a) {
 
 }  // namespace
 
+namespace {
+
+/// `reconstruct --memory-limit`: out of core, the mesh written tile by tile.
+int run_out_of_core(Console& console, const ReconstructArgs& args, const ReconstructOptions& options) {
+  OutOfCoreOptions out_of_core;
+  out_of_core.memory_limit = parse_memory_size(args.memory_limit);
+  out_of_core.work_directory =
+      !args.work_dir.empty() ? args.work_dir : (args.mesh_output.empty() ? args.tree_output : args.mesh_output) + ".work";
+  out_of_core.remove_work_directory = !args.keep_work_dir;
+  out_of_core.read = read_options(console, args.input);
+  out_of_core.mesh_output = args.mesh_output;
+  out_of_core.ply.binary = !args.mesh.ascii;
+  const OutOfCoreReconstruction result = reconstruct_out_of_core(args.input.file, options, out_of_core, console.progress());
+  console.end_progress();
+  if (!args.tree_output.empty()) save_tree(args.tree_output, result.tree);
+  nlohmann::json mesh;
+  if (result.mesh) {
+    const WrittenMesh& m = *result.mesh;
+    mesh = {{"file", m.file.string()}, {"vertices", m.vertices}, {"triangles", m.triangles}, {"streamed", m.streamed},
+            {"blended_nodes", m.blended_nodes}, {"voxel_size", m.grid.voxel_size}, {"surface_cells", m.grid.surface_cells},
+            {"removed_components", m.removed_components}, {"mesh_seconds", m.seconds}};
+  }
+  if (console.options().json) {
+    nlohmann::json j = tree_report_json(result.tree);
+    j["input"] = args.input.file;
+    j["out_of_core"] = {{"memory_limit", out_of_core.memory_limit}, {"work_dir", out_of_core.work_directory.string()}};
+    if (!args.tree_output.empty()) j["tree"] = args.tree_output;
+    j["timing"] = {{"build_seconds", result.build_seconds}};
+    j["orientation"] = {{"used_normals", result.orientation.used_normals}, {"used_scanners", result.orientation.used_scanners}};
+    if (result.mesh) j["mesh"] = mesh;
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  for (const auto& line : tree_report_lines(result.tree)) console.print(line);
+  console.print("orientation     " + std::string(result.orientation.used_normals    ? "by input normals"
+                                                 : result.orientation.used_scanners ? "towards the scanners"
+                                                                                     : "by propagation in each region"));
+  console.print(fmt::format("time            out of core (memory limit {}), build {:.3f} s", args.memory_limit, result.build_seconds));
+  if (result.mesh) {
+    const WrittenMesh& m = *result.mesh;
+    console.print(fmt::format("mesh            {} vertices, {} triangles ({} blended nodes, voxel {:.4g}){}", m.vertices, m.triangles,
+                              m.blended_nodes, m.grid.voxel_size, m.streamed ? ", written tile by tile" : ""));
+    console.print(fmt::format("mesh time       {:.3f} s", m.seconds));
+    console.print("wrote           " + m.file.string());
+  }
+  if (!args.tree_output.empty()) console.print("wrote           " + args.tree_output);
+  return 0;
+}
+
+}  // namespace
+
 int run_reconstruct(Console& console, const ReconstructArgs& args) {
   if (args.tree_output.empty() && args.mesh_output.empty())
     throw OptionError("nothing to write: give -o TREE.cstree and/or --mesh MESH.ply");
   const ReconstructOptions options = reconstruct_options(args);
+  if (!args.memory_limit.empty()) return run_out_of_core(console, args, options);
   const auto t0 = std::chrono::steady_clock::now();
-  double read_seconds = 0;  // out of core: reading is part of the build
+  const PointCloud cloud = read_input(console, args.input);
+  const double read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   Reconstruction result = [&] {
     try {
-      if (!args.memory_limit.empty()) {
-        OutOfCoreOptions out_of_core;
-        out_of_core.memory_limit = parse_memory_size(args.memory_limit);
-        out_of_core.work_directory =
-            !args.work_dir.empty() ? args.work_dir : (args.mesh_output.empty() ? args.tree_output : args.mesh_output) + ".work";
-        out_of_core.remove_work_directory = !args.keep_work_dir;
-        out_of_core.read = read_options(console, args.input);
-        return reconstruct_out_of_core(args.input.file, options, out_of_core, console.progress());
-      }
-      const PointCloud cloud = read_input(console, args.input);
-      read_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       return reconstruct(cloud, options, console.progress());
     } catch (const InputError& e) {
       if (!e.file().empty()) throw;

@@ -35,6 +35,20 @@ inline constexpr std::uint64_t kRegionBytesPerPoint = 400;
 /// e.g. "4G" or "512M". Throws OptionError otherwise.
 std::uint64_t parse_memory_size(std::string_view text);
 
+/// A mesh a tiled run wrote to a file, and what made it.
+struct WrittenMesh {
+  std::filesystem::path file;
+  std::size_t vertices = 0;
+  std::size_t triangles = 0;
+  std::size_t removed_components = 0;  ///< fragments the data did not support
+  /// Joined straight into the file (binary PLY without decimation), never whole in memory.
+  bool streamed = false;
+  std::size_t blended_nodes = 0;
+  MeshReport grid;                     ///< the tiles' cells and corners, summed
+  DecimationReport decimation;
+  double seconds = 0;
+};
+
 /// A work directory of a tiled reconstruction. Every task writes its result atomically (a
 /// temporary file renamed into place) and does nothing when that result is already there, so
 /// a task that failed can simply run again, and a run started again redoes only what is
@@ -93,6 +107,10 @@ class TiledRun {
   /// Stage 5, once: join_tiles(), decimated and colored as mesh_tree() does, with the tree's
   /// origin. Returns the mesh and what made it.
   SurfaceMesh join(const SurfaceMeshOptions& options) const;
+  /// Stage 5 into a file (format by extension): a binary PLY without decimation is joined
+  /// straight into it, tile by tile (join_tiles_to_ply(): the same bytes as join() written,
+  /// never the whole mesh in memory); any other mesh is join()'s, written with `ply`.
+  WrittenMesh write_mesh(const std::filesystem::path& file, const SurfaceMeshOptions& options, const PlyWriteOptions& ply = {}) const;
 
   /// Whether a region's stage result is there: "survey", "build" or "mesh".
   bool done(std::string_view stage, std::int32_t region) const;
@@ -114,16 +132,28 @@ struct OutOfCoreOptions {
   std::uint64_t memory_limit = std::uint64_t{4} << 30;
   /// The work directory (required).
   std::filesystem::path work_directory;
+  /// The mesh file (required when the options ask for a mesh), and how a PLY is written.
+  std::filesystem::path mesh_output;
+  PlyWriteOptions ply;
   /// Remove the run's files (and the directory, when that leaves it empty) once it is done.
   bool remove_work_directory = true;
   /// How the input is read.
   ReadOptions read;
 };
 
+/// What reconstruct_out_of_core() made.
+struct OutOfCoreReconstruction {
+  ClusterTree tree;  ///< merged, without a point-leaf table
+  OrientationReport orientation;
+  double build_seconds = 0;  ///< the partition, the surveys, the builds and the merge
+  std::optional<WrittenMesh> mesh;
+};
+
 /// The whole pipeline out of core: TiledRun::partition() and every stage, one region at a
-/// time; the result equals reconstruct_tiled() of the same cloud and plan. Resumes a run
-/// interrupted in the same work directory. Throws IoError, InputError, OptionError, Cancelled.
-Reconstruction reconstruct_out_of_core(const std::filesystem::path& input, const ReconstructOptions& options,
-                                       const OutOfCoreOptions& out_of_core, const ProgressCallback& progress = {});
+/// time, the mesh written to out_of_core.mesh_output (TiledRun::write_mesh()); the tree and
+/// the mesh equal reconstruct_tiled()'s of the same cloud and plan. Resumes a run interrupted
+/// in the same work directory. Throws IoError, InputError, OptionError, Cancelled.
+OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& input, const ReconstructOptions& options,
+                                                const OutOfCoreOptions& out_of_core, const ProgressCallback& progress = {});
 
 }  // namespace clustersurf

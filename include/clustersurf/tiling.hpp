@@ -15,6 +15,8 @@
 #include <clustersurf/reconstruct.hpp>
 
 #include <cstdint>
+#include <filesystem>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -143,6 +145,12 @@ MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::
                    const RegionCloud& region, const MeshOptions& grid, const TrimOptions& trim = {},
                    const ProgressCallback& progress = {});
 
+/// Cells of lattice a tile meshes beyond its region (mesh_tile()): a triangle whose centroid
+/// lies in the region comes from cells within two of it (a quad spans the two cells on each side
+/// of its edge, and the projection moves a vertex at most one cell), whose corner values every
+/// tile that visits them computes alike.
+inline constexpr double kTileMarginCells = 4;
+
 /// The tiles as one mesh: vertices at the same position welded, then components on which fewer
 /// than trim.min_component_points votes fall dropped (the best-supported always stays), as
 /// trim_to_points() does. The result does not depend on the order of the tiles.
@@ -164,6 +172,22 @@ class RegionSource {
 /// OptionError for what tiles cannot do: levels of detail, closing, distance colors.
 Reconstruction reconstruct_regions(const RegionPlan& plan, const RegionSource& source,
                                    const ReconstructOptions& options = {}, const ProgressCallback& progress = {});
+
+/// What join_tiles_to_ply() wrote.
+struct JoinedMesh {
+  std::size_t vertices = 0;
+  std::size_t triangles = 0;
+  std::size_t removed_components = 0;  ///< components the votes did not support
+};
+
+/// join_tiles() of the tiles tile(0), ..., tile(count − 1) (tile(k): region k's), written to
+/// a binary PLY file tile by tile, with colors by node from `colors` when given: the bytes
+/// write_ply() writes of join_tiles()'s mesh, never the whole mesh in memory. Each tile is asked
+/// for four times; memory holds one tile, 13 bytes per vertex and the vertices near region
+/// borders (welded by position). Atomic. Throws OptionError for tiles that do not match the plan.
+JoinedMesh join_tiles_to_ply(const std::function<MeshTile(std::int32_t)>& tile, const RegionPlan& plan,
+                             const TrimOptions& trim, const std::filesystem::path& file,
+                             const ImplicitSurface* colors = nullptr);
 
 /// Throws OptionError for what a tiled mesh cannot do: levels of detail, closing, distance
 /// colors, closing pinholes.

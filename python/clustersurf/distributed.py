@@ -84,12 +84,11 @@ def reconstruct_distributed(input: str | os.PathLike, *, client: Any, work_dir: 
     if mesh is not None:
         t = time.monotonic()
         report["tasks"]["mesh"] = _run_stage(client, run, "mesh", options, progress, retries)
-        surface = run.join(**options)
-        _cs.write_mesh(mesh, surface)
+        written = run.write_mesh(mesh, **options)  # a PLY is joined straight into the file
         report["seconds"]["mesh"] = time.monotonic() - t
         report["mesh"] = os.fspath(mesh)
-        report["vertices"] = int(surface.vertices.shape[0])
-        report["triangles"] = int(surface.faces.shape[0])
+        report["vertices"] = written["vertices"]
+        report["triangles"] = written["triangles"]
     if tree is not None:
         merged.save(tree)
         report["tree"] = os.fspath(tree)

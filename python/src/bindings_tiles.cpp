@@ -19,32 +19,41 @@ struct RunRef {
   std::shared_ptr<const TiledRun> run;
 };
 
+/// What TiledRun::write_mesh() wrote, as a dict.
+py::dict written_mesh_dict(const WrittenMesh& m) {
+  return py::dict("file"_a = m.file, "vertices"_a = m.vertices, "triangles"_a = m.triangles, "streamed"_a = m.streamed,
+                  "removed_components"_a = m.removed_components, "blended_nodes"_a = m.blended_nodes,
+                  "voxel_size"_a = m.grid.voxel_size, "seconds"_a = m.seconds);
+}
+
 }  // namespace
 
 void bind_tiles(py::module_& m) {
   m.def(
       "reconstruct_file",
-      [](const std::filesystem::path& input, const std::string& memory_limit, const std::filesystem::path& work_dir,
-         bool keep_work_dir, bool mesh, const py::object& progress, const py::kwargs& kwargs) {
+      [](const std::filesystem::path& input, const std::optional<std::filesystem::path>& mesh, const std::string& memory_limit,
+         const std::filesystem::path& work_dir, bool keep_work_dir, const py::object& progress, const py::kwargs& kwargs) {
         ReconstructOptions o = reconstruct_options(kwargs);
-        o.mesh = mesh;
+        o.mesh = mesh.has_value();
         OutOfCoreOptions out_of_core;
         out_of_core.memory_limit = parse_memory_size(memory_limit);
         out_of_core.work_directory = work_dir;
         out_of_core.remove_work_directory = !keep_work_dir;
-        Reconstruction r = run_released(progress, [&](const ProgressCallback& callback) {
+        if (mesh) out_of_core.mesh_output = *mesh;
+        OutOfCoreReconstruction r = run_released(progress, [&](const ProgressCallback& callback) {
           return reconstruct_out_of_core(input, o, out_of_core, callback);
         });
         py::object tree = py::cast(TreeRef{std::make_shared<const ClusterTree>(std::move(r.tree))});
-        py::object surface = r.mesh ? mesh_object(std::move(r.mesh->mesh)) : py::none();
-        return py::make_tuple(tree, surface);
+        return py::make_tuple(tree, r.mesh ? written_mesh_dict(*r.mesh) : py::object(py::none()));
       },
-      py::arg("input"), py::kw_only(), py::arg("memory_limit") = "4G", py::arg("work_dir"), py::arg("keep_work_dir") = false,
-      py::arg("mesh") = true, py::arg("progress") = py::none(), R"doc(
-Reconstructs the point file ``input`` out of core, as ``clustersurf reconstruct IN --mesh OUT
+      py::arg("input"), py::kw_only(), py::arg("mesh") = py::none(), py::arg("memory_limit") = "4G", py::arg("work_dir"),
+      py::arg("keep_work_dir") = false, py::arg("progress") = py::none(), R"doc(
+Reconstructs the point file ``input`` out of core, as ``clustersurf reconstruct IN --mesh MESH
 --memory-limit SIZE --work-dir DIR`` does: split into regions on disk (under ``work_dir``),
 built and meshed one region at a time within about ``memory_limit`` ("4G", "512M" or bytes),
-the tiles welded. Returns (Tree, Mesh) (Mesh None when ``mesh`` is False). A run interrupted
+the tiles welded into the file ``mesh`` (a binary PLY is written tile by tile, never whole in
+memory; no mesh when None). Returns (Tree, dict): the merged tree and what was written (file,
+vertices, triangles, streamed, voxel_size, seconds), or None without a mesh. A run interrupted
 and started again with the same ``work_dir`` and options resumes; the directory's files are
 removed at the end unless ``keep_work_dir``. Other keyword options are reconstruct()'s and
 Tree.mesh()'s (tolerance, min_points, ..., resolution, voxel_size, trim, color, decimate);
@@ -141,6 +150,19 @@ and be retried. clustersurf.distributed runs them on Dask.)doc")
           },
           "Stage 5: the tiles welded into one Mesh (after every mesh task), decimated and colored as the keyword "
           "options say.")
+      .def(
+          "write_mesh",
+          [](const RunRef& r, const std::filesystem::path& path, const py::kwargs& kwargs) {
+            const ReconstructOptions o = reconstruct_options(kwargs);
+            const WrittenMesh written = [&] {
+              py::gil_scoped_release release;
+              return r.run->write_mesh(path, o.meshing);
+            }();
+            return written_mesh_dict(written);
+          },
+          py::arg("path"),
+          "Stage 5 into the file ``path`` (format by extension): a binary PLY is joined straight into it, tile by "
+          "tile, never whole in memory. Returns what was written (file, vertices, triangles, streamed, ...).")
       .def("__repr__", [](const RunRef& r) {
         return "<clustersurf.TiledRun " + r.run->directory().string() + ": " + std::to_string(r.run->regions()) + " regions, " +
                std::to_string(r.run->input_points()) + " points>";

@@ -2,6 +2,7 @@
 // coordinates (positions + origin).
 
 #include "io/atomic_file.hpp"
+#include "io/ply_mesh_stream.hpp"
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/point_cloud_io.hpp>
@@ -27,21 +28,15 @@ void write_ply_impl(const std::filesystem::path& file, const Points& v, const Ei
   o.double_precision = o.double_precision || !origin.isZero();
   const bool has_n = n.rows() == nv && nv > 0;
   const bool has_c = c.rows() == nv && nv > 0;
-  const char* real = o.double_precision ? "double" : "float";
-  std::string h = "ply\n";
-  h += o.binary ? "format binary_little_endian 1.0\n" : "format ascii 1.0\n";
-  h += "comment written by clustersurf\n";
-  h += fmt::format("element vertex {}\nproperty {} x\nproperty {} y\nproperty {} z\n", nv, real, real, real);
-  if (has_n) h += fmt::format("property {} nx\nproperty {} ny\nproperty {} nz\n", real, real, real);
-  if (has_c) h += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   std::vector<const PointAttribute*> extra;  // the attributes with a value per vertex
+  std::vector<std::string> names;
   for (const PointAttribute& a : attributes)
     if (a.values.size() == nv && nv > 0 && !a.name.empty() && a.name.find_first_of(" \t\r\n") == std::string::npos) {
       extra.push_back(&a);
-      h += "property float " + a.name + "\n";
+      names.push_back(a.name);
     }
-  if (tris != nullptr) h += fmt::format("element face {}\nproperty list uchar int vertex_indices\n", tris->rows());
-  h += "end_header\n";
+  const std::string h = io::ply_header(static_cast<std::uint64_t>(nv), tris != nullptr ? std::optional(static_cast<std::uint64_t>(tris->rows())) : std::nullopt,
+                                       o.binary, o.double_precision, has_n, has_c, names);
 
   io::AtomicFile out(file);
   out.write(h);
@@ -105,6 +100,21 @@ void write_ply_impl(const std::filesystem::path& file, const Points& v, const Ei
 }
 
 }  // namespace
+
+std::string io::ply_header(std::uint64_t vertices, std::optional<std::uint64_t> faces, bool binary, bool double_precision,
+                           bool normals, bool colors, const std::vector<std::string>& attributes) {
+  const char* real = double_precision ? "double" : "float";
+  std::string h = "ply\n";
+  h += binary ? "format binary_little_endian 1.0\n" : "format ascii 1.0\n";
+  h += "comment written by clustersurf\n";
+  h += fmt::format("element vertex {}\nproperty {} x\nproperty {} y\nproperty {} z\n", vertices, real, real, real);
+  if (normals) h += fmt::format("property {} nx\nproperty {} ny\nproperty {} nz\n", real, real, real);
+  if (colors) h += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  for (const std::string& name : attributes) h += "property float " + name + "\n";
+  if (faces) h += fmt::format("element face {}\nproperty list uchar int vertex_indices\n", *faces);
+  h += "end_header\n";
+  return h;
+}
 
 void write_ply(const std::filesystem::path& file, const PointCloud& cloud, const PlyWriteOptions& options) {
   write_ply_impl(file, cloud.positions, cloud.origin, cloud.normals, cloud.colors, cloud.attributes, nullptr, options);

@@ -13,16 +13,6 @@
 
 namespace clustersurf {
 
-namespace {
-
-/// Cells of lattice meshed around a tile's region: a triangle whose centroid lies in the region
-/// comes from cells within two of it (a quad spans the two cells on each side of its edge, and
-/// the projection moves a vertex at most one cell), whose corner values every tile that
-/// visits them computes alike; beyond, the walk's edge differs from the neighbour's.
-constexpr double kMarginCells = 4;
-
-}  // namespace
-
 MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::int32_t region_index,
                    const RegionCloud& region, const MeshOptions& grid, const TrimOptions& trim,
                    const ProgressCallback& progress) {
@@ -46,8 +36,8 @@ MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::
 
   detail::MeshClip clip;
   clip.box = plan.region_box(region_index);
-  clip.box.min.array() -= kMarginCells * h;
-  clip.box.max.array() += kMarginCells * h;
+  clip.box.min.array() -= kTileMarginCells * h;
+  clip.box.max.array() += kTileMarginCells * h;
   clip.seeds = &data;
   TriangleMesh mesh = detail::extract_clipped(surface, clip, grid, &tile.grid, progress);
 

@@ -9,6 +9,8 @@
 
 #include "io/tiled_run_files.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -392,6 +394,44 @@ SurfaceMesh TiledRun::join(const SurfaceMeshOptions& options) const {
   return out;
 }
 
+WrittenMesh TiledRun::write_mesh(const std::filesystem::path& file, const SurfaceMeshOptions& options, const PlyWriteOptions& ply) const {
+  require_tiled_meshing(options);
+  std::string extension = file.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  WrittenMesh out;
+  out.file = file;
+  if (extension != ".ply" || !ply.binary || ply.double_precision || options.decimation.enabled()) {
+    const SurfaceMesh mesh = join(options);
+    write_triangle_mesh(file, mesh.mesh, ply);
+    out.vertices = static_cast<std::size_t>(mesh.mesh.vertices.rows());
+    out.triangles = static_cast<std::size_t>(mesh.mesh.triangles.rows());
+    out.blended_nodes = mesh.blended_nodes;
+    out.grid = mesh.grid;
+    out.decimation = mesh.decimation;
+    out.seconds = mesh.seconds;
+    return out;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const std::shared_ptr<const ClusterTree> tree = impl_->merged_tree();
+  const ImplicitSurface surface(*tree);
+  out.blended_nodes = surface.cut().size();
+  out.streamed = true;
+  const auto tile = [&](std::int32_t k) { return detail::read_tile(impl_->need(impl_->file("tile", k, "bin"), "every region's mesh")); };
+  for (std::int32_t k = 0; k < static_cast<std::int32_t>(regions()); ++k) {
+    const MeshTile t = tile(k);
+    out.grid.voxel_size = t.grid.voxel_size;
+    out.grid.evaluated_corners += t.grid.evaluated_corners;
+    out.grid.surface_cells += t.grid.surface_cells;
+  }
+  const JoinedMesh joined = join_tiles_to_ply(tile, plan(), options.trim, file,
+                                              options.coloring == MeshColoring::ByNode ? &surface : nullptr);
+  out.vertices = joined.vertices;
+  out.triangles = joined.triangles;
+  out.removed_components = joined.removed_components;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
 std::uint64_t region_points_for_memory(std::uint64_t memory_limit) {
   if (memory_limit < (std::uint64_t{64} << 20)) throw OptionError("the memory limit must be at least 64M");
   return memory_limit / kRegionBytesPerPoint;
@@ -421,9 +461,10 @@ std::uint64_t parse_memory_size(std::string_view text) {
   return static_cast<std::uint64_t>(bytes);
 }
 
-Reconstruction reconstruct_out_of_core(const std::filesystem::path& input, const ReconstructOptions& options,
-                                       const OutOfCoreOptions& out_of_core, const ProgressCallback& progress) {
+OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& input, const ReconstructOptions& options,
+                                                const OutOfCoreOptions& out_of_core, const ProgressCallback& progress) {
   if (out_of_core.work_directory.empty()) throw OptionError("an out-of-core run needs a work directory");
+  if (options.mesh && out_of_core.mesh_output.empty()) throw OptionError("an out-of-core run writes its mesh to a file: give one");
   if (options.mesh) require_tiled_meshing(options.meshing);
   const auto start = std::chrono::steady_clock::now();
   PartitionOptions partition;
@@ -437,7 +478,7 @@ Reconstruction reconstruct_out_of_core(const std::filesystem::path& input, const
   };
   for (std::int32_t k = 0; k < n; ++k) stage("surveying regions", k), run.survey(k, options.build);
   for (std::int32_t k = 0; k < n; ++k) stage("building regions", k), run.build(k, options.build);
-  Reconstruction out;
+  OutOfCoreReconstruction out;
   out.tree = run.merge();
   out.orientation = run.orientation();
   out.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -445,7 +486,7 @@ Reconstruction reconstruct_out_of_core(const std::filesystem::path& input, const
     const auto mesh_start = std::chrono::steady_clock::now();
     for (std::int32_t k = 0; k < n; ++k) stage("meshing tiles", k), run.mesh(k, options);
     stage("joining tiles", n);
-    out.mesh = run.join(options.meshing);
+    out.mesh = run.write_mesh(out_of_core.mesh_output, options.meshing, out_of_core.ply);
     out.mesh->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - mesh_start).count();
   }
   if (out_of_core.remove_work_directory) {
