@@ -100,7 +100,7 @@ TEST(TiledRun, ResumedRunRedoesOnlyWhatIsMissing) {
 TEST(TiledRun, OutOfCoreRunCleansUpAndEqualsTheTiledPipeline) {
   const TorusFile torus(20000);
   OutOfCoreOptions out_of_core;
-  out_of_core.memory_limit = std::uint64_t{64} << 20;
+  out_of_core.memory_limit = std::uint64_t{128} << 20;
   out_of_core.work_directory = torus.dir / "work";
   out_of_core.mesh_output = torus.dir / "mesh.ply";
   const OutOfCoreReconstruction r = reconstruct_out_of_core(torus.file, {}, out_of_core);

@@ -43,7 +43,7 @@ std::set<std::array<double, 9>> triangle_set(const TriangleMesh& mesh) {
 
 TEST(RegionPlan, BalancesRegionsByPointCount) {
   const PointCloud cloud = test::sample_torus(40000);
-  const RegionPlan plan = plan_regions(cloud.positions, 40000, bounding_box(cloud.positions), 0.01, regions_of(5000));
+  const RegionPlan plan = plan_regions(cloud.positions, 40000, bounding_box(cloud.positions), 0.0002, regions_of(5000));
   ASSERT_GE(plan.regions(), 8u);
   std::vector<std::size_t> own(plan.regions(), 0);
   for (Eigen::Index i = 0; i < cloud.size(); ++i) ++own[static_cast<std::size_t>(plan.region_of(cloud.positions.row(i).transpose()))];
@@ -63,6 +63,21 @@ TEST(RegionPlan, BalancesRegionsByPointCount) {
       EXPECT_EQ(listed, r != plan.region_of(x) && d <= plan.halo) << "point " << i << " region " << r;
     }
   }
+}
+
+TEST(RegionPlan, RegionsFitWithTheirHalo) {
+  const PointCloud cloud = test::sample_torus(40000);
+  const RegionPlan plan = plan_regions(cloud.positions, 40000, bounding_box(cloud.positions), 0.001, regions_of(8000));
+  ASSERT_GT(plan.halo, 0.05);
+  std::vector<std::size_t> held(plan.regions(), 0);
+  std::vector<std::int32_t> near;
+  for (Eigen::Index i = 0; i < cloud.size(); ++i) {
+    const Eigen::Vector3d x = cloud.positions.row(i).transpose();
+    ++held[static_cast<std::size_t>(plan.region_of(x))];
+    plan.halo_regions(x, near);
+    for (const std::int32_t r : near) ++held[static_cast<std::size_t>(r)];
+  }
+  for (const std::size_t n : held) EXPECT_LE(n, 8000u);
 }
 
 TEST(Tiling, OneRegionIsTheInCoreTree) {

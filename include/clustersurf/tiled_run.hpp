@@ -25,11 +25,13 @@ struct PartitionOptions {
   ReadOptions read;
 };
 
-/// The largest region that a build fits in `memory_limit` bytes: regions, their halo, the
-/// k-d trees and the tree under construction take about kRegionBytesPerPoint bytes per own
-/// point (measured, docs/benchmarks.md). Throws OptionError for a limit under 64 MiB.
+/// The most points a region may hold with its halo for its build and its tile to fit in
+/// `memory_limit` bytes: kRegionBytesPerPoint per point (the points, their k-d trees, the tree
+/// under construction, the tile's lattice and mesh) over kProcessBytes (the program itself),
+/// as measured (docs/benchmarks.md). Throws OptionError for a limit under 128 MiB.
 std::uint64_t region_points_for_memory(std::uint64_t memory_limit);
-inline constexpr std::uint64_t kRegionBytesPerPoint = 400;
+inline constexpr std::uint64_t kRegionBytesPerPoint = 1400;
+inline constexpr std::uint64_t kProcessBytes = std::uint64_t{64} << 20;
 
 /// A size in bytes from text: a number with an optional suffix K, M, G or T (powers of 1024),
 /// e.g. "4G" or "512M". Throws OptionError otherwise.

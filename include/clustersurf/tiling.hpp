@@ -24,7 +24,8 @@ namespace clustersurf {
 
 /// Options of plan_regions().
 struct RegionOptions {
-  /// The most points a region holds, its halo not counted.
+  /// The most points a region holds with its halo; a region is not split below a quarter of
+  /// this (its halo would then outweigh it).
   std::uint64_t max_points = 4'000'000;
   /// Width of a region's halo, in median point spacings: the neighbours' points this close to
   /// the region come with it, for its outlier test, its leaves' support checks and its tile's
@@ -59,8 +60,9 @@ struct RegionPlan {
 
 /// Splits `bbox` at the median of `sample` (rows: an even sample of the cloud's points, which
 /// number `total_points`) along each cell's longest side until a cell holds at most
-/// options.max_points points by the sample's count; the halo is options.halo_spacings times
-/// `point_spacing` (the cloud's median spacing, or an estimate of it). Deterministic.
+/// options.max_points points with its halo, by the sample's count; the halo is
+/// options.halo_spacings times `point_spacing` (the cloud's median spacing, or an estimate of
+/// it). Deterministic.
 /// Throws OptionError for invalid options.
 RegionPlan plan_regions(const Points& sample, std::uint64_t total_points, const BoundingBox& bbox, double point_spacing,
                         const RegionOptions& options = {});

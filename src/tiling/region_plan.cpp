@@ -23,12 +23,27 @@ struct Planner {
   std::uint64_t max_points;
   RegionPlan& plan;
 
+  /// Sample points within the halo of `box` but outside it.
+  std::size_t halo_count(const BoundingBox& box) const {
+    const double h2 = plan.halo * plan.halo;
+    std::size_t n = 0;
+    for (Eigen::Index i = 0; i < sample.rows(); ++i) {
+      const double d = distance_squared(box, sample.row(i).transpose());
+      n += d > 0 && d <= h2;
+    }
+    return n;
+  }
+
   std::int32_t split(std::span<std::uint32_t> rows, const BoundingBox& box) {
     const auto index = static_cast<std::int32_t>(plan.cells.size());
     plan.cells.push_back({});
     plan.cells.back().box = box;
-    const double count = static_cast<double>(rows.size()) * points_per_sample;
-    if (count <= static_cast<double>(max_points) || rows.size() < 2) {
+    // A region holds its points and its halo's; splitting stops once that fits, or once the
+    // region's own points are a quarter of the limit (the halo of a smaller one would outweigh it).
+    const double own = static_cast<double>(rows.size()) * points_per_sample;
+    const double limit = static_cast<double>(max_points);
+    const bool fits = own <= limit && (own <= 0.25 * limit || own + static_cast<double>(halo_count(box)) * points_per_sample <= limit);
+    if (fits || rows.size() < 2) {
       plan.cells[static_cast<std::size_t>(index)].region = static_cast<std::int32_t>(plan.region_cell.size());
       plan.region_cell.push_back(index);
       return index;

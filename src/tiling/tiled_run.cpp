@@ -433,8 +433,8 @@ WrittenMesh TiledRun::write_mesh(const std::filesystem::path& file, const Surfac
 }
 
 std::uint64_t region_points_for_memory(std::uint64_t memory_limit) {
-  if (memory_limit < (std::uint64_t{64} << 20)) throw OptionError("the memory limit must be at least 64M");
-  return memory_limit / kRegionBytesPerPoint;
+  if (memory_limit < 2 * kProcessBytes) throw OptionError("the memory limit must be at least 128M");
+  return (memory_limit - kProcessBytes) / kRegionBytesPerPoint;
 }
 
 std::uint64_t parse_memory_size(std::string_view text) {
@@ -470,6 +470,11 @@ OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& inp
   PartitionOptions partition;
   partition.regions.max_points = region_points_for_memory(out_of_core.memory_limit);
   partition.read = out_of_core.read;
+  // The partition's buffers and blocks within the limit too: an eighth of the working memory
+  // for the region files' buffers, a sixteenth for a block of points (48 bytes each).
+  const std::uint64_t working = out_of_core.memory_limit - kProcessBytes;
+  partition.buffer_bytes = static_cast<std::size_t>(std::min<std::uint64_t>(partition.buffer_bytes, working / 8));
+  partition.block_points = static_cast<std::size_t>(std::clamp<std::uint64_t>(working / 16 / 48, 4096, partition.block_points));
   const TiledRun run = TiledRun::partition(input, out_of_core.work_directory, partition, progress);
   run.claim(options);
   const auto n = static_cast<std::int32_t>(run.regions());

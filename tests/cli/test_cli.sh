@@ -612,16 +612,16 @@ ooc="$tmp/ooc"
 mkdir "$ooc"
 run sample "$bunny_mesh" -o "$ooc/in.ply" -n 200000 --seed 5
 expect_rc "sample a cloud for the out-of-core run" 0
-run --json reconstruct "$ooc/in.ply" --mesh "$ooc/mesh.ply" --memory-limit 64M
+run --json reconstruct "$ooc/in.ply" --mesh "$ooc/mesh.ply" --memory-limit 128M
 expect_rc "reconstruct --memory-limit exits 0" 0
 expect_eq "out of core: the mesh is written tile by tile" "$(python3 -c 'import json,sys; print(json.load(sys.stdin)["mesh"]["streamed"])' <<<"$out")" "True"
 check "out of core: the work directory is removed" test ! -e "$ooc/mesh.ply.work"
-run reconstruct "$ooc/in.ply" --mesh "$ooc/again.ply" --memory-limit 64M --work-dir "$ooc/work" --keep-work-dir
+run reconstruct "$ooc/in.ply" --mesh "$ooc/again.ply" --memory-limit 128M --work-dir "$ooc/work" --keep-work-dir
 expect_rc "reconstruct --memory-limit --keep-work-dir exits 0" 0
 check "out of core: --keep-work-dir keeps the run's files" test -f "$ooc/work/plan.txt"
 check "out of core: the same mesh from a kept work directory" cmp -s "$ooc/mesh.ply" "$ooc/again.ply"
 rm -f "$ooc/work/tile-000000.bin"  # as if the run had stopped before this tile
-run reconstruct "$ooc/in.ply" --mesh "$ooc/resumed.ply" --memory-limit 64M --work-dir "$ooc/work"
+run reconstruct "$ooc/in.ply" --mesh "$ooc/resumed.ply" --memory-limit 128M --work-dir "$ooc/work"
 expect_rc "a resumed out-of-core run exits 0" 0
 check "out of core: the resumed run gives the same mesh" cmp -s "$ooc/mesh.ply" "$ooc/resumed.ply"
 run reconstruct "$ooc/in.ply" --mesh "$ooc/bad.ply" --memory-limit 4X
