@@ -52,10 +52,10 @@ bool same_mesh(const TriangleMesh& a, const TriangleMesh& b) {
 }  // namespace
 
 TEST(TiledRun, FilesGiveTheTiledPipelinesResult) {
-  const TorusFile torus(30000);
+  const TorusFile torus(15000);
   const TiledRun run = TiledRun::partition(torus.file, torus.dir / "work", small_regions(5000));
   ASSERT_GE(run.regions(), 6u);
-  EXPECT_EQ(run.input_points(), 30000u);
+  EXPECT_EQ(run.input_points(), 15000u);
   EXPECT_TRUE(run.has_normals());
   const ReconstructOptions options;
   const SurfaceMesh mesh = run_all(run, options);
@@ -71,7 +71,7 @@ TEST(TiledRun, FilesGiveTheTiledPipelinesResult) {
 }
 
 TEST(TiledRun, ResumedRunRedoesOnlyWhatIsMissing) {
-  const TorusFile torus(20000);
+  const TorusFile torus(12000);
   const std::filesystem::path work = torus.dir / "work";
   const ReconstructOptions options;
   SurfaceMesh expected;
@@ -98,7 +98,7 @@ TEST(TiledRun, ResumedRunRedoesOnlyWhatIsMissing) {
 }
 
 TEST(TiledRun, OutOfCoreRunCleansUpAndEqualsTheTiledPipeline) {
-  const TorusFile torus(20000);
+  const TorusFile torus(12000);
   OutOfCoreOptions out_of_core;
   out_of_core.memory_limit = std::uint64_t{128} << 20;
   out_of_core.work_directory = torus.dir / "work";
@@ -120,7 +120,7 @@ TEST(TiledRun, OutOfCoreRunCleansUpAndEqualsTheTiledPipeline) {
 }
 
 TEST(TiledRun, MeshJoinedIntoTheFileTileByTileIsTheJoinedMeshWritten) {
-  const TorusFile torus(30000);
+  const TorusFile torus(15000);
   const TiledRun run = TiledRun::partition(torus.file, torus.dir / "work", small_regions(4000));
   ReconstructOptions options;
   options.meshing.coloring = MeshColoring::ByNode;

@@ -90,7 +90,7 @@ TEST(Tiling, OneRegionIsTheInCoreTree) {
 }
 
 TEST(Tiling, TilesMeetWithoutSeams) {
-  const PointCloud cloud = test::sample_torus(60000);
+  const PointCloud cloud = test::sample_torus(25000);
   const Reconstruction tiled = reconstruct_tiled(cloud, regions_of(8000));
   ASSERT_TRUE(tiled.mesh);
   // The tiles welded are the mesh of the merged tree meshed whole, triangle for triangle, to
@@ -106,7 +106,7 @@ TEST(Tiling, TilesMeetWithoutSeams) {
 }
 
 TEST(Tiling, TiledSurfaceIsTheInCoreSurface) {
-  const PointCloud cloud = test::sample_torus(60000);
+  const PointCloud cloud = test::sample_torus(25000);
   const Reconstruction in_core = reconstruct(cloud);
   const Reconstruction tiled = reconstruct_tiled(cloud, regions_of(8000));
   ASSERT_TRUE(tiled.mesh && in_core.mesh);
@@ -119,7 +119,7 @@ TEST(Tiling, TiledSurfaceIsTheInCoreSurface) {
 }
 
 TEST(Tiling, RegionsOrientedByPropagationAgree) {
-  PointCloud cloud = test::sample_torus(60000);
+  PointCloud cloud = test::sample_torus(25000);
   cloud.normals.resize(0, 3);
   const Reconstruction tiled = reconstruct_tiled(cloud, regions_of(8000));
   ASSERT_TRUE(tiled.mesh);

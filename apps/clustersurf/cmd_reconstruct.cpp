@@ -67,9 +67,11 @@ int run_out_of_core(Console& console, const ReconstructArgs& args, const Reconst
   if (console.options().json) {
     nlohmann::json j = tree_report_json(result.tree);
     j["input"] = args.input.file;
-    j["out_of_core"] = {{"memory_limit", out_of_core.memory_limit}, {"work_dir", out_of_core.work_directory.string()}};
+    j["out_of_core"] = {{"memory_limit", out_of_core.memory_limit}, {"work_dir", out_of_core.work_directory.string()},
+                        {"regions", result.regions}, {"work_bytes", result.work_bytes}};
     if (!args.tree_output.empty()) j["tree"] = args.tree_output;
     j["timing"] = {{"build_seconds", result.build_seconds}};
+    for (const auto& [stage, seconds] : result.stage_seconds) j["timing"][stage + "_seconds"] = seconds;
     j["orientation"] = {{"used_normals", result.orientation.used_normals}, {"used_scanners", result.orientation.used_scanners}};
     if (result.mesh) j["mesh"] = mesh;
     std::cout << j.dump(2) << "\n";
@@ -79,7 +81,10 @@ int run_out_of_core(Console& console, const ReconstructArgs& args, const Reconst
   console.print("orientation     " + std::string(result.orientation.used_normals    ? "by input normals"
                                                  : result.orientation.used_scanners ? "towards the scanners"
                                                                                      : "by propagation in each region"));
-  console.print(fmt::format("time            out of core (memory limit {}), build {:.3f} s", args.memory_limit, result.build_seconds));
+  std::string stages;
+  for (const auto& [stage, seconds] : result.stage_seconds) stages += fmt::format("{}{} {:.2f} s", stages.empty() ? "" : ", ", stage, seconds);
+  console.print(fmt::format("out of core     {} regions within {} ({:.0f} MB of work files): {}", result.regions, args.memory_limit,
+                            static_cast<double>(result.work_bytes) / 1e6, stages));
   if (result.mesh) {
     const WrittenMesh& m = *result.mesh;
     console.print(fmt::format("mesh            {} vertices, {} triangles ({} blended nodes, voxel {:.4g}){}", m.vertices, m.triangles,

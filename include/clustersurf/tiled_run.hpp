@@ -12,6 +12,8 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace clustersurf {
 
@@ -149,6 +151,10 @@ struct OutOfCoreReconstruction {
   OrientationReport orientation;
   double build_seconds = 0;  ///< the partition, the surveys, the builds and the merge
   std::optional<WrittenMesh> mesh;
+  /// Wall time of each stage, in order: partition, survey, build, merge, mesh (the tiles), join.
+  std::vector<std::pair<std::string, double>> stage_seconds;
+  std::size_t regions = 0;
+  std::uintmax_t work_bytes = 0;  ///< the work directory's files at their largest (before the cleanup)
 };
 
 /// The whole pipeline out of core: TiledRun::partition() and every stage, one region at a

@@ -84,14 +84,17 @@ def reconstruct_distributed(input: str | os.PathLike, *, client: Any, work_dir: 
     if mesh is not None:
         t = time.monotonic()
         report["tasks"]["mesh"] = _run_stage(client, run, "mesh", options, progress, retries)
-        written = run.write_mesh(mesh, **options)  # a PLY is joined straight into the file
         report["seconds"]["mesh"] = time.monotonic() - t
+        t = time.monotonic()
+        written = run.write_mesh(mesh, **options)  # a PLY is joined straight into the file
+        report["seconds"]["join"] = time.monotonic() - t
         report["mesh"] = os.fspath(mesh)
         report["vertices"] = written["vertices"]
         report["triangles"] = written["triangles"]
     if tree is not None:
         merged.save(tree)
         report["tree"] = os.fspath(tree)
+    report["work_bytes"] = sum(entry.stat().st_size for entry in os.scandir(work_dir) if entry.is_file())
     if not keep_work_dir:
         shutil.rmtree(work_dir, ignore_errors=True)
     report["seconds"]["total"] = time.monotonic() - start

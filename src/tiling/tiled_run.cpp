@@ -475,28 +475,44 @@ OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& inp
   const std::uint64_t working = out_of_core.memory_limit - kProcessBytes;
   partition.buffer_bytes = static_cast<std::size_t>(std::min<std::uint64_t>(partition.buffer_bytes, working / 8));
   partition.block_points = static_cast<std::size_t>(std::clamp<std::uint64_t>(working / 16 / 48, 4096, partition.block_points));
+  OutOfCoreReconstruction out;
+  auto lap = std::chrono::steady_clock::now();
+  const auto timed = [&](const char* name) {
+    const auto now = std::chrono::steady_clock::now();
+    out.stage_seconds.emplace_back(name, std::chrono::duration<double>(now - lap).count());
+    lap = now;
+  };
   const TiledRun run = TiledRun::partition(input, out_of_core.work_directory, partition, progress);
   run.claim(options);
+  timed("partition");
   const auto n = static_cast<std::int32_t>(run.regions());
+  out.regions = run.regions();
   const auto stage = [&](std::string_view name, std::int32_t done) {
     if (progress && !progress(name, static_cast<double>(done) / static_cast<double>(n))) throw Cancelled();
   };
   for (std::int32_t k = 0; k < n; ++k) stage("surveying regions", k), run.survey(k, options.build);
+  timed("survey");
   for (std::int32_t k = 0; k < n; ++k) stage("building regions", k), run.build(k, options.build);
-  OutOfCoreReconstruction out;
+  timed("build");
   out.tree = run.merge();
   out.orientation = run.orientation();
+  timed("merge");
   out.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (options.mesh) {
     const auto mesh_start = std::chrono::steady_clock::now();
     for (std::int32_t k = 0; k < n; ++k) stage("meshing tiles", k), run.mesh(k, options);
+    timed("mesh");
     stage("joining tiles", n);
     out.mesh = run.write_mesh(out_of_core.mesh_output, options.meshing, out_of_core.ply);
+    timed("join");
     out.mesh->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - mesh_start).count();
   }
+  std::error_code ec;
+  for (auto it = std::filesystem::directory_iterator(out_of_core.work_directory, ec); !ec && it != std::filesystem::directory_iterator();
+       it.increment(ec))
+    if (it->is_regular_file() && is_run_file(it->path())) out.work_bytes += it->file_size();
   if (out_of_core.remove_work_directory) {
     remove_run_files(out_of_core.work_directory);
-    std::error_code ec;
     std::filesystem::remove(out_of_core.work_directory, ec);  // only when that left it empty
   }
   return out;

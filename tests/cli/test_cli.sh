@@ -624,6 +624,16 @@ rm -f "$ooc/work/tile-000000.bin"  # as if the run had stopped before this tile
 run reconstruct "$ooc/in.ply" --mesh "$ooc/resumed.ply" --memory-limit 128M --work-dir "$ooc/work"
 expect_rc "a resumed out-of-core run exits 0" 0
 check "out of core: the resumed run gives the same mesh" cmp -s "$ooc/mesh.ply" "$ooc/resumed.ply"
+# A full disk, as a file-size limit (SIGXFSZ ignored, so a write past it fails with EFBIG): a
+# clear I/O error and no mesh.
+(ulimit -f 4096; trap '' XFSZ; exec "$cli" reconstruct "$ooc/in.ply" --mesh "$ooc/full.ply" --memory-limit 128M \
+  --work-dir "$ooc/full") >"$tmp/stdout" 2>"$tmp/stderr"
+rc=$?
+err=$(cat "$tmp/stderr")
+expect_rc "out of core, disk full: I/O error" 4
+expect_contains "out of core, disk full: the message names the failed write" "$err" "write failed"
+check "out of core, disk full: no mesh" test ! -e "$ooc/full.ply"
+rm -rf "$ooc/full"
 run reconstruct "$ooc/in.ply" --mesh "$ooc/bad.ply" --memory-limit 4X
 expect_rc "--memory-limit 4X: usage error" 2
 expect_contains "--memory-limit 4X: the message says what a size is" "$err" "a memory size is a number"
