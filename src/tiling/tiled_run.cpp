@@ -416,13 +416,16 @@ WrittenMesh TiledRun::write_mesh(const std::filesystem::path& file, const Surfac
   const ImplicitSurface surface(*tree);
   out.blended_nodes = surface.cut().size();
   out.streamed = true;
-  const auto tile = [&](std::int32_t k) { return detail::read_tile(impl_->need(impl_->file("tile", k, "bin"), "every region's mesh")); };
-  for (std::int32_t k = 0; k < static_cast<std::int32_t>(regions()); ++k) {
-    const MeshTile t = tile(k);
-    out.grid.voxel_size = t.grid.voxel_size;
-    out.grid.evaluated_corners += t.grid.evaluated_corners;
-    out.grid.surface_cells += t.grid.surface_cells;
-  }
+  std::vector<std::uint8_t> counted(regions(), 0);  // the join reads every tile several times
+  const auto tile = [&](std::int32_t k) {
+    MeshTile t = detail::read_tile(impl_->need(impl_->file("tile", k, "bin"), "every region's mesh"));
+    if (!counted[static_cast<std::size_t>(k)]++) {
+      out.grid.voxel_size = t.grid.voxel_size;
+      out.grid.evaluated_corners += t.grid.evaluated_corners;
+      out.grid.surface_cells += t.grid.surface_cells;
+    }
+    return t;
+  };
   const JoinedMesh joined = join_tiles_to_ply(tile, plan(), options.trim, file,
                                               options.coloring == MeshColoring::ByNode ? &surface : nullptr);
   out.vertices = joined.vertices;

@@ -176,13 +176,13 @@ void align_regions(ClusterTree& tree, const std::vector<std::int32_t>& region_ro
   }
   // Orientation by propagation is certain only at the leaf reaching farthest in +x of the
   // whole group (orient_tree()'s seed), which may lie in any of its regions.
+  const auto reach = [&](std::int32_t l) {
+    const ClusterNode& node = tree.nodes[static_cast<std::size_t>(l)];
+    return node.support.center.x() + 0.5 * node.extent;
+  };
   std::vector<std::int32_t> extreme(n, -1);  // the +x-most leaf of each region
   for (const std::int32_t leaf : leaves) {
     const std::int32_t r = region_of[static_cast<std::size_t>(leaf)];
-    const auto reach = [&](std::int32_t l) {
-      const ClusterNode& node = tree.nodes[static_cast<std::size_t>(l)];
-      return node.support.center.x() + 0.5 * node.extent;
-    };
     if (r >= 0 && (extreme[static_cast<std::size_t>(r)] < 0 || reach(leaf) > reach(extreme[static_cast<std::size_t>(r)])))
       extreme[static_cast<std::size_t>(r)] = leaf;
   }
@@ -203,10 +203,6 @@ void align_regions(ClusterTree& tree, const std::vector<std::int32_t>& region_ro
     for (const std::size_t r : members) {
       const std::int32_t e = extreme[r];
       if (e < 0) continue;
-      const auto reach = [&](std::int32_t l) {
-        const ClusterNode& node = tree.nodes[static_cast<std::size_t>(l)];
-        return node.support.center.x() + 0.5 * node.extent;
-      };
       if (seed < 0 || reach(e) > reach(seed)) seed = e;
     }
     if (seed < 0) continue;
