@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "test_support.hpp"
@@ -82,8 +83,21 @@ TEST(CreaseFit, RecoversTheTwoFacesOfAnEdge) {
   }
 }
 
-// Faces facing apart (a wedge sharper than 90 degrees) are as likely both sides of a thin part:
-// the splits deal with them, as the sheet split does with input normals.
+// A right angle, and the slightly obtuse ones of machined parts (normals 100 and 113 degrees
+// apart), are creases: a limit at 90 degrees refused them, or refused a right angle whenever
+// its fitted faces came out a hair beyond it.
+TEST(CreaseFit, RightAndSlightlyWiderAnglesAreCreases) {
+  for (double slope : {1.0, std::tan(50 * std::numbers::pi / 180), 1.5}) {
+    const ClusterTree t = tree_of(roof(400, slope));
+    ASSERT_EQ(t.nodes.size(), 1u) << "slope " << slope;
+    EXPECT_EQ(t.nodes[0].proxy.kind(), ProxyKind::Crease) << "slope " << slope;
+    EXPECT_LT(t.nodes[0].max_error, 1e-9) << "slope " << slope;
+  }
+}
+
+// Faces facing far apart (a wedge sharper than 60 degrees: here normals 143 degrees apart) are
+// as likely both sides of a thin part: the splits deal with them, as the sheet split does with
+// input normals.
 TEST(CreaseFit, LeavesFacesFacingApartToTheSplits) {
   for (const ClusterNode& n : tree_of(roof(400, 3.0)).nodes) EXPECT_NE(n.proxy.kind(), ProxyKind::Crease);
 }

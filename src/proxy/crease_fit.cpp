@@ -22,6 +22,14 @@ constexpr std::size_t kMinFacePoints = 3;
 /// measured on all of them. A crease is two planes: a sample this size fixes them as well as
 /// all points do, and a large cluster costs one pass instead of a pass per round.
 constexpr std::size_t kSample = 1024;
+/// The widest angle between the two faces' normals a crease may have: 120 degrees, that is a
+/// wedge of 60 degrees or more. Beyond it, two faces facing apart are as likely both sides of
+/// a thin part (an ear, a blade: normals near 180 degrees apart) as a sharp wedge, and a crease
+/// would end the part at its edge; the splits (and the sheet split, with input normals) deal
+/// with them. Right angles and the slightly obtuse ones of machined and moulded parts (draft
+/// angles, a model's facets) are creases: a limit at 90 degrees refused about half of them,
+/// depending on which side of 90 their fitted faces came out (docs/benchmarks.md).
+constexpr double kMinFaceNormalCos = -0.5;
 
 /// The least-squares plane of the points of `range` labelled `side` (nullopt: fewer than
 /// kMinFacePoints of them).
@@ -128,10 +136,8 @@ std::optional<CreaseFit> fit_crease(const Points& points, std::span<const std::u
     // sides of them.
     const auto [da, db] = inward(c, points, fitted, *edge);
     if (c.a.normal.dot(db) * c.b.normal.dot(da) < 0) c.b.normal = -c.b.normal;
-    // Faces facing apart (normals more than 90 degrees apart, as the sheet split judges) are as
-    // likely both sides of a thin part as a sharp wedge: a crease there would end the part at
-    // its edge. Left to the splits.
-    if (c.a.normal.dot(c.b.normal) < 0) continue;
+    // Faces facing too far apart: left to the splits (kMinFaceNormalCos).
+    if (c.a.normal.dot(c.b.normal) < kMinFaceNormalCos) continue;
     for (const bool convex : {true, false}) {
       c.convex = convex;
       const ProxyError e = proxy_error(Proxy(c), points, range);
