@@ -1,4 +1,4 @@
-// libFuzzer target: the files of a tiled run (plan, survey, orientation, mesh tile), which a
+// libFuzzer target: the files of a tiled run (plan, survey, orientation, merge record, mesh tile), which a
 // worker reads from a directory other machines write to. The first byte picks the reader; the
 // rest is the file.
 
@@ -17,7 +17,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::ofstream(file, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data + 1),
                                                                 static_cast<std::streamsize>(size - 1));
   try {
-    switch (data[0] % 4) {
+    switch (data[0] % 5) {
       case 0: {
         const detail::PartitionRecord r = detail::read_partition(file);
         // A plan that reads is one region_of() can walk: children after parents, leaves naming regions.
@@ -34,6 +34,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       case 2: {
         bool empty = false;
         detail::read_orientation(file, empty);
+        break;
+      }
+      case 3: {
+        const RegionMerge m = detail::read_merge(file);
+        fuzz::require(m.flipped.size() == m.reach.size());
         break;
       }
       default: {

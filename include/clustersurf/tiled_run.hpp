@@ -60,7 +60,8 @@ struct WrittenMesh {
 /// the one before (InputError naming the missing file otherwise).
 ///
 /// Files: plan.txt (the partition, written last), region-R.own / region-R.halo (points),
-/// survey-R.txt, tree-R.cstree and orientation-R.txt, tree.cstree (merged), tile-R.bin.
+/// survey-R.txt, tree-R.cstree and orientation-R.txt, merge.txt and tree.cstree (merged),
+/// tile-R.bin.
 class TiledRun {
  public:
   /// Partitions `input` into region files under `directory` (created if missing): one pass
@@ -98,18 +99,23 @@ class TiledRun {
   /// Stage 2, per region: outliers marked and the subtree built (build_region_tree()) →
   /// orientation-R.txt, tree-R.cstree. The point-leaf table is not kept.
   void build(std::int32_t region, const BuildOptions& options) const;
-  /// Stage 3, once: merge_region_trees() → tree.cstree; returns the merged tree.
+  /// Stage 3, once: merge_region_trees() → merge.txt (how it merged), then tree.cstree;
+  /// returns the merged tree (read from its file when the merge was done before).
   ClusterTree merge() const;
+  /// How the merge joined the regions (merge.txt), all the mesh tasks need besides the region
+  /// trees their tiles meet (tile_regions(), tile_tree()).
+  RegionMerge merge_record() const;
   /// The regions' orientation reports summed (after every build): normals or scanners when
   /// every non-empty region used them.
   OrientationReport orientation() const;
-  /// Stage 4, per region: mesh_tile() of the merged tree → tile-R.bin, the region's outliers
-  /// marked as its build did (options.build). The lattice's cell: options.meshing.grid's voxel
+  /// Stage 4, per region: mesh_tile() → tile-R.bin, of the tile's tree (tile_tree() of the
+  /// region trees tile_regions() names: the merged tree's tile, to the bit, without holding
+  /// the merged tree), the region's outliers marked as its build did (options.build). The lattice's cell: options.meshing.grid's voxel
   /// size, else from the tree's spacing (auto resolution), else its resolution along the
   /// longest side.
   void mesh(std::int32_t region, const ReconstructOptions& options) const;
   /// Stage 5, once: join_tiles(), decimated and colored as mesh_tree() does, with the tree's
-  /// origin. Returns the mesh and what made it.
+  /// origin (only colors by node read the merged tree). Returns the mesh and what made it.
   SurfaceMesh join(const SurfaceMeshOptions& options) const;
   /// Stage 5 into a file (format by extension): a binary PLY without decimation is joined
   /// straight into it, tile by tile (join_tiles_to_ply(): the same bytes as join() written,
@@ -133,9 +139,8 @@ class TiledRun {
 /// Options of reconstruct_out_of_core().
 struct OutOfCoreOptions {
   /// Memory for one region's build and tile, in bytes: sets the regions' size
-  /// (region_points_for_memory()). The merged tree, which the mesh tasks and the join hold
-  /// (about 24 bytes per input point), and the join's 13 bytes per output vertex come on top:
-  /// 100 M points within 4G peaked at 6.7 GB (docs/benchmarks.md).
+  /// (region_points_for_memory()). The merge holds the merged tree (about 24 bytes per input
+  /// point), and the join 13 bytes per output vertex (docs/benchmarks.md).
   std::uint64_t memory_limit = std::uint64_t{4} << 30;
   /// The work directory (required).
   std::filesystem::path work_directory;

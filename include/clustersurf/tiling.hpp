@@ -127,6 +127,33 @@ ClusterTree build_region_tree(const RegionCloud& region, const RegionPlan& plan,
 /// trees do not match the plan, were built with different options or scales, or are all empty.
 ClusterTree merge_region_trees(const RegionPlan& plan, std::vector<ClusterTree> regions, bool propagated = false);
 
+/// What a tile needs of the merged tree besides its neighbours' region trees, so that no task
+/// after the merge holds the whole tree: the merged box (the lattice's anchor), its leaves, and
+/// per region whether the merge flipped its proxies and how far its leaves' supports reach.
+struct RegionMerge {
+  BoundingBox bbox;
+  std::size_t leaves = 0;
+  std::vector<std::uint8_t> flipped;  ///< per region: 1 where the merge flipped every proxy
+  std::vector<double> reach;          ///< per region: its leaves' largest support radius (0: empty)
+};
+
+/// merge_region_trees(), and how it merged (`record`).
+ClusterTree merge_region_trees(const RegionPlan& plan, std::vector<ClusterTree> regions, bool propagated,
+                               RegionMerge& record);
+
+/// The regions whose leaves mesh_tile() of region `region_index` may meet, on the lattice of
+/// grid.voxel_size (required) with its fill band: those whose cell, grown by their reach and
+/// the band, meets the tile's cells or the supports that seed its walk. Ascending.
+std::vector<std::int32_t> tile_regions(const RegionPlan& plan, const RegionMerge& merge, std::int32_t region_index,
+                                       const MeshOptions& grid);
+
+/// The tree a tile is meshed from: the given region trees (those of tile_regions(), the
+/// others empty) flipped as the merge flipped them and placed under the plan's cells, with the
+/// merged tree's box. Where mesh_tile() of that region evaluates f, it equals the merged
+/// tree's f to the bit (the same leaves, summed in the same order), so the tile is the same.
+/// Throws OptionError when the trees do not match the plan or the record.
+ClusterTree tile_tree(const RegionPlan& plan, std::vector<ClusterTree> regions, const RegionMerge& merge);
+
 /// One tile of a tiled mesh: the triangles of the global lattice's f = 0 whose centroid lies in
 /// the tile's region, trimmed to the region's points, with the votes of the region's own points
 /// for their nearest vertex (the trim's fragment test is decided by join_tiles() on the whole

@@ -78,9 +78,9 @@ def reconstruct_distributed(input: str | os.PathLike, *, client: Any, work_dir: 
         report["tasks"][stage] = _run_stage(client, run, stage, options, progress, retries)
         report["seconds"][stage] = time.monotonic() - t
     t = time.monotonic()
-    merged = run.merge()
+    # Not held while the tiles are meshed: the mesh tasks read the region trees they meet.
+    report["leaves"] = run.merge().info()["leaves"]
     report["seconds"]["merge"] = time.monotonic() - t
-    report["leaves"] = merged.info()["leaves"]
     if mesh is not None:
         t = time.monotonic()
         report["tasks"]["mesh"] = _run_stage(client, run, "mesh", options, progress, retries)
@@ -92,7 +92,7 @@ def reconstruct_distributed(input: str | os.PathLike, *, client: Any, work_dir: 
         report["vertices"] = written["vertices"]
         report["triangles"] = written["triangles"]
     if tree is not None:
-        merged.save(tree)
+        run.merge().save(tree)  # read back from the work directory
         report["tree"] = os.fspath(tree)
     report["work_bytes"] = sum(entry.stat().st_size for entry in os.scandir(work_dir) if entry.is_file())
     if not keep_work_dir:

@@ -168,6 +168,40 @@ PartitionRecord read_partition(const std::filesystem::path& file) {
   return r;
 }
 
+void write_merge(const std::filesystem::path& file, const RegionMerge& m) {
+  std::ostringstream out = text_stream();
+  out << "merge " << m.leaves << " " << m.bbox.min.x() << " " << m.bbox.min.y() << " " << m.bbox.min.z() << " " << m.bbox.max.x()
+      << " " << m.bbox.max.y() << " " << m.bbox.max.z() << "\n";
+  out << "regions " << m.reach.size() << "\n";
+  for (std::size_t r = 0; r < m.reach.size(); ++r) out << "region " << static_cast<int>(m.flipped[r]) << " " << m.reach[r] << "\n";
+  write_text(file, out.str());
+}
+
+RegionMerge read_merge(const std::filesystem::path& file) {
+  const std::string text = read_text(file);
+  Lines lines(file, text);
+  RegionMerge m;
+  auto head = lines.next("merge", "the merge");
+  lines.read(head, "merge", m.leaves, m.bbox.min.x(), m.bbox.min.y(), m.bbox.min.z(), m.bbox.max.x(), m.bbox.max.y(), m.bbox.max.z());
+  if (!m.bbox.min.allFinite() || !m.bbox.max.allFinite() || (m.bbox.min.array() > m.bbox.max.array()).any())
+    lines.fail("the merged box must be finite, its minimum below its maximum");
+  auto count_line = lines.next("regions", "the region count");
+  std::uint64_t count = 0;
+  lines.read(count_line, "region count", count);
+  if (count > text.size() / 10) lines.fail("more regions than the file has lines for");  // "region 0 0\n" is 11 bytes
+  m.flipped.resize(count);
+  m.reach.resize(count);
+  for (std::uint64_t r = 0; r < count; ++r) {
+    auto f = lines.next("region", "every region");
+    int flipped = 0;
+    lines.read(f, "region", flipped, m.reach[r]);
+    if (flipped != 0 && flipped != 1) lines.fail("a region is flipped (1) or not (0)");
+    if (!(m.reach[r] >= 0) || !std::isfinite(m.reach[r])) lines.fail("a region's reach must be finite and >= 0");
+    m.flipped[r] = static_cast<std::uint8_t>(flipped);
+  }
+  return m;
+}
+
 void write_survey(const std::filesystem::path& file, const RegionSurvey& s) {
   std::ostringstream out = text_stream();
   out << "survey " << s.points << " " << s.median_spacing << " " << s.median_spread << " " << s.noise_sigma << " " << s.outliers;

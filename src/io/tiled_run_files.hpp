@@ -40,6 +40,12 @@ RegionSurvey read_survey(const std::filesystem::path& file);
 void write_orientation(const std::filesystem::path& file, const OrientationReport& report, bool empty);
 OrientationReport read_orientation(const std::filesystem::path& file, bool& empty);
 
+/// How the merge joined the regions (merge.txt), for the mesh tasks and the join. Written
+/// before tree.cstree, whose presence marks the merge done.
+void write_merge(const std::filesystem::path& file, const RegionMerge& merge);
+/// InputError (file, line) when the file is not a record written by write_merge().
+RegionMerge read_merge(const std::filesystem::path& file);
+
 /// A mesh tile in binary: vertices, normals and votes exactly as computed (doubles, floats).
 void write_tile(const std::filesystem::path& file, const MeshTile& tile);
 /// InputError (file, byte) when the file is not a whole tile written by write_tile().

@@ -76,7 +76,7 @@ bool is_run_file(const std::filesystem::path& file) {
   if (name.starts_with(".") && name.find(".tmp") != std::string::npos) name = name.substr(1, name.rfind(".tmp") - 1);
   for (const char* prefix : {"region-", "survey-", "tree-", "orientation-", "tile-"})
     if (name.starts_with(prefix)) return true;
-  return name == "tree.cstree" || name == "options.txt" || name == "plan.txt";
+  return name == "tree.cstree" || name == "merge.txt" || name == "options.txt" || name == "plan.txt";
 }
 
 void remove_run_files(const std::filesystem::path& dir) {
@@ -113,8 +113,6 @@ std::string describe(const ReconstructOptions& o) {
 struct TiledRun::Impl {
   std::filesystem::path dir;
   detail::PartitionRecord record;
-  mutable std::mutex merged_mutex;
-  mutable std::shared_ptr<const ClusterTree> merged;  // the merged tree, once loaded
 
   std::filesystem::path file(std::string_view name, std::int32_t region, std::string_view ext) const {
     return region_file(dir, name, region, ext);
@@ -128,10 +126,13 @@ struct TiledRun::Impl {
     if (!std::filesystem::exists(f)) throw InputError(f, {}, std::string("missing: run ") + stage + " first");
     return f;
   }
-  std::shared_ptr<const ClusterTree> merged_tree() const {
-    std::lock_guard lock(merged_mutex);
-    if (!merged) merged = std::make_shared<const ClusterTree>(load_tree(need(dir / "tree.cstree", "the merge")));
-    return merged;
+  ClusterTree merged_tree() const { return load_tree(need(dir / "tree.cstree", "the merge")); }
+  RegionMerge merge_record() const { return detail::read_merge(need(dir / "merge.txt", "the merge")); }
+  /// A region's tree as its build wrote it (empty for an empty region).
+  ClusterTree region_tree(std::int32_t region) const {
+    bool empty = false;
+    detail::read_orientation(need(file("orientation", region, "txt"), "every region's build"), empty);
+    return empty ? ClusterTree{} : load_tree(need(file("tree", region, "cstree"), "every region's build"));
   }
 };
 
@@ -330,7 +331,7 @@ void TiledRun::build(std::int32_t region, const BuildOptions& options) const {
 
 ClusterTree TiledRun::merge() const {
   const std::filesystem::path f = impl_->dir / "tree.cstree";
-  if (std::filesystem::exists(f)) return *impl_->merged_tree();
+  if (std::filesystem::exists(f)) return impl_->merged_tree();
   std::vector<ClusterTree> trees;
   bool propagated = false;
   for (std::int32_t k = 0; k < static_cast<std::int32_t>(regions()); ++k) {
@@ -339,10 +340,14 @@ ClusterTree TiledRun::merge() const {
     trees.push_back(empty ? ClusterTree{} : load_tree(impl_->need(impl_->file("tree", k, "cstree"), "every region's build")));
     propagated = propagated || (!empty && !o.used_normals && !o.used_scanners);
   }
-  const ClusterTree merged = merge_region_trees(plan(), std::move(trees), propagated);
-  save_tree(f, merged);
+  RegionMerge record;
+  ClusterTree merged = merge_region_trees(plan(), std::move(trees), propagated, record);
+  detail::write_merge(impl_->dir / "merge.txt", record);
+  save_tree(f, merged);  // last: the merge is done
   return merged;
 }
+
+RegionMerge TiledRun::merge_record() const { return impl_->merge_record(); }
 
 OrientationReport TiledRun::orientation() const {
   OrientationReport sum;
@@ -362,19 +367,33 @@ OrientationReport TiledRun::orientation() const {
 void TiledRun::mesh(std::int32_t region, const ReconstructOptions& options) const {
   if (done("mesh", region)) return;
   require_tiled_meshing(options.meshing);
-  const std::shared_ptr<const ClusterTree> tree = impl_->merged_tree();
+  impl_->need(impl_->dir / "tree.cstree", "the merge");
+  // The tile's tree from the region trees its leaves may come from, never the whole tree.
+  const RegionMerge merge = impl_->merge_record();
+  if (merge.reach.size() != regions()) throw InputError(impl_->dir / "merge.txt", {}, "the merge record does not match the plan");
+  std::vector<ClusterTree> trees(regions());
+  ClusterTree first = impl_->region_tree(region);
+  for (std::int32_t k = 0; first.nodes.empty() && k < static_cast<std::int32_t>(regions()); ++k)
+    if (merge.reach[static_cast<std::size_t>(k)] > 0) first = impl_->region_tree(k);  // for the cell size: any non-empty region
   MeshOptions grid = options.meshing.grid;
-  grid.voxel_size = tiled_cell_size(*tree, options.meshing);
+  first.bbox = merge.bbox;
+  grid.voxel_size = tiled_cell_size(first, options.meshing);
+  first = {};
+  for (const std::int32_t k : tile_regions(plan(), merge, region, grid)) trees[static_cast<std::size_t>(k)] = impl_->region_tree(k);
   RegionCloud points = load(region);
   if (options.build.remove_outliers) mark_outliers(points, scale(), options.build.outliers);
-  const ImplicitSurface surface(*tree);
-  detail::write_tile(impl_->file("tile", region, "bin"), mesh_tile(surface, plan(), region, points, grid, options.meshing.trim));
+  MeshTile tile;
+  tile.region = region;
+  if (std::any_of(trees.begin(), trees.end(), [](const ClusterTree& t) { return !t.nodes.empty(); })) {
+    const ClusterTree tree = tile_tree(plan(), std::move(trees), merge);
+    tile = mesh_tile(ImplicitSurface(tree), plan(), region, points, grid, options.meshing.trim);
+  }
+  detail::write_tile(impl_->file("tile", region, "bin"), tile);
 }
 
 SurfaceMesh TiledRun::join(const SurfaceMeshOptions& options) const {
   require_tiled_meshing(options);
   const auto start = std::chrono::steady_clock::now();
-  const std::shared_ptr<const ClusterTree> tree = impl_->merged_tree();
   SurfaceMesh out;
   std::vector<MeshTile> tiles;
   for (std::int32_t k = 0; k < static_cast<std::int32_t>(regions()); ++k) {
@@ -385,11 +404,13 @@ SurfaceMesh TiledRun::join(const SurfaceMeshOptions& options) const {
   }
   out.mesh = join_tiles(tiles, options.trim);
   tiles.clear();
-  const ImplicitSurface surface(*tree);
-  out.blended_nodes = surface.cut().size();
+  out.blended_nodes = impl_->merge_record().leaves;
   if (options.decimation.enabled()) out.mesh = decimate(out.mesh, options.decimation, &out.decimation);
-  if (options.coloring == MeshColoring::ByNode) out.mesh.colors = colors_by_node(out.mesh, surface);
-  out.mesh.origin = tree->origin;
+  if (options.coloring == MeshColoring::ByNode) {
+    const ClusterTree tree = impl_->merged_tree();  // the colors need every leaf
+    out.mesh.colors = colors_by_node(out.mesh, ImplicitSurface(tree));
+  }
+  out.mesh.origin = origin();
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
@@ -412,10 +433,12 @@ WrittenMesh TiledRun::write_mesh(const std::filesystem::path& file, const Surfac
     return out;
   }
   const auto start = std::chrono::steady_clock::now();
-  const std::shared_ptr<const ClusterTree> tree = impl_->merged_tree();
-  const ImplicitSurface surface(*tree);
-  out.blended_nodes = surface.cut().size();
+  out.blended_nodes = impl_->merge_record().leaves;
   out.streamed = true;
+  // Only colors by node need the merged tree here.
+  std::optional<ClusterTree> tree;
+  std::optional<ImplicitSurface> surface;
+  if (options.coloring == MeshColoring::ByNode) tree = impl_->merged_tree(), surface.emplace(*tree);
   std::vector<std::uint8_t> counted(regions(), 0);  // the join reads every tile several times
   const auto tile = [&](std::int32_t k) {
     MeshTile t = detail::read_tile(impl_->need(impl_->file("tile", k, "bin"), "every region's mesh"));
@@ -427,7 +450,7 @@ WrittenMesh TiledRun::write_mesh(const std::filesystem::path& file, const Surfac
     return t;
   };
   const JoinedMesh joined = join_tiles_to_ply(tile, plan(), options.trim, file,
-                                              options.coloring == MeshColoring::ByNode ? &surface : nullptr);
+                                              surface ? &*surface : nullptr);
   out.vertices = joined.vertices;
   out.triangles = joined.triangles;
   out.removed_components = joined.removed_components;
@@ -497,7 +520,7 @@ OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& inp
   timed("survey");
   for (std::int32_t k = 0; k < n; ++k) stage("building regions", k), run.build(k, options.build);
   timed("build");
-  out.tree = run.merge();
+  run.merge();  // not held while the tiles are meshed: the tasks read the region trees
   out.orientation = run.orientation();
   timed("merge");
   out.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -510,6 +533,7 @@ OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& inp
     timed("join");
     out.mesh->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - mesh_start).count();
   }
+  out.tree = run.merge();  // read back from its file
   std::error_code ec;
   for (auto it = std::filesystem::directory_iterator(out_of_core.work_directory, ec); !ec && it != std::filesystem::directory_iterator();
        it.increment(ec))

@@ -115,8 +115,8 @@ struct Merger {
 /// Flips whole regions so that regions agree where their leaves' supports overlap: the
 /// proxies' gradients are compared midway between overlapping leaves of two regions, and a
 /// maximum spanning tree over the regions (weighted by how much they overlap) carries the
-/// orientation of the largest region of each group to the others.
-void align_regions(ClusterTree& tree, const std::vector<std::int32_t>& region_root, bool propagated) {
+/// orientation of the largest region of each group to the others. Returns the flipped regions.
+std::vector<std::uint8_t> align_regions(ClusterTree& tree, const std::vector<std::int32_t>& region_root, bool propagated) {
   std::vector<std::int32_t> region_of(tree.nodes.size(), -1);
   for (std::size_t r = 0; r < region_root.size(); ++r) {
     if (region_root[r] < 0) continue;
@@ -127,7 +127,7 @@ void align_regions(ClusterTree& tree, const std::vector<std::int32_t>& region_ro
       region_of[i] = static_cast<std::int32_t>(r);
   }
   const std::vector<std::int32_t> leaves = tree.leaves();
-  if (leaves.empty()) return;
+  if (leaves.empty()) return std::vector<std::uint8_t>(region_root.size(), 0);
   Points centers(static_cast<Eigen::Index>(leaves.size()), 3);
   double largest = 0;
   for (std::size_t i = 0; i < leaves.size(); ++i) {
@@ -213,27 +213,38 @@ void align_regions(ClusterTree& tree, const std::vector<std::int32_t>& region_ro
   }
   for (std::size_t i = 0; i < tree.nodes.size(); ++i)
     if (region_of[i] >= 0 && flip[static_cast<std::size_t>(region_of[i])] == 1) tree.nodes[i].proxy.flip();
+  std::vector<std::uint8_t> flipped(n);
+  for (std::size_t r = 0; r < n; ++r) flipped[r] = flip[r] == 1;
+  return flipped;
 }
 
-}  // namespace
+/// The region trees under the plan's cells (no flips): the merged tree and each region's root.
+struct Assembly {
+  ClusterTree tree;
+  std::vector<std::int32_t> region_root;
+};
 
-ClusterTree merge_region_trees(const RegionPlan& plan, std::vector<ClusterTree> regions, bool propagated) {
+Assembly assemble(const RegionPlan& plan, std::vector<ClusterTree>& regions) {
   if (regions.size() != plan.regions())
     throw OptionError("the plan has " + std::to_string(plan.regions()) + " regions, not " + std::to_string(regions.size()));
   const ClusterTree* first = nullptr;
+  std::size_t nodes = 0;
   for (const ClusterTree& t : regions) {
+    nodes += t.nodes.size();
     if (t.nodes.empty()) continue;
     if (first == nullptr) first = &t;
     if (!(t.parameters == first->parameters) || t.error_threshold != first->error_threshold || t.origin != first->origin)
       throw OptionError("the region trees were not built with the same options and scale");
   }
   if (first == nullptr) throw OptionError("every region is empty: there is no surface");
-  ClusterTree out;
+  Assembly a;
+  ClusterTree& out = a.tree;
   out.parameters = first->parameters;
   out.noise_sigma = first->noise_sigma;
   out.error_threshold = first->error_threshold;
   out.point_spacing = first->point_spacing;
   out.origin = first->origin;
+  out.nodes.reserve(nodes + plan.cells.size());  // no reallocation: the regions' nodes are freed as they move
   bool point_leaves = true;
   for (const ClusterTree& t : regions) {
     out.input_points += t.input_points;
@@ -250,8 +261,74 @@ ClusterTree merge_region_trees(const RegionPlan& plan, std::vector<ClusterTree> 
       for (const std::int32_t leaf : regions[r].point_leaf)
         out.point_leaf.push_back(leaf < 0 ? -1 : leaf + merger.region_root[r]);
   }
-  align_regions(out, merger.region_root, propagated);
+  a.region_root = std::move(merger.region_root);
+  return a;
+}
+
+}  // namespace
+
+ClusterTree merge_region_trees(const RegionPlan& plan, std::vector<ClusterTree> regions, bool propagated,
+                               RegionMerge& record) {
+  record.reach.assign(regions.size(), 0.0);
+  for (std::size_t r = 0; r < regions.size(); ++r)
+    for (const ClusterNode& n : regions[r].nodes)
+      if (n.is_leaf()) record.reach[r] = std::max(record.reach[r], n.support.radius);
+  Assembly a = assemble(plan, regions);
+  record.flipped = align_regions(a.tree, a.region_root, propagated);
+  record.bbox = a.tree.bbox;
+  record.leaves = a.tree.leaves().size();
+  return std::move(a.tree);
+}
+
+ClusterTree merge_region_trees(const RegionPlan& plan, std::vector<ClusterTree> regions, bool propagated) {
+  RegionMerge record;
+  return merge_region_trees(plan, std::move(regions), propagated, record);
+}
+
+std::vector<std::int32_t> tile_regions(const RegionPlan& plan, const RegionMerge& merge, std::int32_t region_index,
+                                       const MeshOptions& grid) {
+  if (region_index < 0 || static_cast<std::size_t>(region_index) >= plan.regions())
+    throw OptionError("region " + std::to_string(region_index) + " is not in the plan");
+  if (merge.reach.size() != plan.regions()) throw OptionError("the merge record does not match the plan");
+  if (!grid.voxel_size || !(*grid.voxel_size > 0)) throw OptionError("a tile needs the lattice's cell size (a positive voxel size)");
+  const double h = *grid.voxel_size;
+  // Every leaf's support centre lies in its region's cell (the centroid of its own points), so
+  // its support, grown by the fill band, lies in the cell grown by the region's reach and band.
+  const auto influence = [&](std::size_t r, double grow) {
+    BoundingBox b = plan.region_box(static_cast<std::int32_t>(r));
+    b.min.array() -= merge.reach[r] + std::max(grid.fill_cells, 0.0) * h + grow;
+    b.max.array() += merge.reach[r] + std::max(grid.fill_cells, 0.0) * h + grow;
+    return b;
+  };
+  const auto meets = [](const BoundingBox& a, const BoundingBox& b) {
+    return (a.min.array() <= b.max.array()).all() && (b.min.array() <= a.max.array()).all();
+  };
+  // The tile's cells, their far corners and a vertex's projection (a cell more); then the
+  // supports that seed the walk, whose seeds are projected within about their radius.
+  BoundingBox cells = plan.region_box(region_index);
+  cells.min.array() -= (kTileMarginCells + 2) * h;
+  cells.max.array() += (kTileMarginCells + 2) * h;
+  double seed_reach = 0;
+  for (std::size_t r = 0; r < plan.regions(); ++r)
+    if (merge.reach[r] > 0 && meets(influence(r, 0), cells)) seed_reach = std::max(seed_reach, merge.reach[r]);
+  BoundingBox evaluated = cells;
+  evaluated.min.array() -= 3 * seed_reach;
+  evaluated.max.array() += 3 * seed_reach;
+  std::vector<std::int32_t> out;
+  for (std::size_t r = 0; r < plan.regions(); ++r)
+    if (merge.reach[r] > 0 && meets(influence(r, 0), evaluated)) out.push_back(static_cast<std::int32_t>(r));
   return out;
+}
+
+ClusterTree tile_tree(const RegionPlan& plan, std::vector<ClusterTree> regions, const RegionMerge& merge) {
+  if (merge.flipped.size() != plan.regions() || regions.size() != plan.regions())
+    throw OptionError("the merge record does not match the plan");
+  for (std::size_t r = 0; r < regions.size(); ++r)
+    if (merge.flipped[r])
+      for (ClusterNode& n : regions[r].nodes) n.proxy.flip();
+  Assembly a = assemble(plan, regions);
+  a.tree.bbox = merge.bbox;
+  return std::move(a.tree);
 }
 
 }  // namespace clustersurf
