@@ -167,6 +167,20 @@ TEST(TreeFile, SaveLoadThroughDiskAndSameBytesForSameInput) {
   EXPECT_EQ(serialize_tree(load_tree(dir / "a.cstree")), test::read_file(dir / "a.cstree"));
 }
 
+// A tree file larger than the writer's 4 MiB buffer is written in pieces, its checksum kept
+// across them, and read back while its pages are released: the same bytes as one string.
+TEST(TreeFile, LargeTreeWrittenInPiecesIsTheSameFile) {
+  test::TempDir dir;
+  BuildOptions o;
+  o.keep_point_leaves = true;
+  const ClusterTree t = build_cluster_tree(test::sample_torus(400000), o);
+  const std::string bytes = serialize_tree(t);
+  ASSERT_GT(bytes.size(), std::size_t{9} << 20);
+  save_tree(dir / "large.cstree", t);
+  EXPECT_EQ(test::read_file(dir / "large.cstree"), bytes);
+  EXPECT_EQ(serialize_tree(load_tree(dir / "large.cstree")), bytes);
+}
+
 TEST(TreeFile, TreesDeeperThan63LevelsRoundTrip) {
   // A caterpillar of depth 100 (a heap index would need 2^100): each internal node has a leaf
   // (one point) on the left and the rest of the chain on the right.

@@ -64,6 +64,24 @@ std::filesystem::path region_file(const std::filesystem::path& dir, std::string_
   return dir / (std::string(name) + "-" + number + "." + std::string(ext));
 }
 
+bool is_run_file(const std::filesystem::path& file) {
+  std::string name = file.filename().string();
+  if (name.starts_with(".") && name.find(".tmp") != std::string::npos) name = name.substr(1, name.rfind(".tmp") - 1);
+  for (const char* prefix : {"region-", "survey-", "tree-", "orientation-", "tile-"})
+    if (name.starts_with(prefix)) return true;
+  return name == "tree.cstree" || name == "merge.txt" || name == "options.txt" || name == "plan.txt";
+}
+
+void remove_run_files(const std::filesystem::path& dir) {
+  std::error_code ec;
+  std::vector<std::filesystem::path> files;
+  for (auto it = std::filesystem::directory_iterator(dir, ec); !ec && it != std::filesystem::directory_iterator(); it.increment(ec))
+    if (it->is_regular_file() && is_run_file(it->path())) files.push_back(it->path());
+  if (ec) throw IoError(dir.string() + ": cannot list the work directory: " + ec.message());
+  for (const auto& f : files)
+    if (!std::filesystem::remove(f, ec) && ec) throw IoError(f.string() + ": cannot remove: " + ec.message());
+}
+
 std::string read_text(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw IoError(file.string() + ": cannot open: " + std::strerror(errno));

@@ -51,6 +51,12 @@ void write_tile(const std::filesystem::path& file, const MeshTile& tile);
 /// InputError (file, byte) when the file is not a whole tile written by write_tile().
 MeshTile read_tile(const std::filesystem::path& file);
 
+/// Whether `file` is one a run makes in its directory, or the temporary file of a write a
+/// killed task left behind (".NAME.tmpXXXXXX").
+bool is_run_file(const std::filesystem::path& file);
+/// Removes a run's files from `dir` (nothing else); IoError when that fails.
+void remove_run_files(const std::filesystem::path& dir);
+
 /// The whole file as text; IoError when it cannot be read.
 std::string read_text(const std::filesystem::path& file);
 /// Writes `text` atomically.

@@ -30,20 +30,59 @@ constexpr std::uint32_t kFlagCreases = 1;
 /// Number of doubles that encode each proxy kind (indexed by ProxyKind).
 constexpr std::size_t kProxyDoubles[kProxyKinds] = {3, 6, 18, 14, 13};
 
+/// CRC-32 of `bytes` continuing `crc`, in chunks (zlib counts lengths in 32 bits). With a
+/// mapped file, the pages already counted are released as it goes.
+std::uint32_t crc_of(std::string_view bytes, std::uint32_t crc, const io::MappedFile* mapped = nullptr) {
+  constexpr std::size_t kChunk = std::size_t{16} << 20;
+  uLong c = crc;
+  for (std::size_t at = 0; at < bytes.size(); at += kChunk) {
+    const std::size_t n = std::min(kChunk, bytes.size() - at);
+    c = crc32(c, reinterpret_cast<const Bytef*>(bytes.data() + at), static_cast<uInt>(n));
+    if (mapped != nullptr) mapped->release(0, at + n);
+  }
+  return static_cast<std::uint32_t>(c);
+}
+
+/// Appends a tree file's bytes to a string, or, with a sink, passes them on a few MiB at a
+/// time (a large tree is never held twice), keeping the CRC-32 of all bytes so far.
 class Writer {
  public:
+  explicit Writer(io::AtomicFile* sink = nullptr) : sink_(sink) {}
   template <class T>
   void put(T v) {
     static_assert(std::is_arithmetic_v<T>);
-    const char* p = reinterpret_cast<const char*>(&v);
-    out_.append(p, sizeof(T));
+    raw(reinterpret_cast<const char*>(&v), sizeof(T));
   }
   void put_vec(const Eigen::Vector3d& v) { put(v.x()), put(v.y()), put(v.z()); }
-  void raw(const char* p, std::size_t n) { out_.append(p, n); }
+  void raw(const char* p, std::size_t n) {
+    out_.append(p, n);
+    if (sink_ != nullptr && out_.size() >= kFlushBytes) flush();
+  }
+  /// The CRC-32 of every byte written so far.
+  std::uint32_t crc() {
+    settle();
+    return crc_;
+  }
+  /// Hands the buffered bytes to the sink (with one).
+  void flush() {
+    settle();
+    if (sink_ == nullptr) return;
+    sink_->write(out_.data(), out_.size());
+    out_.clear();
+    counted_ = 0;
+  }
   std::string& bytes() { return out_; }
 
  private:
+  static constexpr std::size_t kFlushBytes = std::size_t{4} << 20;
+  void settle() {
+    crc_ = crc_of(std::string_view(out_).substr(counted_), crc_);
+    counted_ = out_.size();
+  }
+  io::AtomicFile* sink_;
   std::string out_;
+  std::size_t counted_ = 0;  // bytes of out_ already in crc_
+  std::uint32_t crc_ = 0;
 };
 
 class Reader {
@@ -173,8 +212,9 @@ constexpr std::size_t kNodeFixedBytes = 4 + 4 + 4 + 4 + 2 * 8 + 2 * 4 * 8;
 
 }  // namespace
 
-std::string serialize_tree(const ClusterTree& tree) {
-  Writer w;
+namespace {
+
+void write_tree(Writer& w, const ClusterTree& tree) {
   w.raw(kMagic, sizeof kMagic);
   w.put(kTreeFileVersion);
   w.put(kEndianTag);
@@ -204,13 +244,26 @@ std::string serialize_tree(const ClusterTree& tree) {
   }
   w.put(static_cast<std::uint64_t>(tree.point_leaf.size()));
   for (std::int32_t leaf : tree.point_leaf) w.put(leaf);
-  const auto crc = static_cast<std::uint32_t>(
-      crc32(0L, reinterpret_cast<const Bytef*>(w.bytes().data()), static_cast<uInt>(w.bytes().size())));
-  w.put(crc);
+  w.put(w.crc());
+}
+
+
+/// The tree in `bytes` (of `file`); with its mapping, the pages read are released as it goes.
+ClusterTree parse_tree(std::string_view bytes, const std::filesystem::path& file, const io::MappedFile* mapped);
+
+}  // namespace
+
+std::string serialize_tree(const ClusterTree& tree) {
+  Writer w;
+  write_tree(w, tree);
   return std::move(w.bytes());
 }
 
-ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path& file) {
+ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path& file) { return parse_tree(bytes, file, nullptr); }
+
+namespace {
+
+ClusterTree parse_tree(std::string_view bytes, const std::filesystem::path& file, const io::MappedFile* mapped) {
   Reader r(bytes, file);
   if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     r.fail_at(0, "not a clustersurf tree file (bad magic number)");
@@ -226,8 +279,7 @@ ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path
   if (bytes.size() < r.pos() + 4) r.fail("file is truncated");
   std::uint32_t stored_crc;
   std::memcpy(&stored_crc, bytes.data() + bytes.size() - 4, 4);
-  const auto crc = static_cast<std::uint32_t>(
-      crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uInt>(bytes.size() - 4)));
+  const std::uint32_t crc = crc_of(bytes.substr(0, bytes.size() - 4), 0, mapped);
   if (crc != stored_crc)
     r.fail_at(bytes.size() - 4, "checksum mismatch: the file is corrupted or truncated");
 
@@ -274,6 +326,7 @@ ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path
   std::vector<std::size_t> node_at(node_count);
   for (std::int64_t i = 0; i < nodes; ++i) {
     ClusterNode& n = tree.nodes[static_cast<std::size_t>(i)];
+    if (mapped != nullptr && (i & 0xffff) == 0) mapped->release(0, r.pos());
     node_at[static_cast<std::size_t>(i)] = r.pos();
     n.left = r.get<std::int32_t>("node child");
     n.right = r.get<std::int32_t>("node child");
@@ -365,16 +418,19 @@ ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path
   return tree;
 }
 
+}  // namespace
+
 void save_tree(const std::filesystem::path& file, const ClusterTree& tree) {
-  const std::string bytes = serialize_tree(tree);
   io::AtomicFile out(file);
-  out.write(bytes);
+  Writer w(&out);
+  write_tree(w, tree);
+  w.flush();
   out.commit();
 }
 
 ClusterTree load_tree(const std::filesystem::path& file) {
   const io::MappedFile mapped(file);
-  return deserialize_tree(mapped.view(), file);
+  return parse_tree(mapped.view(), file, &mapped);
 }
 
 }  // namespace clustersurf

@@ -1,0 +1,102 @@
+// The whole pipeline out of core: a tiled run's tasks one after another within a memory limit.
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/tiled_run.hpp>
+
+#include "io/tiled_run_files.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <string>
+
+namespace clustersurf {
+
+std::uint64_t region_points_for_memory(std::uint64_t memory_limit) {
+  if (memory_limit < 2 * kProcessBytes) throw OptionError("the memory limit must be at least 128M");
+  return (memory_limit - kProcessBytes) / kRegionBytesPerPoint;
+}
+
+std::uint64_t parse_memory_size(std::string_view text) {
+  std::string s(text);
+  std::size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  std::string suffix = s.substr(used);
+  for (const char* tail : {"iB", "B"})
+    if (suffix.size() > 1 && suffix.ends_with(tail)) suffix.resize(suffix.size() - std::strlen(tail));
+  double scale = 1;
+  if (suffix == "K" || suffix == "k") scale = 1024.0;
+  else if (suffix == "M" || suffix == "m") scale = 1024.0 * 1024;
+  else if (suffix == "G" || suffix == "g") scale = 1024.0 * 1024 * 1024;
+  else if (suffix == "T" || suffix == "t") scale = 1024.0 * 1024 * 1024 * 1024;
+  else if (!suffix.empty()) used = 0;
+  const double bytes = value * scale;
+  if (used == 0 || !(bytes >= 1) || !(bytes < 1.8e19))
+    throw OptionError("a memory size is a number with an optional K, M, G or T (e.g. 4G), not \"" + s + "\"");
+  return static_cast<std::uint64_t>(bytes);
+}
+
+OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& input, const ReconstructOptions& options,
+                                                const OutOfCoreOptions& out_of_core, const ProgressCallback& progress) {
+  if (out_of_core.work_directory.empty()) throw OptionError("an out-of-core run needs a work directory");
+  if (options.mesh && out_of_core.mesh_output.empty()) throw OptionError("an out-of-core run writes its mesh to a file: give one");
+  if (options.mesh) require_tiled_meshing(options.meshing);
+  const auto start = std::chrono::steady_clock::now();
+  PartitionOptions partition;
+  partition.regions.max_points = region_points_for_memory(out_of_core.memory_limit);
+  partition.read = out_of_core.read;
+  // The partition's buffers and blocks within the limit too: an eighth of the working memory
+  // for the region files' buffers, a sixteenth for a block of points (48 bytes each).
+  const std::uint64_t working = out_of_core.memory_limit - kProcessBytes;
+  partition.buffer_bytes = static_cast<std::size_t>(std::min<std::uint64_t>(partition.buffer_bytes, working / 8));
+  partition.block_points = static_cast<std::size_t>(std::clamp<std::uint64_t>(working / 16 / 48, 4096, partition.block_points));
+  OutOfCoreReconstruction out;
+  auto lap = std::chrono::steady_clock::now();
+  const auto timed = [&](const char* name) {
+    const auto now = std::chrono::steady_clock::now();
+    out.stage_seconds.emplace_back(name, std::chrono::duration<double>(now - lap).count());
+    lap = now;
+  };
+  const TiledRun run = TiledRun::partition(input, out_of_core.work_directory, partition, progress);
+  run.claim(options);
+  timed("partition");
+  const auto n = static_cast<std::int32_t>(run.regions());
+  out.regions = run.regions();
+  const auto stage = [&](std::string_view name, std::int32_t done) {
+    if (progress && !progress(name, static_cast<double>(done) / static_cast<double>(n))) throw Cancelled();
+  };
+  for (std::int32_t k = 0; k < n; ++k) stage("surveying regions", k), run.survey(k, options.build);
+  timed("survey");
+  for (std::int32_t k = 0; k < n; ++k) stage("building regions", k), run.build(k, options.build);
+  timed("build");
+  run.merge();  // not held while the tiles are meshed: the tasks read the region trees
+  out.orientation = run.orientation();
+  timed("merge");
+  out.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (options.mesh) {
+    const auto mesh_start = std::chrono::steady_clock::now();
+    for (std::int32_t k = 0; k < n; ++k) stage("meshing tiles", k), run.mesh(k, options);
+    timed("mesh");
+    stage("joining tiles", n);
+    out.mesh = run.write_mesh(out_of_core.mesh_output, options.meshing, out_of_core.ply);
+    timed("join");
+    out.mesh->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - mesh_start).count();
+  }
+  out.tree = run.merge();  // read back from its file
+  std::error_code ec;
+  for (auto it = std::filesystem::directory_iterator(out_of_core.work_directory, ec); !ec && it != std::filesystem::directory_iterator();
+       it.increment(ec))
+    if (it->is_regular_file() && detail::is_run_file(it->path())) out.work_bytes += it->file_size();
+  if (out_of_core.remove_work_directory) {
+    detail::remove_run_files(out_of_core.work_directory);
+    std::filesystem::remove(out_of_core.work_directory, ec);  // only when that left it empty
+  }
+  return out;
+}
+
+}  // namespace clustersurf
