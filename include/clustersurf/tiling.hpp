@@ -132,6 +132,7 @@ ClusterTree merge_region_trees(const RegionPlan& plan, std::vector<ClusterTree> 
 /// per region whether the merge flipped its proxies and how far its leaves' supports reach.
 struct RegionMerge {
   BoundingBox bbox;
+  double point_spacing = 0;  ///< the merged tree's (ClusterTree::point_spacing)
   std::size_t leaves = 0;
   std::vector<std::uint8_t> flipped;  ///< per region: 1 where the merge flipped every proxy
   std::vector<double> reach;          ///< per region: its leaves' largest support radius (0: empty)
@@ -225,6 +226,8 @@ void require_tiled_meshing(const SurfaceMeshOptions& options);
 /// The lattice cell of a tiled mesh of `tree`: options.grid's voxel size, else the tree's spacing
 /// (auto resolution, cell_size_for_spacing()), else its resolution along the longest side.
 double tiled_cell_size(const ClusterTree& tree, const SurfaceMeshOptions& options);
+/// The same from the merge record (its box and spacing), without the tree.
+double tiled_cell_size(const RegionMerge& merge, const SurfaceMeshOptions& options);
 
 /// reconstruct_regions() of a cloud in memory, split by plan_regions() of an even sample of
 /// it (the halo measured in the sample's spacing, scaled to the cloud's density). The same

@@ -188,7 +188,7 @@ PartitionRecord read_partition(const std::filesystem::path& file) {
 
 void write_merge(const std::filesystem::path& file, const RegionMerge& m) {
   std::ostringstream out = text_stream();
-  out << "merge " << m.leaves << " " << m.bbox.min.x() << " " << m.bbox.min.y() << " " << m.bbox.min.z() << " " << m.bbox.max.x()
+  out << "merge " << m.leaves << " " << m.point_spacing << " " << m.bbox.min.x() << " " << m.bbox.min.y() << " " << m.bbox.min.z() << " " << m.bbox.max.x()
       << " " << m.bbox.max.y() << " " << m.bbox.max.z() << "\n";
   out << "regions " << m.reach.size() << "\n";
   for (std::size_t r = 0; r < m.reach.size(); ++r) out << "region " << static_cast<int>(m.flipped[r]) << " " << m.reach[r] << "\n";
@@ -200,9 +200,10 @@ RegionMerge read_merge(const std::filesystem::path& file) {
   Lines lines(file, text);
   RegionMerge m;
   auto head = lines.next("merge", "the merge");
-  lines.read(head, "merge", m.leaves, m.bbox.min.x(), m.bbox.min.y(), m.bbox.min.z(), m.bbox.max.x(), m.bbox.max.y(), m.bbox.max.z());
+  lines.read(head, "merge", m.leaves, m.point_spacing, m.bbox.min.x(), m.bbox.min.y(), m.bbox.min.z(), m.bbox.max.x(), m.bbox.max.y(), m.bbox.max.z());
   if (!m.bbox.min.allFinite() || !m.bbox.max.allFinite() || (m.bbox.min.array() > m.bbox.max.array()).any())
     lines.fail("the merged box must be finite, its minimum below its maximum");
+  if (!(m.point_spacing >= 0) || !std::isfinite(m.point_spacing)) lines.fail("the point spacing must be finite and >= 0");
   auto count_line = lines.next("regions", "the region count");
   std::uint64_t count = 0;
   lines.read(count_line, "region count", count);

@@ -58,11 +58,23 @@ void require_tiled_meshing(const SurfaceMeshOptions& meshing) {
   if (meshing.trim.close_pinholes) throw OptionError("a tiled mesh cannot close pinholes");
 }
 
-double tiled_cell_size(const ClusterTree& tree, const SurfaceMeshOptions& options) {
+namespace {
+
+double cell_size(const BoundingBox& bbox, double point_spacing, const SurfaceMeshOptions& options) {
   if (options.grid.voxel_size) return *options.grid.voxel_size;
-  if (options.auto_resolution && tree.point_spacing > 0) return cell_size_for_spacing(tree.point_spacing);
+  if (options.auto_resolution && point_spacing > 0) return cell_size_for_spacing(point_spacing);
   if (options.grid.resolution < 2) throw OptionError("the mesh resolution must be at least 2 cells");
-  return tree.bbox.extent().maxCoeff() / options.grid.resolution;
+  return bbox.extent().maxCoeff() / options.grid.resolution;
+}
+
+}  // namespace
+
+double tiled_cell_size(const ClusterTree& tree, const SurfaceMeshOptions& options) {
+  return cell_size(tree.bbox, tree.point_spacing, options);
+}
+
+double tiled_cell_size(const RegionMerge& merge, const SurfaceMeshOptions& options) {
+  return cell_size(merge.bbox, merge.point_spacing, options);
 }
 
 Reconstruction reconstruct_regions(const RegionPlan& plan, const RegionSource& source, const ReconstructOptions& options,

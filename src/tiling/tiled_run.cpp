@@ -188,14 +188,9 @@ void TiledRun::mesh(std::int32_t region, const ReconstructOptions& options) cons
   // The tile's tree from the region trees its leaves may come from, never the whole tree.
   const RegionMerge merge = impl_->merge_record();
   if (merge.reach.size() != regions()) throw InputError(impl_->dir / "merge.txt", {}, "the merge record does not match the plan");
-  std::vector<ClusterTree> trees(regions());
-  ClusterTree first = impl_->region_tree(region);
-  for (std::int32_t k = 0; first.nodes.empty() && k < static_cast<std::int32_t>(regions()); ++k)
-    if (merge.reach[static_cast<std::size_t>(k)] > 0) first = impl_->region_tree(k);  // for the cell size: any non-empty region
   MeshOptions grid = options.meshing.grid;
-  first.bbox = merge.bbox;
-  grid.voxel_size = tiled_cell_size(first, options.meshing);
-  first = {};
+  grid.voxel_size = tiled_cell_size(merge, options.meshing);
+  std::vector<ClusterTree> trees(regions());
   for (const std::int32_t k : tile_regions(plan(), merge, region, grid)) trees[static_cast<std::size_t>(k)] = impl_->region_tree(k);
   RegionCloud points = load(region);
   if (options.build.remove_outliers) mark_outliers(points, scale(), options.build.outliers);

@@ -276,7 +276,8 @@ ClusterTree merge_region_trees(const RegionPlan& plan, std::vector<ClusterTree> 
   Assembly a = assemble(plan, regions);
   record.flipped = align_regions(a.tree, a.region_root, propagated);
   record.bbox = a.tree.bbox;
-  record.leaves = a.tree.leaves().size();
+  record.point_spacing = a.tree.point_spacing;
+  record.leaves = static_cast<std::size_t>(std::count_if(a.tree.nodes.begin(), a.tree.nodes.end(), [](const ClusterNode& n) { return n.is_leaf(); }));
   return std::move(a.tree);
 }
 
@@ -294,10 +295,10 @@ std::vector<std::int32_t> tile_regions(const RegionPlan& plan, const RegionMerge
   const double h = *grid.voxel_size;
   // Every leaf's support centre lies in its region's cell (the centroid of its own points), so
   // its support, grown by the fill band, lies in the cell grown by the region's reach and band.
-  const auto influence = [&](std::size_t r, double grow) {
+  const auto influence = [&](std::size_t r) {
     BoundingBox b = plan.region_box(static_cast<std::int32_t>(r));
-    b.min.array() -= merge.reach[r] + std::max(grid.fill_cells, 0.0) * h + grow;
-    b.max.array() += merge.reach[r] + std::max(grid.fill_cells, 0.0) * h + grow;
+    b.min.array() -= merge.reach[r] + std::max(grid.fill_cells, 0.0) * h;
+    b.max.array() += merge.reach[r] + std::max(grid.fill_cells, 0.0) * h;
     return b;
   };
   const auto meets = [](const BoundingBox& a, const BoundingBox& b) {
@@ -310,13 +311,13 @@ std::vector<std::int32_t> tile_regions(const RegionPlan& plan, const RegionMerge
   cells.max.array() += (kTileMarginCells + 2) * h;
   double seed_reach = 0;
   for (std::size_t r = 0; r < plan.regions(); ++r)
-    if (merge.reach[r] > 0 && meets(influence(r, 0), cells)) seed_reach = std::max(seed_reach, merge.reach[r]);
+    if (merge.reach[r] > 0 && meets(influence(r), cells)) seed_reach = std::max(seed_reach, merge.reach[r]);
   BoundingBox evaluated = cells;
   evaluated.min.array() -= 3 * seed_reach;
   evaluated.max.array() += 3 * seed_reach;
   std::vector<std::int32_t> out;
   for (std::size_t r = 0; r < plan.regions(); ++r)
-    if (merge.reach[r] > 0 && meets(influence(r, 0), evaluated)) out.push_back(static_cast<std::int32_t>(r));
+    if (merge.reach[r] > 0 && meets(influence(r), evaluated)) out.push_back(static_cast<std::int32_t>(r));
   return out;
 }
 
