@@ -2,6 +2,8 @@
 
 #include <clustersurf/moments.hpp>
 
+#include <Eigen/Geometry>
+
 #include <gtest/gtest.h>
 
 #include <numeric>
@@ -92,4 +94,25 @@ TEST(Moments, RankDeficientMomentsGiveFiniteFit) {
   const PolyProxy p = m.fit();
   for (double c : p.coeffs) EXPECT_TRUE(std::isfinite(c));
   EXPECT_LT(m.rms_error(), 1e-9);  // a line is fitted exactly
+}
+
+TEST(Moments, SpreadsOfAThinFlatClusterMatchPca) {
+  // A flat, clean scan patch: its thickness is 1e-6 of its width, the regime of the sweep's
+  // smallest spreads, which must stay the squared RMS of its PCA plane (not rounding noise).
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::normal_distribution<double> g(0, 1e-6);
+  Points p(400, 3);
+  const Eigen::Vector3d normal = Eigen::Vector3d(1, 2, 3).normalized();
+  const Eigen::Vector3d t1 = normal.unitOrthogonal(), t2 = normal.cross(t1);
+  for (int i = 0; i < 400; ++i) p.row(i) = (Eigen::Vector3d(5, 1, -2) + u(rng) * t1 + u(rng) * t2 + g(rng) * normal).transpose();
+  PlaneMoments m(Eigen::Vector3d(5.1, 0.9, -2));
+  for (int i = 0; i < 400; ++i) m.add(p.row(i).transpose());
+  std::vector<std::uint32_t> all(400);
+  std::iota(all.begin(), all.end(), 0u);
+  const double pca_rms = proxy_error(fit_proxy(ProxyKind::Plane, p, all), p, all).rms;
+  EXPECT_NEAR(m.rms_error(), pca_rms, 1e-3 * pca_rms);
+  const Eigen::Vector3d s = m.spreads();
+  EXPECT_NEAR(s(1), 1.0 / 3, 0.05);  // uniform on [-1, 1]: variance 1/3 along both tangents
+  EXPECT_NEAR(s(2), 1.0 / 3, 0.05);
 }

@@ -66,49 +66,48 @@ struct SideMoments {
     plane.add(p);
     if (poly) poly->add(p);
   }
-  double rms_error() const { return poly ? std::min(plane.rms_error(), poly->rms_error()) : plane.rms_error(); }
+  SideMoments& operator+=(const SideMoments& o) {
+    plane += o.plane;
+    if (poly) *poly += *o.poly;
+    return *this;
+  }
 };
 
-/// Elongation of a cluster: ratio of its two largest principal spreads (1 for a round patch).
-double elongation(const PlaneMoments& m) {
-  const Eigen::Vector3d s = m.spreads();
-  return s(1) > 0 ? std::sqrt(s(2) / s(1)) : std::numeric_limits<double>::infinity();
+/// What the sweep needs of one side: its fit error and its elongation, the ratio of its two
+/// largest principal spreads (1 for a round patch), from one eigen-decomposition.
+struct SideFit {
+  double error = 0;
+  double elongation = 0;
+};
+
+SideFit side_fit(const SideMoments& m) {
+  const Eigen::Vector3d s = m.plane.spreads();
+  const double plane_error = std::sqrt(s(0));
+  return {m.poly ? std::min(plane_error, m.poly->rms_error()) : plane_error,
+          s(1) > 0 ? std::sqrt(s(2) / s(1)) : std::numeric_limits<double>::infinity()};
 }
 
 /// Children may be this elongated (or as elongated as their parent): thinner slivers make
 /// leaves whose support spheres reach far sideways of the strip their proxy was fitted to.
 constexpr double kMaxElongation = 3.0;
 
-/// Sweeps the candidate split positions of `sorted`; returns the one minimizing max(e+, e−)
-/// among the candidates that cut no sliver (among all candidates when each one does).
-std::size_t sweep(const Points& points, std::span<const std::uint32_t> sorted, const SideMoments& empty,
-                  const std::vector<std::size_t>& candidates, double noise) {
-  const std::size_t m = sorted.size();
-  std::vector<double> left_error(candidates.size()), right_error(candidates.size());
-  std::vector<double> left_shape(candidates.size()), right_shape(candidates.size());
+/// Among the candidate split positions, the one minimizing max(e+, e−) among those that cut no
+/// sliver (among all candidates when each one does). `blocks[k]` holds the moments of the
+/// sorted points between candidates k − 1 and k (the last block: after the last candidate), so
+/// each point is added once and each side is fitted once per candidate.
+std::size_t sweep(const std::vector<SideMoments>& blocks, const SideMoments& empty,
+                  const std::vector<std::size_t>& candidates, std::size_t m, double noise) {
+  const std::size_t c = candidates.size();
+  std::vector<SideFit> left(c), right(c);
   SideMoments acc = empty;
-  std::size_t c = 0;
-  for (std::size_t i = 0; i < m; ++i) {  // to the end: the whole cluster's shape is needed below
-    acc.add(points.row(sorted[i]).transpose());
-    while (c < candidates.size() && candidates[c] == i + 1) {
-      left_shape[c] = elongation(acc.plane);
-      left_error[c++] = acc.rms_error();
-    }
-  }
-  const double shape_limit = std::max(kMaxElongation, elongation(acc.plane));
+  for (std::size_t k = 0; k < c; ++k) left[k] = side_fit(acc += blocks[k]);
+  const double shape_limit = std::max(kMaxElongation, side_fit(acc += blocks[c]).elongation);
   acc = empty;
-  c = candidates.size();
-  for (std::size_t i = m; i-- > 0 && c > 0;) {
-    acc.add(points.row(sorted[i]).transpose());
-    while (c > 0 && candidates[c - 1] == i) {
-      right_shape[--c] = elongation(acc.plane);
-      right_error[c] = acc.rms_error();
-    }
-  }
-  std::vector<std::uint8_t> allowed(candidates.size());
+  for (std::size_t k = c; k-- > 0;) right[k] = side_fit(acc += blocks[k + 1]);
+  std::vector<std::uint8_t> allowed(c);
   bool any_allowed = false;
-  for (std::size_t k = 0; k < candidates.size(); ++k) {
-    allowed[k] = left_shape[k] <= shape_limit && right_shape[k] <= shape_limit;
+  for (std::size_t k = 0; k < c; ++k) {
+    allowed[k] = left[k].elongation <= shape_limit && right[k].elongation <= shape_limit;
     any_allowed = any_allowed || allowed[k];
   }
   if (!any_allowed) std::fill(allowed.begin(), allowed.end(), 1);
@@ -116,16 +115,16 @@ std::size_t sweep(const Points& points, std::span<const std::uint32_t> sorted, c
   // Scores within 2 % of the best (or within the noise, whose part of the error no split can
   // remove) count as ties: among them take the most balanced split, so noise-dominated
   // clusters are halved instead of cut at an arbitrary position.
-  std::vector<double> score(candidates.size());
+  std::vector<double> score(c);
   double best_score = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < candidates.size(); ++k) {
-    const double e = std::max(left_error[k], right_error[k]);
+  for (std::size_t k = 0; k < c; ++k) {
+    const double e = std::max(left[k].error, right[k].error);
     score[k] = std::sqrt(std::max(0.0, e * e - noise * noise));
     if (allowed[k]) best_score = std::min(best_score, score[k]);
   }
   std::size_t best = 0;
   double best_balance = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < candidates.size(); ++k) {
+  for (std::size_t k = 0; k < c; ++k) {
     if (!allowed[k] || score[k] > best_score * 1.02) continue;
     const double balance = std::abs(2.0 * static_cast<double>(candidates[k]) - static_cast<double>(m));
     if (balance < best_balance) best_balance = balance, best = candidates[k];
@@ -155,7 +154,13 @@ std::size_t sorted_split(const Points& points, std::span<std::uint32_t> range, c
     for (auto i : range) scale = std::max(scale, parent_frame.to_local(points.row(i).transpose()).head<2>().norm());
     empty.poly.emplace(parent_frame, scale > 0 ? scale : 1.0);
   }
-  return sweep(points, range, empty, candidates, noise);
+  std::vector<SideMoments> blocks(candidates.size() + 1, empty);
+  std::size_t block = 0;
+  for (std::size_t i = 0; i < m; ++i) {
+    while (block < candidates.size() && candidates[block] == i) ++block;
+    blocks[block].add(points.row(range[i]).transpose());
+  }
+  return sweep(blocks, empty, candidates, m, noise);
 }
 
 }  // namespace

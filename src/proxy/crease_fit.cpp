@@ -31,26 +31,6 @@ constexpr std::size_t kSample = 1024;
 /// depending on which side of 90 their fitted faces came out (docs/benchmarks.md).
 constexpr double kMinFaceNormalCos = -0.5;
 
-/// The least-squares plane of the points of `range` labelled `side` (nullopt: fewer than
-/// kMinFacePoints of them).
-std::optional<PlaneProxy> fit_face(const Points& points, std::span<const std::uint32_t> range,
-                                   const std::vector<std::uint8_t>& label, std::uint8_t side) {
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  std::size_t n = 0;
-  for (std::size_t k = 0; k < range.size(); ++k)
-    if (label[k] == side) sum += points.row(range[k]).transpose(), ++n;
-  if (n < kMinFacePoints) return std::nullopt;
-  const Eigen::Vector3d mean = sum / static_cast<double>(n);
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (std::size_t k = 0; k < range.size(); ++k) {
-    if (label[k] != side) continue;
-    const Eigen::Vector3d d = points.row(range[k]).transpose() - mean;
-    cov.noalias() += d * d.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-  return PlaneProxy{mean, eig.eigenvectors().col(0).normalized()};
-}
-
 double plane_value(const PlaneProxy& p, const Eigen::Vector3d& x) { return p.normal.dot(x - p.point); }
 
 /// The face a point belongs to: 0 when it is nearer to plane a (or as near), else 1.
@@ -58,25 +38,57 @@ std::uint8_t nearer_face(const PlaneProxy& a, const PlaneProxy& b, const Eigen::
   return std::abs(plane_value(a, x)) <= std::abs(plane_value(b, x)) ? 0 : 1;
 }
 
-/// k-planes from the split of `range` by the sign of (x − origin) · axis.
+/// The points of `range` labelled 0 and 1, summed per label (in range order).
+struct FaceSums {
+  std::array<Eigen::Vector3d, 2> sum = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  std::array<std::size_t, 2> count = {0, 0};
+  void add(std::uint8_t side, const Eigen::Vector3d& x) { sum[side] += x, ++count[side]; }
+};
+
+/// The least-squares planes of the points of `range` labelled 0 and 1, in one pass over them
+/// (nullopt: a label with fewer than kMinFacePoints points).
+std::optional<std::array<PlaneProxy, 2>> fit_faces(const Points& points, std::span<const std::uint32_t> range,
+                                                   const std::vector<std::uint8_t>& label, const FaceSums& sums) {
+  if (sums.count[0] < kMinFacePoints || sums.count[1] < kMinFacePoints) return std::nullopt;
+  std::array<Eigen::Vector3d, 2> mean;
+  for (int side : {0, 1}) mean[side] = sums.sum[side] / static_cast<double>(sums.count[side]);
+  std::array<Eigen::Matrix3d, 2> cov = {Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero()};
+  for (std::size_t k = 0; k < range.size(); ++k) {
+    const Eigen::Vector3d d = points.row(range[k]).transpose() - mean[label[k]];
+    cov[label[k]].noalias() += d * d.transpose();
+  }
+  std::array<PlaneProxy, 2> planes;
+  for (int side : {0, 1}) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov[side]);
+    planes[side] = PlaneProxy{mean[side], eig.eigenvectors().col(0).normalized()};
+  }
+  return planes;
+}
+
+/// k-planes from the split of `range` by the sign of (x − origin) · axis. Two passes per round:
+/// the faces' covariances, then the new labels with the next round's sums.
 std::optional<std::array<PlaneProxy, 2>> k_planes(const Points& points, std::span<const std::uint32_t> range,
                                                   const Eigen::Vector3d& origin, const Eigen::Vector3d& axis) {
   std::vector<std::uint8_t> label(range.size());
-  for (std::size_t k = 0; k < range.size(); ++k)
-    label[k] = (points.row(range[k]).transpose() - origin).dot(axis) < 0 ? 0 : 1;
+  FaceSums sums;
+  for (std::size_t k = 0; k < range.size(); ++k) {
+    const Eigen::Vector3d x = points.row(range[k]).transpose();
+    label[k] = (x - origin).dot(axis) < 0 ? 0 : 1;
+    sums.add(label[k], x);
+  }
   std::array<PlaneProxy, 2> planes;
   for (int round = 0; round < kMaxRounds; ++round) {
-    for (std::uint8_t side : {0, 1}) {
-      const auto plane = fit_face(points, range, label, side);
-      if (!plane) return std::nullopt;
-      planes[side] = *plane;
-    }
+    const auto fitted = fit_faces(points, range, label, sums);
+    if (!fitted) return std::nullopt;
+    planes = *fitted;
     bool changed = false;
+    sums = FaceSums{};
     for (std::size_t k = 0; k < range.size(); ++k) {
       const Eigen::Vector3d x = points.row(range[k]).transpose();
       const std::uint8_t side = nearer_face(planes[0], planes[1], x);
       changed = changed || side != label[k];
       label[k] = side;
+      sums.add(side, x);
     }
     if (!changed) return planes;
   }
@@ -110,6 +122,25 @@ std::array<Eigen::Vector3d, 2> inward(const CreaseProxy& c, const Points& points
   return sum;
 }
 
+/// proxy_error of the convex and of the concave crease of c's planes, in one pass.
+std::array<ProxyError, 2> convex_and_concave_errors(const CreaseProxy& c, const Points& points,
+                                                    std::span<const std::uint32_t> range) {
+  std::array<ProxyError, 2> e{};
+  if (range.empty()) return e;
+  std::array<double, 2> sum = {0, 0};
+  for (auto i : range) {
+    const Eigen::Vector3d x = points.row(i).transpose();
+    const double qa = plane_value(c.a, x), qb = plane_value(c.b, x);
+    const std::array<double, 2> q = {std::abs(std::max(qa, qb)), std::abs(std::min(qa, qb))};
+    for (int kind : {0, 1}) {
+      sum[kind] += q[kind] * q[kind];
+      e[kind].max = std::max(e[kind].max, q[kind]);
+    }
+  }
+  for (int kind : {0, 1}) e[kind].rms = std::sqrt(sum[kind] / static_cast<double>(range.size()));
+  return e;
+}
+
 }  // namespace
 
 std::optional<CreaseFit> fit_crease(const Points& points, std::span<const std::uint32_t> range, const Frame& frame,
@@ -138,9 +169,10 @@ std::optional<CreaseFit> fit_crease(const Points& points, std::span<const std::u
     if (c.a.normal.dot(db) * c.b.normal.dot(da) < 0) c.b.normal = -c.b.normal;
     // Faces facing too far apart: left to the splits (kMinFaceNormalCos).
     if (c.a.normal.dot(c.b.normal) < kMinFaceNormalCos) continue;
+    const std::array<ProxyError, 2> errors = convex_and_concave_errors(c, points, range);
     for (const bool convex : {true, false}) {
       c.convex = convex;
-      const ProxyError e = proxy_error(Proxy(c), points, range);
+      const ProxyError& e = errors[convex ? 0 : 1];
       if (!best || e.rms < best->error.rms) best = CreaseFit{c, e};
     }
   }

@@ -61,7 +61,10 @@ double PlaneMoments::rms_error() const {
 
 Eigen::Vector3d PlaneMoments::spreads() const {
   if (n_ <= 0) return Eigen::Vector3d::Zero();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(covariance(), Eigen::EigenvaluesOnly);
+  // Closed form (the sweeps take one per candidate split): as exact as the iterative solver
+  // for the spreads a sweep compares, several times faster.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(covariance(), Eigen::EigenvaluesOnly);
   return eig.eigenvalues().cwiseMax(0.0);
 }
 
