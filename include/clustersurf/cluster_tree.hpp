@@ -56,7 +56,9 @@ struct BuildOptions {
   /// stored as Relative, with no estimate).
   double noise_factor = 1.0;
   /// No child below this many points (but strays cut off across a gap, and the sheets of a
-  /// would-be leaf on two sheets); 0: leaf_min_points() of the noise and the tolerance.
+  /// would-be leaf on two sheets); 0: leaf_min_points() of the noise and the tolerance, and a
+  /// leaf of that size whose quadratic misses the threshold is split into halves of two thirds
+  /// of it when they resolve the misfit (relief finer than the clusters).
   std::uint32_t min_points = 0;
   std::uint32_t max_depth = 200;                 ///< nodes at this depth are leaves (root: 0)
   double alpha = 0.75;                           ///< support radius = alpha × cluster bbox diagonal

@@ -46,9 +46,10 @@ class Builder {
   /// `tolerance`: the error a leaf may keep beyond the noise; `noise`: the noise level the
   /// leaves may keep (0 when the threshold ignores noise). Both in the input's units.
   /// `normals`: the input normals, indexed like the input cloud (WorkingSet::ids), or null.
-  /// `support`: the support checks, or null when they are off.
+  /// `support`: the support checks, or null when they are off. `detail_splits`: whether a leaf
+  /// may be split below options.min_points (detail_split(); when min_points was "auto").
   Builder(const Points* normals, WorkingSet& work, const detail::SupportFit* support, const BuildOptions& options,
-          double tolerance, double noise, detail::ProgressReporter& progress)
+          double tolerance, double noise, bool detail_splits, detail::ProgressReporter& progress)
       : normals_(normals),
         work_(work),
         points_(work.positions),
@@ -56,6 +57,7 @@ class Builder {
         options_(options),
         tolerance_(tolerance),
         noise_(noise),
+        detail_splits_(detail_splits),
         progress_(progress) {}
 
   void build(BuildNode& bn, std::span<std::uint32_t> range, std::uint32_t depth, std::uint64_t path_seed) const {
@@ -116,6 +118,8 @@ class Builder {
       // The proxy fits, but the cluster may be two parts with empty space between them (below
       // 2 × min_points only stray points across a wide gap are cut off).
       k = detail::split_at_gap(points_, range, frame, options_.min_points);
+      if ((k == 0 || k >= range.size()) && detail_splits_ && !can_split && e > threshold && depth < options_.max_depth)
+        k = detail_split(range, e);
     }
     // A would-be leaf on two sheets facing apart (both sides of a thin part, the faces of a
     // deep fold) becomes one leaf per sheet, below min_points if need be.
@@ -186,6 +190,35 @@ class Builder {
  private:
   double allowed(double tolerance, double n) const { return detail::allowed_error(tolerance, noise_, n); }
 
+  /// A cluster held at min_points whose proxy misses the threshold (relief finer than the
+  /// cluster: a lip, an eyelid, a fold) is split below min_points when that resolves it: into
+  /// two halves of at least min_points · 2/3 points (10 for clean data: a quadratic's 6
+  /// coefficients and 4 points to spare) whose own proxies each meet the threshold or leave at
+  /// most a quarter of the cluster's misfit beyond the noise (half its RMS, the crease's rule).
+  /// A stray point that bends a proxy leaves its half's misfit about as large as the cluster's,
+  /// so no split is made for it; nor for a misfit the halves cannot resolve. Returns the split
+  /// position (`range` reordered), or 0.
+  std::size_t detail_split(std::span<std::uint32_t> range, double error) const {
+    const std::size_t smallest = (2 * std::size_t{options_.min_points} + 2) / 3;
+    if (smallest < 1 || range.size() < 2 * smallest) return 0;
+    BuildOptions halves = options_;
+    halves.min_points = static_cast<std::uint32_t>(smallest);
+    const Frame frame = detail::cluster_frame(points_, range, options_.frames_from_normals ? normals_ : nullptr, work_.ids, noise_);
+    const std::size_t k = detail::split_plane(points_, range, frame, halves, noise_);
+    if (k < smallest || range.size() - k < smallest) return 0;
+    for (const auto half : {range.subspan(0, k), range.subspan(k)}) {
+      const Frame f = detail::cluster_frame(points_, half, options_.frames_from_normals ? normals_ : nullptr, work_.ids, noise_);
+      const Proxy proxy = options_.proxy == ProxyKind::Poly ? Proxy(fit_poly_in_frame(f, points_, half))
+                                                            : fit_proxy(options_.proxy, points_, half);
+      const ProxyError he = proxy_error(proxy, points_, half);
+      const double e = options_.metric == ErrorMetric::Rms ? he.rms : he.max;
+      const double noise2 = noise_ * noise_;
+      if (!(e <= allowed(tolerance_, static_cast<double>(half.size())) || e * e - noise2 <= 0.25 * (error * error - noise2)))
+        return 0;
+    }
+    return k;
+  }
+
   /// Whether the proxy's residuals over the cluster correlate between neighbours more than
   /// independent noise lets them: kNoiseMargin times its spread, at most √(2/n) (relief the
   /// proxy does not follow, even below the noise the threshold allows). Without noise in the
@@ -203,6 +236,7 @@ class Builder {
   const BuildOptions& options_;
   double tolerance_;
   double noise_;
+  bool detail_splits_;
   detail::ProgressReporter& progress_;
 };
 
@@ -307,7 +341,7 @@ ClusterTree detail::build_tree(const PointCloud& cloud, std::vector<std::uint32_
   }
   detail::ProgressReporter reporter(progress, "building tree", n);
   BuildNode root;
-  Builder(normals, work, support ? &*support : nullptr, resolved, tolerance, noise, reporter)
+  Builder(normals, work, support ? &*support : nullptr, resolved, tolerance, noise, options.min_points == 0, reporter)
       .build(root, work.local, 0, options.seed);
   reporter.finish();
   const std::vector<std::uint32_t>& perm = work.ids;
