@@ -64,23 +64,9 @@ class Builder {
     progress_.check();
     ClusterNode& node = bn.node;
     node.depth = depth;
-    node.point_count = static_cast<std::uint32_t>(range.size());
-
-    const Frame frame = detail::cluster_frame(points_, range, options_.frames_from_normals ? normals_ : nullptr, work_.ids, noise_);
-    node.proxy = options_.proxy == ProxyKind::Poly ? Proxy(fit_poly_in_frame(frame, points_, range))
-                                                   : fit_proxy(options_.proxy, points_, range);
-    const ProxyError err = proxy_error(node.proxy, points_, range);
-    node.rms_error = err.rms;
-    node.max_error = err.max;
-    BoundingBox box;
-    for (auto i : range) box.extend(points_.row(i).transpose());
-    node.extent = box.diagonal();
-    node.support = Sphere{frame.origin, options_.alpha * node.extent};
-    const double cover = support_ != nullptr ? support_->coverage_radius(frame.origin, node.support.radius) : 0.0;
-    node.support.radius = std::max(node.support.radius, cover);
-    node.bound = node.support;
-
-    double e = options_.metric == ErrorMetric::Rms ? err.rms : err.max;
+    double cover = 0;
+    const Frame frame = fit(node, range, cover);
+    double e = error(node);
     const bool can_split = depth < options_.max_depth && range.size() >= 2 * std::size_t{options_.min_points};
     const double threshold = allowed(tolerance_, static_cast<double>(range.size()));
     // A cluster on the two faces of a sharp edge: two planes meeting at a crease, where one
@@ -92,8 +78,7 @@ class Builder {
     if (options_.creases && e > threshold) {
       if (const auto crease = detail::fit_crease(points_, range, frame, node.extent)) {
         const double ce = options_.metric == ErrorMetric::Rms ? crease->error.rms : crease->error.max;
-        const double noise2 = noise_ * noise_;
-        if (ce <= threshold && ce * ce - noise2 <= 0.25 * (e * e - noise2)) {
+        if (ce <= threshold && explains(ce, e)) {
           smooth = node;
           node.proxy = crease->proxy;
           node.rms_error = crease->error.rms;
@@ -118,8 +103,14 @@ class Builder {
       // The proxy fits, but the cluster may be two parts with empty space between them (below
       // 2 × min_points only stray points across a wide gap are cut off).
       k = detail::split_at_gap(points_, range, frame, options_.min_points);
-      if ((k == 0 || k >= range.size()) && detail_splits_ && !can_split && e > threshold && depth < options_.max_depth)
-        k = detail_split(range, e);
+      if ((k == 0 || k >= range.size()) && detail_splits_ && !can_split && depth < options_.max_depth) {
+        if (e > threshold) {
+          k = detail_split(range, frame, e, nullptr);
+        } else if (support_ != nullptr) {
+          if (!support) support = support_->check(node, range);
+          if (support_fails(*support, tolerance_)) k = detail_split(range, frame, threshold, &*support);
+        }
+      }
     }
     // A would-be leaf on two sheets facing apart (both sides of a thin part, the faces of a
     // deep fold) becomes one leaf per sheet, below min_points if need be.
@@ -141,9 +132,7 @@ class Builder {
           if (const auto crease = support_->crease(node, frame)) {
             const ProxyError own = proxy_error(Proxy(crease->proxy), points_, range);
             const double ce = options_.metric == ErrorMetric::Rms ? own.rms : own.max;
-            const double noise2 = noise_ * noise_;
-            if (ce <= std::max(threshold, e) &&
-                crease->error.rms * crease->error.rms - noise2 <= 0.25 * (support->rms * support->rms - noise2)) {
+            if (ce <= std::max(threshold, e) && explains(crease->error.rms, support->rms)) {
               node.proxy = crease->proxy;
               node.rms_error = own.rms;
               node.max_error = own.max;
@@ -186,34 +175,64 @@ class Builder {
   }
 
  private:
-
- private:
   double allowed(double tolerance, double n) const { return detail::allowed_error(tolerance, noise_, n); }
 
-  /// A cluster held at min_points whose proxy misses the threshold (relief finer than the
-  /// cluster: a lip, an eyelid, a fold) is split below min_points when that resolves it: into
-  /// two halves of at least min_points · 2/3 points (10 for clean data: a quadratic's 6
-  /// coefficients and 4 points to spare) whose own proxies each meet the threshold or leave at
-  /// most a quarter of the cluster's misfit beyond the noise (half its RMS, the crease's rule).
-  /// A stray point that bends a proxy leaves its half's misfit about as large as the cluster's,
-  /// so no split is made for it; nor for a misfit the halves cannot resolve. Returns the split
-  /// position (`range` reordered), or 0.
-  std::size_t detail_split(std::span<std::uint32_t> range, double error) const {
+  /// Fits `node` to the points `range`: its frame (returned), proxy, errors and extent, and its
+  /// support: alpha × extent, grown to `cover`, the radius that holds MPU's N_min points.
+  Frame fit(ClusterNode& node, std::span<const std::uint32_t> range, double& cover) const {
+    node.point_count = static_cast<std::uint32_t>(range.size());
+    const Frame frame = detail::cluster_frame(points_, range, options_.frames_from_normals ? normals_ : nullptr, work_.ids, noise_);
+    node.proxy = options_.proxy == ProxyKind::Poly ? Proxy(fit_poly_in_frame(frame, points_, range))
+                                                   : fit_proxy(options_.proxy, points_, range);
+    const ProxyError err = proxy_error(node.proxy, points_, range);
+    node.rms_error = err.rms;
+    node.max_error = err.max;
+    BoundingBox box;
+    for (auto i : range) box.extend(points_.row(i).transpose());
+    node.extent = box.diagonal();
+    node.support = Sphere{frame.origin, options_.alpha * node.extent};
+    cover = support_ != nullptr ? support_->coverage_radius(frame.origin, node.support.radius) : 0.0;
+    node.support.radius = std::max(node.support.radius, cover);
+    node.bound = node.support;
+    return frame;
+  }
+
+  /// The node's error by the metric of the options.
+  double error(const ClusterNode& node) const { return options_.metric == ErrorMetric::Rms ? node.rms_error : node.max_error; }
+
+  /// Whether `after` leaves at most a quarter of the misfit of `before` beyond the noise (half
+  /// its RMS): the rule by which a crease or a split below min_points explains a misfit.
+  bool explains(double after, double before) const {
+    const double noise2 = noise_ * noise_;
+    return after * after - noise2 <= 0.25 * (before * before - noise2);
+  }
+
+  /// A leaf held at min_points whose proxy misses the threshold (`support` null; relief finer
+  /// than the cluster: a lip, an eyelid, a fold) or fails over its support (`support`: that
+  /// check's error) is split below min_points when that resolves it: into two halves of at
+  /// least two thirds of min_points (10 for clean data: a quadratic's 6 coefficients and 4
+  /// points to spare) whose proxies each meet the threshold or explain() the cluster's misfit
+  /// `error`, and, for a support failure, whose support checks each pass or explain the
+  /// cluster's. A stray point that bends a proxy leaves its half's misfit about as large as
+  /// the cluster's, so no split is made for it; nor for a misfit the halves cannot resolve.
+  /// Only when min_points is "auto". Returns the split position (`range` reordered), or 0.
+  std::size_t detail_split(std::span<std::uint32_t> range, const Frame& frame, double error,
+                           const detail::SupportError* support) const {
     const std::size_t smallest = (2 * std::size_t{options_.min_points} + 2) / 3;
-    if (smallest < 1 || range.size() < 2 * smallest) return 0;
+    if (range.size() < 2 * smallest) return 0;
     BuildOptions halves = options_;
     halves.min_points = static_cast<std::uint32_t>(smallest);
-    const Frame frame = detail::cluster_frame(points_, range, options_.frames_from_normals ? normals_ : nullptr, work_.ids, noise_);
     const std::size_t k = detail::split_plane(points_, range, frame, halves, noise_);
     if (k < smallest || range.size() - k < smallest) return 0;
     for (const auto half : {range.subspan(0, k), range.subspan(k)}) {
-      const Frame f = detail::cluster_frame(points_, half, options_.frames_from_normals ? normals_ : nullptr, work_.ids, noise_);
-      const Proxy proxy = options_.proxy == ProxyKind::Poly ? Proxy(fit_poly_in_frame(f, points_, half))
-                                                            : fit_proxy(options_.proxy, points_, half);
-      const ProxyError he = proxy_error(proxy, points_, half);
-      const double e = options_.metric == ErrorMetric::Rms ? he.rms : he.max;
-      const double noise2 = noise_ * noise_;
-      if (!(e <= allowed(tolerance_, static_cast<double>(half.size())) || e * e - noise2 <= 0.25 * (error * error - noise2)))
+      ClusterNode h;
+      double cover = 0;
+      fit(h, half, cover);
+      const double e = this->error(h);
+      if (!(e <= allowed(tolerance_, static_cast<double>(half.size())) || explains(e, error))) return 0;
+      if (support == nullptr) continue;
+      const detail::SupportError hs = support_->check(h, half);
+      if (!(hs.rms <= allowed(options_.support_factor * tolerance_, hs.effective_points) || explains(hs.rms, support->rms)))
         return 0;
     }
     return k;
