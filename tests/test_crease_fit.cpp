@@ -108,6 +108,18 @@ TEST(CreaseFit, RefusesAStepBetweenParallelFaces) {
   for (const ClusterNode& n : tree_of(p).nodes) EXPECT_NE(n.proxy.kind(), ProxyKind::Crease);
 }
 
+// A face must pin its plane down: a row of points (the last scan line of the other side of a
+// thin plate, at its rim) fits every plane through it, among them one meeting the plate's
+// face along an edge, with no error at all.
+TEST(CreaseFit, RefusesAFaceThatIsARowOfPoints) {
+  Points p(10 * 10 + 12, 3);
+  Eigen::Index r = 0;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j) p.row(r++) << i * 0.1, j * 0.1, 0.0;
+  for (int j = 0; j < 12; ++j) p.row(r++) << 0.95, j * 0.08, 0.4;
+  for (const ClusterNode& n : tree_of(p).nodes) EXPECT_NE(n.proxy.kind(), ProxyKind::Crease);
+}
+
 TEST(CreaseFit, CubeEdgesStaySharp) {
   const PointCloud c = cube(40);  // 9,600 points, 0.05 apart
   ReconstructOptions sharp;

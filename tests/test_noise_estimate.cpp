@@ -2,6 +2,8 @@
 // as noise.
 
 #include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/errors.hpp>
+#include <clustersurf/kd_tree.hpp>
 #include <clustersurf/noise.hpp>
 #include <clustersurf/surface_sampling.hpp>
 
@@ -108,4 +110,33 @@ TEST(NoiseEstimate, ResidualDifferencesSeeThroughTheDetailOfANoisySculptedModel)
   std::cout << "ogre 0.5 %: fits " << fitted / sigma << ", with the differences " << est / sigma << " of the noise\n";
   EXPECT_GT(fitted / sigma, 1.4);
   EXPECT_NEAR(est / sigma, 1, 0.25);
+}
+
+TEST(NoiseEstimate, FacingSheetsAreTwoSurfacesNotNoise) {
+  // Two clean sheets 4 spacings apart facing each other (the walls of a narrow fold): from the
+  // positions alone a neighbourhood holds both and reads their offset as noise; with the
+  // normals each fit keeps its own sheet and reads none.
+  constexpr int kN = 100;
+  constexpr double kSpacing = 1.0 / (kN - 1), kGap = 4 * kSpacing;
+  Points positions(2 * kN * kN, 3), normals(2 * kN * kN, 3);
+  for (int sheet = 0; sheet < 2; ++sheet)
+    for (int i = 0; i < kN; ++i)
+      for (int j = 0; j < kN; ++j) {
+        const Eigen::Index r = (sheet * kN + i) * kN + j;
+        const double shift = 0.5 * sheet * kSpacing;  // two scans do not line up
+        positions.row(r) << i * kSpacing + shift, j * kSpacing + shift, sheet * kGap;
+        normals.row(r) << 0, 0, sheet == 0 ? 1 : -1;
+      }
+  const KdTree index(positions);
+  const double blind = estimate_noise(positions, index, {});
+  const double facing = estimate_noise(positions, index, {}, &normals);
+  std::cout << "two sheets 4 spacings apart: noise " << blind / kSpacing << " spacings from the positions, "
+            << facing / kSpacing << " with the normals\n";
+  EXPECT_GT(blind, 0.5 * kSpacing);
+  EXPECT_LT(facing, 0.01 * kSpacing);
+  NoiseOptions off;
+  off.facing_normals = false;
+  EXPECT_EQ(estimate_noise(positions, index, off, &normals), blind);
+  Points too_few = normals.topRows(10);
+  EXPECT_THROW(estimate_noise(positions, index, {}, &too_few), OptionError);
 }

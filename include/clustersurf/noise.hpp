@@ -29,6 +29,11 @@ struct NoiseOptions {
   /// benchmark's noisy ogre and beast) it is within 15 % of the noise where the fits read 1.5
   /// times it.
   bool residual_differences = false;
+  /// With input normals (estimate_noise()'s `normals`; the tree builder passes the input's
+  /// unless BuildOptions::use_normals is off), each local fit keeps the neighbours facing its
+  /// centre's way: the two sides of a thin part or of a narrow fold are two surfaces, not one
+  /// noisy layer (two clean sheets 4 spacings apart read as noise of 2 spacings without it).
+  bool facing_normals = true;
 };
 
 /// Robust estimate of the standard deviation of the points' normal-direction noise: the median
@@ -41,7 +46,10 @@ struct NoiseOptions {
 /// reaches. Smooth noise-free samples give a value near 0; clean scans of detailed models a
 /// value well below their detail's misfit at the widest scale.
 double estimate_noise(const Points& points, const NoiseOptions& options = {});
-/// The same estimate with a k-d tree of `points` the caller already has.
-double estimate_noise(const Points& points, const KdTree& index, const NoiseOptions& options = {});
+/// The same estimate with a k-d tree of `points` the caller already has. With `normals` (one
+/// row per point, oriented consistently, or null) and NoiseOptions::facing_normals, each local
+/// fit keeps only the neighbours whose normal is within 90° of its centre point's.
+double estimate_noise(const Points& points, const KdTree& index, const NoiseOptions& options = {},
+                      const Points* normals = nullptr);
 
 }  // namespace clustersurf

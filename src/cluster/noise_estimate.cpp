@@ -1,3 +1,4 @@
+#include <clustersurf/errors.hpp>
 #include <clustersurf/kd_tree.hpp>
 #include <clustersurf/noise.hpp>
 #include <clustersurf/proxy.hpp>
@@ -76,8 +77,11 @@ LocalFit fit_residual(const Points& points, const std::vector<std::uint32_t>& id
 }
 
 /// Median noise and neighbourhood radius over evenly strided points of `points`, for the
-/// neighbourhood sizes options.neighbors, /2, /4 (nested: the nearest of one query).
-std::array<LocalNoise, 3> local_noise(const Points& points, const KdTree& tree, const NoiseOptions& options) {
+/// neighbourhood sizes options.neighbors, /2, /4 (nested: the nearest of one query). With
+/// `normals`, a neighbourhood holds the neighbours facing the same way as its centre (when at
+/// least 10 do; all of them otherwise).
+std::array<LocalNoise, 3> local_noise(const Points& points, const KdTree& tree, const NoiseOptions& options,
+                                      const Points* normals) {
   const auto n = static_cast<std::size_t>(points.rows());
   const std::size_t k = std::min(options.neighbors, n);
   const std::size_t samples = std::min(options.samples, n);
@@ -92,6 +96,14 @@ std::array<LocalNoise, 3> local_noise(const Points& points, const KdTree& tree, 
     for (std::size_t s = r.begin(); s != r.end(); ++s) {
       const auto i = static_cast<Eigen::Index>(static_cast<double>(s) * stride);
       tree.knn(points.row(i).transpose(), k, nb);
+      if (normals != nullptr) {
+        const Eigen::Vector3d facing = normals->row(i).transpose();
+        std::size_t kept = 0;
+        for (const Neighbor& q : nb) kept += normals->row(q.index).dot(facing) > 0;
+        if (kept >= 10)
+          nb.erase(std::remove_if(nb.begin(), nb.end(), [&](const Neighbor& q) { return !(normals->row(q.index).dot(facing) > 0); }),
+                   nb.end());
+      }
       for (std::size_t scale = 0; scale < 3; ++scale) {
         // At least 10 points per fit (estimate_noise() needs k ≥ 10, so nb holds them).
         const std::size_t m = std::max<std::size_t>(nb.size() >> scale, 10);
@@ -148,15 +160,18 @@ double estimate_noise(const Points& points, const NoiseOptions& options) {
   return estimate_noise(points, KdTree(points), options);
 }
 
-double estimate_noise(const Points& points, const KdTree& tree, const NoiseOptions& options) {
+double estimate_noise(const Points& points, const KdTree& tree, const NoiseOptions& options, const Points* normals) {
   const auto n = static_cast<std::size_t>(points.rows());
   if (std::min(options.neighbors, n) < 10 || options.samples == 0) return 0;
-  auto est = local_noise(points, tree, options);
+  if (normals != nullptr && normals->rows() != points.rows()) throw OptionError("noise estimate: one normal per point is needed");
+  if (!options.facing_normals) normals = nullptr;
+  auto est = local_noise(points, tree, options, normals);
   // Dense samples of a noisy surface: the neighbourhoods are thin slabs of noise, and the
   // local fit follows it. Coarsen until the neighbourhoods are wide compared with the noise.
   for (unsigned level = 1; est[0].width < options.min_width_ratio * est[0].sigma && (n >> (2 * level)) >= kMinCoarsePoints; ++level) {
     const Points coarse = subsample(points, level);
-    est = local_noise(coarse, KdTree(coarse), options);
+    const Points coarse_normals = normals != nullptr ? subsample(*normals, level) : Points();
+    est = local_noise(coarse, KdTree(coarse), options, normals != nullptr ? &coarse_normals : nullptr);
   }
   // The residual differences at the narrowest width see the least detail: they replace the
   // fits' residual where it is clearly higher, by detail.

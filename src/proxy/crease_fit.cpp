@@ -45,10 +45,21 @@ struct FaceSums {
   void add(std::uint8_t side, const Eigen::Vector3d& x) { sum[side] += x, ++count[side]; }
 };
 
+/// A face's points pin its plane down when they spread across it clearly more than off it: the
+/// middle spread (its width) at least kMinFaceWidth times the smallest (its residual). A row of
+/// points (one scan line, the last row at a part's rim) fits every plane through it.
+constexpr double kMinFaceWidth = 3;
+
+/// Two faces' planes, and whether each face's points pin its plane down (kMinFaceWidth).
+struct Faces {
+  std::array<PlaneProxy, 2> planes;
+  bool pinned = true;
+};
+
 /// The least-squares planes of the points of `range` labelled 0 and 1, in one pass over them
 /// (nullopt: a label with fewer than kMinFacePoints points).
-std::optional<std::array<PlaneProxy, 2>> fit_faces(const Points& points, std::span<const std::uint32_t> range,
-                                                   const std::vector<std::uint8_t>& label, const FaceSums& sums) {
+std::optional<Faces> fit_faces(const Points& points, std::span<const std::uint32_t> range,
+                               const std::vector<std::uint8_t>& label, const FaceSums& sums) {
   if (sums.count[0] < kMinFacePoints || sums.count[1] < kMinFacePoints) return std::nullopt;
   std::array<Eigen::Vector3d, 2> mean;
   for (int side : {0, 1}) mean[side] = sums.sum[side] / static_cast<double>(sums.count[side]);
@@ -57,16 +68,20 @@ std::optional<std::array<PlaneProxy, 2>> fit_faces(const Points& points, std::sp
     const Eigen::Vector3d d = points.row(range[k]).transpose() - mean[label[k]];
     cov[label[k]].noalias() += d * d.transpose();
   }
-  std::array<PlaneProxy, 2> planes;
+  Faces faces;
   for (int side : {0, 1}) {
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov[side]);
-    planes[side] = PlaneProxy{mean[side], eig.eigenvectors().col(0).normalized()};
+    const Eigen::Vector3d spread = eig.eigenvalues().cwiseMax(0.0);
+    // Relative to its length too: the spreads of points exactly on a line are rounding noise.
+    faces.pinned = faces.pinned && spread(1) > kMinFaceWidth * kMinFaceWidth * spread(0) + 1e-12 * spread(2);
+    faces.planes[side] = PlaneProxy{mean[side], eig.eigenvectors().col(0).normalized()};
   }
-  return planes;
+  return faces;
 }
 
 /// k-planes from the split of `range` by the sign of (x − origin) · axis. Two passes per round:
-/// the faces' covariances, then the new labels with the next round's sums.
+/// the faces' covariances, then the new labels with the next round's sums. Nullopt when a face
+/// loses its points or, at the end, does not pin its plane down.
 std::optional<std::array<PlaneProxy, 2>> k_planes(const Points& points, std::span<const std::uint32_t> range,
                                                   const Eigen::Vector3d& origin, const Eigen::Vector3d& axis) {
   std::vector<std::uint8_t> label(range.size());
@@ -76,11 +91,12 @@ std::optional<std::array<PlaneProxy, 2>> k_planes(const Points& points, std::spa
     label[k] = (x - origin).dot(axis) < 0 ? 0 : 1;
     sums.add(label[k], x);
   }
-  std::array<PlaneProxy, 2> planes;
+  Faces faces;
+  std::array<PlaneProxy, 2>& planes = faces.planes;
   for (int round = 0; round < kMaxRounds; ++round) {
     const auto fitted = fit_faces(points, range, label, sums);
     if (!fitted) return std::nullopt;
-    planes = *fitted;
+    faces = *fitted;
     bool changed = false;
     sums = FaceSums{};
     for (std::size_t k = 0; k < range.size(); ++k) {
@@ -90,8 +106,9 @@ std::optional<std::array<PlaneProxy, 2>> k_planes(const Points& points, std::spa
       label[k] = side;
       sums.add(side, x);
     }
-    if (!changed) return planes;
+    if (!changed) break;
   }
+  if (!faces.pinned) return std::nullopt;
   return planes;
 }
 

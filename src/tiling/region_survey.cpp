@@ -59,8 +59,13 @@ RegionSurvey survey_region(const RegionCloud& region, const BuildOptions& option
   }
   const Points clustered = points(kept, Eigen::all);
   survey.bbox = bounding_box(clustered);
-  if (options.threshold_mode == ThresholdMode::Auto && options.noise_factor > 0)
-    survey.noise_sigma = estimate_noise(clustered, KdTree(clustered), options.noise);
+  if (options.threshold_mode == ThresholdMode::Auto && options.noise_factor > 0) {
+    // As build_cluster_tree(): the input normals keep facing sheets apart.
+    const Points& normals = region.points.normals;
+    const bool facing = options.use_normals && normals.rows() == points.rows() && points.rows() > 0;
+    const Points clustered_normals = facing ? Points(normals(kept, Eigen::all)) : Points();
+    survey.noise_sigma = estimate_noise(clustered, KdTree(clustered), options.noise, facing ? &clustered_normals : nullptr);
+  }
   return survey;
 }
 
