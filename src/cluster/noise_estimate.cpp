@@ -23,6 +23,8 @@ namespace {
 /// fits' when lower than this fraction of it, for then the fits' residual holds the model's
 /// detail (0.7 on the noisy ogre and beast, 0.75 on clean samples of faceted meshes).
 constexpr double kDetailMargin = 0.9;
+/// A local fit takes at least this many points (a quadratic's 6 coefficients and 4 to spare).
+constexpr std::size_t kMinFitPoints = 10;
 /// The sampled neighbourhoods never come from fewer points than this.
 constexpr std::size_t kMinCoarsePoints = 4096;
 
@@ -79,7 +81,7 @@ LocalFit fit_residual(const Points& points, const std::vector<std::uint32_t>& id
 /// Median noise and neighbourhood radius over evenly strided points of `points`, for the
 /// neighbourhood sizes options.neighbors, /2, /4 (nested: the nearest of one query). With
 /// `normals`, a neighbourhood holds the neighbours facing the same way as its centre (when at
-/// least 10 do; all of them otherwise).
+/// least kMinFitPoints do; all of them otherwise).
 std::array<LocalNoise, 3> local_noise(const Points& points, const KdTree& tree, const NoiseOptions& options,
                                       const Points* normals) {
   const auto n = static_cast<std::size_t>(points.rows());
@@ -98,15 +100,13 @@ std::array<LocalNoise, 3> local_noise(const Points& points, const KdTree& tree, 
       tree.knn(points.row(i).transpose(), k, nb);
       if (normals != nullptr) {
         const Eigen::Vector3d facing = normals->row(i).transpose();
-        std::size_t kept = 0;
-        for (const Neighbor& q : nb) kept += normals->row(q.index).dot(facing) > 0;
-        if (kept >= 10)
-          nb.erase(std::remove_if(nb.begin(), nb.end(), [&](const Neighbor& q) { return !(normals->row(q.index).dot(facing) > 0); }),
-                   nb.end());
+        const auto other_way = [&](const Neighbor& q) { return !(normals->row(q.index).dot(facing) > 0); };
+        if (nb.size() - static_cast<std::size_t>(std::count_if(nb.begin(), nb.end(), other_way)) >= kMinFitPoints)
+          nb.erase(std::remove_if(nb.begin(), nb.end(), other_way), nb.end());
       }
       for (std::size_t scale = 0; scale < 3; ++scale) {
-        // At least 10 points per fit (estimate_noise() needs k ≥ 10, so nb holds them).
-        const std::size_t m = std::max<std::size_t>(nb.size() >> scale, 10);
+        // At least kMinFitPoints per fit (estimate_noise() needs k ≥ that, so nb holds them).
+        const std::size_t m = std::max<std::size_t>(nb.size() >> scale, kMinFitPoints);
         idx.clear();
         for (std::size_t j = 0; j < m; ++j) idx.push_back(nb[j].index);
         width[scale][s] = std::sqrt(nb[m - 1].distance_squared);
@@ -156,13 +156,13 @@ Points subsample(const Points& points, unsigned level) {
 
 double estimate_noise(const Points& points, const NoiseOptions& options) {
   const auto n = static_cast<std::size_t>(points.rows());
-  if (std::min(options.neighbors, n) < 10 || options.samples == 0) return 0;
+  if (std::min(options.neighbors, n) < kMinFitPoints || options.samples == 0) return 0;
   return estimate_noise(points, KdTree(points), options);
 }
 
 double estimate_noise(const Points& points, const KdTree& tree, const NoiseOptions& options, const Points* normals) {
   const auto n = static_cast<std::size_t>(points.rows());
-  if (std::min(options.neighbors, n) < 10 || options.samples == 0) return 0;
+  if (std::min(options.neighbors, n) < kMinFitPoints || options.samples == 0) return 0;
   if (normals != nullptr && normals->rows() != points.rows()) throw OptionError("noise estimate: one normal per point is needed");
   if (!options.facing_normals) normals = nullptr;
   auto est = local_noise(points, tree, options, normals);

@@ -301,7 +301,7 @@ ClusterTree build_cluster_tree(const CloudIndex& cloud_index, const BuildOptions
   if (options.threshold_mode == ThresholdMode::Auto && options.noise_factor > 0) {
     stage("estimating noise");
     // With input normals, the two sides of a thin part or a narrow fold are not taken for noise.
-    const bool normals = options.use_normals && cloud.normals.rows() == cloud.positions.rows() && cloud.size() > 0;
+    const bool normals = options.use_normals && options.noise.facing_normals && cloud.normals.rows() == cloud.positions.rows() && cloud.size() > 0;
     const Points clustered_normals = normals && ids.size() != static_cast<std::size_t>(cloud.size()) ? Points(cloud.normals(ids, Eigen::all)) : Points();
     const Points* facing = !normals ? nullptr : clustered_normals.rows() > 0 ? &clustered_normals : &cloud.normals;
     scale.noise_sigma = estimate_noise(clustered.positions, clustered.index, options.noise, facing);

@@ -62,7 +62,7 @@ RegionSurvey survey_region(const RegionCloud& region, const BuildOptions& option
   if (options.threshold_mode == ThresholdMode::Auto && options.noise_factor > 0) {
     // As build_cluster_tree(): the input normals keep facing sheets apart.
     const Points& normals = region.points.normals;
-    const bool facing = options.use_normals && normals.rows() == points.rows() && points.rows() > 0;
+    const bool facing = options.use_normals && options.noise.facing_normals && normals.rows() == points.rows() && points.rows() > 0;
     const Points clustered_normals = facing ? Points(normals(kept, Eigen::all)) : Points();
     survey.noise_sigma = estimate_noise(clustered, KdTree(clustered), options.noise, facing ? &clustered_normals : nullptr);
   }
