@@ -164,3 +164,51 @@ TEST(SurfaceComparison, EmptyInputsAreRefused) {
   EXPECT_THROW(compare_surfaces(TriangleMesh{}, square(0)), OptionError);
   EXPECT_THROW(compare_surfaces(square(0), TriangleMesh{}), OptionError);
 }
+
+// Against a scan without a true surface: a flap standing 0.3 above a cloud of spacing 0.01 (30
+// spacings) is surface the data does not support, and far_share is its share of the area; the
+// square itself lies within a spacing of the points.
+TEST(SurfaceComparison, FarShareIsTheSurfaceAwayFromAReferenceCloud) {
+  TriangleMesh cloud;
+  const int n = 101;
+  cloud.vertices.resize(n * n, 3);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) cloud.vertices.row(i * n + j) << i / 100.0, j / 100.0, 0;
+  TriangleMesh m = square(0);
+  const double side = std::sqrt(0.25);  // a flap of a quarter of the square's area: 20 % of the mesh
+  m.vertices.conservativeResize(8, 3);
+  m.vertices.bottomRows(4) << 0, 0, 0.3, side, 0, 0.3, side, side, 0.3, 0, side, 0.3;
+  m.triangles.conservativeResize(4, 3);
+  m.triangles.bottomRows(2) << 4, 5, 6, 4, 6, 7;
+  ComparisonOptions o;
+  o.samples = 40000;
+  const SurfaceComparison e = compare_surfaces(m, cloud, o);
+  EXPECT_NEAR(e.reference_spacing, 0.01, 1e-12);
+  EXPECT_NEAR(e.far_share, 0.2, 0.01);
+  EXPECT_EQ(compare_surfaces(square(0), cloud, o).far_share, 0.0);
+  EXPECT_TRUE(std::isnan(compare_surfaces(m, square(0), o).far_share));  // a mesh reference
+}
+
+// The rim and the debris of a mesh: a unit square has a boundary of 4 and an area of 1; a speck
+// of under 0.1 % of the area beside it is a loose fragment, a second square is not.
+TEST(SurfaceComparison, BoundaryLengthAndLooseFragmentsAreReported) {
+  const auto with_square = [](double side) {
+    TriangleMesh m = square(0);
+    m.vertices.conservativeResize(8, 3);
+    m.vertices.bottomRows(4) << 2, 0, 0, 2 + side, 0, 0, 2 + side, side, 0, 2, side, 0;
+    m.triangles.conservativeResize(4, 3);
+    m.triangles.bottomRows(2) << 4, 5, 6, 4, 6, 7;
+    return m;
+  };
+  const MeshTopology one = mesh_topology(square(0));
+  EXPECT_NEAR(one.area, 1.0, 1e-12);
+  EXPECT_NEAR(one.boundary_length, 4.0, 1e-12);
+  EXPECT_EQ(one.small_components, 0u);
+  const MeshTopology speck = mesh_topology(with_square(0.01));  // area 1e-4 of 1.0001
+  EXPECT_EQ(speck.components, 2u);
+  EXPECT_EQ(speck.small_components, 1u);
+  EXPECT_NEAR(speck.boundary_length, 4.04, 1e-12);
+  const MeshTopology two = mesh_topology(with_square(1));
+  EXPECT_EQ(two.components, 2u);
+  EXPECT_EQ(two.small_components, 0u);
+}

@@ -19,13 +19,19 @@ nlohmann::json facts(const MeshTopology& t) {
           {"boundary_edges", t.boundary_edges},
           {"non_manifold_edges", t.non_manifold_edges},
           {"components", t.components},
+          {"small_components", t.small_components},
+          {"area", t.area},
+          {"boundary_length", t.boundary_length},
+          {"boundary_per_sqrt_area", t.area > 0 ? t.boundary_length / std::sqrt(t.area) : 0.0},
           {"watertight", is_watertight(t)}};
 }
 
 std::string describe(const MeshTopology& t) {
   if (t.triangles == 0) return fmt::format("point cloud, {} points", t.vertices);
-  return fmt::format("{} vertices, {} faces, {} boundary edges, {} non-manifold edges, {} components, {}", t.vertices,
-                     t.triangles, t.boundary_edges, t.non_manifold_edges, t.components,
+  return fmt::format("{} vertices, {} faces, {} boundary edges ({:.3g} of boundary per square root of area), {} "
+                     "non-manifold edges, {} components ({} loose fragments under {:g} % of the area), {}",
+                     t.vertices, t.triangles, t.boundary_edges, t.area > 0 ? t.boundary_length / std::sqrt(t.area) : 0.0,
+                     t.non_manifold_edges, t.components, t.small_components, 100 * kSmallComponentShare,
                      is_watertight(t) ? "watertight" : "not watertight");
 }
 
@@ -51,6 +57,8 @@ int run_eval(Console& console, const EvalArgs& args) {
                      {"hausdorff", e.hausdorff},
                      {"distance_p95", e.distance_p95},
                      {"normal_consistency", or_null(e.normal_consistency)},
+                     {"far_share", or_null(e.far_share)},
+                     {"reference_spacing", e.reference_spacing},
                      {"samples", {{"reconstruction", e.reconstruction_samples}, {"reference", e.reference_samples}}},
                      {"reconstruction_mesh", facts(e.reconstruction_topology)},
                      {"reference_mesh", facts(e.reference_topology)}};
@@ -69,6 +77,9 @@ int run_eval(Console& console, const EvalArgs& args) {
   console.print(fmt::format("hausdorff       {:.6f}", e.hausdorff));
   console.print(std::isnan(e.normal_consistency) ? std::string("normals         n/a (one side has no normals)")
                                                  : fmt::format("normals         {:.4f}  (mean |n.n'|)", e.normal_consistency));
+  if (!std::isnan(e.far_share))
+    console.print(fmt::format("far surface     {:.4f} %  (farther than {:g} point spacings of the reference, {:.6g})",
+                              100 * e.far_share, options.far_spacings, e.reference_spacing));
   for (const FScore& f : e.fscores)
     console.print(fmt::format("F-score @{:.2f}%  {:.4f}  (precision {:.4f}, recall {:.4f})", 100 * f.threshold, f.fscore,
                               f.precision, f.recall));

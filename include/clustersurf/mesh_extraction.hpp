@@ -76,6 +76,10 @@ double cell_size_for_points(const PointCloud& cloud, double spacing_factor = kSp
 /// of cells from 2 to 100000. Throws OptionError otherwise.
 std::optional<std::uint32_t> parse_resolution(std::string_view text);
 
+/// A component with less than this share of a mesh's area is a loose fragment
+/// (MeshTopology::small_components): debris beside the surface, not a part of it.
+inline constexpr double kSmallComponentShare = 0.001;
+
 /// Edge-manifoldness, boundary and Euler characteristic of a mesh.
 struct MeshTopology {
   std::size_t vertices = 0;
@@ -86,10 +90,16 @@ struct MeshTopology {
   std::size_t inconsistent_edges = 0;  ///< interior edges traversed twice in the same direction
   long euler_characteristic = 0;       ///< V − E + F
   std::size_t components = 0;          ///< connected components (triangles sharing a vertex)
+  /// Components with less than kSmallComponentShare of the area (loose fragments).
+  std::size_t small_components = 0;
   double signed_volume = 0;            ///< > 0 for closed outward-facing meshes
+  double area = 0;                     ///< total triangle area
+  /// Total length of the boundary edges. Divided by √area it does not depend on the mesh's
+  /// scale or resolution: how much rim a surface has (0 for a closed one).
+  double boundary_length = 0;
 };
 
-/// Edge and component counts of `mesh`, and its signed volume.
+/// Edge and component counts of `mesh`, its area, boundary length and signed volume.
 MeshTopology mesh_topology(const TriangleMesh& mesh);
 
 /// Closed and edge-manifold: every edge has exactly two triangles (and there is at least one).

@@ -18,6 +18,9 @@ struct ComparisonOptions {
   std::uint64_t seed = 1;
   /// F-score thresholds τ, as fractions of the reference's bounding-box diagonal.
   std::vector<double> fscore_thresholds{0.005, 0.01};
+  /// SurfaceComparison::far_share counts the reconstruction's samples farther than this many
+  /// of a reference cloud's median point spacings from it.
+  double far_spacings = 8;
 };
 
 /// Precision, recall and F-score at one threshold.
@@ -45,6 +48,12 @@ struct SurfaceComparison {
   /// surface, over both directions; NaN when one side has no normals.
   double normal_consistency = 0;
   std::vector<FScore> fscores;
+  /// When the reference is a point cloud (a scan without a true surface): the share of the
+  /// reconstruction's samples farther than ComparisonOptions::far_spacings of its median point
+  /// spacings from every point, the surface the data does not support. NaN for a mesh reference.
+  double far_share = 0;
+  /// The reference cloud's median point spacing (input units); 0 for a mesh reference.
+  double reference_spacing = 0;
   std::size_t reconstruction_samples = 0;
   std::size_t reference_samples = 0;
   MeshTopology reconstruction_topology;  ///< counts only, when the reconstruction is a cloud

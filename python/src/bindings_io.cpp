@@ -83,7 +83,9 @@ py::dict topology_dict(const MeshTopology& t) {
   return py::dict("vertices"_a = t.vertices, "faces"_a = t.triangles, "edges"_a = t.edges,
                   "boundary_edges"_a = t.boundary_edges, "non_manifold_edges"_a = t.non_manifold_edges,
                   "inconsistent_edges"_a = t.inconsistent_edges, "euler_characteristic"_a = t.euler_characteristic,
-                  "components"_a = t.components, "signed_volume"_a = t.signed_volume, "watertight"_a = is_watertight(t));
+                  "components"_a = t.components, "small_components"_a = t.small_components, "area"_a = t.area,
+                  "boundary_length"_a = t.boundary_length, "signed_volume"_a = t.signed_volume,
+                  "watertight"_a = is_watertight(t));
 }
 
 }  // namespace
@@ -198,7 +200,7 @@ indices) or IoError.)doc");
 Is a mesh ready to print? As ``clustersurf check``: ``vertices`` (n, 3) and ``faces`` (m, 3),
 or a mesh object in place of both. Returns a dict: the topology (vertices, faces, edges,
 boundary_edges, non_manifold_edges, inconsistent_edges, euler_characteristic, components,
-signed_volume, watertight), genus and volume (None when not closed), self_intersections (pairs
+small_components, area, boundary_length, signed_volume, watertight), genus and volume (None when not closed), self_intersections (pairs
 of triangles crossing other than where they connect) with the first intersecting_pairs,
 consistently_oriented and printable.)doc");
 
@@ -293,6 +295,8 @@ the mesh's origin.)doc");
                         "normal_consistency"_a = std::isnan(e.normal_consistency) ? py::object(py::none())
                                                                                     : py::object(py::float_(e.normal_consistency)),
                         "fscore"_a = fscores,
+                        "far_share"_a = std::isnan(e.far_share) ? py::object(py::none()) : py::object(py::float_(e.far_share)),
+                        "reference_spacing"_a = e.reference_spacing,
                         "samples"_a = py::dict("reconstruction"_a = e.reconstruction_samples, "reference"_a = e.reference_samples),
                         "reconstruction_mesh"_a = topology_dict(e.reconstruction_topology),
                         "reference_mesh"_a = topology_dict(e.reference_topology));
@@ -315,8 +319,11 @@ points drawn on each mesh side; ``seed``: the draw's seed; ``fscore_thresholds``
 thresholds tau. Distances are fractions of the reference's bounding-box diagonal. Returns a
 dict with diagonal, accuracy, completeness, chamfer, hausdorff, distance_p95 (the 95th
 percentile of both directions' distances), normal_consistency (None
-without normals), fscore (list of dicts tau/precision/recall/fscore), samples,
-reconstruction_mesh and reference_mesh.)doc");
+without normals), fscore (list of dicts tau/precision/recall/fscore), far_share (against a
+reference cloud: the share of the reconstruction farther than 8 of its median point spacings
+from every point; None for a mesh reference), reference_spacing, samples, reconstruction_mesh
+and reference_mesh (topology dicts, with area, boundary_length and small_components: components
+under 0.1 % of the area).)doc");
 }
 
 }  // namespace clustersurf::python

@@ -1,5 +1,6 @@
 #include <clustersurf/errors.hpp>
 #include <clustersurf/surface_comparison.hpp>
+#include <clustersurf/cloud_stats.hpp>
 #include <clustersurf/kd_tree.hpp>
 #include <clustersurf/mesh_distance.hpp>
 #include <clustersurf/resample.hpp>
@@ -40,6 +41,8 @@ class Target {
     if (is_mesh(surface)) mesh_.emplace(surface);
     else points_.emplace(surface.vertices);
   }
+  /// The points' index when the surface is a cloud, else null.
+  const KdTree* points() const { return points_ ? &*points_ : nullptr; }
   bool has_normals() const { return mesh_.has_value() || surface_.normals.rows() == surface_.vertices.rows(); }
   /// Distance to the surface and the unit normal there (zero when unknown).
   std::pair<double, Eigen::Vector3d> nearest(const Eigen::Vector3d& p) const {
@@ -128,7 +131,8 @@ SurfaceComparison compare_surfaces(const TriangleMesh& reconstruction, const Tri
   const PointCloud ref_samples = samples_of(reference, options, options.seed + 1);
   e.reconstruction_samples = static_cast<std::size_t>(recon_samples.size());
   e.reference_samples = static_cast<std::size_t>(ref_samples.size());
-  const Direction forward = measure(recon_samples, Target(reference));
+  const Target reference_target(reference);
+  const Direction forward = measure(recon_samples, reference_target);
   const Direction backward = measure(ref_samples, Target(reconstruction));
 
   const double scale = 1.0 / e.diagonal;
@@ -149,6 +153,11 @@ SurfaceComparison compare_surfaces(const TriangleMesh& reconstruction, const Tri
     f.recall = share_within(backward.distance, tau * e.diagonal);
     f.fscore = f.precision + f.recall > 0 ? 2 * f.precision * f.recall / (f.precision + f.recall) : 0;
     e.fscores.push_back(f);
+  }
+  e.far_share = std::numeric_limits<double>::quiet_NaN();
+  if (const KdTree* points = reference_target.points()) {
+    e.reference_spacing = point_spacing(*points).median;
+    e.far_share = 1 - share_within(forward.distance, options.far_spacings * e.reference_spacing);
   }
   e.reconstruction_topology = mesh_topology(reconstruction);
   e.reference_topology = mesh_topology(reference);

@@ -20,6 +20,7 @@ MeshTopology mesh_topology(const TriangleMesh& mesh) {
   };
   std::vector<HalfEdge> half;
   half.reserve(3 * t.triangles);
+  std::vector<double> triangle_area(t.triangles);
   for (Eigen::Index f = 0; f < mesh.triangles.rows(); ++f) {
     for (int k = 0; k < 3; ++k) {
       const std::int32_t a = mesh.triangles(f, k), b = mesh.triangles(f, (k + 1) % 3);
@@ -29,6 +30,8 @@ MeshTopology mesh_topology(const TriangleMesh& mesh) {
     const Eigen::Vector3d p1 = mesh.vertices.row(mesh.triangles(f, 1)).transpose();
     const Eigen::Vector3d p2 = mesh.vertices.row(mesh.triangles(f, 2)).transpose();
     t.signed_volume += p0.dot(p1.cross(p2)) / 6.0;
+    triangle_area[static_cast<std::size_t>(f)] = 0.5 * (p1 - p0).cross(p2 - p0).norm();
+    t.area += triangle_area[static_cast<std::size_t>(f)];
   }
   std::sort(half.begin(), half.end(), [](const HalfEdge& a, const HalfEdge& b) {
     return a.lo < b.lo || (a.lo == b.lo && (a.hi < b.hi || (a.hi == b.hi && a.forward < b.forward)));
@@ -39,7 +42,10 @@ MeshTopology mesh_topology(const TriangleMesh& mesh) {
     while (j < half.size() && half[j].lo == half[i].lo && half[j].hi == half[i].hi) forward += half[j++].forward;
     const std::size_t count = j - i;
     ++t.edges;
-    if (count == 1) ++t.boundary_edges;
+    if (count == 1) {
+      ++t.boundary_edges;
+      t.boundary_length += (mesh.vertices.row(half[i].hi) - mesh.vertices.row(half[i].lo)).norm();
+    }
     else if (count > 2) ++t.non_manifold_edges;
     else if (forward != 1) ++t.inconsistent_edges;
     i = j;
@@ -49,6 +55,12 @@ MeshTopology mesh_topology(const TriangleMesh& mesh) {
   // Components: each names itself by one of its vertices.
   const std::vector<std::int32_t> component = detail::vertex_components(mesh);
   for (std::size_t v = 0; v < component.size(); ++v) t.components += component[v] == static_cast<std::int32_t>(v);
+  std::vector<double> component_area(component.size(), 0.0);
+  for (Eigen::Index f = 0; f < mesh.triangles.rows(); ++f)
+    component_area[static_cast<std::size_t>(component[static_cast<std::size_t>(mesh.triangles(f, 0))])] +=
+        triangle_area[static_cast<std::size_t>(f)];
+  for (std::size_t v = 0; v < component.size(); ++v)
+    t.small_components += component[v] == static_cast<std::int32_t>(v) && component_area[v] < kSmallComponentShare * t.area;
   return t;
 }
 
