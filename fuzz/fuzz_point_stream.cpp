@@ -1,6 +1,7 @@
-// libFuzzer target: PointStream, which reads a binary PLY of points in place, a block at a
-// time (other files it reads whole through the readers fuzz_ply covers). Every block must hold
-// finite points, and the blocks together the file's points.
+// libFuzzer target: PointStream, which reads a binary PLY of points, a LAS file or XYZ text in
+// place, a block at a time (other files it reads whole through the readers fuzz_ply covers).
+// Every block must hold finite points, and the blocks together the file's points, again after
+// a rewind.
 
 #include "fuzz_checks.hpp"
 
@@ -12,23 +13,30 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace clustersurf;
-  static const std::string file = "/tmp/clustersurf-fuzz-stream-" + std::to_string(::getpid()) + ".ply";
-  std::ofstream(file, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  for (const bool drop : {false, true}) {
-    try {
-      ReadOptions options;
-      options.drop_non_finite = drop;
-      PointStream stream(file, options);
-      PointCloud block;
-      std::uint64_t total = 0;
-      while (stream.read(7, block)) {
-        fuzz::require(block.positions.allFinite() && block.size() <= 7);
-        fuzz::require(!stream.has_normals() || (block.normals.rows() == block.size() && block.normals.allFinite()));
-        total += static_cast<std::uint64_t>(block.size());
+  // The same bytes as a .ply (binary PLY, LAS by its signature, others read whole) and as a
+  // .xyz (text read in place).
+  const std::string stem = "/tmp/clustersurf-fuzz-stream-" + std::to_string(::getpid());
+  for (const std::string file : {stem + ".ply", stem + ".xyz"}) {
+    std::ofstream(file, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+    for (const bool drop : {false, true}) {
+      try {
+        ReadOptions options;
+        options.drop_non_finite = drop;
+        PointStream stream(file, options);
+        PointCloud block;
+        std::uint64_t total = 0;
+        for (int pass = 0; pass < 2; ++pass, stream.rewind()) {
+          total = 0;
+          while (stream.read(7, block)) {
+            fuzz::require(block.positions.allFinite() && block.size() <= 7);
+            fuzz::require(!stream.has_normals() || (block.normals.rows() == block.size() && block.normals.allFinite()));
+            total += static_cast<std::uint64_t>(block.size());
+          }
+          fuzz::require(total <= stream.size());
+          fuzz::require(drop || total == stream.size());
+        }
+      } catch (const InputError&) {
       }
-      fuzz::require(total <= stream.size());
-      fuzz::require(drop || total == stream.size());
-    } catch (const InputError&) {
     }
   }
   return 0;

@@ -1,6 +1,6 @@
 #pragma once
 // Helpers of the reader and writer tests: exact comparisons, awkward values, hand-made PLY
-// headers and binary records, and reading bytes through a temporary file.
+// headers and binary records, hand-made LAS files, and reading bytes through a temporary file.
 
 #include "test_support.hpp"
 
@@ -49,6 +49,42 @@ struct Bytes {
   Bytes& floats(std::initializer_list<float> v) {
     for (float f : v) put(f);
     return *this;
+  }
+};
+
+/// A LAS file built byte by byte: the 1.4 header (375 bytes), no VLRs, then `records`.
+struct LasFile {
+  std::string bytes;
+
+  LasFile(unsigned format, std::uint16_t record_length, std::uint64_t count, Eigen::Vector3d scale = {0.01, 0.01, 0.01},
+          Eigen::Vector3d offset = {1000, 2000, 0}) {
+    bytes.assign(375, '\0');
+    std::memcpy(bytes.data(), "LASF", 4);
+    bytes[24] = 1, bytes[25] = 4;
+    poke<std::uint16_t>(94, 375);
+    poke<std::uint32_t>(96, 375);
+    bytes[104] = static_cast<char>(format);
+    poke<std::uint16_t>(105, record_length);
+    poke<std::uint32_t>(107, static_cast<std::uint32_t>(count));
+    for (int k = 0; k < 3; ++k) poke<double>(131 + 8 * static_cast<std::size_t>(k), scale(k));
+    for (int k = 0; k < 3; ++k) poke<double>(155 + 8 * static_cast<std::size_t>(k), offset(k));
+    poke<std::uint64_t>(247, count);
+  }
+  template <class T>
+  void poke(std::size_t at, T v) {
+    std::memcpy(bytes.data() + at, &v, sizeof v);
+  }
+  /// Appends one record of `length` bytes: integer coordinates, intensity, and the bytes `set`
+  /// (offset, value) on top.
+  void record(std::uint16_t length, std::int32_t x, std::int32_t y, std::int32_t z, std::uint16_t intensity,
+              std::initializer_list<std::pair<std::size_t, std::uint16_t>> set16 = {},
+              std::initializer_list<std::pair<std::size_t, std::uint8_t>> set8 = {}) {
+    std::string r(length, '\0');
+    std::memcpy(r.data(), &x, 4), std::memcpy(r.data() + 4, &y, 4), std::memcpy(r.data() + 8, &z, 4);
+    std::memcpy(r.data() + 12, &intensity, 2);
+    for (auto [at, v] : set16) std::memcpy(r.data() + at, &v, 2);
+    for (auto [at, v] : set8) r[at] = static_cast<char>(v);
+    bytes += r;
   }
 };
 

@@ -1,5 +1,5 @@
-// PointStream: a binary PLY of points read in place a block at a time gives the reader's
-// points; other files are read whole; damaged files are refused with the byte offset.
+// PointStream: a binary PLY of points or a LAS file read in place a block at a time gives the
+// reader's points; other files are read whole; damaged files are refused with the byte offset.
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/point_cloud_io.hpp>
@@ -11,7 +11,7 @@
 #include <cstring>
 #include <limits>
 
-#include "test_support.hpp"
+#include "io_test_files.hpp"
 
 using namespace clustersurf;
 
@@ -61,15 +61,74 @@ TEST(PointStream, BinaryPlyInBlocksIsTheReadersCloud) {
 TEST(PointStream, OtherFilesAreReadWhole) {
   const test::TempDir dir;
   const PointCloud cloud = test::sample_sphere(300);
-  write_xyz(dir / "s.xyz", cloud);
   PlyWriteOptions ascii;
   ascii.binary = false;
   write_ply(dir / "s.ply", cloud, ascii);
-  for (const char* name : {"s.xyz", "s.ply"}) {
+  TriangleMesh vertices;
+  vertices.vertices = cloud.positions;
+  write_obj(dir / "s.obj", vertices);
+  for (const char* name : {"s.ply", "s.obj"}) {
     PointStream stream(dir / name);
     EXPECT_FALSE(stream.streamed()) << name;
     EXPECT_EQ(read_all(stream, 50).positions, read_point_cloud(dir / name).positions) << name;
   }
+}
+
+// XYZ text, the commonest export, is read in place: the reader's points and normals, block by
+// block, again after a rewind.
+TEST(PointStream, XyzTextInBlocksIsTheReadersCloud) {
+  const test::TempDir dir;
+  const PointCloud cloud = test::sample_sphere(300);
+  write_xyz(dir / "s.xyz", cloud);
+  PointStream stream(dir / "s.xyz");
+  EXPECT_TRUE(stream.streamed());
+  EXPECT_EQ(stream.size(), 300u);
+  EXPECT_TRUE(stream.has_normals());
+  const PointCloud read = read_point_cloud(dir / "s.xyz");
+  const PointCloud streamed = read_all(stream, 64);
+  EXPECT_EQ(streamed.positions, read.positions);
+  EXPECT_EQ(streamed.normals, read.normals);
+  stream.rewind();
+  EXPECT_EQ(read_all(stream, 7).positions, read.positions);
+  // A PTS file: its count line, comments, blank lines, comma separators, intensity and colour.
+  test::write_file(dir / "p.pts", "3\n# scan 1\n1 2 3 10 255 0 0\n\n4,5,6,11,0,255,0\n7 8 9 12 0 0 255\n");
+  PointStream pts(dir / "p.pts");
+  EXPECT_EQ(pts.size(), 3u);
+  EXPECT_FALSE(pts.has_normals());
+  const PointCloud p = read_all(pts, 2);
+  ASSERT_EQ(p.size(), 3);
+  EXPECT_EQ(p.positions.row(2), Eigen::RowVector3d(7, 8, 9));
+}
+
+// A broken text file is refused when opened, at the reader's line, before any block is read; a
+// non-finite value at its line when read, or dropped on request.
+TEST(PointStream, DamagedXyzIsRefusedWithTheLine) {
+  const test::TempDir dir;
+  const auto line_of_error = [&](const std::string& text) -> std::optional<std::uint64_t> {
+    test::write_file(dir / "bad.xyz", text);
+    try {
+      PointStream stream(dir / "bad.xyz");
+    } catch (const InputError& e) {
+      return e.where().line;
+    }
+    return std::nullopt;
+  };
+  EXPECT_EQ(line_of_error("1 2 3\n4 5 6\n7 8\n"), std::optional<std::uint64_t>(3));
+  EXPECT_EQ(line_of_error("1 2 3\n4 five 6\n"), std::optional<std::uint64_t>(2));
+  EXPECT_EQ(line_of_error("5\n1 2 3\n"), std::optional<std::uint64_t>(1));  // the count line says 5
+  test::write_file(dir / "nan.xyz", "1 2 3\n4 nan 6\n7 8 9\n");
+  PointStream strict(dir / "nan.xyz");
+  EXPECT_EQ(strict.size(), 3u);
+  try {
+    read_all(strict, 2);
+    FAIL() << "a NaN was read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().line, std::optional<std::uint64_t>(2)) << e.what();
+  }
+  ReadOptions drop;
+  drop.drop_non_finite = true;
+  PointStream lenient(dir / "nan.xyz", drop);
+  EXPECT_EQ(read_all(lenient, 2).size(), 2);
 }
 
 TEST(PointStream, ElementsBeforeTheVerticesAndBigEndian) {
@@ -127,4 +186,49 @@ TEST(PointStream, DamagedFilesAreRefusedWithTheByteOffset) {
   PointStream lenient(dir / "nan.ply", drop);
   EXPECT_EQ(read_all(lenient, 4).size(), 9);
   EXPECT_THROW(PointStream(dir / "missing.ply"), IoError);
+}
+
+// LAS, the surveys' format, is read in place too: the same points as the reader's, in the file's
+// coordinates (the reader moves them next to zero and keeps the shift as the origin).
+TEST(PointStream, LasInBlocksIsTheReadersCloud) {
+  const test::TempDir dir;
+  test::LasFile las(6, 30, 5, {0.001, 0.001, 0.01}, {636000, 849000, 400});
+  for (std::int32_t i = 0; i < 5; ++i) las.record(30, 1000 * i, -7 * i, 3 + i, 0);
+  test::write_file(dir / "s.las", las.bytes);
+  PointStream stream(dir / "s.las");
+  EXPECT_TRUE(stream.streamed());
+  EXPECT_EQ(stream.size(), 5u);
+  EXPECT_FALSE(stream.has_normals());
+  const PointCloud read = read_point_cloud(dir / "s.las");
+  Points world = read.positions;
+  world.rowwise() += read.origin.transpose();
+  const PointCloud streamed = read_all(stream, 2);
+  EXPECT_EQ(streamed.positions, world);
+  EXPECT_LT((streamed.positions.row(4) - Eigen::RowVector3d(636004, 849000 - 0.028, 400.07)).cwiseAbs().maxCoeff(), 1e-9);
+
+  const auto real = test::shared_data("formats/las/autzen_trim.las");
+  if (!real) GTEST_SKIP() << "the shared LAS sample formats/las/autzen_trim.las is not here";
+  PointStream autzen(*real);
+  EXPECT_TRUE(autzen.streamed());
+  const PointCloud whole = read_point_cloud(*real);
+  Points whole_world = whole.positions;
+  whole_world.rowwise() += whole.origin.transpose();
+  const PointCloud blocks = read_all(autzen, 4096);
+  ASSERT_EQ(blocks.size(), 110000);
+  EXPECT_LT((blocks.positions - whole_world).cwiseAbs().maxCoeff(), 1e-9);  // the reader's shift is exact to rounding
+}
+
+// A LAS header that promises more points than the file holds is refused when opened, with the
+// byte offset of the count, as the reader refuses it.
+TEST(PointStream, DamagedLasIsRefusedWhenOpened) {
+  const test::TempDir dir;
+  test::LasFile las(6, 30, 5);
+  for (std::int32_t i = 0; i < 4; ++i) las.record(30, i, i, i, 0);
+  test::write_file(dir / "short.las", las.bytes);
+  try {
+    PointStream stream(dir / "short.las");
+    FAIL() << "a LAS file short of its points was opened";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().byte_offset, std::optional<std::uint64_t>(107)) << e.what();
+  }
 }

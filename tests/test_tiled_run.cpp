@@ -10,7 +10,7 @@
 
 #include <fstream>
 
-#include "test_support.hpp"
+#include "io_test_files.hpp"
 
 using namespace clustersurf;
 
@@ -127,6 +127,36 @@ TEST(TiledRun, OutOfCoreRunCleansUpAndEqualsTheTiledPipeline) {
   EXPECT_EQ(test::read_file(out_of_core.mesh_output), test::read_file(torus.dir / "tiled.ply"));
   EXPECT_EQ(r.mesh->vertices, static_cast<std::size_t>(tiled.mesh->mesh.vertices.rows()));
   EXPECT_TRUE(r.orientation.used_normals);
+}
+
+// A survey's LAS file is read in place (PointStream) and gives the tiled pipeline's result on
+// the same points read whole.
+TEST(TiledRun, LasInputIsReadInPlaceAndTiled) {
+  const test::TempDir dir;
+  const PointCloud torus = test::sample_torus(12000);
+  const Eigen::Index n = torus.size();
+  test::LasFile las(6, 30, static_cast<std::uint64_t>(n), {1e-6, 1e-6, 1e-6}, {0, 0, 0});
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::Vector3d x = torus.positions.row(i).transpose() * 1e6;
+    las.record(30, static_cast<std::int32_t>(std::lround(x.x())), static_cast<std::int32_t>(std::lround(x.y())),
+               static_cast<std::int32_t>(std::lround(x.z())), 0);
+  }
+  const std::filesystem::path file = dir / "torus.las";
+  test::write_file(file, las.bytes);
+  const TiledRun run = TiledRun::partition(file, dir / "work", small_regions(4000));
+  ASSERT_GE(run.regions(), 3u);
+  EXPECT_EQ(run.input_points(), static_cast<std::uint64_t>(n));
+  EXPECT_FALSE(run.has_normals());
+  const ReconstructOptions options;
+  const SurfaceMesh mesh = run_all(run, options);
+  RegionOptions regions;
+  regions.max_points = 4000;
+  ReconstructOptions in_memory = options;
+  in_memory.build.keep_point_leaves = false;
+  const Reconstruction tiled = reconstruct_tiled(read_point_cloud(file), regions, in_memory);
+  EXPECT_EQ(serialize_tree(run.merge()), serialize_tree(tiled.tree));
+  EXPECT_TRUE(same_mesh(mesh.mesh, tiled.mesh->mesh));
+  EXPECT_GT(mesh.mesh.triangles.rows(), 1000);
 }
 
 TEST(TiledRun, MeshJoinedIntoTheFileTileByTileIsTheJoinedMeshWritten) {

@@ -11,11 +11,13 @@
 namespace clustersurf {
 
 /// A point file read in blocks, in file order, in the file's coordinates (no origin shift).
-/// A binary PLY file of points (a vertex element of scalar properties and no faces) is read in
-/// place: memory-mapped, each block's pages released once read, so memory stays at one block
-/// whatever the file's size. Other files (other formats, ascii PLY, meshes, which
-/// read_point_cloud() samples) are read whole first and served from memory. Positions and
-/// normals only.
+/// A binary PLY file of points (a vertex element of scalar properties and no faces), a LAS
+/// file (1.0-1.4, any point format; its header checked as read_point_cloud() checks it) and an
+/// XYZ / PTS / TXT / CSV text file (parsed once when opened, for its count and every error the
+/// reader gives, then again block by block) are read in place: memory-mapped, each block's
+/// pages released once read, so memory stays at one block whatever the file's size. Other files
+/// (E57, PTX, PCD, OBJ, ascii PLY, meshes, which read_point_cloud() samples) are read whole
+/// first and served from memory. Positions and normals only.
 class PointStream {
  public:
   /// Opens `file`; IoError when it cannot be read, InputError when it is malformed (a binary
@@ -28,11 +30,11 @@ class PointStream {
   /// Points in the file (before non-finite ones are dropped, when ReadOptions says so).
   std::uint64_t size() const noexcept;
   bool has_normals() const noexcept;
-  /// Read in place (binary PLY points) rather than whole.
+  /// Read in place (binary PLY points, LAS, XYZ text) rather than whole.
   bool streamed() const noexcept;
   /// The next at most `count` points into `block` (its rows replaced); false at the end of the
-  /// file. InputError (with the byte offset) for a non-finite coordinate or normal unless
-  /// ReadOptions::drop_non_finite.
+  /// file. InputError (with the byte offset, or the line of a text file) for a non-finite
+  /// coordinate or normal unless ReadOptions::drop_non_finite.
   bool read(std::size_t count, PointCloud& block);
   /// Back to the first point.
   void rewind();

@@ -51,7 +51,14 @@ RecordLayout layout_of(unsigned format) {
 
 }  // namespace
 
-ParsedFile read_las(const std::filesystem::path& file, std::string_view bytes) {
+Eigen::Vector3d LasPoints::position(std::string_view bytes, std::uint64_t i) const {
+  const std::uint64_t r = first + i * record;
+  Eigen::Vector3d x;
+  for (int k = 0; k < 3; ++k) x(k) = static_cast<double>(field<std::int32_t>(bytes, r + 4 * static_cast<unsigned>(k))) * scale(k) + offset(k);
+  return x;
+}
+
+LasPoints las_points(const std::filesystem::path& file, std::string_view bytes) {
   const auto size = static_cast<std::uint64_t>(bytes.size());
   auto fail = [&](std::uint64_t at, const std::string& message) -> InputError {
     return InputError(file, FileLocation{std::nullopt, at}, message);
@@ -131,7 +138,13 @@ ParsedFile read_las(const std::filesystem::path& file, std::string_view bytes) {
                         " bytes from byte " + std::to_string(point_offset) + ", but the file ends at byte " +
                         std::to_string(size));
 
-  const auto n = static_cast<Eigen::Index>(count);
+  return {count, point_offset, record_length, format, scale, offset};
+}
+
+ParsedFile read_las(const std::filesystem::path& file, std::string_view bytes) {
+  const LasPoints las = las_points(file, bytes);
+  const RecordLayout layout = layout_of(las.format);
+  const auto n = static_cast<Eigen::Index>(las.count);
   ParsedFile parsed;
   PointCloud& cloud = parsed.cloud;
   cloud.positions.resize(n, 3);
@@ -139,9 +152,8 @@ ParsedFile read_las(const std::filesystem::path& file, std::string_view bytes) {
   Eigen::Matrix<std::uint16_t, Eigen::Dynamic, 3, Eigen::RowMajor> rgb;
   if (layout.rgb) rgb.resize(n, 3);
   for (Eigen::Index i = 0; i < n; ++i) {
-    const std::uint64_t r = point_offset + static_cast<std::uint64_t>(i) * record_length;
-    for (int k = 0; k < 3; ++k)
-      cloud.positions(i, k) = static_cast<double>(field<std::int32_t>(bytes, r + 4 * static_cast<unsigned>(k))) * scale(k) + offset(k);
+    const std::uint64_t r = las.first + static_cast<std::uint64_t>(i) * las.record;
+    cloud.positions.row(i) = las.position(bytes, static_cast<std::uint64_t>(i)).transpose();
     intensity(i) = field<std::uint16_t>(bytes, r + 12);
     classification(i) = static_cast<float>(static_cast<unsigned char>(bytes[r + layout.classification]) & layout.classification_mask);
     if (layout.rgb)

@@ -1,11 +1,14 @@
-// Point files read a block at a time: binary PLY points in place, anything else whole.
+// Point files read a block at a time: binary PLY points, LAS and XYZ text in place, anything else whole.
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/point_stream.hpp>
 
 #include "io/mapped_file.hpp"
 #include "io/ply_format.hpp"
+#include "io/readers.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 
@@ -54,18 +57,89 @@ struct PointStream::Impl {
   ReadOptions options;
   std::optional<io::MappedFile> mapped;
   std::optional<PlyPoints> ply;
+  std::optional<io::LasPoints> las;
+  std::optional<io::XyzLines> xyz;
+  std::uint64_t xyz_points = 0;
+  bool xyz_normals = false;
+  std::size_t released = 0;  // bytes of an XYZ file given back to the system
   PointCloud whole;  // the file read whole, in the file's coordinates, when not streamed
   std::uint64_t next = 0;
 
-  std::uint64_t size() const { return ply ? ply->vertex.count : static_cast<std::uint64_t>(whole.size()); }
+  std::uint64_t size() const {
+    return ply ? ply->vertex.count : las ? las->count : xyz ? xyz_points : static_cast<std::uint64_t>(whole.size());
+  }
+  bool streamed() const { return ply.has_value() || las.has_value() || xyz.has_value(); }
+  /// Parses the XYZ file once (its count, its columns, every error the reader would give),
+  /// then starts over for the points.
+  void open_xyz();
+  /// The next `n` XYZ points into `block`.
+  void read_xyz(Eigen::Index n, PointCloud& block);
+  /// The next `n` LAS records into `block` (positions only: LAS has no normals).
+  void read_las(Eigen::Index n, PointCloud& block);
 };
+
+void PointStream::Impl::open_xyz() {
+  const std::string_view bytes = mapped->view();
+  {
+    io::XyzLines counting(file, bytes);
+    std::array<double, 7> v{};
+    xyz_points = 0;
+    for (std::size_t columns; (columns = counting.next(v)) != 0; ++xyz_points) xyz_normals = columns == 6;
+    mapped->release(0, bytes.size());
+  }
+  xyz.reset();
+  xyz.emplace(file, bytes);
+  released = 0;
+}
+
+void PointStream::Impl::read_xyz(Eigen::Index n, PointCloud& block) {
+  block.positions.resize(n, 3);
+  if (xyz_normals) block.normals.resize(n, 3);
+  std::array<double, 7> v{};
+  Eigen::Index kept = 0;
+  for (Eigen::Index i = 0; i < n && xyz->next(v) != 0; ++i) {
+    const bool finite = std::all_of(v.begin(), v.begin() + (xyz_normals ? 6 : 3), [](double x) { return std::isfinite(x); });
+    if (!finite) {
+      if (options.drop_non_finite) continue;
+      throw InputError(file, FileLocation{xyz->line(), std::nullopt}, "a non-finite coordinate or normal");
+    }
+    block.positions.row(kept) << v[0], v[1], v[2];
+    if (xyz_normals) block.normals.row(kept) << v[3], v[4], v[5];
+    ++kept;
+  }
+  block.positions.conservativeResize(kept, 3);
+  if (xyz_normals) block.normals.conservativeResize(kept, 3);
+  mapped->release(released, xyz->offset());
+  released = xyz->offset();
+}
+
+void PointStream::Impl::read_las(Eigen::Index n, PointCloud& block) {
+  const std::string_view bytes = mapped->view();
+  block.positions.resize(n, 3);
+  Eigen::Index kept = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const std::uint64_t record = next + static_cast<std::uint64_t>(i);
+    const Eigen::Vector3d x = las->position(bytes, record);
+    if (x.allFinite()) block.positions.row(kept++) = x.transpose();
+    else if (!options.drop_non_finite)
+      throw InputError(file, FileLocation{std::nullopt, las->first + record * las->record},
+                       "point " + std::to_string(record) + ": its coordinates overflow (integer times the header's scale)");
+  }
+  block.positions.conservativeResize(kept, 3);
+  const std::size_t begin = las->first + static_cast<std::size_t>(next) * las->record;
+  mapped->release(begin, begin + static_cast<std::size_t>(n) * las->record);
+}
 
 PointStream::PointStream(const std::filesystem::path& file, const ReadOptions& options) : impl_(std::make_unique<Impl>()) {
   impl_->file = file;
   impl_->options = options;
   impl_->mapped.emplace(file);
-  impl_->ply = ply_points(file, impl_->mapped->view());
-  if (!impl_->ply) {
+  const std::string_view bytes = impl_->mapped->view();
+  const FileFormat format = format_from_magic(bytes).value_or(format_from_extension(file));
+  if (format == FileFormat::Las) impl_->las = io::las_points(file, bytes);
+  else if (format == FileFormat::Xyz && !bytes.empty()) impl_->open_xyz();
+  else impl_->ply = ply_points(file, bytes);
+  if (!impl_->streamed()) {
     impl_->mapped.reset();
     impl_->whole = read_point_cloud(file, options);
     impl_->whole.positions.rowwise() += impl_->whole.origin.transpose();  // exact: the shift was
@@ -78,9 +152,14 @@ PointStream::PointStream(const std::filesystem::path& file, const ReadOptions& o
 PointStream::~PointStream() = default;
 
 std::uint64_t PointStream::size() const noexcept { return impl_->size(); }
-bool PointStream::has_normals() const noexcept { return impl_->ply ? impl_->ply->layout.normals() : impl_->whole.has_normals(); }
-bool PointStream::streamed() const noexcept { return impl_->ply.has_value(); }
-void PointStream::rewind() { impl_->next = 0; }
+bool PointStream::has_normals() const noexcept {
+  return impl_->ply ? impl_->ply->layout.normals() : impl_->xyz ? impl_->xyz_normals : !impl_->las && impl_->whole.has_normals();
+}
+bool PointStream::streamed() const noexcept { return impl_->streamed(); }
+void PointStream::rewind() {
+  impl_->next = 0;
+  if (impl_->xyz) impl_->open_xyz();
+}
 
 bool PointStream::read(std::size_t count, PointCloud& block) {
   Impl& s = *impl_;
@@ -88,6 +167,12 @@ bool PointStream::read(std::size_t count, PointCloud& block) {
   if (s.next >= total || count == 0) return false;
   const auto n = static_cast<Eigen::Index>(std::min<std::uint64_t>(count, total - s.next));
   block = PointCloud{};
+  if (s.las || s.xyz) {
+    if (s.las) s.read_las(n, block);
+    else s.read_xyz(n, block);
+    s.next += static_cast<std::uint64_t>(n);
+    return true;
+  }
   if (!s.ply) {
     block.positions = s.whole.positions.middleRows(static_cast<Eigen::Index>(s.next), n);
     if (s.whole.has_normals()) block.normals = s.whole.normals.middleRows(static_cast<Eigen::Index>(s.next), n);

@@ -5,9 +5,14 @@
 #include <clustersurf/point_cloud.hpp>
 #include <clustersurf/point_cloud_io.hpp>
 
+#include "io/text_parse.hpp"
+
+#include <array>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string_view>
+#include <vector>
 
 namespace clustersurf::io {
 
@@ -31,9 +36,53 @@ inline void note_non_finite(ParsedFile& parsed, Eigen::Index row, const FileLoca
 
 ParsedFile read_ply(const std::filesystem::path& file, std::string_view bytes, bool want_faces);
 ParsedFile read_xyz(const std::filesystem::path& file, std::string_view bytes);
+
+/// An XYZ / PTS / TXT / CSV file parsed a point at a time (read_xyz() is this run to the end):
+/// the same rules and the same errors, each naming its line.
+class XyzLines {
+ public:
+  /// `bytes` must outlive the parser.
+  XyzLines(const std::filesystem::path& file, std::string_view bytes);
+  XyzLines(const XyzLines&) = delete;
+  XyzLines& operator=(const XyzLines&) = delete;
+  /// The next point's values into v (3, 4, 6 or 7 of them, the file's columns) and their
+  /// count; 0 at the end of the file, where a PTS count line is checked. Throws InputError.
+  std::size_t next(std::array<double, 7>& v);
+  /// The line of the last point read.
+  std::uint64_t line() const noexcept { return cursor_.line(); }
+  /// Bytes consumed so far.
+  std::size_t offset() const noexcept { return cursor_.offset(); }
+
+ private:
+  std::filesystem::path file_;
+  TextCursor cursor_;
+  std::vector<std::string_view> fields_;
+  std::size_t columns_ = 0;
+  std::uint64_t columns_line_ = 0;
+  std::int64_t declared_ = -1;
+  std::uint64_t declared_line_ = 0;
+  std::uint64_t points_ = 0;
+};
 ParsedFile read_obj(const std::filesystem::path& file, std::string_view bytes, bool want_faces);
 /// LAS 1.0-1.4, point formats 0-10 (las_reader.cpp).
 ParsedFile read_las(const std::filesystem::path& file, std::string_view bytes);
+
+/// Where a LAS file's point records lie and how their coordinates decode, from a header checked
+/// against the file's size (every count, offset, VLR and EVLR): las_points() throws InputError
+/// with the byte offset otherwise, so each of the `count` records lies inside the file.
+struct LasPoints {
+  std::uint64_t count = 0;
+  std::uint64_t first = 0;   ///< byte offset of the first record
+  std::uint16_t record = 0;  ///< bytes per record
+  unsigned format = 0;       ///< point data record format, 0-10
+  Eigen::Vector3d scale = Eigen::Vector3d::Ones();
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+
+  /// The position of record `i` (< count) in the file's coordinates: integers times the
+  /// scale plus the offset, in double precision.
+  Eigen::Vector3d position(std::string_view bytes, std::uint64_t i) const;
+};
+LasPoints las_points(const std::filesystem::path& file, std::string_view bytes);
 /// E57: every scan, posed, with colors and intensity when present (e57_reader.cpp).
 ParsedFile read_e57(const std::filesystem::path& file, std::string_view bytes);
 /// PTX: every gridded scan with its transform; (0,0,0) is no return (ptx_reader.cpp).
