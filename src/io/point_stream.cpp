@@ -78,14 +78,22 @@ struct PointStream::Impl {
   void read_las(Eigen::Index n, PointCloud& block);
 };
 
+/// The counting pass over an XYZ file gives its pages back this often, so that it holds no
+/// more of the file than a block does.
+constexpr std::size_t kReleaseBytes = std::size_t{64} << 20;
+
 void PointStream::Impl::open_xyz() {
   const std::string_view bytes = mapped->view();
   {
     io::XyzLines counting(file, bytes);
     std::array<double, 7> v{};
     xyz_points = 0;
-    for (std::size_t columns; (columns = counting.next(v)) != 0; ++xyz_points) xyz_normals = columns == 6;
-    mapped->release(0, bytes.size());
+    std::size_t counted = 0;  // bytes given back so far: the pass reads the whole file
+    for (std::size_t columns; (columns = counting.next(v)) != 0; ++xyz_points) {
+      xyz_normals = columns == 6;
+      if (counting.offset() - counted >= kReleaseBytes) mapped->release(counted, counting.offset()), counted = counting.offset();
+    }
+    mapped->release(counted, bytes.size());
   }
   xyz.reset();
   xyz.emplace(file, bytes);
