@@ -16,7 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // The same bytes as a .ply (binary PLY, LAS by its signature, others read whole) and as a
   // .xyz (text read in place).
   const std::string stem = "/tmp/clustersurf-fuzz-stream-" + std::to_string(::getpid());
-  for (const std::string file : {stem + ".ply", stem + ".xyz"}) {
+  for (const std::string& file : {stem + ".ply", stem + ".xyz"}) {
     std::ofstream(file, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
     for (const bool drop : {false, true}) {
       try {
