@@ -50,7 +50,8 @@ struct SurfaceComparison {
   std::vector<FScore> fscores;
   /// When the reference is a point cloud (a scan without a true surface): the share of the
   /// reconstruction's samples farther than ComparisonOptions::far_spacings of its median point
-  /// spacings from every point, the surface the data does not support. NaN for a mesh reference.
+  /// spacings from every point, the surface the data does not support. NaN for a mesh reference
+  /// (or a cloud whose points mostly coincide: its median spacing is 0).
   double far_share = 0;
   /// The reference cloud's median point spacing (input units); 0 for a mesh reference.
   double reference_spacing = 0;

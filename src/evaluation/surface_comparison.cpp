@@ -157,7 +157,8 @@ SurfaceComparison compare_surfaces(const TriangleMesh& reconstruction, const Tri
   e.far_share = std::numeric_limits<double>::quiet_NaN();
   if (const KdTree* points = reference_target.points()) {
     e.reference_spacing = point_spacing(*points).median;
-    e.far_share = 1 - share_within(forward.distance, options.far_spacings * e.reference_spacing);
+    // Most points coinciding leave no spacing to measure by.
+    if (e.reference_spacing > 0) e.far_share = 1 - share_within(forward.distance, options.far_spacings * e.reference_spacing);
   }
   e.reconstruction_topology = mesh_topology(reconstruction);
   e.reference_topology = mesh_topology(reference);
