@@ -125,6 +125,12 @@ TEST(PointStream, DamagedXyzIsRefusedWithTheLine) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.where().line, std::optional<std::uint64_t>(2)) << e.what();
   }
+  // The parser is past the refused point: reading on is refused too, until a rewind.
+  PointCloud block;
+  EXPECT_THROW(strict.read(2, block), InputError);
+  strict.rewind();
+  ASSERT_TRUE(strict.read(1, block));
+  EXPECT_EQ(block.positions.row(0), Eigen::RowVector3d(1, 2, 3));
   ReadOptions drop;
   drop.drop_non_finite = true;
   PointStream lenient(dir / "nan.xyz", drop);

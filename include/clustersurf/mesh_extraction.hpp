@@ -95,7 +95,8 @@ struct MeshTopology {
   double signed_volume = 0;            ///< > 0 for closed outward-facing meshes
   double area = 0;                     ///< total triangle area
   /// Total length of the boundary edges. Divided by √area it does not depend on the mesh's
-  /// scale or resolution: how much rim a surface has (0 for a closed one).
+  /// scale: how much rim a surface has (0 for a closed one). A finer grid makes a ragged rim
+  /// longer, so compare meshes of similar resolution.
   double boundary_length = 0;
 };
 

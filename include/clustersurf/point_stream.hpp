@@ -21,7 +21,8 @@ namespace clustersurf {
 class PointStream {
  public:
   /// Opens `file`; IoError when it cannot be read, InputError when it is malformed (a binary
-  /// PLY's records are checked against the file's size here).
+  /// PLY's records and a LAS header are checked against the file's size here, and XYZ text is
+  /// parsed through, so its errors come out here, with their line).
   explicit PointStream(const std::filesystem::path& file, const ReadOptions& options = {});
   ~PointStream();
   PointStream(const PointStream&) = delete;
@@ -34,9 +35,10 @@ class PointStream {
   bool streamed() const noexcept;
   /// The next at most `count` points into `block` (its rows replaced); false at the end of the
   /// file. InputError (with the byte offset, or the line of a text file) for a non-finite
-  /// coordinate or normal unless ReadOptions::drop_non_finite.
+  /// coordinate or normal unless ReadOptions::drop_non_finite; after that, InputError until
+  /// rewind().
   bool read(std::size_t count, PointCloud& block);
-  /// Back to the first point.
+  /// Back to the first point (also after a read that threw).
   void rewind();
 
  private:

@@ -84,7 +84,9 @@ py::dict topology_dict(const MeshTopology& t) {
                   "boundary_edges"_a = t.boundary_edges, "non_manifold_edges"_a = t.non_manifold_edges,
                   "inconsistent_edges"_a = t.inconsistent_edges, "euler_characteristic"_a = t.euler_characteristic,
                   "components"_a = t.components, "small_components"_a = t.small_components, "area"_a = t.area,
-                  "boundary_length"_a = t.boundary_length, "signed_volume"_a = t.signed_volume,
+                  "boundary_length"_a = t.boundary_length,
+                  "boundary_per_sqrt_area"_a = t.area > 0 ? t.boundary_length / std::sqrt(t.area) : 0.0,
+                  "signed_volume"_a = t.signed_volume,
                   "watertight"_a = is_watertight(t));
 }
 
@@ -200,7 +202,7 @@ indices) or IoError.)doc");
 Is a mesh ready to print? As ``clustersurf check``: ``vertices`` (n, 3) and ``faces`` (m, 3),
 or a mesh object in place of both. Returns a dict: the topology (vertices, faces, edges,
 boundary_edges, non_manifold_edges, inconsistent_edges, euler_characteristic, components,
-small_components, area, boundary_length, signed_volume, watertight), genus and volume (None when not closed), self_intersections (pairs
+small_components, area, boundary_length, boundary_per_sqrt_area, signed_volume, watertight), genus and volume (None when not closed), self_intersections (pairs
 of triangles crossing other than where they connect) with the first intersecting_pairs,
 consistently_oriented and printable.)doc");
 
@@ -322,8 +324,8 @@ percentile of both directions' distances), normal_consistency (None
 without normals), fscore (list of dicts tau/precision/recall/fscore), far_share (against a
 reference cloud: the share of the reconstruction farther than 8 of its median point spacings
 from every point; None for a mesh reference), reference_spacing, samples, reconstruction_mesh
-and reference_mesh (topology dicts, with area, boundary_length and small_components: components
-under 0.1 % of the area).)doc");
+and reference_mesh (topology dicts, with area, boundary_length, boundary_per_sqrt_area and
+small_components: components under 0.1 % of the area).)doc");
 }
 
 }  // namespace clustersurf::python

@@ -62,6 +62,7 @@ struct PointStream::Impl {
   std::uint64_t xyz_points = 0;
   bool xyz_normals = false;
   std::size_t released = 0;  // bytes of an XYZ file given back to the system
+  bool failed = false;       // a read threw: the text parser is past the point it refused
   PointCloud whole;  // the file read whole, in the file's coordinates, when not streamed
   std::uint64_t next = 0;
 
@@ -72,6 +73,12 @@ struct PointStream::Impl {
   /// Parses the XYZ file once (its count, its columns, every error the reader would give),
   /// then starts over for the points.
   void open_xyz();
+  /// Back to the XYZ file's first point.
+  void restart_xyz() {
+    xyz.reset();
+    xyz.emplace(file, mapped->view());
+    released = 0;
+  }
   /// The next `n` XYZ points into `block`.
   void read_xyz(Eigen::Index n, PointCloud& block);
   /// The next `n` LAS records into `block` (positions only: LAS has no normals).
@@ -95,9 +102,7 @@ void PointStream::Impl::open_xyz() {
     }
     mapped->release(counted, bytes.size());
   }
-  xyz.reset();
-  xyz.emplace(file, bytes);
-  released = 0;
+  restart_xyz();
 }
 
 void PointStream::Impl::read_xyz(Eigen::Index n, PointCloud& block) {
@@ -109,7 +114,10 @@ void PointStream::Impl::read_xyz(Eigen::Index n, PointCloud& block) {
     const bool finite = std::all_of(v.begin(), v.begin() + (xyz_normals ? 6 : 3), [](double x) { return std::isfinite(x); });
     if (!finite) {
       if (options.drop_non_finite) continue;
-      throw InputError(file, FileLocation{xyz->line(), std::nullopt}, "a non-finite coordinate or normal");
+      failed = true;
+      throw InputError(file, FileLocation{xyz->line(), std::nullopt},
+                       "point " + std::to_string(next + static_cast<std::uint64_t>(i)) +
+                           " (0-based) has a non-finite coordinate or normal (NaN or Inf); use the option to drop such points");
     }
     block.positions.row(kept) << v[0], v[1], v[2];
     if (xyz_normals) block.normals.row(kept) << v[3], v[4], v[5];
@@ -143,7 +151,7 @@ PointStream::PointStream(const std::filesystem::path& file, const ReadOptions& o
   impl_->options = options;
   impl_->mapped.emplace(file);
   const std::string_view bytes = impl_->mapped->view();
-  const FileFormat format = format_from_magic(bytes).value_or(format_from_extension(file));
+  const FileFormat format = bytes.empty() ? FileFormat::Ply : format_from_magic(bytes).value_or(format_from_extension(file));
   if (format == FileFormat::Las) impl_->las = io::las_points(file, bytes);
   else if (format == FileFormat::Xyz && !bytes.empty()) impl_->open_xyz();
   else impl_->ply = ply_points(file, bytes);
@@ -166,7 +174,8 @@ bool PointStream::has_normals() const noexcept {
 bool PointStream::streamed() const noexcept { return impl_->streamed(); }
 void PointStream::rewind() {
   impl_->next = 0;
-  if (impl_->xyz) impl_->open_xyz();
+  impl_->failed = false;
+  if (impl_->xyz) impl_->restart_xyz();
 }
 
 bool PointStream::read(std::size_t count, PointCloud& block) {
@@ -175,6 +184,7 @@ bool PointStream::read(std::size_t count, PointCloud& block) {
   if (s.next >= total || count == 0) return false;
   const auto n = static_cast<Eigen::Index>(std::min<std::uint64_t>(count, total - s.next));
   block = PointCloud{};
+  if (s.failed) throw InputError(s.file, {}, "the points after a refused one are not read: rewind to read the file again");
   if (s.las || s.xyz) {
     if (s.las) s.read_las(n, block);
     else s.read_xyz(n, block);
