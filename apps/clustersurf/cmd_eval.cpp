@@ -22,7 +22,7 @@ nlohmann::json facts(const MeshTopology& t) {
           {"small_components", t.small_components},
           {"area", t.area},
           {"boundary_length", t.boundary_length},
-          {"boundary_per_sqrt_area", t.area > 0 ? t.boundary_length / std::sqrt(t.area) : 0.0},
+          {"boundary_per_sqrt_area", boundary_per_sqrt_area(t)},
           {"watertight", is_watertight(t)}};
 }
 
@@ -30,7 +30,7 @@ std::string describe(const MeshTopology& t) {
   if (t.triangles == 0) return fmt::format("point cloud, {} points", t.vertices);
   return fmt::format("{} vertices, {} faces, {} boundary edges ({:.3g} of boundary per square root of area), {} "
                      "non-manifold edges, {} components ({} loose fragments under {:g} % of the area), {}",
-                     t.vertices, t.triangles, t.boundary_edges, t.area > 0 ? t.boundary_length / std::sqrt(t.area) : 0.0,
+                     t.vertices, t.triangles, t.boundary_edges, boundary_per_sqrt_area(t),
                      t.non_manifold_edges, t.components, t.small_components, 100 * kSmallComponentShare,
                      is_watertight(t) ? "watertight" : "not watertight");
 }

@@ -6,6 +6,7 @@
 #include <clustersurf/point_cloud.hpp>
 #include <clustersurf/progress.hpp>
 
+#include <cmath>
 #include <optional>
 #include <string_view>
 
@@ -102,6 +103,11 @@ struct MeshTopology {
 
 /// Edge and component counts of `mesh`, its area, boundary length and signed volume.
 MeshTopology mesh_topology(const TriangleMesh& mesh);
+
+/// MeshTopology::boundary_length over the square root of the area (0 for a mesh without area).
+inline double boundary_per_sqrt_area(const MeshTopology& t) noexcept {
+  return t.area > 0 ? t.boundary_length / std::sqrt(t.area) : 0.0;
+}
 
 /// Closed and edge-manifold: every edge has exactly two triangles (and there is at least one).
 inline bool is_watertight(const MeshTopology& t) noexcept {

@@ -85,7 +85,7 @@ py::dict topology_dict(const MeshTopology& t) {
                   "inconsistent_edges"_a = t.inconsistent_edges, "euler_characteristic"_a = t.euler_characteristic,
                   "components"_a = t.components, "small_components"_a = t.small_components, "area"_a = t.area,
                   "boundary_length"_a = t.boundary_length,
-                  "boundary_per_sqrt_area"_a = t.area > 0 ? t.boundary_length / std::sqrt(t.area) : 0.0,
+                  "boundary_per_sqrt_area"_a = boundary_per_sqrt_area(t),
                   "signed_volume"_a = t.signed_volume,
                   "watertight"_a = is_watertight(t));
 }

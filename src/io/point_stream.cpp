@@ -75,7 +75,6 @@ struct PointStream::Impl {
   void open_xyz();
   /// Back to the XYZ file's first point.
   void restart_xyz() {
-    xyz.reset();
     xyz.emplace(file, mapped->view());
     released = 0;
   }
