@@ -1,5 +1,5 @@
-// PointStream: a binary PLY of points or a LAS file read in place a block at a time gives the
-// reader's points; other files are read whole; damaged files are refused with the byte offset.
+// PointStream: a binary PLY of points, a LAS or E57 file or XYZ text read in place a block at a
+// time give the reader's points; other files are read whole; damaged files are refused with the byte offset.
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/point_cloud_io.hpp>
@@ -11,6 +11,7 @@
 #include <cstring>
 #include <limits>
 
+#include "e57_writer.hpp"
 #include "io_test_files.hpp"
 
 using namespace clustersurf;
@@ -237,4 +238,114 @@ TEST(PointStream, DamagedLasIsRefusedWhenOpened) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.where().byte_offset, std::optional<std::uint64_t>(107)) << e.what();
   }
+}
+
+// E57, the terrestrial scanners' format, is decoded in place a block of records at a time: the
+// same points as the reader's (every scan posed, spherical ones made cartesian, the invalid
+// records left out), however the blocks fall on scans, packets and pages.
+TEST(PointStream, E57InBlocksIsTheReadersCloud) {
+  using namespace clustersurf::test;
+  const test::TempDir dir;
+  const int n = 3000;
+  std::vector<std::int64_t> x, y, z, state;
+  std::vector<double> range, az, el;
+  for (int i = 0; i < n; ++i) {
+    x.push_back(-4000 + (i * 37) % 8001), y.push_back(4000 - (i * 91) % 8001), z.push_back((i * i) % 8001 - 4000);
+    state.push_back(i % 10 == 3 ? 2 : i % 10 == 7 ? 1 : 0);
+    range.push_back(1 + 0.01 * i), az.push_back(0.002 * i), el.push_back(0.3 - 0.0001 * i);
+  }
+  const std::string scale = "scale=\"0.001\" offset=\"10\"";
+  const std::string pose =
+      "<pose type=\"Structure\"><rotation type=\"Structure\"><w type=\"Float\">0.9</w><x type=\"Float\">0.1</x>"
+      "<y type=\"Float\">-0.3</y><z type=\"Float\">0.2</z></rotation><translation type=\"Structure\"><x type=\"Float\">500000</x>"
+      "<y type=\"Float\">4e6</y><z type=\"Float\">120</z></translation></pose>";
+  const TestScan cartesian{{int_field("cartesianX", -4000, 4000, x, scale), int_field("cartesianY", -4000, 4000, y, scale),
+                            int_field("cartesianZ", -4000, 4000, z, scale), int_field("cartesianInvalidState", 0, 2, state)},
+                           pose};
+  const TestScan empty{{float_field("cartesianX", {}), float_field("cartesianY", {}), float_field("cartesianZ", {})}};
+  const TestScan spherical{{float_field("sphericalRange", range), float_field("sphericalAzimuth", az),
+                            float_field("sphericalElevation", el), int_field("sphericalInvalidState", 0, 0, std::vector<std::int64_t>(n, 0))},
+                           pose};
+  WriteOptions small;  // values straddle packets, packets straddle pages
+  small.page = 64;
+  small.chunk = 7;
+  small.extra_packets = true;
+  write_file(dir / "s.e57", write_e57({cartesian, empty, spherical}, small).bytes);
+
+  PointStream stream(dir / "s.e57");
+  EXPECT_TRUE(stream.streamed());
+  EXPECT_EQ(stream.size(), 2u * n);
+  EXPECT_FALSE(stream.has_normals());
+  const PointCloud read = read_point_cloud(dir / "s.e57");
+  ASSERT_EQ(read.size(), n - n / 5 + n);
+  Points world = read.positions;
+  world.rowwise() += read.origin.transpose();
+  for (const std::size_t block : {std::size_t{7}, std::size_t{1000}, std::size_t{3 * n}}) {
+    stream.rewind();
+    const PointCloud streamed = read_all(stream, block);
+    ASSERT_EQ(streamed.size(), read.size()) << block;
+    EXPECT_LT((streamed.positions - world).cwiseAbs().maxCoeff(), 1e-9) << block;  // the reader's shift is exact to rounding
+  }
+
+  for (const char* name : {"A_B.e57", "A_moved_B.e57"}) {
+    const auto real = shared_data(std::string("formats/e57/") + name);
+    if (!real) GTEST_SKIP() << "the shared E57 sample formats/e57/" << name << " is not here";
+    PointStream sample(*real);
+    const PointCloud whole = read_point_cloud(*real);
+    Points whole_world = whole.positions;
+    whole_world.rowwise() += whole.origin.transpose();
+    const PointCloud blocks = read_all(sample, 4096);
+    ASSERT_EQ(blocks.size(), whole.size()) << name;
+    EXPECT_LT((blocks.positions - whole_world).cwiseAbs().maxCoeff(), 1e-6) << name;
+  }
+}
+
+// A damaged E57 file: a broken XML is refused when opened; a non-finite coordinate and a
+// section that ends before its records are refused when read, with their byte offset, and
+// nothing is read on until a rewind.
+TEST(PointStream, DamagedE57IsRefusedWithTheByteOffset) {
+  using namespace clustersurf::test;
+  const test::TempDir dir;
+  const TestFile nan = write_e57({TestScan{{float_field("cartesianX", {1, 2, std::nan(""), 4}), float_field("cartesianY", {4, 5, 6, 7}),
+                                            float_field("cartesianZ", {7, 8, 9, 10})}}});
+  write_file(dir / "nan.e57", nan.bytes);
+  PointStream stream(dir / "nan.e57");
+  PointCloud block;
+  EXPECT_TRUE(stream.read(2, block));
+  EXPECT_EQ(block.size(), 2);
+  try {
+    stream.read(2, block);
+    FAIL() << "a NaN coordinate was read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().byte_offset, std::optional<std::uint64_t>(nan.packets[0] + 12 + 16)) << e.what();  // the third double of X
+    EXPECT_NE(std::string(e.what()).find("point 2"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(stream.read(2, block), InputError);
+  stream.rewind();
+  EXPECT_TRUE(stream.read(2, block));
+  ReadOptions drop;
+  drop.drop_non_finite = true;
+  PointStream dropping(dir / "nan.e57", drop);
+  EXPECT_EQ(read_all(dropping, 3).positions, (Points(3, 3) << 1, 4, 7, 2, 5, 8, 4, 7, 10).finished());
+
+  TestScan short_scan{{float_field("cartesianX", {1, 2}), float_field("cartesianY", {4, 5}), float_field("cartesianZ", {7, 8})}};
+  short_scan.record_count = "3";
+  WriteOptions slack;
+  slack.extra_packets = true;
+  write_file(dir / "short.e57", write_e57({short_scan}, slack).bytes);
+  PointStream truncated(dir / "short.e57");
+  EXPECT_EQ(truncated.size(), 3u);
+  try {
+    truncated.read(3, block);
+    FAIL() << "a section short of its records was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("section ends before all 3 records"), std::string::npos) << e.what();
+    EXPECT_TRUE(e.where().byte_offset.has_value()) << e.what();
+  }
+
+  std::string broken = nan.bytes;
+  broken.replace(nan.xml, 5, "<x57R");
+  refresh_crcs(broken);
+  write_file(dir / "broken.e57", broken);
+  EXPECT_THROW(PointStream(dir / "broken.e57"), InputError);
 }

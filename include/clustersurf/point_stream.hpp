@@ -12,31 +12,34 @@ namespace clustersurf {
 
 /// A point file read in blocks, in file order, in the file's coordinates (no origin shift).
 /// A binary PLY file of points (a vertex element of scalar properties and no faces), a LAS
-/// file (1.0-1.4, any point format; its header checked as read_point_cloud() checks it) and an
-/// XYZ / PTS / TXT / CSV text file (parsed once when opened, for its count and every error the
-/// reader gives, then again block by block) are read in place: memory-mapped, each block's
-/// pages released once read, so memory stays at one block whatever the file's size. Other files
-/// (E57, PTX, PCD, OBJ, ascii PLY, meshes, which read_point_cloud() samples) are read whole
-/// first and served from memory. Positions and normals only.
+/// file (1.0-1.4, any point format; its header checked as read_point_cloud() checks it), an E57
+/// file (its header, XML and sections checked when opened; its packets decoded as the blocks
+/// need them, every scan posed, the invalid records left out) and an XYZ / PTS / TXT / CSV text
+/// file (parsed once when opened, for its count and every error the reader gives, then again
+/// block by block) are read in place: memory-mapped, each block's pages released once read, so
+/// memory stays at one block whatever the file's size. Other files (PTX, PCD, OBJ, ascii PLY,
+/// meshes, which read_point_cloud() samples) are read whole first and served from memory.
+/// Positions and normals only.
 class PointStream {
  public:
   /// Opens `file`; IoError when it cannot be read, InputError when it is malformed (a binary
-  /// PLY's records and a LAS header are checked against the file's size here, and XYZ text is
-  /// parsed through, so its errors come out here, with their line).
+  /// PLY's records and a LAS or E57 file's header are checked against the file's size here, and
+  /// XYZ text is parsed through, so its errors come out here, with their line).
   explicit PointStream(const std::filesystem::path& file, const ReadOptions& options = {});
   ~PointStream();
   PointStream(const PointStream&) = delete;
   PointStream& operator=(const PointStream&) = delete;
 
-  /// Points in the file (before non-finite ones are dropped, when ReadOptions says so).
+  /// Records in the file: the points before non-finite ones are dropped (when ReadOptions says
+  /// so), and before an E57 file's invalid records are left out.
   std::uint64_t size() const noexcept;
   bool has_normals() const noexcept;
-  /// Read in place (binary PLY points, LAS, XYZ text) rather than whole.
+  /// Read in place (binary PLY points, LAS, E57, XYZ text) rather than whole.
   bool streamed() const noexcept;
-  /// The next at most `count` points into `block` (its rows replaced); false at the end of the
-  /// file. InputError (with the byte offset, or the line of a text file) for a non-finite
-  /// coordinate or normal unless ReadOptions::drop_non_finite; after that, InputError until
-  /// rewind().
+  /// The points of the next `count` records (fewer at the end) into `block` (its rows
+  /// replaced); false at the end of the file. InputError (with the byte offset, or the line of
+  /// a text file) for a non-finite coordinate or normal unless ReadOptions::drop_non_finite, and
+  /// for a damaged E57 packet; after that, InputError until rewind().
   bool read(std::size_t count, PointCloud& block);
   /// Back to the first point (also after a read that threw).
   void rewind();

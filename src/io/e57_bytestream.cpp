@@ -101,64 +101,100 @@ Section open_section(const PagedFile& pages, std::uint64_t file_offset, std::uin
   return s;
 }
 
-void decode_records(const PagedFile& pages, const Section& section, std::uint64_t record_count,
-                    const std::vector<StreamField>& fields) {
-  std::vector<StreamState> states(fields.size());
-  std::size_t remaining = 0;
-  for (std::size_t i = 0; i < fields.size(); ++i) {
-    if (!fields[i].sink) continue;
-    if (fields[i].codec.bits == 0) {  // a constant: no bytes in the stream
-      for (std::uint64_t r = 0; r < record_count; ++r) fields[i].sink(r, fields[i].codec.value(0), section.begin);
-      states[i].done = record_count;
+struct RecordDecoder::State {
+  const PagedFile& pages;
+  const Section& section;
+  std::uint64_t record_count;
+  std::vector<StreamField> fields;
+  std::vector<StreamState> streams;
+  std::size_t remaining = 0;  // fields with a sink still short of values
+  std::uint64_t pos = 0;      // logical offset of the next packet
+  std::vector<unsigned char> lengths;
+
+  /// Decodes the packet at `pos` and moves past it; true when it was a data packet.
+  bool packet();
+};
+
+RecordDecoder::RecordDecoder(const PagedFile& pages, const Section& section, std::uint64_t record_count,
+                             std::vector<StreamField> fields)
+    : state_(std::make_unique<State>(State{pages, section, record_count, std::move(fields), {}, 0, section.data, {}})) {
+  State& d = *state_;
+  d.streams.resize(d.fields.size());
+  for (std::size_t i = 0; i < d.fields.size(); ++i) {
+    if (!d.fields[i].sink) continue;
+    if (d.fields[i].codec.bits == 0) {  // a constant: no bytes in the stream
+      for (std::uint64_t r = 0; r < record_count; ++r) d.fields[i].sink(r, d.fields[i].codec.value(0), section.begin);
+      d.streams[i].done = record_count;
     } else if (record_count > 0) {
-      ++remaining;
+      ++d.remaining;
     }
   }
-  std::vector<unsigned char> lengths;
-  for (std::uint64_t pos = section.data; remaining > 0;) {
-    const std::uint64_t at = pages.to_physical(pos);
-    if (section.end - pos < 4)
-      pages.fail(at, "section ends before all " + std::to_string(record_count) + " records were read");
-    unsigned char h[6];
-    pages.read(pos, 4, h);
-    const std::uint64_t length = std::uint64_t{load_le<std::uint16_t>(h + 2)} + 1;
-    if (length < 4 || length > section.end - pos)
-      pages.fail(at, "packet of " + std::to_string(length) + " bytes reaches past the end of its section");
-    if (h[0] == 0 || h[0] == 2) {  // index or empty packet
-      pos += length;
-      continue;
-    }
-    if (h[0] != 1) pages.fail(at, "unknown packet type " + std::to_string(h[0]));
-    if (length < 6) pages.fail(at, "data packet of " + std::to_string(length) + " bytes is shorter than its header");
-    pages.read(pos + 4, 2, h + 4);
-    const std::uint64_t count = load_le<std::uint16_t>(h + 4);
-    if (count != fields.size())
-      pages.fail(at + 4, "data packet has " + std::to_string(count) + " bytestreams but the prototype has " +
-                             std::to_string(fields.size()) + " fields");
-    const std::uint64_t header = 6 + 2 * count;
-    if (header > length) pages.fail(at + 4, "data packet header is longer than the packet");
-    lengths.resize(2 * count);
-    pages.read(pos + 6, lengths.size(), lengths.data());
-    std::uint64_t sum = 0;
-    for (std::size_t i = 0; i < count; ++i) sum += load_le<std::uint16_t>(lengths.data() + 2 * i);
-    if (sum > length - header)
-      pages.fail(at + 6, "bytestream buffers of " + std::to_string(sum) + " bytes do not fit in the " +
-                             std::to_string(length) + "-byte packet");
-    std::uint64_t buffer = pos + header;
-    for (std::size_t i = 0; i < count; ++i) {
-      const std::uint64_t n = load_le<std::uint16_t>(lengths.data() + 2 * i);
-      StreamState& s = states[i];
-      if (fields[i].sink && s.done < record_count && n > 0) {
-        s.buffer_logical = buffer;
-        const std::size_t old = s.pending.size();
-        s.pending.resize(old + n);
-        pages.read(buffer, n, s.pending.data() + old);
-        drain(s, fields[i], record_count);
-        if (s.done == record_count) --remaining;
-      }
-      buffer += n;
-    }
+}
+
+RecordDecoder::~RecordDecoder() = default;
+RecordDecoder::RecordDecoder(RecordDecoder&&) noexcept = default;
+RecordDecoder& RecordDecoder::operator=(RecordDecoder&&) noexcept = default;
+
+std::uint64_t RecordDecoder::position() const noexcept { return state_->pos; }
+
+bool RecordDecoder::next_packet() {
+  State& d = *state_;
+  while (d.remaining > 0)
+    if (d.packet()) return true;
+  return false;
+}
+
+bool RecordDecoder::State::packet() {
+  const std::uint64_t at = pages.to_physical(pos);
+  if (section.end - pos < 4)
+    pages.fail(at, "section ends before all " + std::to_string(record_count) + " records were read");
+  unsigned char h[6];
+  pages.read(pos, 4, h);
+  const std::uint64_t length = std::uint64_t{load_le<std::uint16_t>(h + 2)} + 1;
+  if (length < 4 || length > section.end - pos)
+    pages.fail(at, "packet of " + std::to_string(length) + " bytes reaches past the end of its section");
+  if (h[0] == 0 || h[0] == 2) {  // index or empty packet
     pos += length;
+    return false;
+  }
+  if (h[0] != 1) pages.fail(at, "unknown packet type " + std::to_string(h[0]));
+  if (length < 6) pages.fail(at, "data packet of " + std::to_string(length) + " bytes is shorter than its header");
+  pages.read(pos + 4, 2, h + 4);
+  const std::uint64_t count = load_le<std::uint16_t>(h + 4);
+  if (count != fields.size())
+    pages.fail(at + 4, "data packet has " + std::to_string(count) + " bytestreams but the prototype has " +
+                           std::to_string(fields.size()) + " fields");
+  const std::uint64_t header = 6 + 2 * count;
+  if (header > length) pages.fail(at + 4, "data packet header is longer than the packet");
+  lengths.resize(2 * count);
+  pages.read(pos + 6, lengths.size(), lengths.data());
+  std::uint64_t sum = 0;
+  for (std::size_t i = 0; i < count; ++i) sum += load_le<std::uint16_t>(lengths.data() + 2 * i);
+  if (sum > length - header)
+    pages.fail(at + 6, "bytestream buffers of " + std::to_string(sum) + " bytes do not fit in the " +
+                           std::to_string(length) + "-byte packet");
+  std::uint64_t buffer = pos + header;
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::uint64_t n = load_le<std::uint16_t>(lengths.data() + 2 * i);
+    StreamState& s = streams[i];
+    if (fields[i].sink && s.done < record_count && n > 0) {
+      s.buffer_logical = buffer;
+      const std::size_t old = s.pending.size();
+      s.pending.resize(old + n);
+      pages.read(buffer, n, s.pending.data() + old);
+      drain(s, fields[i], record_count);
+      if (s.done == record_count) --remaining;
+    }
+    buffer += n;
+  }
+  pos += length;
+  return true;
+}
+
+void decode_records(const PagedFile& pages, const Section& section, std::uint64_t record_count,
+                    const std::vector<StreamField>& fields) {
+  RecordDecoder decoder(pages, section, record_count, fields);
+  while (decoder.next_packet()) {
   }
 }
 

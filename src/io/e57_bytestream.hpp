@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 namespace clustersurf::io::e57 {
@@ -49,9 +50,30 @@ struct Section {
 Section open_section(const PagedFile& pages, std::uint64_t file_offset, std::uint64_t record_count,
                      std::uint64_t bits_per_record, std::uint64_t where);
 
-/// Decodes `record_count` records from the packets of `section`: every field with a sink gets
-/// each of its values once, in record order. `fields` are the bytestreams in prototype order.
-/// Throws when a packet or buffer reaches past its container or the data end too early.
+/// Decodes `record_count` records from the packets of `section` a data packet at a time: every
+/// field with a sink gets each of its values once, in record order, the values of a packet as
+/// it is decoded. `fields` are the bytestreams in prototype order. Throws InputError when a
+/// packet or buffer reaches past its container or the data end too early. Holds references to
+/// `pages` and `section`.
+class RecordDecoder {
+ public:
+  RecordDecoder(const PagedFile& pages, const Section& section, std::uint64_t record_count, std::vector<StreamField> fields);
+  ~RecordDecoder();
+  RecordDecoder(RecordDecoder&&) noexcept;
+  RecordDecoder& operator=(RecordDecoder&&) noexcept;
+
+  /// Decodes packets up to and including the next data packet; false (and nothing decoded)
+  /// once every field with a sink has had all its values.
+  bool next_packet();
+  /// The logical offset of the next packet: no byte before it in the section is read again.
+  std::uint64_t position() const noexcept;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+/// RecordDecoder run to the end.
 void decode_records(const PagedFile& pages, const Section& section, std::uint64_t record_count,
                     const std::vector<StreamField>& fields);
 

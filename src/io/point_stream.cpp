@@ -1,4 +1,4 @@
-// Point files read a block at a time: binary PLY points, LAS and XYZ text in place, anything else whole.
+// Point files read a block at a time: binary PLY points, LAS, E57 and XYZ text in place, anything else whole.
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/point_stream.hpp>
@@ -58,18 +58,24 @@ struct PointStream::Impl {
   std::optional<io::MappedFile> mapped;
   std::optional<PlyPoints> ply;
   std::optional<io::LasPoints> las;
+  std::optional<io::E57Points> e57;
   std::optional<io::XyzLines> xyz;
   std::uint64_t xyz_points = 0;
   bool xyz_normals = false;
   std::size_t released = 0;  // bytes of an XYZ file given back to the system
   bool failed = false;       // a read threw: the text parser is past the point it refused
+  std::uint64_t points = 0;  // E57: valid points decoded so far (for messages)
   PointCloud whole;  // the file read whole, in the file's coordinates, when not streamed
   std::uint64_t next = 0;
 
   std::uint64_t size() const {
-    return ply ? ply->vertex.count : las ? las->count : xyz ? xyz_points : static_cast<std::uint64_t>(whole.size());
+    return ply ? ply->vertex.count
+           : las ? las->count
+           : e57 ? e57->records()
+           : xyz ? xyz_points
+                 : static_cast<std::uint64_t>(whole.size());
   }
-  bool streamed() const { return ply.has_value() || las.has_value() || xyz.has_value(); }
+  bool streamed() const { return ply.has_value() || las.has_value() || e57.has_value() || xyz.has_value(); }
   /// Parses the XYZ file once (its count, its columns, every error the reader would give),
   /// then starts over for the points.
   void open_xyz();
@@ -82,6 +88,8 @@ struct PointStream::Impl {
   void read_xyz(Eigen::Index n, PointCloud& block);
   /// The next `n` LAS records into `block` (positions only: LAS has no normals).
   void read_las(Eigen::Index n, PointCloud& block);
+  /// The next `n` E57 records into `block` (positions only; the invalid ones left out).
+  void read_e57(Eigen::Index n, PointCloud& block);
 };
 
 /// The counting pass over an XYZ file gives its pages back this often, so that it holds no
@@ -145,6 +153,27 @@ void PointStream::Impl::read_las(Eigen::Index n, PointCloud& block) {
   mapped->release(begin, begin + static_cast<std::size_t>(n) * las->record);
 }
 
+void PointStream::Impl::read_e57(Eigen::Index n, PointCloud& block) {
+  thread_local std::vector<std::optional<std::uint64_t>> located;
+  e57->read(static_cast<std::uint64_t>(n), block.positions, located);
+  Eigen::Index kept = 0;
+  for (Eigen::Index i = 0; i < block.positions.rows(); ++i) {
+    if (block.positions.row(i).allFinite()) block.positions.row(kept++) = block.positions.row(i);
+    else if (!options.drop_non_finite) {
+      failed = true;
+      const auto& at = located[static_cast<std::size_t>(i)];
+      throw InputError(file, FileLocation{std::nullopt, at},
+                       "point " + std::to_string(points + static_cast<std::uint64_t>(i)) + " (0-based, of the valid ones) has " +
+                           (at ? "a non-finite coordinate (NaN or Inf)" : "a coordinate that overflows when posed") +
+                           "; use the option to drop such points");
+    }
+  }
+  points += static_cast<std::uint64_t>(block.positions.rows());
+  block.positions.conservativeResize(kept, 3);
+  const auto [begin, end] = e57->finished_bytes();
+  mapped->release(begin, end);
+}
+
 PointStream::PointStream(const std::filesystem::path& file, const ReadOptions& options) : impl_(std::make_unique<Impl>()) {
   impl_->file = file;
   impl_->options = options;
@@ -152,6 +181,7 @@ PointStream::PointStream(const std::filesystem::path& file, const ReadOptions& o
   const std::string_view bytes = impl_->mapped->view();
   const FileFormat format = bytes.empty() ? FileFormat::Ply : format_from_magic(bytes).value_or(format_from_extension(file));
   if (format == FileFormat::Las) impl_->las = io::las_points(file, bytes);
+  else if (format == FileFormat::E57) impl_->e57.emplace(file, bytes);
   else if (format == FileFormat::Xyz && !bytes.empty()) impl_->open_xyz();
   else impl_->ply = ply_points(file, bytes);
   if (!impl_->streamed()) {
@@ -168,13 +198,15 @@ PointStream::~PointStream() = default;
 
 std::uint64_t PointStream::size() const noexcept { return impl_->size(); }
 bool PointStream::has_normals() const noexcept {
-  return impl_->ply ? impl_->ply->layout.normals() : impl_->xyz ? impl_->xyz_normals : !impl_->las && impl_->whole.has_normals();
+  return impl_->ply ? impl_->ply->layout.normals() : impl_->xyz ? impl_->xyz_normals : impl_->whole.has_normals();
 }
 bool PointStream::streamed() const noexcept { return impl_->streamed(); }
 void PointStream::rewind() {
   impl_->next = 0;
   impl_->failed = false;
+  impl_->points = 0;
   if (impl_->xyz) impl_->restart_xyz();
+  if (impl_->e57) impl_->e57->rewind();
 }
 
 bool PointStream::read(std::size_t count, PointCloud& block) {
@@ -184,8 +216,9 @@ bool PointStream::read(std::size_t count, PointCloud& block) {
   const auto n = static_cast<Eigen::Index>(std::min<std::uint64_t>(count, total - s.next));
   block = PointCloud{};
   if (s.failed) throw InputError(s.file, {}, "the points after a refused one are not read: rewind to read the file again");
-  if (s.las || s.xyz) {
+  if (s.las || s.e57 || s.xyz) {
     if (s.las) s.read_las(n, block);
+    else if (s.e57) s.read_e57(n, block);
     else s.read_xyz(n, block);
     s.next += static_cast<std::uint64_t>(n);
     return true;

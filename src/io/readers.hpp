@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -85,6 +86,35 @@ struct LasPoints {
 LasPoints las_points(const std::filesystem::path& file, std::string_view bytes);
 /// E57: every scan, posed, with colors and intensity when present (e57_reader.cpp).
 ParsedFile read_e57(const std::filesystem::path& file, std::string_view bytes);
+
+/// An E57 file's points decoded a block of records at a time (e57_stream.cpp), as read_e57()
+/// gives them: every scan in turn, posed, the records the scanner marked invalid left out.
+/// Positions only. Its memory is one block and a data packet per field, whatever the file's size.
+class E57Points {
+ public:
+  /// Checks the header, the XML and every scan's binary section (InputError with the byte
+  /// offset); `bytes` must outlive the reader.
+  E57Points(const std::filesystem::path& file, std::string_view bytes);
+  ~E57Points();
+  E57Points(const E57Points&) = delete;
+  E57Points& operator=(const E57Points&) = delete;
+
+  /// Records in all scans (the invalid ones included).
+  std::uint64_t records() const noexcept;
+  /// Decodes the next `n` records (at most those left) and puts the positions of the valid ones
+  /// into `out` (its rows replaced), non-finite ones included; `located[i]` is the physical byte
+  /// offset of row i's non-finite coordinate when it was decoded as one (not when a pose made
+  /// it overflow). Throws InputError for a damaged packet.
+  void read(std::uint64_t n, Points& out, std::vector<std::optional<std::uint64_t>>& located);
+  /// The file's bytes [begin, end) that no read before rewind() touches again.
+  std::pair<std::uint64_t, std::uint64_t> finished_bytes() const noexcept;
+  /// Back to the first record.
+  void rewind();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 /// PTX: every gridded scan with its transform; (0,0,0) is no return (ptx_reader.cpp).
 ParsedFile read_ptx(const std::filesystem::path& file, std::string_view bytes);
 /// PCD 0.5-0.7: ascii, binary and binary_compressed (pcd_reader.cpp).

@@ -1,0 +1,126 @@
+// E57 points a block of records at a time: each scan's packets decoded as far as the block
+// needs, the values kept only until they are taken; see E57Points in readers.hpp.
+
+#include "io/e57_scans.hpp"
+#include "io/readers.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace clustersurf::io {
+
+/// Decoded values are moved to the front of their buffers once this many have been taken.
+constexpr std::size_t kCompactValues = std::size_t{1} << 16;
+
+struct E57Points::Impl {
+  Impl(const std::filesystem::path& file, std::string_view bytes) : pages(file, bytes), scans(e57::read_scans(pages)) {}
+
+  e57::PagedFile pages;
+  e57::Scans scans;
+  std::size_t scan = 0;     // the scan being read
+  std::uint64_t taken = 0;  // its records taken
+  std::optional<e57::RecordDecoder> decoder;
+  std::array<std::vector<double>, 4> values;  // decoded and not yet taken from `head` on: x, y, z, invalid state
+  std::array<std::optional<double>, 4> constant;  // the value of a field stored in no bits
+  std::size_t head = 0;
+  /// The first record of the scan decoded with a non-finite coordinate, and where that value is.
+  std::optional<std::pair<std::uint64_t, std::uint64_t>> non_finite;
+
+  /// Starts decoding scan `scan` (if any is left).
+  void open_scan();
+  /// Records decoded and not yet taken.
+  std::size_t ready() const {
+    const e57::Scan& s = scans.scans[scan];
+    std::size_t n = static_cast<std::size_t>(s.records - taken);
+    for (std::size_t k = 0; k < (s.invalid >= 0 ? 4U : 3U); ++k)
+      if (!constant[k]) n = std::min(n, values[k].size() - head);
+    return n;
+  }
+  /// Field k's value of the i-th record held.
+  double value(std::size_t k, std::size_t i) const { return constant[k] ? *constant[k] : values[k][i]; }
+};
+
+void E57Points::Impl::open_scan() {
+  decoder.reset();
+  for (auto& v : values) v.clear();
+  constant.fill(std::nullopt);
+  head = 0;
+  taken = 0;
+  non_finite.reset();
+  if (scan >= scans.scans.size()) return;
+  const e57::Scan& s = scans.scans[scan];
+  if (s.records == 0) return;
+  std::vector<e57::StreamField> streams = s.streams();
+  const int fields[4] = {s.coord[0], s.coord[1], s.coord[2], s.invalid};
+  for (std::size_t k = 0; k < 4; ++k) {
+    if (fields[k] < 0) continue;
+    e57::StreamField& f = streams[static_cast<std::size_t>(fields[k])];
+    if (f.codec.bits == 0) {  // a constant, not decoded record by record
+      constant[k] = f.codec.value(0);
+      if (k < 3 && !std::isfinite(*constant[k])) non_finite.emplace(0, s.section.begin);
+      continue;
+    }
+    f.sink = [this, k](std::uint64_t r, double v, std::uint64_t logical) {
+      values[k].push_back(v);
+      if (k < 3 && !std::isfinite(v) && (!non_finite || r < non_finite->first)) non_finite.emplace(r, logical);
+    };
+  }
+  decoder.emplace(pages, s.section, s.records, std::move(streams));
+}
+
+E57Points::E57Points(const std::filesystem::path& file, std::string_view bytes) : impl_(std::make_unique<Impl>(file, bytes)) {
+  impl_->open_scan();
+}
+
+E57Points::~E57Points() = default;
+
+std::uint64_t E57Points::records() const noexcept { return impl_->scans.records; }
+
+void E57Points::read(std::uint64_t n, Points& out, std::vector<std::optional<std::uint64_t>>& located) {
+  Impl& d = *impl_;
+  out.resize(static_cast<Eigen::Index>(std::min<std::uint64_t>(n, d.scans.records)), 3);
+  located.clear();
+  Eigen::Index kept = 0;
+  while (n > 0 && d.scan < d.scans.scans.size()) {
+    const e57::Scan& s = d.scans.scans[d.scan];
+    if (d.taken == s.records) {
+      ++d.scan;
+      d.open_scan();
+      continue;
+    }
+    const std::uint64_t want = std::min(n, s.records - d.taken);
+    while (d.ready() < want && d.decoder->next_packet()) {
+    }
+    const std::size_t m = static_cast<std::size_t>(std::min<std::uint64_t>(want, d.ready()));
+    for (std::size_t i = d.head; i < d.head + m; ++i) {
+      if (s.invalid >= 0 && d.value(3, i) != 0) continue;
+      const std::uint64_t record = d.taken + (i - d.head);
+      out.row(kept++) = s.position({d.value(0, i), d.value(1, i), d.value(2, i)}).transpose();
+      located.push_back(d.non_finite && d.non_finite->first == record ? std::optional(d.pages.to_physical(d.non_finite->second))
+                                                                       : std::nullopt);
+    }
+    d.head += m;
+    d.taken += m;
+    n -= m;
+    if (d.head >= kCompactValues) {
+      for (auto& v : d.values) v.erase(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(std::min(d.head, v.size())));
+      d.head = 0;
+    }
+  }
+  out.conservativeResize(kept, 3);
+}
+
+std::pair<std::uint64_t, std::uint64_t> E57Points::finished_bytes() const noexcept {
+  const Impl& d = *impl_;
+  if (!d.decoder) return {0, 0};
+  const e57::Section& section = d.scans.scans[d.scan].section;
+  return {d.pages.to_physical(section.begin), d.pages.to_physical(d.decoder->position())};
+}
+
+void E57Points::rewind() {
+  impl_->scan = 0;
+  impl_->open_scan();
+}
+
+}  // namespace clustersurf::io
