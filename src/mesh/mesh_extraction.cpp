@@ -165,9 +165,12 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
       for (std::size_t t = r.begin(); t != r.end(); ++t) {
         const auto [i, j, k] = unpack(todo[t]);
         const Eigen::Vector3d x = corner_position(i, j, k);
-        auto v = surface.value(x, options.min_weight);
-        if (!v && fill) v = wide.value(x, options.min_weight);
-        if (!v && closed != nullptr) v = closed->fill_value(x);
+        std::optional<double> v;
+        if (closed != nullptr) v = closed->value(x);
+        else {
+          v = surface.value(x, options.min_weight);
+          if (!v && fill) v = wide.value(x, options.min_weight);
+        }
         values[t] = v ? static_cast<float>(*v) : std::numeric_limits<float>::quiet_NaN();
       }
     });
@@ -224,18 +227,21 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
       const auto& p = polygons.vertices[static_cast<std::size_t>(v)];
       Eigen::Vector3d x = origin + h * Eigen::Vector3d(p[0], p[1], p[2]);
       Eigen::Vector3d y = x;
-      if (options.newton_steps > 0) {
+      // A closed surface's filled vertex (where F is the fill, or fades into it) stays where
+      // F's cells put it: projecting it onto f = 0 would leave F's zero set.
+      const bool filled = closed != nullptr && closed->filled(x);
+      if (options.newton_steps > 0 && !filled) {
         if (project(surface, y, options.newton_steps, h, 1e-6 * h)) x = y;
-        else if (fill && project(wide, y = x, options.newton_steps, h, 1e-6 * h)) x = y;
+        else if (fill && closed == nullptr && project(wide, y = x, options.newton_steps, h, 1e-6 * h)) x = y;
       }
       SurfaceSample s = surface.sample(x);
-      if (!s.defined && fill) s = wide.sample(x);
-      if (!s.defined && closed != nullptr) {
-        // A filled vertex: the fill's gradient by central differences over half a cell.
+      if (!s.defined && fill && closed == nullptr) s = wide.sample(x);
+      if (filled || (!s.defined && closed != nullptr)) {
+        // F's gradient by central differences over half a cell.
         const double d = h / 2;
         for (int a = 0; a < 3; ++a) {
           const Eigen::Vector3d e = d * Eigen::Vector3d::Unit(a);
-          s.gradient(a) = (closed->fill_value(x + e) - closed->fill_value(x - e)) / (2 * d);
+          s.gradient(a) = (closed->value(x + e) - closed->value(x - e)) / (2 * d);
         }
       }
       mesh.vertices.row(v) = x.transpose();

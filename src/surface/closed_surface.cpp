@@ -231,13 +231,24 @@ double ClosedSurface::fill_value(const Eigen::Vector3d& x) const {
 }
 
 double ClosedSurface::value(const Eigen::Vector3d& x) const {
-  if (const auto f = surface_->value(x, min_weight_)) {
-    // Inside the grid the blend rules; beyond its border everything is outside.
-    const Eigen::Vector3d g = (x - corner_) / cell_;
-    const Eigen::Vector3d last(static_cast<double>(dims_[0] - 1), static_cast<double>(dims_[1] - 1), static_cast<double>(dims_[2] - 1));
-    if ((g.array() >= 0).all() && (g.array() <= last.array()).all()) return *f;
-  }
-  return fill_value(x);
+  const Eigen::Vector3d g = (x - corner_) / cell_;
+  const Eigen::Vector3d last(static_cast<double>(dims_[0] - 1), static_cast<double>(dims_[1] - 1), static_cast<double>(dims_[2] - 1));
+  // Beyond the grid's border everything is outside.
+  if (!((g.array() >= 0).all() && (g.array() <= last.array()).all())) return fill_value(x);
+  double a = 0, w = 0;
+  surface_->for_each_support(x, [&](std::int32_t i, double s) {
+    const double b = blend_weight(s);
+    a += b * surface_->tree().nodes[static_cast<std::size_t>(i)].proxy.value(x);
+    w += b;
+  });
+  if (w > min_weight_) return a / w;
+  const double fill = fill_value(x);
+  if (!(w > 0) || !(min_weight_ > 0)) return fill;
+  // Below the confidence floor the blend fades into the fill: F stays continuous, so its zero
+  // set has no seam (and no spurious sheet) where the fill takes over. λ(w) f = λ a / w → 0
+  // with w (λ ~ w²), so the fade needs no clamp of f.
+  const double t = w / min_weight_, lambda = t * t * (3 - 2 * t);
+  return lambda * (a / w) + (1 - lambda) * fill;
 }
 
 }  // namespace clustersurf
