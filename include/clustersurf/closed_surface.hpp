@@ -7,7 +7,9 @@
 // defined and "outside" on the grid's border (Davis, Marschner, Garr & Levoy 2002, volumetric
 // diffusion; here on the tree's blend instead of line-of-sight distances). A hole then closes
 // with the smoothest field that agrees with the surface around it, like a soap film bounded
-// by the hole's rim, and the inside of a part stays inside.
+// by the hole's rim, and the inside of a part stays inside. Between the two, where the blend's
+// weight falls below its confidence floor, f fades into the fill, so F has no seam (a jump
+// there would be a zero crossing of its own: sheets along the rims, handles).
 
 #include <clustersurf/implicit_surface.hpp>
 #include <clustersurf/progress.hpp>
@@ -30,8 +32,9 @@ struct ClosingOptions {
   std::uint32_t resolution = 128;
 };
 
-/// F: the blend where it is defined (total weight above min_weight), the harmonic fill
-/// elsewhere; positive outside. Immutable once built; value() and inside() are thread-safe.
+/// F: the blend where it is defined (total weight above min_weight), the harmonic fill where
+/// no support reaches, and between them the two mixed by smoothstep(weight / min_weight): F is
+/// continuous. Positive outside. Immutable once built; value() and inside() are thread-safe.
 class ClosedSurface {
  public:
   /// Builds the fill grid (evaluating f at its nodes, then solving). Deterministic and
@@ -40,8 +43,9 @@ class ClosedSurface {
   ClosedSurface(const ImplicitSurface& surface, const ClosingOptions& options = {}, double min_weight = kMinWeight,
                 const ProgressCallback& progress = {});
 
-  /// F at x: f where the blend is defined, else the fill (trilinear on the grid); beyond
-  /// the grid, positive (outside), growing with the distance to it.
+  /// F at x: f where the blend is defined, the fill (trilinear on the grid) where no support
+  /// reaches, the two mixed below the confidence floor; beyond the grid, positive (outside),
+  /// growing with the distance to it.
   double value(const Eigen::Vector3d& x) const;
   /// The fill alone at x (what value() returns where f is undefined).
   double fill_value(const Eigen::Vector3d& x) const;
