@@ -1,6 +1,6 @@
 // libFuzzer target: PointStream, which reads a binary PLY of points, a LAS or E57 file or XYZ
-// text in place, a block at a time (other files it reads whole through the readers fuzz_ply
-// covers). Every block must hold finite points, and the blocks together the file's points (an
+// and PTX text in place, a block at a time (other files it reads whole through the readers
+// fuzz_ply covers). Every block must hold finite points, and the blocks together the file's points (an
 // E57 file's valid ones: at most its records), the same again after a rewind.
 
 #include "fuzz_checks.hpp"
@@ -14,10 +14,10 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace clustersurf;
-  // The same bytes as a .ply (binary PLY, LAS by its signature, others read whole) and as a
-  // .xyz (text read in place).
+  // The same bytes as a .ply (binary PLY, LAS and E57 by their signature, others read whole),
+  // as a .xyz and as a .ptx (text read in place).
   const std::string stem = "/tmp/clustersurf-fuzz-stream-" + std::to_string(::getpid());
-  for (const std::string& file : {stem + ".ply", stem + ".xyz"}) {
+  for (const std::string& file : {stem + ".ply", stem + ".xyz", stem + ".ptx"}) {
     std::ofstream(file, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
     for (const bool drop : {false, true}) {
       try {

@@ -349,3 +349,73 @@ TEST(PointStream, DamagedE57IsRefusedWithTheByteOffset) {
   write_file(dir / "broken.e57", broken);
   EXPECT_THROW(PointStream(dir / "broken.e57"), InputError);
 }
+
+// PTX, the terrestrial scanners' text export, is read in place like XYZ: every scan posed by
+// its transform, the cells without a return left out, the reader's points block by block.
+TEST(PointStream, PtxInBlocksIsTheReadersCloud) {
+  const test::TempDir dir;
+  const auto scan = [](int columns, int rows, const std::string& t) {
+    return std::to_string(columns) + "\n" + std::to_string(rows) + "\n" + t + "\n1 0 0\n0 1 0\n0 0 1\n" +
+           "0 1 0 0\n-1 0 0 0\n0 0 1 0\n" + t + " 1\n";
+  };
+  std::string text = scan(3, 2, "600000 4000000 12.5");
+  for (int i = 0; i < 6; ++i) text += i == 2 ? "0 0 0 0.5\n" : std::to_string(i) + ".25 " + std::to_string(-i) + " 1.5 0.5\n";
+  text += "\n" + scan(1, 3, "-5 7 0");
+  text += "1 2 3 0.1\n0 0 0 0\n4 5 6 0.2\n";
+  test::write_file(dir / "s.ptx", text);
+  PointStream stream(dir / "s.ptx");
+  EXPECT_TRUE(stream.streamed());
+  EXPECT_EQ(stream.size(), 7u);
+  EXPECT_FALSE(stream.has_normals());
+  const PointCloud read = read_point_cloud(dir / "s.ptx");
+  Points world = read.positions;
+  world.rowwise() += read.origin.transpose();
+  for (const std::size_t block : {std::size_t{1}, std::size_t{3}, std::size_t{100}}) {
+    stream.rewind();
+    EXPECT_EQ(read_all(stream, block).positions, world) << block;
+  }
+  EXPECT_EQ(world.row(0), Eigen::RowVector3d(600000, 4000000 + 0.25, 14));  // (x, y) turned 90°, then moved
+
+  for (const char* name : {"multiple-and-transform.ptx", "complex-transform.ptx"}) {
+    const auto real = test::shared_data(std::string("formats/ptx/") + name);
+    if (!real) GTEST_SKIP() << "the shared PTX sample formats/ptx/" << name << " is not here";
+    PointStream sample(*real);
+    EXPECT_TRUE(sample.streamed());
+    const PointCloud whole = read_point_cloud(*real);
+    Points whole_world = whole.positions;
+    whole_world.rowwise() += whole.origin.transpose();
+    const PointCloud blocks = read_all(sample, 2);
+    ASSERT_EQ(blocks.size(), whole.size()) << name;
+    EXPECT_LT((blocks.positions - whole_world).cwiseAbs().maxCoeff(), 1e-6) << name;
+  }
+}
+
+// A damaged PTX file is refused when opened, with the line, as the reader refuses it; a NaN
+// coordinate when its block is read.
+TEST(PointStream, DamagedPtxIsRefusedWithTheLine) {
+  const test::TempDir dir;
+  const std::string header = "2\n2\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n";
+  test::write_file(dir / "short.ptx", header + "1 2 3 0.5\n4 5 6 0.5\n7 8 9 0.5\n");
+  try {
+    PointStream stream(dir / "short.ptx");
+    FAIL() << "a scan short of its grid was opened";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().line, std::optional<std::uint64_t>(13)) << e.what();
+    EXPECT_NE(std::string(e.what()).find("ends after 3 of 4 points"), std::string::npos) << e.what();
+  }
+  test::write_file(dir / "nan.ptx", header + "1 2 3 0.5\n4 5 6 0.5\nnan 8 9 0.5\n1 1 1 0.5\n");
+  PointStream stream(dir / "nan.ptx");
+  PointCloud block;
+  EXPECT_TRUE(stream.read(2, block));
+  try {
+    stream.read(2, block);
+    FAIL() << "a NaN coordinate was read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().line, std::optional<std::uint64_t>(13)) << e.what();
+  }
+  EXPECT_THROW(stream.read(2, block), InputError);
+  ReadOptions drop;
+  drop.drop_non_finite = true;
+  PointStream dropping(dir / "nan.ptx", drop);
+  EXPECT_EQ(read_all(dropping, 3).size(), 3);
+}

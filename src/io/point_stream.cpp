@@ -1,4 +1,4 @@
-// Point files read a block at a time: binary PLY points, LAS, E57 and XYZ text in place, anything else whole.
+// Point files read a block at a time: binary PLY points, LAS, E57, PTX and XYZ text in place, anything else whole.
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/point_stream.hpp>
@@ -60,9 +60,10 @@ struct PointStream::Impl {
   std::optional<io::LasPoints> las;
   std::optional<io::E57Points> e57;
   std::optional<io::XyzLines> xyz;
-  std::uint64_t xyz_points = 0;
+  std::optional<io::PtxLines> ptx;
+  std::uint64_t text_points = 0;  // points of an XYZ or PTX file, counted when opened
   bool xyz_normals = false;
-  std::size_t released = 0;  // bytes of an XYZ file given back to the system
+  std::size_t released = 0;  // bytes of a text file given back to the system
   bool failed = false;       // a read threw: the text parser is past the point it refused
   std::uint64_t points = 0;  // E57: valid points decoded so far (for messages)
   PointCloud whole;  // the file read whole, in the file's coordinates, when not streamed
@@ -72,44 +73,59 @@ struct PointStream::Impl {
     return ply ? ply->vertex.count
            : las ? las->count
            : e57 ? e57->records()
-           : xyz ? xyz_points
-                 : static_cast<std::uint64_t>(whole.size());
+           : xyz || ptx ? text_points
+                        : static_cast<std::uint64_t>(whole.size());
   }
-  bool streamed() const { return ply.has_value() || las.has_value() || e57.has_value() || xyz.has_value(); }
-  /// Parses the XYZ file once (its count, its columns, every error the reader would give),
-  /// then starts over for the points.
-  void open_xyz();
-  /// Back to the XYZ file's first point.
-  void restart_xyz() {
-    xyz.emplace(file, mapped->view());
+  bool streamed() const { return ply.has_value() || las.has_value() || e57.has_value() || xyz.has_value() || ptx.has_value(); }
+  /// Parses the text file once (its count, an XYZ file's columns, every error the reader
+  /// would give), then starts over for the points.
+  void open_text();
+  /// Back to the text file's first point.
+  void restart_text() {
+    if (xyz) xyz.emplace(file, mapped->view());
+    else ptx.emplace(file, mapped->view());
     released = 0;
   }
   /// The next `n` XYZ points into `block`.
   void read_xyz(Eigen::Index n, PointCloud& block);
+  /// The next `n` PTX points into `block` (positions only).
+  void read_ptx(Eigen::Index n, PointCloud& block);
+  /// Gives back the text file's pages read so far.
+  void release_text(std::size_t offset) {
+    mapped->release(released, offset);
+    released = offset;
+  }
   /// The next `n` LAS records into `block` (positions only: LAS has no normals).
   void read_las(Eigen::Index n, PointCloud& block);
   /// The next `n` E57 records into `block` (positions only; the invalid ones left out).
   void read_e57(Eigen::Index n, PointCloud& block);
 };
 
-/// The counting pass over an XYZ file gives its pages back this often, so that it holds no
+/// The counting pass over a text file gives its pages back this often, so that it holds no
 /// more of the file than a block does.
 constexpr std::size_t kReleaseBytes = std::size_t{64} << 20;
 
-void PointStream::Impl::open_xyz() {
+void PointStream::Impl::open_text() {
   const std::string_view bytes = mapped->view();
-  {
+  text_points = 0;
+  std::size_t counted = 0;  // bytes given back so far: the pass reads the whole file
+  const auto release = [&](std::size_t offset) {
+    if (offset - counted >= kReleaseBytes) mapped->release(counted, offset), counted = offset;
+  };
+  if (xyz) {
     io::XyzLines counting(file, bytes);
     std::array<double, 7> v{};
-    xyz_points = 0;
-    std::size_t counted = 0;  // bytes given back so far: the pass reads the whole file
-    for (std::size_t columns; (columns = counting.next(v)) != 0; ++xyz_points) {
+    for (std::size_t columns; (columns = counting.next(v)) != 0; ++text_points) {
       xyz_normals = columns == 6;
-      if (counting.offset() - counted >= kReleaseBytes) mapped->release(counted, counting.offset()), counted = counting.offset();
+      release(counting.offset());
     }
-    mapped->release(counted, bytes.size());
+  } else {
+    io::PtxLines counting(file, bytes);
+    io::PtxPoint p;
+    for (; counting.next(p); ++text_points) release(counting.offset());
   }
-  restart_xyz();
+  mapped->release(counted, bytes.size());
+  restart_text();
 }
 
 void PointStream::Impl::read_xyz(Eigen::Index n, PointCloud& block) {
@@ -132,8 +148,25 @@ void PointStream::Impl::read_xyz(Eigen::Index n, PointCloud& block) {
   }
   block.positions.conservativeResize(kept, 3);
   if (xyz_normals) block.normals.conservativeResize(kept, 3);
-  mapped->release(released, xyz->offset());
-  released = xyz->offset();
+  release_text(xyz->offset());
+}
+
+void PointStream::Impl::read_ptx(Eigen::Index n, PointCloud& block) {
+  block.positions.resize(n, 3);
+  io::PtxPoint p;
+  Eigen::Index kept = 0;
+  for (Eigen::Index i = 0; i < n && ptx->next(p); ++i) {
+    if (!p.position.allFinite()) {
+      if (options.drop_non_finite) continue;
+      failed = true;
+      throw InputError(file, FileLocation{ptx->line(), std::nullopt},
+                       "point " + std::to_string(next + static_cast<std::uint64_t>(i)) +
+                           " (0-based) has a non-finite coordinate (NaN or Inf); use the option to drop such points");
+    }
+    block.positions.row(kept++) = p.position.transpose();
+  }
+  block.positions.conservativeResize(kept, 3);
+  release_text(ptx->offset());
 }
 
 void PointStream::Impl::read_las(Eigen::Index n, PointCloud& block) {
@@ -182,7 +215,8 @@ PointStream::PointStream(const std::filesystem::path& file, const ReadOptions& o
   const FileFormat format = bytes.empty() ? FileFormat::Ply : format_from_magic(bytes).value_or(format_from_extension(file));
   if (format == FileFormat::Las) impl_->las = io::las_points(file, bytes);
   else if (format == FileFormat::E57) impl_->e57.emplace(file, bytes);
-  else if (format == FileFormat::Xyz && !bytes.empty()) impl_->open_xyz();
+  else if (format == FileFormat::Xyz && !bytes.empty()) impl_->xyz.emplace(file, bytes), impl_->open_text();
+  else if (format == FileFormat::Ptx && !bytes.empty()) impl_->ptx.emplace(file, bytes), impl_->open_text();
   else impl_->ply = ply_points(file, bytes);
   if (!impl_->streamed()) {
     impl_->mapped.reset();
@@ -205,7 +239,7 @@ void PointStream::rewind() {
   impl_->next = 0;
   impl_->failed = false;
   impl_->points = 0;
-  if (impl_->xyz) impl_->restart_xyz();
+  if (impl_->xyz || impl_->ptx) impl_->restart_text();
   if (impl_->e57) impl_->e57->rewind();
 }
 
@@ -216,10 +250,11 @@ bool PointStream::read(std::size_t count, PointCloud& block) {
   const auto n = static_cast<Eigen::Index>(std::min<std::uint64_t>(count, total - s.next));
   block = PointCloud{};
   if (s.failed) throw InputError(s.file, {}, "the points after a refused one are not read: rewind to read the file again");
-  if (s.las || s.e57 || s.xyz) {
+  if (s.las || s.e57 || s.xyz || s.ptx) {
     if (s.las) s.read_las(n, block);
     else if (s.e57) s.read_e57(n, block);
-    else s.read_xyz(n, block);
+    else if (s.xyz) s.read_xyz(n, block);
+    else s.read_ptx(n, block);
     s.next += static_cast<std::uint64_t>(n);
     return true;
   }

@@ -117,6 +117,51 @@ class E57Points {
 };
 /// PTX: every gridded scan with its transform; (0,0,0) is no return (ptx_reader.cpp).
 ParsedFile read_ptx(const std::filesystem::path& file, std::string_view bytes);
+
+/// A point of a PTX file: posed by its scan's transform, its intensity (0 when the file has
+/// none), its color when the file has them, and its scan.
+struct PtxPoint {
+  Eigen::Vector3d position;
+  float intensity = 0;
+  std::array<std::uint8_t, 3> rgb{};
+  std::uint32_t scan = 0;
+};
+
+/// A PTX file parsed a point at a time (read_ptx() is this run to the end): the same rules and
+/// the same errors, each naming its line.
+class PtxLines {
+ public:
+  /// `bytes` must outlive the parser.
+  PtxLines(const std::filesystem::path& file, std::string_view bytes);
+  PtxLines(const PtxLines&) = delete;
+  PtxLines& operator=(const PtxLines&) = delete;
+  /// The next point with a return into `out`; false at the end of the file (InputError when it
+  /// holds no scan). Throws InputError for a malformed header or grid line.
+  bool next(PtxPoint& out);
+  /// The line of the last point read.
+  std::uint64_t line() const noexcept { return cursor_.line(); }
+  /// Bytes consumed so far.
+  std::size_t offset() const noexcept { return cursor_.offset(); }
+  /// Whether the points have colors (unset before the first grid line).
+  std::optional<bool> colored() const noexcept { return colored_; }
+  /// The scanner position of every scan begun so far (x, y, z each).
+  const std::vector<double>& scanners() const noexcept { return scanners_; }
+
+ private:
+  /// Reads the next scan's header; false at the end of the file.
+  bool open_scan();
+
+  std::filesystem::path file_;
+  TextCursor cursor_;
+  std::size_t bytes_ = 0;
+  std::vector<std::string_view> fields_;
+  std::vector<double> scanners_;
+  std::optional<bool> colored_;
+  Eigen::Matrix3d linear_ = Eigen::Matrix3d::Identity();
+  Eigen::RowVector3d translation_ = Eigen::RowVector3d::Zero();
+  std::int64_t columns_ = 0, rows_ = 0;
+  std::uint64_t cells_ = 0, cell_ = 0;
+};
 /// PCD 0.5-0.7: ascii, binary and binary_compressed (pcd_reader.cpp).
 ParsedFile read_pcd(const std::filesystem::path& file, std::string_view bytes);
 
