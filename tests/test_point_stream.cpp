@@ -342,6 +342,7 @@ TEST(PointStream, DamagedE57IsRefusedWithTheByteOffset) {
     EXPECT_NE(std::string(e.what()).find("section ends before all 3 records"), std::string::npos) << e.what();
     EXPECT_TRUE(e.where().byte_offset.has_value()) << e.what();
   }
+  EXPECT_THROW(truncated.read(3, block), InputError);
 
   std::string broken = nan.bytes;
   broken.replace(nan.xml, 5, "<x57R");
@@ -418,4 +419,85 @@ TEST(PointStream, DamagedPtxIsRefusedWithTheLine) {
   drop.drop_non_finite = true;
   PointStream dropping(dir / "nan.ptx", drop);
   EXPECT_EQ(read_all(dropping, 3).size(), 3);
+}
+
+// PCD, PCL's format, ascii and binary, is read in place: the reader's points and normals block
+// by block (a NaN position, PCL's "no point", left out); binary_compressed, whose fields lie one
+// after another, is read whole.
+TEST(PointStream, PcdInBlocksIsTheReadersCloud) {
+  const test::TempDir dir;
+  const std::string header = "VERSION 0.7\nFIELDS x y z normal_x normal_y normal_z label\nSIZE 8 8 4 4 4 4 2\nTYPE F F F F F F U\n"
+                             "COUNT 1 1 1 1 1 1 1\nWIDTH 5\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 5\n";
+  std::string binary = header + "DATA binary\n", ascii = header + "DATA ascii\n";
+  for (int i = 0; i < 5; ++i) {
+    const double x = 600000 + 0.25 * i, y = i == 3 ? std::nan("") : 4e6 - i;
+    const float z = 1.5f * static_cast<float>(i), n[3] = {0, 0.6f, 0.8f};
+    const std::uint16_t label = static_cast<std::uint16_t>(i);
+    binary.append(reinterpret_cast<const char*>(&x), 8).append(reinterpret_cast<const char*>(&y), 8);
+    binary.append(reinterpret_cast<const char*>(&z), 4).append(reinterpret_cast<const char*>(n), 12);
+    binary.append(reinterpret_cast<const char*>(&label), 2);
+    char line[160];
+    std::snprintf(line, sizeof line, "%.17g,%.17g,%.9g,0,0.6,0.8,%d\n", x, y, static_cast<double>(z), i);
+    ascii += line;
+  }
+  test::write_file(dir / "b.pcd", binary);
+  test::write_file(dir / "a.pcd", ascii);
+  for (const char* name : {"b.pcd", "a.pcd"}) {
+    PointStream stream(dir / name);
+    EXPECT_TRUE(stream.streamed()) << name;
+    EXPECT_EQ(stream.size(), 5u) << name;
+    EXPECT_TRUE(stream.has_normals()) << name;
+    const PointCloud read = read_point_cloud(dir / name);
+    ASSERT_EQ(read.size(), 4) << name;
+    Points world = read.positions;
+    world.rowwise() += read.origin.transpose();
+    for (const std::size_t block : {std::size_t{2}, std::size_t{5}}) {
+      stream.rewind();
+      const PointCloud streamed = read_all(stream, block);
+      EXPECT_EQ(streamed.positions, world) << name << " " << block;
+      EXPECT_EQ(streamed.normals, read.normals) << name << " " << block;
+    }
+  }
+
+  for (const char* name : {"autzen-utm.pcd", "utm17_comma.pcd"}) {
+    const auto real = test::shared_data(std::string("formats/pcd/") + name);
+    if (!real) GTEST_SKIP() << "the shared PCD sample formats/pcd/" << name << " is not here";
+    PointStream sample(*real);
+    EXPECT_TRUE(sample.streamed()) << name;
+    const PointCloud whole = read_point_cloud(*real);
+    Points whole_world = whole.positions;
+    whole_world.rowwise() += whole.origin.transpose();
+    const PointCloud blocks = read_all(sample, 100);
+    ASSERT_EQ(blocks.size(), whole.size()) << name;
+    EXPECT_LT((blocks.positions - whole_world).cwiseAbs().maxCoeff(), 1e-6) << name;
+  }
+}
+
+// A damaged PCD file: binary records short of POINTS are refused when opened, with the byte
+// offset of the data; an ascii line of the wrong width when its block is read, with its line.
+TEST(PointStream, DamagedPcdIsRefusedWhereItIsDamaged) {
+  const test::TempDir dir;
+  const std::string header = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\nHEIGHT 1\nPOINTS 3\n";
+  test::write_file(dir / "short.pcd", header + "DATA binary\n" + std::string(30, '\0'));
+  try {
+    PointStream stream(dir / "short.pcd");
+    FAIL() << "binary records short of POINTS were opened";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().byte_offset, std::optional<std::uint64_t>(header.size() + 12)) << e.what();
+  }
+  test::write_file(dir / "wide.pcd", header + "DATA ascii\n1 2 3\n4 5 6\n7 8 9 10\n");
+  PointStream stream(dir / "wide.pcd");
+  PointCloud block;
+  EXPECT_TRUE(stream.read(2, block));
+  EXPECT_EQ(block.size(), 2);
+  try {
+    stream.read(2, block);
+    FAIL() << "a line of 4 values was read as a point of 3 fields";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().line, std::optional<std::uint64_t>(12)) << e.what();
+    EXPECT_NE(std::string(e.what()).find("expected 3 values, found 4"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(stream.read(2, block), InputError);  // not read on past the refused line
+  stream.rewind();
+  EXPECT_TRUE(stream.read(2, block));
 }

@@ -1,9 +1,11 @@
-// Point files read a block at a time: binary PLY points, LAS, E57, PTX and XYZ text in place, anything else whole.
+// Point files read a block at a time: binary PLY points, LAS, E57, PCD (ascii and binary), PTX and
+// XYZ text in place, anything else whole.
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/point_stream.hpp>
 
 #include "io/mapped_file.hpp"
+#include "io/pcd_format.hpp"
 #include "io/ply_format.hpp"
 #include "io/readers.hpp"
 
@@ -61,6 +63,8 @@ struct PointStream::Impl {
   std::optional<io::E57Points> e57;
   std::optional<io::XyzLines> xyz;
   std::optional<io::PtxLines> ptx;
+  std::optional<io::pcd::Layout> pcd_layout;
+  std::optional<io::pcd::Records> pcd;
   std::uint64_t text_points = 0;  // points of an XYZ or PTX file, counted when opened
   bool xyz_normals = false;
   std::size_t released = 0;  // bytes of a text file given back to the system
@@ -73,10 +77,11 @@ struct PointStream::Impl {
     return ply ? ply->vertex.count
            : las ? las->count
            : e57 ? e57->records()
+           : pcd ? pcd_layout->points
            : xyz || ptx ? text_points
                         : static_cast<std::uint64_t>(whole.size());
   }
-  bool streamed() const { return ply.has_value() || las.has_value() || e57.has_value() || xyz.has_value() || ptx.has_value(); }
+  bool streamed() const { return ply || las || e57 || pcd || xyz || ptx; }
   /// Parses the text file once (its count, an XYZ file's columns, every error the reader
   /// would give), then starts over for the points.
   void open_text();
@@ -99,6 +104,11 @@ struct PointStream::Impl {
   void read_las(Eigen::Index n, PointCloud& block);
   /// The next `n` E57 records into `block` (positions only; the invalid ones left out).
   void read_e57(Eigen::Index n, PointCloud& block);
+  /// Opens an ascii or binary PCD file (binary_compressed stores its fields one after another:
+  /// it is read whole).
+  void open_pcd();
+  /// The next `n` PCD records into `block` (those whose position is NaN, PCL's "no point", left out).
+  void read_pcd(Eigen::Index n, PointCloud& block);
 };
 
 /// The counting pass over a text file gives its pages back this often, so that it holds no
@@ -137,7 +147,6 @@ void PointStream::Impl::read_xyz(Eigen::Index n, PointCloud& block) {
     const bool finite = std::all_of(v.begin(), v.begin() + (xyz_normals ? 6 : 3), [](double x) { return std::isfinite(x); });
     if (!finite) {
       if (options.drop_non_finite) continue;
-      failed = true;
       throw InputError(file, FileLocation{xyz->line(), std::nullopt},
                        "point " + std::to_string(next + static_cast<std::uint64_t>(i)) +
                            " (0-based) has a non-finite coordinate or normal (NaN or Inf); use the option to drop such points");
@@ -158,7 +167,6 @@ void PointStream::Impl::read_ptx(Eigen::Index n, PointCloud& block) {
   for (Eigen::Index i = 0; i < n && ptx->next(p); ++i) {
     if (!p.position.allFinite()) {
       if (options.drop_non_finite) continue;
-      failed = true;
       throw InputError(file, FileLocation{ptx->line(), std::nullopt},
                        "point " + std::to_string(next + static_cast<std::uint64_t>(i)) +
                            " (0-based) has a non-finite coordinate (NaN or Inf); use the option to drop such points");
@@ -193,7 +201,6 @@ void PointStream::Impl::read_e57(Eigen::Index n, PointCloud& block) {
   for (Eigen::Index i = 0; i < block.positions.rows(); ++i) {
     if (block.positions.row(i).allFinite()) block.positions.row(kept++) = block.positions.row(i);
     else if (!options.drop_non_finite) {
-      failed = true;
       const auto& at = located[static_cast<std::size_t>(i)];
       throw InputError(file, FileLocation{std::nullopt, at},
                        "point " + std::to_string(points + static_cast<std::uint64_t>(i)) + " (0-based, of the valid ones) has " +
@@ -207,6 +214,40 @@ void PointStream::Impl::read_e57(Eigen::Index n, PointCloud& block) {
   mapped->release(begin, end);
 }
 
+void PointStream::Impl::open_pcd() {
+  pcd_layout = io::pcd::read_layout(file, mapped->view());
+  if (pcd_layout->data == io::pcd::Data::BinaryCompressed) pcd_layout.reset();
+  else pcd.emplace(file, mapped->view(), *pcd_layout);
+}
+
+void PointStream::Impl::read_pcd(Eigen::Index n, PointCloud& block) {
+  const io::pcd::Roles& roles = pcd_layout->roles;
+  const bool normals = roles.normals();
+  block.positions.resize(n, 3);
+  if (normals) block.normals.resize(n, 3);
+  const std::size_t from = pcd->offset();
+  Eigen::Index kept = 0;
+  for (Eigen::Index i = 0; i < n && pcd->next(); ++i) {
+    Eigen::Vector3d p, q = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) p(k) = pcd->value(roles.position[k]);
+    if (p.array().isNaN().any()) continue;  // no point
+    if (normals)
+      for (int k = 0; k < 3; ++k) q(k) = pcd->value(roles.normal[k]);
+    if (!p.allFinite() || !q.allFinite()) {
+      if (options.drop_non_finite) continue;
+      throw InputError(file, pcd->location(),
+                       "point " + std::to_string(next + static_cast<std::uint64_t>(i)) +
+                           " (0-based) has an infinite coordinate or a non-finite normal; use the option to drop such points");
+    }
+    block.positions.row(kept) = p.transpose();
+    if (normals) block.normals.row(kept) = q.transpose();
+    ++kept;
+  }
+  block.positions.conservativeResize(kept, 3);
+  if (normals) block.normals.conservativeResize(kept, 3);
+  mapped->release(from, pcd->offset());
+}
+
 PointStream::PointStream(const std::filesystem::path& file, const ReadOptions& options) : impl_(std::make_unique<Impl>()) {
   impl_->file = file;
   impl_->options = options;
@@ -215,6 +256,7 @@ PointStream::PointStream(const std::filesystem::path& file, const ReadOptions& o
   const FileFormat format = bytes.empty() ? FileFormat::Ply : format_from_magic(bytes).value_or(format_from_extension(file));
   if (format == FileFormat::Las) impl_->las = io::las_points(file, bytes);
   else if (format == FileFormat::E57) impl_->e57.emplace(file, bytes);
+  else if (format == FileFormat::Pcd) impl_->open_pcd();
   else if (format == FileFormat::Xyz && !bytes.empty()) impl_->xyz.emplace(file, bytes), impl_->open_text();
   else if (format == FileFormat::Ptx && !bytes.empty()) impl_->ptx.emplace(file, bytes), impl_->open_text();
   else impl_->ply = ply_points(file, bytes);
@@ -232,7 +274,10 @@ PointStream::~PointStream() = default;
 
 std::uint64_t PointStream::size() const noexcept { return impl_->size(); }
 bool PointStream::has_normals() const noexcept {
-  return impl_->ply ? impl_->ply->layout.normals() : impl_->xyz ? impl_->xyz_normals : impl_->whole.has_normals();
+  return impl_->ply   ? impl_->ply->layout.normals()
+         : impl_->pcd ? impl_->pcd_layout->roles.normals()
+         : impl_->xyz ? impl_->xyz_normals
+                      : impl_->whole.has_normals();
 }
 bool PointStream::streamed() const noexcept { return impl_->streamed(); }
 void PointStream::rewind() {
@@ -241,6 +286,7 @@ void PointStream::rewind() {
   impl_->points = 0;
   if (impl_->xyz || impl_->ptx) impl_->restart_text();
   if (impl_->e57) impl_->e57->rewind();
+  if (impl_->pcd) impl_->pcd.emplace(impl_->file, impl_->mapped->view(), *impl_->pcd_layout);
 }
 
 bool PointStream::read(std::size_t count, PointCloud& block) {
@@ -250,11 +296,17 @@ bool PointStream::read(std::size_t count, PointCloud& block) {
   const auto n = static_cast<Eigen::Index>(std::min<std::uint64_t>(count, total - s.next));
   block = PointCloud{};
   if (s.failed) throw InputError(s.file, {}, "the points after a refused one are not read: rewind to read the file again");
-  if (s.las || s.e57 || s.xyz || s.ptx) {
-    if (s.las) s.read_las(n, block);
-    else if (s.e57) s.read_e57(n, block);
-    else if (s.xyz) s.read_xyz(n, block);
-    else s.read_ptx(n, block);
+  if (s.las || s.e57 || s.pcd || s.xyz || s.ptx) {
+    try {
+      if (s.las) s.read_las(n, block);
+      else if (s.e57) s.read_e57(n, block);
+      else if (s.pcd) s.read_pcd(n, block);
+      else if (s.xyz) s.read_xyz(n, block);
+      else s.read_ptx(n, block);
+    } catch (const InputError&) {
+      s.failed = true;  // the parser or decoder is past what it refused
+      throw;
+    }
     s.next += static_cast<std::uint64_t>(n);
     return true;
   }

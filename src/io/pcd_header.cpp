@@ -1,0 +1,208 @@
+// The PCD header, checked against the file's size, and its ascii and binary records read one
+// at a time; see pcd_format.hpp.
+
+#include "io/pcd_format.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace clustersurf::io::pcd {
+
+namespace {
+
+std::string lower(std::string_view s) {
+  std::string out(s);
+  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return out;
+}
+
+Roles roles_of(const std::vector<Field>& fields) {
+  Roles r;
+  static constexpr std::array<const char*, 3> kXyz = {"x", "y", "z"}, kNormal = {"normal_x", "normal_y", "normal_z"},
+                                              kRgb = {"red", "green", "blue"};
+  for (int f = 0; f < static_cast<int>(fields.size()); ++f) {
+    const std::string name = lower(fields[static_cast<std::size_t>(f)].name);
+    for (int k = 0; k < 3; ++k) {
+      if (name == kXyz[static_cast<std::size_t>(k)]) r.position[k] = f;
+      if (name == kNormal[static_cast<std::size_t>(k)]) r.normal[k] = f;
+      if (name == kRgb[static_cast<std::size_t>(k)]) r.rgb[k] = f;
+    }
+    if (name == "rgb" || name == "rgba") r.packed_rgb = f;
+    if (name == "intensity") r.intensity = f;
+    if (name == "classification" || name == "label") r.classification = f;
+  }
+  return r;
+}
+
+}  // namespace
+
+double decode(const char* bytes, char type, unsigned size) {
+  auto get = [&](auto value) {
+    std::memcpy(&value, bytes, sizeof(value));
+    return static_cast<double>(value);
+  };
+  switch (type) {
+    case 'F': return size == 4 ? get(float{}) : get(double{});
+    case 'I':
+      return size == 1 ? get(std::int8_t{}) : size == 2 ? get(std::int16_t{}) : size == 4 ? get(std::int32_t{}) : get(std::int64_t{});
+    default:
+      return size == 1 ? get(std::uint8_t{}) : size == 2 ? get(std::uint16_t{}) : size == 4 ? get(std::uint32_t{}) : get(std::uint64_t{});
+  }
+}
+
+
+Layout read_layout(const std::filesystem::path& file, std::string_view bytes) {
+  TextCursor cur(bytes, file);
+  std::vector<std::string_view> tokens;
+  Layout out;
+  std::vector<Field>& fields = out.fields;
+  std::int64_t width = -1, points = -1;
+  std::string data;
+  std::string_view line;
+  while (data.empty()) {
+    if (!cur.next_line(line)) throw InputError(file, {cur.line(), {}}, "PCD header ends before its DATA line");
+    split_fields(line, tokens);
+    if (tokens.empty() || tokens[0].front() == '#') continue;
+    const std::string key = lower(tokens[0]);
+    const std::string keyword(tokens[0]);  // as the file spells it, for messages
+    const std::uint64_t at = cur.line();
+    auto need_values = [&](std::size_t n) {
+      if (n == 0 || tokens.size() - 1 != n)
+        throw InputError(file, {at, {}}, keyword + " needs " + (n ? std::to_string(n) : std::string("at least one")) +
+                                              " value(s), found " + std::to_string(tokens.size() - 1));
+    };
+    auto integer = [&](std::size_t k, std::int64_t lo, std::int64_t hi) {
+      std::int64_t v = 0;
+      if (!parse_int(tokens[k], v) || v < lo || v > hi)
+        throw InputError(file, {at, {}}, keyword + ": expected an integer from " + std::to_string(lo) + " to " +
+                                              std::to_string(hi) + ", found \"" + std::string(tokens[k].substr(0, 40)) + "\"");
+      return v;
+    };
+    if (key == "version") continue;
+    if (fields.empty() && key != "fields" && key != "columns")
+      throw InputError(file, {at, {}}, "expected the PCD header (VERSION or FIELDS), found \"" + std::string(line.substr(0, 40)) + "\"");
+    if (key == "fields" || key == "columns") {
+      if (tokens.size() < 2 || tokens.size() > 1025) throw InputError(file, {at, {}}, "FIELDS needs 1 to 1024 names");
+      fields.clear();
+      for (std::size_t k = 1; k < tokens.size(); ++k) fields.push_back({std::string(tokens[k]), 'F', 4, 1, 0});
+    } else if (key == "size") {
+      need_values(fields.size());
+      for (std::size_t k = 0; k < fields.size(); ++k) {
+        const auto s = integer(k + 1, 1, 8);
+        if (s != 1 && s != 2 && s != 4 && s != 8) throw InputError(file, {at, {}}, "SIZE must be 1, 2, 4 or 8 bytes");
+        fields[k].size = static_cast<unsigned>(s);
+      }
+    } else if (key == "type") {
+      need_values(fields.size());
+      for (std::size_t k = 0; k < fields.size(); ++k) {
+        const std::string t = lower(tokens[k + 1]);
+        if (t != "f" && t != "i" && t != "u") throw InputError(file, {at, {}}, "TYPE must be F, I or U, found \"" + t + "\"");
+        fields[k].type = static_cast<char>(std::toupper(static_cast<unsigned char>(t[0])));
+      }
+    } else if (key == "count") {
+      need_values(fields.size());
+      for (std::size_t k = 0; k < fields.size(); ++k) fields[k].count = static_cast<std::uint64_t>(integer(k + 1, 1, 1 << 20));
+    } else if (key == "width") {
+      need_values(1);
+      width = integer(1, 0, std::numeric_limits<std::int32_t>::max());
+    } else if (key == "height") {
+      need_values(1);
+      out.height = integer(1, 1, std::numeric_limits<std::int32_t>::max());
+    } else if (key == "points") {
+      need_values(1);
+      points = integer(1, 0, std::numeric_limits<std::int64_t>::max() / 2);
+    } else if (key == "viewpoint") {
+      need_values(7);
+      for (int k = 0; k < 7; ++k)
+        if (!parse_double(tokens[static_cast<std::size_t>(k) + 1], out.viewpoint[k]) || !std::isfinite(out.viewpoint[k]))
+          throw InputError(file, {at, {}}, "VIEWPOINT needs 7 finite numbers");
+    } else if (key == "data") {
+      need_values(1);
+      data = lower(tokens[1]);
+      if (data != "ascii" && data != "binary" && data != "binary_compressed")
+        throw InputError(file, {at, {}}, "DATA must be ascii, binary or binary_compressed, found \"" + data + "\"");
+    } else {
+      throw InputError(file, {at, {}}, "unknown PCD header line \"" + std::string(line.substr(0, 40)) + "\"");
+    }
+  }
+  out.data = data == "ascii" ? Data::Ascii : data == "binary" ? Data::Binary : Data::BinaryCompressed;
+  out.data_line = cur.line();
+  out.roles = roles_of(fields);
+  if (std::any_of(out.roles.position, out.roles.position + 3, [](int f) { return f < 0; }))
+    throw InputError(file, {out.data_line, {}}, "PCD FIELDS name no x, y and z");
+  if (width < 0) throw InputError(file, {out.data_line, {}}, "PCD header has no WIDTH");
+  if (points < 0) points = width * out.height;
+  if (points != width * out.height)
+    throw InputError(file, {out.data_line, {}}, "POINTS (" + std::to_string(points) + ") is not WIDTH x HEIGHT (" +
+                                                    std::to_string(width) + " x " + std::to_string(out.height) + ")");
+  for (Field& f : fields) {
+    if (f.type == 'F' && f.size != 4 && f.size != 8)
+      throw InputError(file, {out.data_line, {}}, "field " + f.name + " is a float of " + std::to_string(f.size) +
+                                                      " bytes (PCD floats have 4 or 8)");
+    f.offset = out.record;
+    out.record += f.size * f.count;
+  }
+  out.points = static_cast<std::uint64_t>(points);
+  out.body = cur.offset();
+  const std::uint64_t remaining = bytes.size() - out.body;
+  // Each point takes at least 2 bytes as text ("0\n") and `record` bytes in binary; LZF
+  // expands at most 132 times (a 2-byte back reference copies up to 264 bytes).
+  const std::uint64_t max_points = out.data == Data::Ascii    ? remaining / 2 + 1
+                                   : out.data == Data::Binary ? remaining / out.record
+                                                              : (remaining / out.record + 1) * 132;
+  if (out.points > max_points)
+    throw InputError(file, FileLocation{std::nullopt, out.body},
+                     "the header declares " + std::to_string(out.points) + " points, more than the rest of the file can hold");
+  if (out.data == Data::Binary && out.points * out.record > remaining)
+    throw InputError(file, FileLocation{std::nullopt, out.body}, "binary data ends before its points do");
+  return out;
+}
+
+Records::Records(const std::filesystem::path& file, std::string_view bytes, const Layout& layout)
+    : file_(file), bytes_(bytes), layout_(layout), cursor_(bytes.substr(layout.body), file, layout.data_line + 1) {
+  std::size_t columns = 0;
+  for (const Field& f : layout.fields) first_.push_back(columns), columns += static_cast<std::size_t>(f.count);
+  values_.resize(columns);
+}
+
+bool Records::next() {
+  if (read_ == layout_.points) return false;
+  ++read_;
+  if (layout_.data != Data::Ascii) return true;
+  std::string_view line;
+  for (;;) {
+    if (!cursor_.next_line(line))
+      throw InputError(file_, {cursor_.line(), {}},
+                       "file ends after " + std::to_string(read_ - 1) + " of " + std::to_string(layout_.points) + " points");
+    split_fields(line, tokens_);
+    if (!tokens_.empty()) break;
+  }
+  if (tokens_.size() != values_.size())
+    throw InputError(file_, {cursor_.line(), {}}, "expected " + std::to_string(values_.size()) + " values, found " + std::to_string(tokens_.size()));
+  for (std::size_t k = 0; k < values_.size(); ++k)
+    if (!parse_double(tokens_[k], values_[k]))
+      throw InputError(file_, {cursor_.line(), {}}, "expected a number in column " + std::to_string(k + 1) + ", found \"" +
+                                                        std::string(tokens_[k].substr(0, 40)) + "\"");
+  return true;
+}
+
+double Records::value(int f) const {
+  if (layout_.data == Data::Ascii) return values_[first_[static_cast<std::size_t>(f)]];
+  const Field& field = layout_.fields[static_cast<std::size_t>(f)];
+  return decode(bytes_.data() + layout_.body + (read_ - 1) * layout_.record + field.offset, field.type, field.size);
+}
+
+FileLocation Records::location() const {
+  if (layout_.data == Data::Ascii) return {cursor_.line(), std::nullopt};
+  return {std::nullopt, layout_.body + (read_ - 1) * layout_.record};
+}
+
+std::size_t Records::offset() const {
+  return layout_.data == Data::Ascii ? layout_.body + cursor_.offset() : layout_.body + static_cast<std::size_t>(read_ * layout_.record);
+}
+
+}  // namespace clustersurf::io::pcd
