@@ -5,10 +5,12 @@
 
 #include "fuzz_checks.hpp"
 
+#include <clustersurf/point_cloud_io.hpp>
 #include <clustersurf/point_stream.hpp>
 
 #include <cstring>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <unistd.h>
 
@@ -41,6 +43,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
           fuzz::require(drop || holes || total == stream.size());
           fuzz::require(pass == 0 || total == first);
         }
+        // The reader, given the whole file, finds the same points (when it reads the file at
+        // all: it also checks fields the stream does not decode, and refuses an empty cloud).
+        std::optional<PointCloud> whole;
+        try {
+          whole = read_point_cloud(file, options);
+        } catch (const InputError&) {
+        }
+        if (whole) fuzz::require(static_cast<std::uint64_t>(whole->size()) == total);
       } catch (const InputError&) {
       }
     }

@@ -84,6 +84,24 @@ void expect_error(const std::string& bytes, const std::string& text) {
   }
 }
 
+// A few header bytes may not make the reader allocate for a billion values: COUNTs adding up
+// to more values than an ascii line can hold are refused, naming the DATA line; a binary file
+// with such fields and no points costs nothing.
+TEST(PcdReader, HugeCountsAreRefusedOrCostNothing) {
+  const std::string header = "VERSION 0.7\nFIELDS x y z w\nSIZE 4 4 4 1\nTYPE F F F U\nCOUNT 1 1 1 1048576\nWIDTH 0\nHEIGHT 1\nPOINTS 0\n";
+  try {
+    parse_pcd(header + "DATA ascii\n");
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.where().line, std::optional<std::uint64_t>(9)) << e.what();
+    EXPECT_NE(std::string(e.what()).find("more than an ascii line can hold"), std::string::npos) << e.what();
+  }
+  try {
+    parse_pcd(header + "DATA binary\n");  // no points: refused as empty, if at all, not for memory
+  } catch (const InputError&) {
+  }
+}
+
 TEST(PcdReader, BinaryAndCompressedRecords) {
   const std::vector<char> raw = records(false);
   expect_points(parse_pcd(kHeader + "DATA binary\n" + std::string(raw.begin(), raw.end())));

@@ -4,7 +4,8 @@
 // kept as it is; elsewhere (unscanned holes, the inside of a closed part beyond every support)
 // a harmonic fill takes over: on a coarse grid over the bounding box, the nodes where f is
 // undefined solve Laplace's equation with f as boundary values at the nodes where it is
-// defined and "outside" on the grid's border (Davis, Marschner, Garr & Levoy 2002, volumetric
+// defined and no flux through the grid's border; beyond the grid everything is outside (Davis,
+// Marschner, Garr & Levoy 2002, volumetric
 // diffusion; here on the tree's blend instead of line-of-sight distances). A hole then closes
 // with the smoothest field that agrees with the surface around it, like a soap film bounded
 // by the hole's rim, and the inside of a part stays inside. Between the two, where the blend's
@@ -33,13 +34,14 @@ struct ClosingOptions {
 };
 
 /// F: the blend where it is defined (total weight above min_weight), the harmonic fill where
-/// no support reaches, and between them the two mixed by smoothstep(weight / min_weight): F is
-/// continuous. Positive outside. Immutable once built; value() and inside() are thread-safe.
+/// no support reaches, and between them the two mixed by smoothstep(weight / min_weight): with
+/// min_weight > 0, F is continuous inside the fill grid. Positive outside. Immutable once built;
+/// value() and inside() are thread-safe.
 class ClosedSurface {
  public:
   /// Builds the fill grid (evaluating f at its nodes, then solving). Deterministic and
   /// independent of the thread count. Throws OptionError for a resolution below 8 or above
-  /// 1024, Cancelled when `progress` says stop.
+  /// 1024 or a negative or non-finite `min_weight`, Cancelled when `progress` says stop.
   ClosedSurface(const ImplicitSurface& surface, const ClosingOptions& options = {}, double min_weight = kMinWeight,
                 const ProgressCallback& progress = {});
 
@@ -47,12 +49,13 @@ class ClosedSurface {
   /// reaches, the two mixed below the confidence floor; beyond the grid, positive (outside),
   /// growing with the distance to it.
   double value(const Eigen::Vector3d& x) const;
-  /// The fill alone at x (what value() returns where f is undefined).
+  /// The fill alone at x (what value() returns where no support reaches).
   double fill_value(const Eigen::Vector3d& x) const;
   /// Whether x lies inside the closed surface (F < 0).
   bool inside(const Eigen::Vector3d& x) const { return value(x) < 0; }
-  /// Whether f is undefined at x, so the closed surface there is filled in, not fitted.
-  bool filled(const Eigen::Vector3d& x) const { return !surface_->value(x, min_weight_).has_value(); }
+  /// Whether F at x is (at least in part) the fill, not f: the blend is not above its
+  /// confidence floor there, or x lies beyond the fill grid.
+  bool filled(const Eigen::Vector3d& x) const;
 
   const ImplicitSurface& surface() const noexcept { return *surface_; }
   /// The fill grid's cell size.
@@ -66,6 +69,9 @@ class ClosedSurface {
   }
 
   const ImplicitSurface* surface_;
+  /// Whether x lies inside the fill grid (its border included).
+  bool in_grid(const Eigen::Vector3d& x) const;
+
   double min_weight_;
   Eigen::Vector3d corner_;       // the grid's first node
   double cell_ = 0;

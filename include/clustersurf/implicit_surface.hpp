@@ -8,6 +8,7 @@
 #include <clustersurf/cluster_tree.hpp>
 
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace clustersurf {
@@ -71,6 +72,8 @@ class ImplicitSurface {
   /// f at x, or nullopt where undefined: where the total weight is 0, or not above
   /// `min_weight` (a confidence floor, kMinWeight for the mesher and the renderer).
   std::optional<double> value(const Eigen::Vector3d& x, double min_weight = 0) const;
+  /// Σ wᵢ Qᵢ(x) and Σ wᵢ over the supports containing x: value() is their ratio.
+  std::pair<double, double> weighted_sum(const Eigen::Vector3d& x) const;
   /// Samples every row of `points` in parallel; results in row order.
   std::vector<SurfaceSample> sample_all(const Points& points) const;
   /// Calls visit(node index, s = ‖x − c‖² / radius²) for every cut node whose support (grown

@@ -56,10 +56,11 @@ struct MeshReport {
 /// Throws OptionError for invalid options, Cancelled when `progress` says stop.
 TriangleMesh extract_mesh(const ImplicitSurface& surface, const MeshOptions& options = {}, MeshReport* report = nullptr,
                           const ProgressCallback& progress = {});
-/// The same walk on a closed surface's F: identical where the blend (or the fill band) defines
-/// f, the harmonic fill elsewhere (vertices there keep the polygonizer's position and take the
-/// fill's gradient as normal), so the mesh is closed: no cell is left out for an undefined
-/// corner inside the fill grid.
+/// The same walk on a closed surface's F (ClosedSurface::value()): identical where the blend is
+/// above the closed surface's own confidence floor (`options.min_weight` and `fill_cells` do
+/// not apply), the fill, faded in from f, elsewhere (vertices there keep the polygonizer's
+/// position and take F's gradient as normal), so the mesh is closed: no cell is left out for an
+/// undefined corner.
 TriangleMesh extract_mesh(const ClosedSurface& closed, const MeshOptions& options = {}, MeshReport* report = nullptr,
                           const ProgressCallback& progress = {});
 

@@ -246,7 +246,8 @@ without the GIL.)doc")
           },
           py::arg("xyz"), py::kw_only(), py::arg("resolution") = ClosingOptions{}.resolution, R"doc(
 Whether each row of ``xyz`` (n, 3), in the tree's coordinates, lies inside the closed surface:
-f < 0 where the blend defines f, else the harmonic fill that closes the holes, the same field
+f < 0 where the blend defines f, else the harmonic fill that closes the holes (f fading into
+it where the blend's weight falls below its confidence floor), the same field
 ``mesh(watertight=True)`` meshes; everything beyond the fill grid (the bounding box and a few
 cells) is outside. ``resolution``: cells of the fill grid along the longest side (default
 128). Builds the fill each call (about a second for 10^5 points); a bool array of n.)doc")

@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 
 namespace clustersurf::io {
 
@@ -57,6 +58,7 @@ ParsedFile read_e57(const std::filesystem::path& file, std::string_view bytes) {
   Eigen::VectorXf intensities = intensity ? Eigen::VectorXf::Zero(n) : Eigen::VectorXf();
   std::vector<std::uint8_t> invalid(total, 0);
   std::vector<std::uint32_t> scan_of(total, 0);
+  std::map<Eigen::Index, std::uint64_t> non_finite;  // row → where its first non-finite coordinate is
 
   Eigen::Index row0 = 0;
   for (std::size_t si = 0; si < scans.size(); ++si) {
@@ -65,7 +67,7 @@ ParsedFile read_e57(const std::filesystem::path& file, std::string_view bytes) {
     for (int k = 0; k < 3; ++k)
       streams[static_cast<std::size_t>(s.coord[k])].sink = [&, k, row0](std::uint64_t r, double v, std::uint64_t logical) {
         cloud.positions(row0 + static_cast<Eigen::Index>(r), k) = v;
-        if (!std::isfinite(v) && !out.first_non_finite) out.first_non_finite = FileLocation{std::nullopt, pages.to_physical(logical)};
+        if (!std::isfinite(v)) non_finite.emplace(row0 + static_cast<Eigen::Index>(r), pages.to_physical(logical));
       };
     if (s.invalid >= 0)
       streams[static_cast<std::size_t>(s.invalid)].sink = [&, row0](std::uint64_t r, double v, std::uint64_t) {
@@ -93,6 +95,10 @@ ParsedFile read_e57(const std::filesystem::path& file, std::string_view bytes) {
   Eigen::Index kept = 0;
   for (Eigen::Index i = 0; i < n; ++i) {
     if (invalid[static_cast<std::size_t>(i)] != 0) continue;
+    // The first kept point with a non-finite coordinate is named by its byte (invalid records
+    // may hold anything).
+    if (!out.first_non_finite)
+      if (const auto it = non_finite.find(i); it != non_finite.end()) out.first_non_finite = FileLocation{std::nullopt, it->second};
     cloud.positions.row(kept) = cloud.positions.row(i);
     if (colors) cloud.colors.row(kept) = cloud.colors.row(i);
     if (intensity) intensities(kept) = intensities(i);

@@ -220,12 +220,13 @@ std::vector<StreamField> Scan::streams() const {
   return out;
 }
 
+Eigen::Vector3d Scan::cartesian(const Eigen::Vector3d& spherical) {
+  const double r = spherical(0), az = spherical(1), el = spherical(2);
+  return {r * std::cos(el) * std::cos(az), r * std::cos(el) * std::sin(az), r * std::sin(el)};
+}
+
 Eigen::Vector3d Scan::position(const Eigen::Vector3d& decoded) const {
-  Eigen::Vector3d p = decoded;
-  if (spherical) {
-    const double r = p(0), az = p(1), el = p(2);
-    p << r * std::cos(el) * std::cos(az), r * std::cos(el) * std::sin(az), r * std::sin(el);
-  }
+  const Eigen::Vector3d p = spherical ? cartesian(decoded) : decoded;
   if (!posed()) return p;
   return rotation.toRotationMatrix() * p + translation;
 }

@@ -42,6 +42,8 @@ struct Scan {
   /// The point that the three coordinate fields' values `decoded` stand for: spherical ones
   /// turned cartesian, then posed.
   Eigen::Vector3d position(const Eigen::Vector3d& decoded) const;
+  /// Range, azimuth and elevation as x, y, z.
+  static Eigen::Vector3d cartesian(const Eigen::Vector3d& spherical);
 };
 
 /// The scans of a file and their records in all.

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
+#include <utility>
 
 namespace clustersurf::io {
 
@@ -24,10 +26,14 @@ struct E57Points::Impl {
   std::array<std::vector<double>, 4> values;  // decoded and not yet taken from `head` on: x, y, z, invalid state
   std::array<std::optional<double>, 4> constant;  // the value of a field stored in no bits
   std::size_t head = 0;
-  /// The first record of the scan decoded with a non-finite coordinate, and where that value is.
-  std::optional<std::pair<std::uint64_t, std::uint64_t>> non_finite;
+  /// The records of the scan not yet taken that were decoded with a non-finite coordinate, and
+  /// where (logical offset) the first such value of each is.
+  std::map<std::uint64_t, std::uint64_t> non_finite;
+  /// The physical bytes no read touches again, not yet handed out by finished_bytes().
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> finished;
+  std::uint64_t released = 0;  // physical offset up to which the current scan's bytes are handed out
 
-  /// Starts decoding scan `scan` (if any is left).
+  /// Starts decoding scan `scan` (if any is left), first handing out the rest of the one before.
   void open_scan();
   /// Records decoded and not yet taken.
   std::size_t ready() const {
@@ -39,18 +45,25 @@ struct E57Points::Impl {
   }
   /// Field k's value of the i-th record held.
   double value(std::size_t k, std::size_t i) const { return constant[k] ? *constant[k] : values[k][i]; }
+  /// Hands out the current scan's bytes up to physical offset `to`.
+  void finish_up_to(std::uint64_t to) {
+    if (to > released) finished.emplace_back(released, to);
+    released = std::max(released, to);
+  }
 };
 
 void E57Points::Impl::open_scan() {
+  if (decoder) finish_up_to(pages.to_physical(scans.scans[scan - 1].section.end));
   decoder.reset();
   for (auto& v : values) v.clear();
   constant.fill(std::nullopt);
   head = 0;
   taken = 0;
-  non_finite.reset();
+  non_finite.clear();
   if (scan >= scans.scans.size()) return;
   const e57::Scan& s = scans.scans[scan];
   if (s.records == 0) return;
+  released = pages.to_physical(s.section.begin);
   std::vector<e57::StreamField> streams = s.streams();
   const int fields[4] = {s.coord[0], s.coord[1], s.coord[2], s.invalid};
   for (std::size_t k = 0; k < 4; ++k) {
@@ -58,12 +71,11 @@ void E57Points::Impl::open_scan() {
     e57::StreamField& f = streams[static_cast<std::size_t>(fields[k])];
     if (f.codec.bits == 0) {  // a constant, not decoded record by record
       constant[k] = f.codec.value(0);
-      if (k < 3 && !std::isfinite(*constant[k])) non_finite.emplace(0, s.section.begin);
       continue;
     }
     f.sink = [this, k](std::uint64_t r, double v, std::uint64_t logical) {
       values[k].push_back(v);
-      if (k < 3 && !std::isfinite(v) && (!non_finite || r < non_finite->first)) non_finite.emplace(r, logical);
+      if (k < 3 && !std::isfinite(v)) non_finite.emplace(r, logical);  // keeps the first field's
     };
   }
   decoder.emplace(pages, s.section, s.records, std::move(streams));
@@ -93,13 +105,23 @@ void E57Points::read(std::uint64_t n, Points& out, std::vector<std::optional<std
     while (d.ready() < want && d.decoder->next_packet()) {
     }
     const std::size_t m = static_cast<std::size_t>(std::min<std::uint64_t>(want, d.ready()));
+    const Eigen::Matrix3d rotation = s.rotation.toRotationMatrix();
+    const bool moved = s.posed();
     for (std::size_t i = d.head; i < d.head + m; ++i) {
       if (s.invalid >= 0 && d.value(3, i) != 0) continue;
       const std::uint64_t record = d.taken + (i - d.head);
-      out.row(kept++) = s.position({d.value(0, i), d.value(1, i), d.value(2, i)}).transpose();
-      located.push_back(d.non_finite && d.non_finite->first == record ? std::optional(d.pages.to_physical(d.non_finite->second))
-                                                                       : std::nullopt);
+      Eigen::Vector3d p(d.value(0, i), d.value(1, i), d.value(2, i));
+      if (s.spherical) p = e57::Scan::cartesian(p);
+      if (moved) p = rotation * p + s.translation;
+      out.row(kept++) = p.transpose();
+      std::optional<std::uint64_t> where;
+      if (const auto it = d.non_finite.find(record); it != d.non_finite.end()) where = d.pages.to_physical(it->second);
+      else if (d.constant[0] || d.constant[1] || d.constant[2])
+        for (std::size_t k = 0; k < 3 && !where; ++k)
+          if (d.constant[k] && !std::isfinite(*d.constant[k])) where = d.pages.to_physical(s.section.begin);
+      located.push_back(where);
     }
+    d.non_finite.erase(d.non_finite.begin(), d.non_finite.lower_bound(d.taken + m));
     d.head += m;
     d.taken += m;
     n -= m;
@@ -108,17 +130,17 @@ void E57Points::read(std::uint64_t n, Points& out, std::vector<std::optional<std
       d.head = 0;
     }
   }
+  if (d.decoder) d.finish_up_to(d.pages.to_physical(d.decoder->position()));
   out.conservativeResize(kept, 3);
 }
 
-std::pair<std::uint64_t, std::uint64_t> E57Points::finished_bytes() const noexcept {
-  const Impl& d = *impl_;
-  if (!d.decoder) return {0, 0};
-  const e57::Section& section = d.scans.scans[d.scan].section;
-  return {d.pages.to_physical(section.begin), d.pages.to_physical(d.decoder->position())};
+std::vector<std::pair<std::uint64_t, std::uint64_t>> E57Points::finished_bytes() {
+  return std::exchange(impl_->finished, {});
 }
 
 void E57Points::rewind() {
+  impl_->decoder.reset();  // nothing of the scan being read is handed out again
+  impl_->finished.clear();
   impl_->scan = 0;
   impl_->open_scan();
 }

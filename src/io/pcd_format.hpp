@@ -59,8 +59,9 @@ Layout read_layout(const std::filesystem::path& file, std::string_view bytes);
 /// The value of element `bytes` (little-endian) of a field of `type` and `size`.
 double decode(const char* bytes, char type, unsigned size);
 
-/// The records of an ascii or binary PCD file, one at a time. `bytes` and `layout` must
-/// outlive it.
+/// The records of an ascii or binary PCD file, one at a time (InputError for a
+/// binary_compressed one, whose fields lie one after another). `file`, `bytes` and `layout`
+/// must outlive it.
 class Records {
  public:
   Records(const std::filesystem::path& file, std::string_view bytes, const Layout& layout);

@@ -146,6 +146,15 @@ Layout read_layout(const std::filesystem::path& file, std::string_view bytes) {
     f.offset = out.record;
     out.record += f.size * f.count;
   }
+  // An ascii line holds every element, each at least a digit and a separator: more columns
+  // than a line can hold cannot be read (and must not be allocated for).
+  if (out.data == Data::Ascii) {
+    std::uint64_t columns = 0;
+    for (const Field& f : fields) columns += f.count;
+    if (columns > kMaxLineBytes / 2 + 1)
+      throw InputError(file, {out.data_line, {}}, "the fields' COUNTs add up to " + std::to_string(columns) +
+                                                      " values per point, more than an ascii line can hold");
+  }
   out.points = static_cast<std::uint64_t>(points);
   out.body = cur.offset();
   const std::uint64_t remaining = bytes.size() - out.body;
@@ -163,10 +172,13 @@ Layout read_layout(const std::filesystem::path& file, std::string_view bytes) {
 }
 
 Records::Records(const std::filesystem::path& file, std::string_view bytes, const Layout& layout)
-    : file_(file), bytes_(bytes), layout_(layout), cursor_(bytes.substr(layout.body), file, layout.data_line + 1) {
+    : file_(file), bytes_(bytes), layout_(layout), cursor_(bytes.substr(layout.body), file_, layout.data_line + 1) {
+  if (layout.data == Data::BinaryCompressed)
+    throw InputError(file_, {layout.data_line, {}}, "binary_compressed data is not read a record at a time");
+  if (layout.data != Data::Ascii) return;
   std::size_t columns = 0;
   for (const Field& f : layout.fields) first_.push_back(columns), columns += static_cast<std::size_t>(f.count);
-  values_.resize(columns);
+  values_.resize(columns);  // at most a line's worth (read_layout())
 }
 
 bool Records::next() {

@@ -12,8 +12,6 @@
 #include <lzf.h>
 
 #include <algorithm>
-#include <array>
-#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -41,7 +39,7 @@ std::uint32_t to_unsigned(double x, double hi) { return std::isnan(x) ? 0u : sta
 class PointSink {
  public:
   PointSink(const std::vector<Field>& fields, const Roles& roles, std::size_t expected) : fields_(fields), roles_(roles) {
-    has_normals_ = std::all_of(roles.normal, roles.normal + 3, [](int f) { return f >= 0; });
+    has_normals_ = roles.normals();
     has_rgb_ = roles.packed_rgb >= 0 || std::all_of(roles.rgb, roles.rgb + 3, [](int f) { return f >= 0; });
     pos_.reserve(3 * expected);
   }

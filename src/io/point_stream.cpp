@@ -67,9 +67,10 @@ struct PointStream::Impl {
   std::optional<io::pcd::Records> pcd;
   std::uint64_t text_points = 0;  // points of an XYZ or PTX file, counted when opened
   bool xyz_normals = false;
-  std::size_t released = 0;  // bytes of a text file given back to the system
+  std::size_t released = 0;  // bytes of a text or PCD file given back to the system
   bool failed = false;       // a read threw: the text parser is past the point it refused
   std::uint64_t points = 0;  // E57: valid points decoded so far (for messages)
+  std::vector<std::optional<std::uint64_t>> located;  // E57: where each point of a block was found non-finite
   PointCloud whole;  // the file read whole, in the file's coordinates, when not streamed
   std::uint64_t next = 0;
 
@@ -95,8 +96,8 @@ struct PointStream::Impl {
   void read_xyz(Eigen::Index n, PointCloud& block);
   /// The next `n` PTX points into `block` (positions only).
   void read_ptx(Eigen::Index n, PointCloud& block);
-  /// Gives back the text file's pages read so far.
-  void release_text(std::size_t offset) {
+  /// Gives back the file's pages read so far (up to byte `offset`).
+  void release_read(std::size_t offset) {
     mapped->release(released, offset);
     released = offset;
   }
@@ -157,7 +158,7 @@ void PointStream::Impl::read_xyz(Eigen::Index n, PointCloud& block) {
   }
   block.positions.conservativeResize(kept, 3);
   if (xyz_normals) block.normals.conservativeResize(kept, 3);
-  release_text(xyz->offset());
+  release_read(xyz->offset());
 }
 
 void PointStream::Impl::read_ptx(Eigen::Index n, PointCloud& block) {
@@ -174,7 +175,7 @@ void PointStream::Impl::read_ptx(Eigen::Index n, PointCloud& block) {
     block.positions.row(kept++) = p.position.transpose();
   }
   block.positions.conservativeResize(kept, 3);
-  release_text(ptx->offset());
+  release_read(ptx->offset());
 }
 
 void PointStream::Impl::read_las(Eigen::Index n, PointCloud& block) {
@@ -195,7 +196,6 @@ void PointStream::Impl::read_las(Eigen::Index n, PointCloud& block) {
 }
 
 void PointStream::Impl::read_e57(Eigen::Index n, PointCloud& block) {
-  thread_local std::vector<std::optional<std::uint64_t>> located;
   e57->read(static_cast<std::uint64_t>(n), block.positions, located);
   Eigen::Index kept = 0;
   for (Eigen::Index i = 0; i < block.positions.rows(); ++i) {
@@ -210,8 +210,7 @@ void PointStream::Impl::read_e57(Eigen::Index n, PointCloud& block) {
   }
   points += static_cast<std::uint64_t>(block.positions.rows());
   block.positions.conservativeResize(kept, 3);
-  const auto [begin, end] = e57->finished_bytes();
-  mapped->release(begin, end);
+  for (const auto& [begin, end] : e57->finished_bytes()) mapped->release(begin, end);
 }
 
 void PointStream::Impl::open_pcd() {
@@ -225,7 +224,6 @@ void PointStream::Impl::read_pcd(Eigen::Index n, PointCloud& block) {
   const bool normals = roles.normals();
   block.positions.resize(n, 3);
   if (normals) block.normals.resize(n, 3);
-  const std::size_t from = pcd->offset();
   Eigen::Index kept = 0;
   for (Eigen::Index i = 0; i < n && pcd->next(); ++i) {
     Eigen::Vector3d p, q = Eigen::Vector3d::Zero();
@@ -245,7 +243,7 @@ void PointStream::Impl::read_pcd(Eigen::Index n, PointCloud& block) {
   }
   block.positions.conservativeResize(kept, 3);
   if (normals) block.normals.conservativeResize(kept, 3);
-  mapped->release(from, pcd->offset());
+  release_read(pcd->offset());
 }
 
 PointStream::PointStream(const std::filesystem::path& file, const ReadOptions& options) : impl_(std::make_unique<Impl>()) {
@@ -286,7 +284,7 @@ void PointStream::rewind() {
   impl_->points = 0;
   if (impl_->xyz || impl_->ptx) impl_->restart_text();
   if (impl_->e57) impl_->e57->rewind();
-  if (impl_->pcd) impl_->pcd.emplace(impl_->file, impl_->mapped->view(), *impl_->pcd_layout);
+  if (impl_->pcd) impl_->pcd.emplace(impl_->file, impl_->mapped->view(), *impl_->pcd_layout), impl_->released = 0;
 }
 
 bool PointStream::read(std::size_t count, PointCloud& block) {

@@ -40,7 +40,7 @@ void read_numbers(TextCursor& cur, const std::filesystem::path& file, std::vecto
 }  // namespace
 
 PtxLines::PtxLines(const std::filesystem::path& file, std::string_view bytes)
-    : file_(file), cursor_(bytes, file), bytes_(bytes.size()) {}
+    : file_(file), cursor_(bytes, file_), bytes_(bytes.size()) {}
 
 bool PtxLines::open_scan() {
   // The next scan's header begins at the next non-empty line, or the file ends.

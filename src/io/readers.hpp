@@ -89,7 +89,10 @@ ParsedFile read_e57(const std::filesystem::path& file, std::string_view bytes);
 
 /// An E57 file's points decoded a block of records at a time (e57_stream.cpp), as read_e57()
 /// gives them: every scan in turn, posed, the records the scanner marked invalid left out.
-/// Positions only. Its memory is one block and a data packet per field, whatever the file's size.
+/// Positions only: the other fields are not decoded, so a damaged color or intensity stream,
+/// which read_e57() refuses, goes unnoticed. Its memory is a block and what the packets hold
+/// of one coordinate field ahead of another (nothing much for files whose writers interleave
+/// the fields packet by packet, as libE57Format does), whatever the file's size.
 class E57Points {
  public:
   /// Checks the header, the XML and every scan's binary section (InputError with the byte
@@ -106,8 +109,9 @@ class E57Points {
   /// offset of row i's non-finite coordinate when it was decoded as one (not when a pose made
   /// it overflow). Throws InputError for a damaged packet.
   void read(std::uint64_t n, Points& out, std::vector<std::optional<std::uint64_t>>& located);
-  /// The file's bytes [begin, end) that no read before rewind() touches again.
-  std::pair<std::uint64_t, std::uint64_t> finished_bytes() const noexcept;
+  /// The file's byte ranges [begin, end) that no read before rewind() touches again, those not
+  /// handed out by an earlier call.
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> finished_bytes();
   /// Back to the first record.
   void rewind();
 

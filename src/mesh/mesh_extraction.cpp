@@ -81,9 +81,10 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
   if (!(options.min_weight >= 0) || !std::isfinite(options.min_weight)) throw OptionError("mesh min_weight must be >= 0");
   if (longest / h > 500000) throw OptionError("mesh grid too fine: more than 500000 cells along the bounding box");
   if (!(options.fill_cells >= 0) || !std::isfinite(options.fill_cells)) throw OptionError("mesh fill_cells must be >= 0");
-  // Where `surface` is undefined: the same blend with supports fill_cells cells wider.
+  // Where `surface` is undefined: the same blend with supports fill_cells cells wider (a closed
+  // surface has its own fill).
   const ImplicitSurface wide = surface.with_margin(surface.margin() + options.fill_cells * h);
-  const bool fill = options.fill_cells > 0;
+  const bool fill = options.fill_cells > 0 && closed == nullptr;
   const Eigen::Vector3d origin = box.min;
   auto corner_position = [&](std::int64_t i, std::int64_t j, std::int64_t k) {
     return Eigen::Vector3d(origin + h * Eigen::Vector3d(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k)));
@@ -231,11 +232,14 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
       // F's cells put it: projecting it onto f = 0 would leave F's zero set.
       const bool filled = closed != nullptr && closed->filled(x);
       if (options.newton_steps > 0 && !filled) {
-        if (project(surface, y, options.newton_steps, h, 1e-6 * h)) x = y;
-        else if (fill && closed == nullptr && project(wide, y = x, options.newton_steps, h, 1e-6 * h)) x = y;
+        if (project(surface, y, options.newton_steps, h, 1e-6 * h)) {
+          if (closed == nullptr || !closed->filled(y)) x = y;  // onto f = 0, unless F is not f there
+        } else if (fill && project(wide, y = x, options.newton_steps, h, 1e-6 * h)) {
+          x = y;
+        }
       }
       SurfaceSample s = surface.sample(x);
-      if (!s.defined && fill && closed == nullptr) s = wide.sample(x);
+      if (!s.defined && fill) s = wide.sample(x);
       if (filled || (!s.defined && closed != nullptr)) {
         // F's gradient by central differences over half a cell.
         const double d = h / 2;

@@ -154,6 +154,7 @@ ClosedSurface::ClosedSurface(const ImplicitSurface& surface, const ClosingOption
     : surface_(&surface), min_weight_(min_weight) {
   if (options.resolution < 8 || options.resolution > 1024)
     throw OptionError("the fill grid's resolution must be from 8 to 1024 cells");
+  if (!(min_weight >= 0) || !std::isfinite(min_weight)) throw OptionError("the blend's confidence floor must be a finite weight >= 0");
   const BoundingBox box = surface.tree().bbox;
   const double longest = box.extent().maxCoeff();
   if (!(longest > 0) || !std::isfinite(longest))
@@ -230,18 +231,20 @@ double ClosedSurface::fill_value(const Eigen::Vector3d& x) const {
   return v;
 }
 
-double ClosedSurface::value(const Eigen::Vector3d& x) const {
+bool ClosedSurface::in_grid(const Eigen::Vector3d& x) const {
   const Eigen::Vector3d g = (x - corner_) / cell_;
   const Eigen::Vector3d last(static_cast<double>(dims_[0] - 1), static_cast<double>(dims_[1] - 1), static_cast<double>(dims_[2] - 1));
-  // Beyond the grid's border everything is outside.
-  if (!((g.array() >= 0).all() && (g.array() <= last.array()).all())) return fill_value(x);
-  double a = 0, w = 0;
-  surface_->for_each_support(x, [&](std::int32_t i, double s) {
-    const double b = blend_weight(s);
-    a += b * surface_->tree().nodes[static_cast<std::size_t>(i)].proxy.value(x);
-    w += b;
-  });
-  if (w > min_weight_) return a / w;
+  return (g.array() >= 0).all() && (g.array() <= last.array()).all();
+}
+
+bool ClosedSurface::filled(const Eigen::Vector3d& x) const {
+  return !in_grid(x) || !surface_->value(x, min_weight_).has_value();
+}
+
+double ClosedSurface::value(const Eigen::Vector3d& x) const {
+  if (!in_grid(x)) return fill_value(x);  // beyond the grid's border everything is outside
+  const auto [a, w] = surface_->weighted_sum(x);
+  if (w > 0 && w > min_weight_) return a / w;
   const double fill = fill_value(x);
   if (!(w > 0) || !(min_weight_ > 0)) return fill;
   // Below the confidence floor the blend fades into the fill: F stays continuous, so its zero

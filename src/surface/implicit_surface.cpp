@@ -77,13 +77,18 @@ SurfaceSample ImplicitSurface::sample(const Eigen::Vector3d& x) const {
   return out;
 }
 
-std::optional<double> ImplicitSurface::value(const Eigen::Vector3d& x, double min_weight) const {
+std::pair<double, double> ImplicitSurface::weighted_sum(const Eigen::Vector3d& x) const {
   double a = 0, w_sum = 0;
   for_each_support(x, [&](std::int32_t i, double s) {
     const double w = blend_weight(s);
     a += w * tree_->nodes[static_cast<std::size_t>(i)].proxy.value(x);
     w_sum += w;
   });
+  return {a, w_sum};
+}
+
+std::optional<double> ImplicitSurface::value(const Eigen::Vector3d& x, double min_weight) const {
+  const auto [a, w_sum] = weighted_sum(x);
   if (!(w_sum > 0) || !(w_sum > min_weight)) return std::nullopt;
   return a / w_sum;
 }
