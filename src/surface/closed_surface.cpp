@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -103,14 +104,20 @@ std::size_t solve_fill(FillGrid& g, detail::ProgressReporter* reporter) {
       if (g.known[nb]) b[e] += g.values[nb];
     }
   });
+  // Each unknown's unknown neighbours, in the order of `step` (-1: none), looked up once (at
+  // most 1031³ nodes: indices fit in 32 bits).
+  std::vector<std::array<std::int32_t, 6>> neighbours(m);
+  tbb::parallel_for(std::size_t{0}, m, [&](std::size_t e) {
+    for (int s = 0; s < 6; ++s)
+      neighbours[e][static_cast<std::size_t>(s)] =
+          mask[e] >> s & 1 ? static_cast<std::int32_t>(id[static_cast<std::size_t>(static_cast<std::int64_t>(unknown[e]) + step[s])]) : -1;
+  });
+  id = {};
   auto apply = [&](const std::vector<double>& in, std::vector<double>& out) {
     tbb::parallel_for(std::size_t{0}, m, [&](std::size_t e) {
       double sum = degree[e] * in[e];
-      for (int s = 0; s < 6; ++s) {
-        if (!(mask[e] >> s & 1)) continue;
-        const std::int64_t nb = id[static_cast<std::size_t>(static_cast<std::int64_t>(unknown[e]) + step[s])];
+      for (const std::int32_t nb : neighbours[e])
         if (nb >= 0) sum -= in[static_cast<std::size_t>(nb)];
-      }
       out[e] = sum;
     });
   };
