@@ -41,10 +41,19 @@ double deterministic_sum(std::size_t n, const Term& term) {
 
 using Vector = std::vector<double>;
 
+/// Calls visit(s, neighbour) for the six neighbours of node n of an nx × ny × nz grid, in the
+/// order +x, −x, +y, −y, +z, −z; `neighbour` is −1 beyond the grid's border.
+template <class Visit>
+void for_each_neighbour(std::int64_t nx, std::int64_t ny, std::int64_t nz, std::int64_t n, Visit&& visit) {
+  const std::int64_t i = n % nx, j = (n / nx) % ny, k = n / (nx * ny);
+  const bool inside[6] = {i + 1 < nx, i > 0, j + 1 < ny, j > 0, k + 1 < nz, k > 0};
+  const std::int64_t step[6] = {1, -1, nx, -nx, nx * ny, -nx * ny};
+  for (int s = 0; s < 6; ++s) visit(s, inside[s] ? n + step[s] : std::int64_t{-1});
+}
+
 /// The unknowns of one grid and their operator: A u = degree · u − Σ unknown neighbours.
 struct Level {
   std::int64_t nx = 0, ny = 0, nz = 0;
-  std::vector<std::uint8_t> known;                      // per node
   std::vector<std::size_t> unknown;                     // node of each unknown
   std::vector<std::int32_t> id;                         // node → unknown, −1 when known
   std::vector<std::array<std::int32_t, 6>> neighbours;  // unknown neighbours, −1: none
@@ -63,26 +72,22 @@ struct Level {
   }
 };
 
-Level make_level(std::int64_t nx, std::int64_t ny, std::int64_t nz, std::vector<std::uint8_t> known) {
+Level make_level(std::int64_t nx, std::int64_t ny, std::int64_t nz, const std::vector<std::uint8_t>& known) {
   Level l;
   l.nx = nx, l.ny = ny, l.nz = nz;
-  l.known = std::move(known);
   const auto count = static_cast<std::size_t>(nx * ny * nz);
   l.id.assign(count, -1);
+  l.unknown.reserve(static_cast<std::size_t>(std::count(known.begin(), known.end(), std::uint8_t{0})));
   for (std::size_t n = 0; n < count; ++n)
-    if (!l.known[n]) l.id[n] = static_cast<std::int32_t>(l.unknown.size()), l.unknown.push_back(n);
+    if (!known[n]) l.id[n] = static_cast<std::int32_t>(l.unknown.size()), l.unknown.push_back(n);
   const std::size_t m = l.size();
   l.neighbours.resize(m);
   l.degree.assign(m, 0);
   tbb::parallel_for(std::size_t{0}, m, [&](std::size_t e) {
-    const auto n = static_cast<std::int64_t>(l.unknown[e]);
-    const std::int64_t i = n % nx, j = (n / nx) % ny, k = n / (nx * ny);
-    const bool inside[6] = {i + 1 < nx, i > 0, j + 1 < ny, j > 0, k + 1 < nz, k > 0};
-    const std::int64_t step[6] = {1, -1, nx, -nx, nx * ny, -nx * ny};
-    for (int s = 0; s < 6; ++s) {
-      l.neighbours[e][static_cast<std::size_t>(s)] = inside[s] ? l.id[static_cast<std::size_t>(n + step[s])] : -1;
-      l.degree[e] = static_cast<std::uint8_t>(l.degree[e] + (inside[s] ? 1 : 0));
-    }
+    for_each_neighbour(nx, ny, nz, static_cast<std::int64_t>(l.unknown[e]), [&](int s, std::int64_t nb) {
+      l.neighbours[e][static_cast<std::size_t>(s)] = nb >= 0 ? l.id[static_cast<std::size_t>(nb)] : -1;
+      l.degree[e] = static_cast<std::uint8_t>(l.degree[e] + (nb >= 0 ? 1 : 0));
+    });
   });
   return l;
 }
@@ -96,8 +101,8 @@ Level coarsen(const Level& fine) {
     for (std::int64_t j = 0; j < cy; ++j)
       for (std::int64_t i = 0; i < cx; ++i)
         known[static_cast<std::size_t>((k * cy + j) * cx + i)] =
-            fine.known[fine.node(std::min(2 * i, fine.nx - 1), std::min(2 * j, fine.ny - 1), std::min(2 * k, fine.nz - 1))];
-  return make_level(cx, cy, cz, std::move(known));
+            fine.id[fine.node(std::min(2 * i, fine.nx - 1), std::min(2 * j, fine.ny - 1), std::min(2 * k, fine.nz - 1))] < 0;
+  return make_level(cx, cy, cz, known);
 }
 
 /// The weight of coarse index c in the trilinear interpolation to fine index f along an axis
@@ -191,9 +196,9 @@ class Multigrid {
   mutable std::vector<Work> work_;
 };
 
-}  // namespace
-
-std::size_t solve_fill(FillGrid& g, ProgressReporter* reporter) {
+/// solve_fill(); `advance`: whether this level reports progress to `reporter` (the coarser
+/// levels only check for cancellation).
+std::size_t solve(FillGrid& g, ProgressReporter* reporter, bool advance) {
   const std::int64_t nx = g.nx, ny = g.ny, nz = g.nz;
   const auto count = static_cast<std::size_t>(nx * ny * nz);
   const auto m = static_cast<std::size_t>(std::count(g.known.begin(), g.known.end(), std::uint8_t{0}));
@@ -219,7 +224,7 @@ std::size_t solve_fill(FillGrid& g, ProgressReporter* reporter) {
           coarse.values[c] = g.values[f];
           coarse.known[c] = g.known[f];
         }
-    solve_fill(coarse, nullptr);
+    solve(coarse, reporter, false);
     tbb::parallel_for(std::size_t{0}, m, [&](std::size_t e) {
       const auto n = static_cast<std::int64_t>(unknown[e]);
       const double x = static_cast<double>(n % nx) / 2, y = static_cast<double>((n / nx) % ny) / 2, z = static_cast<double>(n / (nx * ny)) / 2;
@@ -244,20 +249,16 @@ std::size_t solve_fill(FillGrid& g, ProgressReporter* reporter) {
   // b: the known neighbours' values.
   Vector b(m, 0.0), r(m), z(m), p(m), q(m);
   tbb::parallel_for(std::size_t{0}, m, [&](std::size_t e) {
-    const auto n = static_cast<std::int64_t>(l.unknown[e]);
-    const std::int64_t i = n % nx, j = (n / nx) % ny, k = n / (nx * ny);
-    const bool inside[6] = {i + 1 < nx, i > 0, j + 1 < ny, j > 0, k + 1 < nz, k > 0};
-    const std::int64_t step[6] = {1, -1, nx, -nx, nx * ny, -nx * ny};
-    for (int s = 0; s < 6; ++s) {
-      const auto nb = static_cast<std::size_t>(n + step[s]);
-      if (inside[s] && g.known[nb]) b[e] += g.values[nb];
-    }
+    for_each_neighbour(nx, ny, nz, static_cast<std::int64_t>(l.unknown[e]), [&](int, std::int64_t nb) {
+      if (nb >= 0 && g.known[static_cast<std::size_t>(nb)]) b[e] += g.values[static_cast<std::size_t>(nb)];
+    });
   });
 
   l.apply(u, q);
   tbb::parallel_for(std::size_t{0}, m, [&](std::size_t e) { r[e] = b[e] - q[e]; });
   double rr = deterministic_sum(m, [&](std::size_t e) { return r[e] * r[e]; });
   const double bb = deterministic_sum(m, [&](std::size_t e) { return b[e] * b[e]; });
+  b = {};
   const double target = 1e-12 * std::max(bb, std::numeric_limits<double>::min());
   multigrid.precondition(r, z);
   p = z;
@@ -266,8 +267,8 @@ std::size_t solve_fill(FillGrid& g, ProgressReporter* reporter) {
   std::uint64_t reported = 0;
   const double start = std::log(std::max(rr, target));
   for (std::size_t it = 0; it < max_iterations && rr > target; ++it) {
-    if (reporter != nullptr) {
-      reporter->check();
+    if (reporter != nullptr) reporter->check();
+    if (reporter != nullptr && advance) {
       // Progress: the share of the way from the first residual to the target, on a log scale.
       const double done = start > std::log(target) ? (start - std::log(rr)) / (start - std::log(target)) : 1.0;
       const auto now = static_cast<std::uint64_t>(std::clamp(done, 0.0, 1.0) * 100);
@@ -290,5 +291,9 @@ std::size_t solve_fill(FillGrid& g, ProgressReporter* reporter) {
   for (std::size_t e = 0; e < m; ++e) g.values[l.unknown[e]] = static_cast<float>(u[e]);
   return m;
 }
+
+}  // namespace
+
+std::size_t solve_fill(FillGrid& g, ProgressReporter* reporter) { return solve(g, reporter, true); }
 
 }  // namespace clustersurf::detail
