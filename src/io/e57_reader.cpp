@@ -85,7 +85,7 @@ ParsedFile read_e57(const std::filesystem::path& file, std::string_view bytes) {
 
     const auto rows = static_cast<Eigen::Index>(s.records);
     for (Eigen::Index i = row0; i < row0 + rows; ++i) {
-      if (s.spherical || s.posed()) cloud.positions.row(i) = s.position(cloud.positions.row(i).transpose()).transpose();
+      if (s.spherical || s.posed) cloud.positions.row(i) = s.position(cloud.positions.row(i).transpose()).transpose();
       scan_of[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>(si);
     }
     row0 += rows;

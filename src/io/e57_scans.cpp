@@ -163,11 +163,14 @@ Scan read_scan(const Xml& xml, const pugi::xml_node& node, std::uint64_t& total_
       const Eigen::Quaterniond q(element_value(xml, r.child("w"), 0), element_value(xml, r.child("x"), 0),
                                  element_value(xml, r.child("y"), 0), element_value(xml, r.child("z"), 0));
       if (!(q.norm() > 1e-12) || !std::isfinite(q.norm())) xml.fail(r, "pose rotation is not a valid quaternion");
-      s.rotation = q.normalized();
+      const Eigen::Quaterniond unit = q.normalized();
+      s.rotation = unit.toRotationMatrix();
+      s.posed = unit.coeffs() != Eigen::Quaterniond::Identity().coeffs();
     }
     const pugi::xml_node t = pose.child("translation");
     s.translation = {element_value(xml, t.child("x"), 0), element_value(xml, t.child("y"), 0), element_value(xml, t.child("z"), 0)};
     if (!s.translation.allFinite()) xml.fail(t, "pose translation is not finite");
+    s.posed = s.posed || !s.translation.isZero(0);
   }
   const std::uint64_t offset = number_attribute<std::uint64_t>(xml, points, "fileOffset", 0);
   s.records = number_attribute<std::uint64_t>(xml, points, "recordCount", 0);
@@ -220,15 +223,13 @@ std::vector<StreamField> Scan::streams() const {
   return out;
 }
 
-Eigen::Vector3d Scan::cartesian(const Eigen::Vector3d& spherical) {
-  const double r = spherical(0), az = spherical(1), el = spherical(2);
-  return {r * std::cos(el) * std::cos(az), r * std::cos(el) * std::sin(az), r * std::sin(el)};
-}
-
 Eigen::Vector3d Scan::position(const Eigen::Vector3d& decoded) const {
-  const Eigen::Vector3d p = spherical ? cartesian(decoded) : decoded;
-  if (!posed()) return p;
-  return rotation.toRotationMatrix() * p + translation;
+  Eigen::Vector3d p = decoded;
+  if (spherical) {
+    const double r = decoded(0), az = decoded(1), el = decoded(2);
+    p << r * std::cos(el) * std::cos(az), r * std::cos(el) * std::sin(az), r * std::sin(el);
+  }
+  return posed ? Eigen::Vector3d(rotation * p + translation) : p;
 }
 
 }  // namespace clustersurf::io::e57

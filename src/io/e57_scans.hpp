@@ -30,20 +30,17 @@ struct Scan {
   bool spherical = false, has_pose = false;
   double color_lo[3] = {0, 0, 0}, color_hi[3] = {255, 255, 255};
   std::optional<std::array<double, 2>> intensity_limits;
-  Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // the pose's unit quaternion, as a matrix
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+  bool posed = false;  // the pose moves the points (a rotation or translation other than the identity)
   std::uint64_t records = 0;
   Section section;
 
   /// The fields as bytestreams to decode, without sinks.
   std::vector<StreamField> streams() const;
-  /// Whether the pose moves the points (a rotation or translation other than the identity).
-  bool posed() const { return !(rotation.coeffs() == Eigen::Quaterniond::Identity().coeffs() && translation.isZero(0)); }
   /// The point that the three coordinate fields' values `decoded` stand for: spherical ones
-  /// turned cartesian, then posed.
+  /// turned cartesian (range, azimuth, elevation), then posed.
   Eigen::Vector3d position(const Eigen::Vector3d& decoded) const;
-  /// Range, azimuth and elevation as x, y, z.
-  static Eigen::Vector3d cartesian(const Eigen::Vector3d& spherical);
 };
 
 /// The scans of a file and their records in all.

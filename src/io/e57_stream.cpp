@@ -105,15 +105,10 @@ void E57Points::read(std::uint64_t n, Points& out, std::vector<std::optional<std
     while (d.ready() < want && d.decoder->next_packet()) {
     }
     const std::size_t m = static_cast<std::size_t>(std::min<std::uint64_t>(want, d.ready()));
-    const Eigen::Matrix3d rotation = s.rotation.toRotationMatrix();
-    const bool moved = s.posed();
     for (std::size_t i = d.head; i < d.head + m; ++i) {
       if (s.invalid >= 0 && d.value(3, i) != 0) continue;
       const std::uint64_t record = d.taken + (i - d.head);
-      Eigen::Vector3d p(d.value(0, i), d.value(1, i), d.value(2, i));
-      if (s.spherical) p = e57::Scan::cartesian(p);
-      if (moved) p = rotation * p + s.translation;
-      out.row(kept++) = p.transpose();
+      out.row(kept++) = s.position({d.value(0, i), d.value(1, i), d.value(2, i)}).transpose();
       std::optional<std::uint64_t> where;
       if (const auto it = d.non_finite.find(record); it != d.non_finite.end()) where = d.pages.to_physical(it->second);
       else if (d.constant[0] || d.constant[1] || d.constant[2])

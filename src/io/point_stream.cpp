@@ -52,6 +52,11 @@ std::optional<PlyPoints> ply_points(const std::filesystem::path& file, std::stri
   return out;
 }
 
+/// The error for point `index` (0-based), found at `where`, that has `what` (a non-finite value).
+InputError non_finite_point(const std::filesystem::path& file, const FileLocation& where, std::uint64_t index, const std::string& what) {
+  return InputError(file, where, "point " + std::to_string(index) + " (0-based) has " + what + "; use the option to drop such points");
+}
+
 }  // namespace
 
 struct PointStream::Impl {
@@ -90,7 +95,6 @@ struct PointStream::Impl {
   void restart_text() {
     if (xyz) xyz.emplace(file, mapped->view());
     else ptx.emplace(file, mapped->view());
-    released = 0;
   }
   /// The next `n` XYZ points into `block`.
   void read_xyz(Eigen::Index n, PointCloud& block);
@@ -148,9 +152,8 @@ void PointStream::Impl::read_xyz(Eigen::Index n, PointCloud& block) {
     const bool finite = std::all_of(v.begin(), v.begin() + (xyz_normals ? 6 : 3), [](double x) { return std::isfinite(x); });
     if (!finite) {
       if (options.drop_non_finite) continue;
-      throw InputError(file, FileLocation{xyz->line(), std::nullopt},
-                       "point " + std::to_string(next + static_cast<std::uint64_t>(i)) +
-                           " (0-based) has a non-finite coordinate or normal (NaN or Inf); use the option to drop such points");
+      throw non_finite_point(file, {xyz->line(), std::nullopt}, next + static_cast<std::uint64_t>(i),
+                             "a non-finite coordinate or normal (NaN or Inf)");
     }
     block.positions.row(kept) << v[0], v[1], v[2];
     if (xyz_normals) block.normals.row(kept) << v[3], v[4], v[5];
@@ -168,9 +171,8 @@ void PointStream::Impl::read_ptx(Eigen::Index n, PointCloud& block) {
   for (Eigen::Index i = 0; i < n && ptx->next(p); ++i) {
     if (!p.position.allFinite()) {
       if (options.drop_non_finite) continue;
-      throw InputError(file, FileLocation{ptx->line(), std::nullopt},
-                       "point " + std::to_string(next + static_cast<std::uint64_t>(i)) +
-                           " (0-based) has a non-finite coordinate (NaN or Inf); use the option to drop such points");
+      throw non_finite_point(file, {ptx->line(), std::nullopt}, next + static_cast<std::uint64_t>(i),
+                             "a non-finite coordinate (NaN or Inf)");
     }
     block.positions.row(kept++) = p.position.transpose();
   }
@@ -202,10 +204,8 @@ void PointStream::Impl::read_e57(Eigen::Index n, PointCloud& block) {
     if (block.positions.row(i).allFinite()) block.positions.row(kept++) = block.positions.row(i);
     else if (!options.drop_non_finite) {
       const auto& at = located[static_cast<std::size_t>(i)];
-      throw InputError(file, FileLocation{std::nullopt, at},
-                       "point " + std::to_string(points + static_cast<std::uint64_t>(i)) + " (0-based, of the valid ones) has " +
-                           (at ? "a non-finite coordinate (NaN or Inf)" : "a coordinate that overflows when posed") +
-                           "; use the option to drop such points");
+      throw non_finite_point(file, {std::nullopt, at}, points + static_cast<std::uint64_t>(i),
+                             at ? "a non-finite coordinate (NaN or Inf)" : "a coordinate that overflows when posed");
     }
   }
   points += static_cast<std::uint64_t>(block.positions.rows());
@@ -233,9 +233,8 @@ void PointStream::Impl::read_pcd(Eigen::Index n, PointCloud& block) {
       for (int k = 0; k < 3; ++k) q(k) = pcd->value(roles.normal[k]);
     if (!p.allFinite() || !q.allFinite()) {
       if (options.drop_non_finite) continue;
-      throw InputError(file, pcd->location(),
-                       "point " + std::to_string(next + static_cast<std::uint64_t>(i)) +
-                           " (0-based) has an infinite coordinate or a non-finite normal; use the option to drop such points");
+      throw non_finite_point(file, pcd->location(), next + static_cast<std::uint64_t>(i),
+                             "an infinite coordinate or a non-finite normal");
     }
     block.positions.row(kept) = p.transpose();
     if (normals) block.normals.row(kept) = q.transpose();
@@ -282,9 +281,10 @@ void PointStream::rewind() {
   impl_->next = 0;
   impl_->failed = false;
   impl_->points = 0;
+  impl_->released = 0;
   if (impl_->xyz || impl_->ptx) impl_->restart_text();
   if (impl_->e57) impl_->e57->rewind();
-  if (impl_->pcd) impl_->pcd.emplace(impl_->file, impl_->mapped->view(), *impl_->pcd_layout), impl_->released = 0;
+  if (impl_->pcd) impl_->pcd.emplace(impl_->file, impl_->mapped->view(), *impl_->pcd_layout);
 }
 
 bool PointStream::read(std::size_t count, PointCloud& block) {
