@@ -180,3 +180,47 @@ TEST(MeshTrim, ClosesPinholesTheDataCoversAndNotRealHoles) {
   EXPECT_EQ(report.closed_pinholes, 0u);
   EXPECT_GT(mesh_topology(half).boundary_edges, 0u);
 }
+
+namespace {
+
+/// The sphere's samples without those within `radius` of the pole (0, 0, 1): a gap in the data.
+Points sphere_points_without_cap(double radius) {
+  const PointCloud c = test::sample_sphere(20000);
+  std::vector<Eigen::Index> rows;
+  for (Eigen::Index i = 0; i < c.size(); ++i)
+    if ((c.positions.row(i) - Eigen::RowVector3d(0, 0, 1)).norm() > radius) rows.push_back(i);
+  return c.positions(rows, Eigen::all);
+}
+
+/// How many of `mesh`'s triangles have a vertex within `radius` of the pole.
+std::size_t triangles_near_pole(const TriangleMesh& mesh, double radius) {
+  std::size_t n = 0;
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+    bool near = false;
+    for (int k = 0; k < 3; ++k) near = near || (mesh.vertices.row(mesh.triangles(t, k)) - Eigen::RowVector3d(0, 0, 1)).norm() < radius;
+    n += near;
+  }
+  return n;
+}
+
+}  // namespace
+
+TEST(MeshTrim, KeepsTheSurfaceOverAGapBetweenSamplesButNotPastTheDataOrOffIt) {
+  // 20 k samples of the unit sphere are about 0.025 apart: the trim's reach (2 spreads) is
+  // about 0.06. A gap of radius 0.1 in the samples (under 3 spreads from the nearest point), a
+  // size random sampling leaves here and there, is surface the data surrounds: it stays (the
+  // nearest point's reach alone cut a hole there).
+  const TriangleMesh sphere = sphere_mesh();
+  const std::size_t over_gap = triangles_near_pole(sphere, 0.1);
+  ASSERT_GT(over_gap, 10u);
+  EXPECT_EQ(triangles_near_pole(trim_to_points(sphere, sphere_points_without_cap(0.1)), 0.1), over_gap);
+  EXPECT_EQ(mesh_topology(trim_to_points(sphere, sphere_points_without_cap(0.1))).boundary_edges, 0u);
+  // A hole in the data several times the reach wide stays a hole.
+  EXPECT_EQ(triangles_near_pole(trim_to_points(sphere, sphere_points_without_cap(0.3)), 0.1), 0u);
+  // A bulge lifted 0.09 off the data, with data all around it below, is cut.
+  TriangleMesh bulge = sphere;
+  for (Eigen::Index v = 0; v < bulge.vertices.rows(); ++v)
+    if ((bulge.vertices.row(v) - Eigen::RowVector3d(0, 0, 1)).norm() < 0.09) bulge.vertices.row(v) *= 1.09;
+  const PointCloud all = test::sample_sphere(20000);
+  EXPECT_EQ(triangles_near_pole(trim_to_points(bulge, all.positions), 0.05), 0u);
+}
