@@ -213,14 +213,55 @@ TEST(MeshTrim, KeepsTheSurfaceOverAGapBetweenSamplesButNotPastTheDataOrOffIt) {
   const TriangleMesh sphere = sphere_mesh();
   const std::size_t over_gap = triangles_near_pole(sphere, 0.1);
   ASSERT_GT(over_gap, 10u);
-  EXPECT_EQ(triangles_near_pole(trim_to_points(sphere, sphere_points_without_cap(0.1)), 0.1), over_gap);
-  EXPECT_EQ(mesh_topology(trim_to_points(sphere, sphere_points_without_cap(0.1))).boundary_edges, 0u);
+  const TriangleMesh kept = trim_to_points(sphere, sphere_points_without_cap(0.1));
+  EXPECT_EQ(triangles_near_pole(kept, 0.1), over_gap);
+  EXPECT_EQ(mesh_topology(kept).boundary_edges, 0u);
   // A hole in the data several times the reach wide stays a hole.
   EXPECT_EQ(triangles_near_pole(trim_to_points(sphere, sphere_points_without_cap(0.3)), 0.1), 0u);
-  // A bulge lifted 0.09 off the data, with data all around it below, is cut.
+  // Past the data's edge (all of it to one side) the old reach still holds: no vertex of the
+  // lower half stays farther below the equator than the reach of the rim's points (about 0.08,
+  // their neighbours all on one side; 1.5 reaches: 0.12).
+  EXPECT_GT(trim_to_points(sphere, upper_half()).vertices.col(2).minCoeff(), -0.09);
+  // A bulge lifted 0.07 off the data, with data all around it below, is cut.
   TriangleMesh bulge = sphere;
   for (Eigen::Index v = 0; v < bulge.vertices.rows(); ++v)
-    if ((bulge.vertices.row(v) - Eigen::RowVector3d(0, 0, 1)).norm() < 0.09) bulge.vertices.row(v) *= 1.09;
+    if ((bulge.vertices.row(v) - Eigen::RowVector3d(0, 0, 1)).norm() < 0.06) bulge.vertices.row(v) *= 1.07;
+  const auto lifted = [](const TriangleMesh& m) {
+    std::size_t n = 0;
+    for (Eigen::Index t = 0; t < m.triangles.rows(); ++t)
+      n += m.vertices.row(m.triangles(t, 0)).norm() > 1.05 || m.vertices.row(m.triangles(t, 1)).norm() > 1.05 ||
+           m.vertices.row(m.triangles(t, 2)).norm() > 1.05;
+    return n;
+  };
+  ASSERT_GT(lifted(bulge), 0u);
   const PointCloud all = test::sample_sphere(20000);
-  EXPECT_EQ(triangles_near_pole(trim_to_points(bulge, all.positions), 0.05), 0u);
+  EXPECT_EQ(lifted(trim_to_points(bulge, all.positions)), 0u);
+}
+
+// A sheet midway between two layers of data (a slot's two walls, two scans apart), 2.5 reaches
+// from each: its neighbours surround it in projection, but they lie on two sheets, not one.
+TEST(MeshTrim, CutsASheetBetweenTwoLayersOfData) {
+  const double spacing = 0.025, gap = 0.16;
+  Points layers(2 * 41 * 41, 3);
+  Eigen::Index row = 0;
+  for (const double z : {-gap / 2, gap / 2})
+    for (int i = 0; i <= 40; ++i)
+      for (int j = 0; j <= 40; ++j) layers.row(row++) << (i - 20) * spacing, (j - 20) * spacing, z;
+  TriangleMesh sheet;  // the mid-plane, 0.3 wide
+  sheet.vertices.resize(13 * 13, 3);
+  for (int i = 0; i < 13; ++i)
+    for (int j = 0; j < 13; ++j) sheet.vertices.row(i * 13 + j) << (i - 6) * spacing, (j - 6) * spacing, 0;
+  sheet.triangles.resize(2 * 12 * 12, 3);
+  Eigen::Index t = 0;
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 12; ++j) {
+      const int a = i * 13 + j;
+      sheet.triangles.row(t++) << a, a + 13, a + 1;
+      sheet.triangles.row(t++) << a + 1, a + 13, a + 14;
+    }
+  sheet.normals = Points::Zero(sheet.vertices.rows(), 3);
+  sheet.normals.col(2).setOnes();
+  TrimOptions reach_only;
+  reach_only.min_component_points = 0;
+  EXPECT_EQ(trim_to_points(sheet, layers, reach_only).triangles.rows(), 0);
 }

@@ -55,7 +55,8 @@ void add_mesh_options(CLI::App& cmd, clustersurf::cli::MeshArgs& m) {
       ->capture_default_str();
   cmd.add_option("--trim", o.trim.spread_factor,
                  "Drop triangles farther from the input points than this x the nearest point's spread "
-                 "(mean distance to its 8 neighbours), where the data stops; needs the points "
+                 "(mean distance to its 8 neighbours), where the data stops (up to 1.5x that where the data "
+                 "lies all around: a gap between samples); needs the points "
                  "(reconstruct: always; mesh: --points). 0 keeps every triangle")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();

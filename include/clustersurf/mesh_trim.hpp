@@ -16,9 +16,10 @@ namespace clustersurf {
 struct TrimOptions {
   /// A triangle is dropped when a vertex lies farther from the nearest input point than this
   /// many times that point's spread (mean distance to its `neighbors` nearest points): about
-  /// 3 sample spacings by default. A vertex within 1.5 times that reach is kept when it lies on
-  /// the data's surface (within a spread of its nearest points' plane) and those points lie
-  /// all around it: a gap between random samples, not the data's edge. 0 keeps every triangle.
+  /// 3 sample spacings by default. A vertex within 1.5 times that reach is kept when its 16
+  /// nearest points lie on one sheet, it lies within a spread of their plane, and they lie all
+  /// around it: a gap between random samples (or a hole or slit as narrow), not the data's
+  /// edge. 0 keeps every triangle.
   double spread_factor = 2.0;
   std::size_t neighbors = 8;
   /// A connected component is kept only when at least this many input points have their

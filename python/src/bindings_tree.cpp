@@ -312,7 +312,7 @@ file takes it from ``points``, else 256 cells); ``voxel_size`` (input units) ove
 ``lod_depth``: blend the cut at this depth instead of the leaves; ``lod_error``: blend the
 shallowest nodes whose error is at most this fraction of the diagonal; ``points``: the tree's
 input ((n, 3) array or PointCloud; OptionError when it is not), to drop the triangles farther
-from it than ``trim`` x the local spread (0: keep all) and the loose fragments on which fewer
+from it than ``trim`` x the local spread (up to 1.5 times that over a gap the points surround; 0: keep all) and the loose fragments on which fewer
 than ``min_component_points`` input points lie nearest (0: keep all), and to close the pinholes
 the points cover (``close_pinholes``), as ``clustersurf reconstruct --mesh`` does; ``color``:
 "none", "leaf" (per blended node) or "distance" (to ``points``); ``watertight`` (default

@@ -30,18 +30,24 @@ namespace {
 constexpr double kMaxPinholeSpreads = 8;
 /// A vertex beyond the reach but within this many times it is kept when data surrounds it: the
 /// vertices over the largest gaps of random samples lie within it (Igea's 100 k samples: up to
-/// 2.6 spreads from the nearest point), and a real hole this small is no wider than such a gap.
+/// 2.6 spreads from the nearest point). A real hole or slit this narrow is closed too.
 constexpr double kSurroundedReach = 1.5;
-/// Surrounding is judged on this many times TrimOptions::neighbors nearest points.
-constexpr std::size_t kSurroundingNeighbors = 2;
+/// Surrounding is judged on at least this many nearest points (and twice TrimOptions::neighbors).
+constexpr std::size_t kSurroundingNeighbors = 16;
+/// The neighbours lie on one sheet when their least variance is at most this share of the
+/// next: between two layers (a slot, two scans apart) they spread most across the gap, and
+/// the two least variances are alike.
+constexpr double kMaxSheetVarianceRatio = 0.25;
 /// Data surrounds a point when no half-plane through it, in the data's plane, holds all its
 /// neighbours: no angle between consecutive neighbours around it reaches π. Past the data's
 /// edge they all lie to one side; over a gap between samples they lie all around.
 constexpr double kMaxSurroundingGap = std::numbers::pi;
 
-/// Whether `x` lies within `spread` of the least-squares plane of the points `around` it and
-/// they leave no angular gap of kMaxSurroundingGap or more around it in that plane.
-bool surrounded(const Eigen::Vector3d& x, const Points& points, std::span<const Neighbor> around, double spread) {
+/// Whether the points `around` `x` lie on one sheet (kMaxSheetVarianceRatio), `x` lies within
+/// `spread` of their least-squares plane, and they leave no angular gap of kMaxSurroundingGap
+/// or more around it in that plane. `angles` is scratch space.
+bool surrounded(const Eigen::Vector3d& x, const Points& points, std::span<const Neighbor> around, double spread,
+                std::vector<double>& angles) {
   if (around.size() < 3) return false;
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (const auto& nb : around) mean += points.row(nb.index).transpose();
@@ -52,10 +58,10 @@ bool surrounded(const Eigen::Vector3d& x, const Points& points, std::span<const 
     cov += d * d.transpose();
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(cov);
+  if (!(eigen.eigenvalues()(0) <= kMaxSheetVarianceRatio * eigen.eigenvalues()(1))) return false;  // not one sheet
   if (std::abs((x - mean).dot(eigen.eigenvectors().col(0))) > spread) return false;  // off the data's surface
   const Eigen::Vector3d u = eigen.eigenvectors().col(2), w = eigen.eigenvectors().col(1);
-  std::vector<double> angles;
-  angles.reserve(around.size());
+  angles.clear();
   for (const auto& nb : around) {
     const Eigen::Vector3d d = points.row(nb.index).transpose() - x;
     const double a = d.dot(u), b = d.dot(w);
@@ -96,22 +102,24 @@ std::vector<std::uint8_t> detail::vertices_near_data(const TriangleMesh& mesh, c
     }
   });
   std::vector<std::uint8_t> near(static_cast<std::size_t>(nv));
-  std::vector<Eigen::Index> between;  // beyond the reach, within twice it
+  std::vector<Eigen::Index> between;  // beyond the reach, within kSurroundedReach times it
   for (std::size_t v = 0; v < near.size(); ++v) {
     const double d = std::sqrt(nearest[v].distance_squared), reach = options.spread_factor * spread[nearest[v].index];
     near[v] = d <= reach;
     if (!near[v] && d <= kSurroundedReach * reach) between.push_back(static_cast<Eigen::Index>(v));
   }
   // A vertex a little beyond the reach, on the data's surface, with data all around it, sits
-  // over a gap between samples, not past the data's edge (where all its data lies to one side)
-  // nor on a bulge off the data.
+  // over a gap between samples, not past the data's edge (where all its data lies to one side),
+  // on a bulge off the data, or on a sheet between two layers of it.
+  const std::size_t surrounding = std::max(kSurroundingNeighbors, 2 * options.neighbors);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, between.size(), 64), [&](const auto& r) {
     std::vector<Neighbor> around;
+    std::vector<double> angles;
     for (std::size_t b = r.begin(); b != r.end(); ++b) {
       const Eigen::Index v = between[b];
-      index.knn(mesh.vertices.row(v).transpose(), kSurroundingNeighbors * options.neighbors, around);
-      near[static_cast<std::size_t>(v)] =
-          surrounded(mesh.vertices.row(v).transpose(), index.points(), around, spread[nearest[static_cast<std::size_t>(v)].index]);
+      index.knn(mesh.vertices.row(v).transpose(), surrounding, around);
+      near[static_cast<std::size_t>(v)] = surrounded(mesh.vertices.row(v).transpose(), index.points(), around,
+                                                     spread[nearest[static_cast<std::size_t>(v)].index], angles);
     }
   });
   return near;
