@@ -1,5 +1,5 @@
-// libFuzzer target: PointStream, which reads a binary PLY of points, a LAS or E57 file or XYZ
-// and PTX text in place, a block at a time (other files it reads whole through the readers
+// libFuzzer target: PointStream, which reads a binary PLY of points, a LAS, E57 or PCD file
+// (binary_compressed too) or XYZ and PTX text in place, a block at a time (other files it reads whole through the readers
 // fuzz_ply covers). Every block must hold finite points, and the blocks together the file's points (an
 // E57 file's valid ones: at most its records), the same again after a rewind.
 

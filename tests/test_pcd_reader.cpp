@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <lzf.h>
 
+#include <cmath>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -108,6 +109,85 @@ TEST(PcdReader, BinaryAndCompressedRecords) {
   expect_points(parse_pcd(compressed_file()));
 }
 
+/// `n` points with x y z normal_x normal_y normal_z rgb (floats but rgb), as a binary PCD file
+/// or, compressed by liblzf, a binary_compressed one: slowly varying values and constant
+/// normals, so that LZF's back references run within and across the fields' value runs.
+std::string many_points(std::size_t n, bool compressed) {
+  std::vector<std::vector<char>> fields(7);
+  auto put = [](std::vector<char>& out, const auto& v) {
+    const char* p = reinterpret_cast<const char*>(&v);
+    out.insert(out.end(), p, p + sizeof v);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    put(fields[0], static_cast<float>(i % 1000) * 0.25f);
+    put(fields[1], static_cast<float>(i / 1000));
+    put(fields[2], std::sin(static_cast<float>(i) * 0.01f));
+    put(fields[3], 0.0f), put(fields[4], 0.6f), put(fields[5], 0.8f);
+    put(fields[6], static_cast<std::uint32_t>(i % 7 == 0 ? 0x00FF8001u : 0x00102030u));
+  }
+  std::string bytes = "VERSION 0.7\nFIELDS x y z normal_x normal_y normal_z rgb\nSIZE 4 4 4 4 4 4 4\nTYPE F F F F F F U\n"
+                      "COUNT 1 1 1 1 1 1 1\nWIDTH " + std::to_string(n) + "\nHEIGHT 1\nPOINTS " + std::to_string(n) + "\n";
+  if (!compressed) {
+    bytes += "DATA binary\n";
+    for (std::size_t i = 0; i < n; ++i)
+      for (const auto& f : fields) bytes.append(f.data() + 4 * i, 4);
+    return bytes;
+  }
+  std::vector<char> raw;
+  for (const auto& f : fields) raw.insert(raw.end(), f.begin(), f.end());
+  std::vector<char> packed(raw.size() + raw.size() / 16 + 64);
+  const unsigned size = lzf_compress(raw.data(), static_cast<unsigned>(raw.size()), packed.data(), static_cast<unsigned>(packed.size()));
+  EXPECT_GT(size, 0u);
+  EXPECT_LT(size, raw.size() / 2);  // the runs compress: the test exercises back references
+  bytes += "DATA binary_compressed\n";
+  const std::uint32_t sizes[2] = {size, static_cast<std::uint32_t>(raw.size())};
+  bytes.append(reinterpret_cast<const char*>(sizes), 8);
+  bytes.append(packed.data(), size);
+  return bytes;
+}
+
+// The LZF decoder, one resumable decoder per field, against liblzf's compressor: a compressed
+// file of 30 k points reads exactly as the same points stored uncompressed.
+TEST(PcdReader, CompressedFileIsTheSameCloudAsBinary) {
+  const PointCloud binary = parse_pcd(many_points(30000, false));
+  const PointCloud compressed = parse_pcd(many_points(30000, true));
+  ASSERT_EQ(binary.size(), 30000);
+  EXPECT_EQ(compressed.positions, binary.positions);
+  EXPECT_EQ(compressed.normals, binary.normals);
+  EXPECT_EQ(compressed.colors, binary.colors);
+}
+
+// LZF written by hand: 256 literal runs of 32 bytes, then a back reference from as far back as
+// LZF reaches (8192 bytes: ((31 << 8) + 255) + 1) copying 4 bytes, so the last z is the first x.
+TEST(PcdReader, CompressedBackReferenceFromTheFarthestByte) {
+  std::vector<float> values(2048);
+  for (std::size_t i = 0; i < values.size(); ++i) values[i] = 1 + 0.25f * static_cast<float>(i);
+  std::string packed;
+  const char* raw = reinterpret_cast<const char*>(values.data());
+  for (int run = 0; run < 256; ++run) packed.push_back(31), packed.append(raw + 32 * run, 32);
+  packed.push_back(static_cast<char>((2 << 5) | 31)), packed.push_back(static_cast<char>(0xFF));
+  std::string bytes = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 683\nHEIGHT 1\nPOINTS 683\n"
+                      "DATA binary_compressed\n";
+  const std::uint32_t sizes[2] = {static_cast<std::uint32_t>(packed.size()), 683 * 12};
+  bytes.append(reinterpret_cast<const char*>(sizes), 8).append(packed);
+  const PointCloud c = parse_pcd(bytes);
+  ASSERT_EQ(c.size(), 683);
+  const Eigen::RowVector3d origin = c.origin.transpose();
+  EXPECT_EQ(c.positions(0, 0) + origin(0), 1.0);
+  EXPECT_EQ(c.positions(682, 1) + origin(1), values[1365]);
+  EXPECT_EQ(c.positions(681, 2) + origin(2), values[2047]);
+  EXPECT_EQ(c.positions(682, 2) + origin(2), 1.0);  // copied from 8192 bytes back
+  // The same reference after one run less (8160 bytes behind it) reaches before the data's
+  // start: refused.
+  std::string too_far = packed.substr(33, 33 * 255);  // runs 1..255, each a control byte and 32 bytes
+  too_far.push_back(static_cast<char>(0xFF)), too_far.push_back(27), too_far.push_back(static_cast<char>(0xFF));  // 36 bytes
+  std::string refused = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 683\nHEIGHT 1\nPOINTS 683\n"
+                        "DATA binary_compressed\n";
+  const std::uint32_t refused_sizes[2] = {static_cast<std::uint32_t>(too_far.size()), 683 * 12};
+  refused.append(reinterpret_cast<const char*>(refused_sizes), 8).append(too_far);
+  expect_error(refused, "before its start");
+}
+
 TEST(PcdReader, AsciiWithAnySeparator) {
   const std::string header =
       "VERSION .7\nFIELDS x y z rgb intensity\nSIZE 4 4 4 4 4\nTYPE F F F U F\nCOUNT 1 1 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\n";
@@ -145,6 +225,21 @@ TEST(PcdReader, HostileFiles) {
     b[sizes_at + 8] = static_cast<char>(0xFF);  // a back reference before the start
     b[sizes_at + 9] = static_cast<char>(0xFF);
     expect_error(b, "LZF data is corrupt");
+  }
+  {
+    // Compressed data cut short, or running on past the declared size, each with its offset.
+    std::string b = many_points(2000, true);
+    const std::size_t at = b.find("binary_compressed\n") + 18;
+    std::uint32_t packed = 0;
+    std::memcpy(&packed, b.data() + at, 4);
+    const std::uint32_t shorter = packed / 2;
+    std::memcpy(b.data() + at, &shorter, 4);
+    expect_error(b, "LZF data is corrupt");
+    std::string longer = many_points(2000, true);
+    longer.append(4, '\0');  // two more 1-byte literal runs than declared
+    const std::uint32_t grown = packed + 4;
+    std::memcpy(longer.data() + at, &grown, 4);
+    expect_error(longer, "goes on past the declared");
   }
   std::string many = kHeader;
   many.replace(many.find("WIDTH 3"), 7, "WIDTH 300000000");

@@ -7,6 +7,7 @@
 #include <clustersurf/point_stream.hpp>
 
 #include <gtest/gtest.h>
+#include <lzf.h>
 
 #include <cmath>
 #include <cstring>
@@ -488,6 +489,59 @@ TEST(PointStream, PcdInBlocksIsTheReadersCloud) {
   for (const char* name : {"pcd/autzen-utm.pcd", "pcd/utm17_comma.pcd"})
     if (!streams_as_read(name, 100, 1e-6)) absent += std::string(" ") + name;
   if (!absent.empty()) GTEST_SKIP() << "shared samples absent under formats/:" << absent;
+}
+
+// binary_compressed PCD (LZF, each field's values one after another) is streamed too: one
+// decoder per field, each resumed where its field begins, so no block needs the whole file
+// decompressed. 30 k points in blocks of 777 and whole, after a rewind, are the reader's cloud.
+TEST(PointStream, CompressedPcdInBlocksIsTheReadersCloud) {
+  const test::TempDir dir;
+  constexpr std::size_t n = 30000;
+  std::vector<char> raw;
+  auto put = [&raw](float v) { raw.insert(raw.end(), reinterpret_cast<const char*>(&v), reinterpret_cast<const char*>(&v) + 4); };
+  for (int f = 0; f < 6; ++f)
+    for (std::size_t i = 0; i < n; ++i) {
+      const float values[6] = {static_cast<float>(i % 1000) * 0.25f, static_cast<float>(i / 1000), std::sin(static_cast<float>(i) * 0.01f),
+                               0.0f, i == 5 ? std::nanf("") : 0.6f, 0.8f};
+      put(f == 0 && i == 9 ? std::nanf("") : values[f]);  // point 9 is PCL's "no point"
+    }
+  std::vector<char> packed(raw.size() + raw.size() / 16 + 64);
+  const unsigned size = lzf_compress(raw.data(), static_cast<unsigned>(raw.size()), packed.data(), static_cast<unsigned>(packed.size()));
+  ASSERT_GT(size, 0u);
+  std::string bytes = "VERSION 0.7\nFIELDS x y z normal_x normal_y normal_z\nSIZE 4 4 4 4 4 4\nTYPE F F F F F F\nCOUNT 1 1 1 1 1 1\n"
+                      "WIDTH 30000\nHEIGHT 1\nPOINTS 30000\nDATA binary_compressed\n";
+  const std::uint32_t sizes[2] = {size, static_cast<std::uint32_t>(raw.size())};
+  bytes.append(reinterpret_cast<const char*>(sizes), 8).append(packed.data(), size);
+  test::write_file(dir / "c.pcd", bytes);
+
+  ReadOptions drop;
+  drop.drop_non_finite = true;  // point 5's normal is NaN
+  PointStream stream(dir / "c.pcd", drop);
+  EXPECT_TRUE(stream.streamed());
+  EXPECT_EQ(stream.size(), n);
+  EXPECT_TRUE(stream.has_normals());
+  const PointCloud read = read_point_cloud(dir / "c.pcd", drop);
+  ASSERT_EQ(read.size(), static_cast<Eigen::Index>(n) - 2);
+  Points world = read.positions;
+  world.rowwise() += read.origin.transpose();
+  for (const std::size_t block : {std::size_t{777}, n}) {
+    stream.rewind();
+    const PointCloud streamed = read_all(stream, block);
+    EXPECT_EQ(streamed.positions, world) << block;
+    EXPECT_EQ(streamed.normals, read.normals) << block;
+  }
+  // Damaged LZF data is refused when the stream is opened, with its byte offset.
+  bytes.erase(bytes.size() - size / 2);
+  const std::uint32_t cut[1] = {size - size / 2};
+  std::memcpy(bytes.data() + bytes.find("binary_compressed\n") + 18, cut, 4);
+  test::write_file(dir / "cut.pcd", bytes);
+  try {
+    PointStream cut_stream(dir / "cut.pcd");
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_TRUE(e.where().byte_offset) << e.what();
+    EXPECT_NE(std::string(e.what()).find("LZF data is corrupt"), std::string::npos) << e.what();
+  }
 }
 
 // A damaged PCD file: binary records short of POINTS are refused when opened, with the byte

@@ -17,18 +17,20 @@ namespace clustersurf {
 ///   - a LAS file (1.0-1.4, any point format; its header checked as read_point_cloud() checks it);
 ///   - an E57 file (its header, XML and sections checked when opened; its packets decoded as the
 ///     blocks need them, every scan posed, the invalid records left out);
-///   - an ascii or binary PCD file (its header checked when opened; the records whose position is
-///     NaN, PCL's "no point", left out);
+///   - a PCD file, ascii, binary or binary_compressed (its header checked when opened, and
+///     compressed data decoded through once to check it, then read with one LZF decoder per
+///     field; the records whose position is NaN, PCL's "no point", left out);
 ///   - a text file, XYZ / PTS / TXT / CSV or PTX (parsed once when opened, for its count and every
 ///     error the reader gives, then again block by block; a PTX file's scans posed, the cells
 ///     without a return left out).
-/// Other files (binary_compressed PCD, OBJ, ascii PLY, meshes, which read_point_cloud() samples)
+/// Other files (OBJ, ascii PLY, meshes, which read_point_cloud() samples)
 /// are read whole first and served from memory. Positions and normals only.
 class PointStream {
  public:
   /// Opens `file`; IoError when it cannot be read, InputError when it is malformed (a binary
   /// PLY's records and a LAS, E57 or PCD file's header are checked against the file's size here,
-  /// and XYZ and PTX text is parsed through, so its errors come out here, with their line).
+  /// compressed PCD data is decoded through, and XYZ and PTX text is parsed through, so their
+  /// errors come out here, with their byte offset or line).
   explicit PointStream(const std::filesystem::path& file, const ReadOptions& options = {});
   ~PointStream();
   PointStream(const PointStream&) = delete;
@@ -38,7 +40,7 @@ class PointStream {
   /// so), and before an E57 file's invalid records and a PCD file's NaN ones are left out.
   std::uint64_t size() const noexcept;
   bool has_normals() const noexcept;
-  /// Read in place (binary PLY points, LAS, E57, ascii and binary PCD, XYZ and PTX text) rather
+  /// Read in place (binary PLY points, LAS, E57, PCD, XYZ and PTX text) rather
   /// than whole.
   bool streamed() const noexcept;
   /// The points of the next `count` records (fewer at the end) into `block` (its rows

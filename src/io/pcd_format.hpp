@@ -1,16 +1,20 @@
 #pragma once
 // The PCD reader's parts (pcd_reader.cpp reads a whole file): the header, checked against the
-// file's size, and the ascii and binary records read one at a time (pcd_header.cpp), which
-// PointStream also reads a block at a time.
+// file's size, and the ascii, binary and binary_compressed records read one at a time
+// (pcd_header.cpp), which PointStream also reads a block at a time.
 
 #include <clustersurf/errors.hpp>
 
+#include "io/lzf_stream.hpp"
 #include "io/text_parse.hpp"
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace clustersurf::io::pcd {
@@ -56,34 +60,66 @@ struct Layout {
 /// Parses and checks the header of `bytes`; InputError naming the line otherwise.
 Layout read_layout(const std::filesystem::path& file, std::string_view bytes);
 
+/// The LZF data of a binary_compressed file, its sizes checked (InputError with the byte
+/// offset): the compressed bytes, where they start in the file, and the decompressed size
+/// (POINTS x record: the fields' values one after another).
+struct CompressedData {
+  std::string_view packed;
+  std::size_t begin = 0;
+  std::uint64_t unpacked = 0;
+};
+CompressedData compressed_data(const std::filesystem::path& file, std::string_view bytes, const Layout& layout);
+
 /// The value of element `bytes` (little-endian) of a field of `type` and `size`.
 double decode(const char* bytes, char type, unsigned size);
 
-/// The records of an ascii or binary PCD file, one at a time (InputError for a
-/// binary_compressed one, whose fields lie one after another). `file`, `bytes` and `layout`
-/// must outlive it.
+/// The records of a PCD file, one at a time: ascii lines, binary records, or binary_compressed
+/// data (its fields' values one after another), decoded by one LzfStream per field, each
+/// resumed where its field's values begin. `file`, `bytes` and `layout` must outlive it.
 class Records {
  public:
-  Records(const std::filesystem::path& file, std::string_view bytes, const Layout& layout);
+  /// Binary_compressed data is checked here, decoded through once: its sizes, and the LZF data
+  /// itself (InputError with the byte offset); `consumed` (if given) hears how far into the
+  /// file that pass has read, every 64 MiB of compressed data and at its end.
+  Records(const std::filesystem::path& file, std::string_view bytes, const Layout& layout,
+          const std::function<void(std::size_t)>& consumed = {});
   /// Moves to the next record; false after the last (POINTS of them). InputError (line) for a
   /// malformed ascii line or an ascii file that ends early.
   bool next();
-  /// The first element of field `f` of the current record.
+  /// The first element of field `f` of the current record (binary_compressed: of the fields
+  /// with a role in Roles, the only ones decoded; NaN for the others).
   double value(int f) const;
-  /// Where the current record is: its line (ascii) or byte offset (binary).
+  /// Where the current record is: its line (ascii), byte offset (binary), or the byte where
+  /// its x value's compressed data continues (binary_compressed).
   FileLocation location() const;
-  /// Bytes of the file consumed so far.
+  /// Bytes of an ascii or binary file consumed so far (binary_compressed: see take_read_spans()).
   std::size_t offset() const;
+  /// Binary_compressed: the byte ranges of the file each field's decoder has read since the
+  /// last call (empty otherwise).
+  std::vector<std::pair<std::size_t, std::size_t>> take_read_spans();
+  /// Back to before the first record (binary_compressed data is not decoded through again).
+  void rewind();
 
  private:
   const std::filesystem::path& file_;
   std::string_view bytes_;
   const Layout& layout_;
-  TextCursor cursor_;
+  std::optional<TextCursor> cursor_;
   std::vector<std::string_view> tokens_;
   std::vector<double> values_;
   std::vector<std::size_t> first_;  // ascii: the column of each field's first element
   std::uint64_t read_ = 0;          // records read so far
+  // binary_compressed: the fields decoded (every role's, ascending); indexed like them, each
+  // one's decoder where its values begin, its decoder now, and how far into the data
+  // take_read_spans() has handed out; per field, its index in kept_ (or -1); the current
+  // record's first element of each kept field, 8 bytes each.
+  std::size_t packed_begin_ = 0;
+  std::vector<int> kept_;
+  std::vector<LzfStream> starts_;
+  std::vector<LzfStream> decoders_;
+  std::vector<std::size_t> handed_;
+  std::vector<int> slot_;
+  std::vector<char> record_;
 };
 
 }  // namespace clustersurf::io::pcd

@@ -1,5 +1,5 @@
-// The PCD header, checked against the file's size, and its ascii and binary records read one
-// at a time; see pcd_format.hpp.
+// The PCD header, checked against the file's size, and its records read one at a time (ascii,
+// binary, or binary_compressed through one LZF decoder per kept field); see pcd_format.hpp.
 
 #include "io/pcd_format.hpp"
 
@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
 
 namespace clustersurf::io::pcd {
 
@@ -171,33 +172,110 @@ Layout read_layout(const std::filesystem::path& file, std::string_view bytes) {
   return out;
 }
 
-Records::Records(const std::filesystem::path& file, std::string_view bytes, const Layout& layout)
-    : file_(file), bytes_(bytes), layout_(layout), cursor_(bytes.substr(layout.body), file_, layout.data_line + 1) {
-  if (layout.data == Data::BinaryCompressed)
-    throw InputError(file_, {layout.data_line, {}}, "binary_compressed data is not read a record at a time");
-  if (layout.data != Data::Ascii) return;
-  std::size_t columns = 0;
-  for (const Field& f : layout.fields) first_.push_back(columns), columns += static_cast<std::size_t>(f.count);
-  values_.resize(columns);  // at most a line's worth (read_layout())
+CompressedData compressed_data(const std::filesystem::path& file, std::string_view bytes, const Layout& layout) {
+  const std::size_t body = layout.body;
+  const std::uint64_t remaining = bytes.size() - body;
+  if (remaining < 8) throw InputError(file, FileLocation{std::nullopt, body}, "binary_compressed data has no size header");
+  std::uint32_t packed_size = 0, unpacked_size = 0;
+  std::memcpy(&packed_size, bytes.data() + body, 4);
+  std::memcpy(&unpacked_size, bytes.data() + body + 4, 4);
+  if (packed_size > remaining - 8)
+    throw InputError(file, FileLocation{std::nullopt, body},
+                     "compressed size " + std::to_string(packed_size) + " runs past the end of the file");
+  if (unpacked_size != layout.points * layout.record)
+    throw InputError(file, FileLocation{std::nullopt, body + 4},
+                     "uncompressed size " + std::to_string(unpacked_size) + " is not POINTS x record size (" +
+                         std::to_string(layout.points * layout.record) + ")");
+  return {bytes.substr(body + 8, packed_size), body + 8, unpacked_size};
+}
+
+namespace {
+
+/// The fields whose values a reader keeps (every role), in ascending order.
+std::vector<int> kept_fields(const Roles& r) {
+  std::vector<int> out(r.position, r.position + 3);
+  out.insert(out.end(), r.normal, r.normal + 3);
+  out.insert(out.end(), r.rgb, r.rgb + 3);
+  out.insert(out.end(), {r.packed_rgb, r.intensity, r.classification});
+  std::erase(out, -1);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+/// The compressed pass reports how far it has read this often.
+constexpr std::uint64_t kReportBytes = std::uint64_t{64} << 20;
+
+}  // namespace
+
+Records::Records(const std::filesystem::path& file, std::string_view bytes, const Layout& layout,
+                 const std::function<void(std::size_t)>& consumed)
+    : file_(file), bytes_(bytes), layout_(layout) {
+  cursor_.emplace(bytes.substr(layout.body), file_, layout.data_line + 1);
+  if (layout.data == Data::Ascii) {
+    std::size_t columns = 0;
+    for (const Field& f : layout.fields) first_.push_back(columns), columns += static_cast<std::size_t>(f.count);
+    values_.resize(columns);  // at most a line's worth (read_layout())
+  }
+  if (layout.data != Data::BinaryCompressed) return;
+  const CompressedData data = compressed_data(file, bytes, layout);
+  packed_begin_ = data.begin;
+  // One pass through the data checks it, and keeps a decoder where each kept field's values begin.
+  LzfStream decoder(file, data.packed, packed_begin_);
+  std::uint64_t reported = 0;
+  const auto skip_to = [&](std::uint64_t target) {
+    while (decoder.produced() < target) {
+      decoder.read(nullptr, std::min<std::uint64_t>(target - decoder.produced(), std::uint64_t{1} << 20));
+      if (consumed && decoder.consumed() - reported >= kReportBytes) reported = decoder.consumed(), consumed(packed_begin_ + reported);
+    }
+  };
+  kept_ = kept_fields(layout.roles);
+  for (const int f : kept_) {
+    skip_to(layout.fields[static_cast<std::size_t>(f)].offset * layout.points);
+    starts_.push_back(decoder);
+  }
+  skip_to(data.unpacked);
+  decoder.require_finished();
+  if (consumed) consumed(packed_begin_ + data.packed.size());
+  slot_.assign(layout.fields.size(), -1);
+  for (std::size_t k = 0; k < kept_.size(); ++k) slot_[static_cast<std::size_t>(kept_[k])] = static_cast<int>(k);
+  record_.assign(8 * kept_.size(), 0);
+  rewind();
+}
+
+void Records::rewind() {
+  read_ = 0;
+  cursor_.emplace(bytes_.substr(layout_.body), file_, layout_.data_line + 1);
+  decoders_ = starts_;
+  handed_.clear();
+  for (const LzfStream& d : starts_) handed_.push_back(d.consumed());
 }
 
 bool Records::next() {
   if (read_ == layout_.points) return false;
   ++read_;
+  if (layout_.data == Data::BinaryCompressed) {
+    for (std::size_t k = 0; k < kept_.size(); ++k) {
+      const Field& field = layout_.fields[static_cast<std::size_t>(kept_[k])];
+      decoders_[k].read(record_.data() + 8 * k, field.size);
+      decoders_[k].read(nullptr, field.size * (field.count - 1));
+    }
+    return true;
+  }
   if (layout_.data != Data::Ascii) return true;
   std::string_view line;
   for (;;) {
-    if (!cursor_.next_line(line))
-      throw InputError(file_, {cursor_.line(), {}},
+    if (!cursor_->next_line(line))
+      throw InputError(file_, {cursor_->line(), {}},
                        "file ends after " + std::to_string(read_ - 1) + " of " + std::to_string(layout_.points) + " points");
     split_fields(line, tokens_);
     if (!tokens_.empty()) break;
   }
   if (tokens_.size() != values_.size())
-    throw InputError(file_, {cursor_.line(), {}}, "expected " + std::to_string(values_.size()) + " values, found " + std::to_string(tokens_.size()));
+    throw InputError(file_, {cursor_->line(), {}}, "expected " + std::to_string(values_.size()) + " values, found " + std::to_string(tokens_.size()));
   for (std::size_t k = 0; k < values_.size(); ++k)
     if (!parse_double(tokens_[k], values_[k]))
-      throw InputError(file_, {cursor_.line(), {}}, "expected a number in column " + std::to_string(k + 1) + ", found \"" +
+      throw InputError(file_, {cursor_->line(), {}}, "expected a number in column " + std::to_string(k + 1) + ", found \"" +
                                                         std::string(tokens_[k].substr(0, 40)) + "\"");
   return true;
 }
@@ -205,16 +283,35 @@ bool Records::next() {
 double Records::value(int f) const {
   if (layout_.data == Data::Ascii) return values_[first_[static_cast<std::size_t>(f)]];
   const Field& field = layout_.fields[static_cast<std::size_t>(f)];
+  if (layout_.data == Data::BinaryCompressed) {
+    const int k = slot_[static_cast<std::size_t>(f)];
+    return k < 0 ? std::numeric_limits<double>::quiet_NaN() : decode(record_.data() + 8 * k, field.type, field.size);
+  }
   return decode(bytes_.data() + layout_.body + (read_ - 1) * layout_.record + field.offset, field.type, field.size);
 }
 
 FileLocation Records::location() const {
-  if (layout_.data == Data::Ascii) return {cursor_.line(), std::nullopt};
+  if (layout_.data == Data::Ascii) return {cursor_->line(), std::nullopt};
+  if (layout_.data == Data::BinaryCompressed)
+    return {std::nullopt, packed_begin_ + decoders_[static_cast<std::size_t>(
+                                              std::find(kept_.begin(), kept_.end(), layout_.roles.position[0]) - kept_.begin())]
+                                              .consumed()};
   return {std::nullopt, layout_.body + (read_ - 1) * layout_.record};
 }
 
 std::size_t Records::offset() const {
-  return layout_.data == Data::Ascii ? layout_.body + cursor_.offset() : layout_.body + static_cast<std::size_t>(read_ * layout_.record);
+  return layout_.data == Data::Ascii ? layout_.body + cursor_->offset() : layout_.body + static_cast<std::size_t>(read_ * layout_.record);
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> Records::take_read_spans() {
+  std::vector<std::pair<std::size_t, std::size_t>> spans;
+  if (layout_.data != Data::BinaryCompressed) return spans;
+  for (std::size_t k = 0; k < decoders_.size(); ++k) {
+    const std::size_t now = decoders_[k].consumed();
+    if (now > handed_[k]) spans.emplace_back(packed_begin_ + handed_[k], packed_begin_ + now);
+    handed_[k] = now;
+  }
+  return spans;
 }
 
 }  // namespace clustersurf::io::pcd

@@ -9,8 +9,6 @@
 #include "io/pcd_format.hpp"
 #include "io/readers.hpp"
 
-#include <lzf.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -99,34 +97,23 @@ class PointSink {
 
 ParsedFile read_pcd(const std::filesystem::path& file, std::string_view bytes) {
   const pcd::Layout layout = pcd::read_layout(file, bytes);
-  const std::vector<Field>& fields = layout.fields;
-  const std::uint64_t n = layout.points, record = layout.record;
-  const std::size_t body = layout.body;
   ParsedFile out;
-  PointSink sink(fields, layout.roles, static_cast<std::size_t>(n));
+  PointSink sink(layout.fields, layout.roles, static_cast<std::size_t>(layout.points));
   if (layout.data != pcd::Data::BinaryCompressed) {
     pcd::Records records(file, bytes, layout);
     while (records.next()) sink.add([&](int f) { return records.value(f); });
   } else {
-    // The fields one after another: decompressed whole.
-    const std::uint64_t remaining = bytes.size() - body;
-    if (remaining < 8) throw InputError(file, FileLocation{std::nullopt, body}, "binary_compressed data has no size header");
-    std::uint32_t packed_size = 0, unpacked_size = 0;
-    std::memcpy(&packed_size, bytes.data() + body, 4);
-    std::memcpy(&unpacked_size, bytes.data() + body + 4, 4);
-    if (packed_size > remaining - 8)
-      throw InputError(file, FileLocation{std::nullopt, body},
-                       "compressed size " + std::to_string(packed_size) + " runs past the end of the file");
-    if (unpacked_size != n * record)
-      throw InputError(file, FileLocation{std::nullopt, body + 4},
-                       "uncompressed size " + std::to_string(unpacked_size) + " is not POINTS x record size (" +
-                           std::to_string(n * record) + ")");
-    std::vector<char> unpacked(unpacked_size);
-    if (unpacked_size != 0 && lzf_decompress(bytes.data() + body + 8, packed_size, unpacked.data(), unpacked_size) != unpacked_size)
-      throw InputError(file, FileLocation{std::nullopt, body + 8}, "LZF data is corrupt or shorter than declared");
+    // The fields one after another, decompressed whole in one pass (pcd::Records decodes the
+    // data twice, to stream it: once to check it, then a field at a time).
+    const pcd::CompressedData data = pcd::compressed_data(file, bytes, layout);
+    std::vector<char> unpacked(static_cast<std::size_t>(data.unpacked));
+    LzfStream decoder(file, data.packed, data.begin);
+    decoder.read(unpacked.data(), data.unpacked);
+    decoder.require_finished();
+    const std::uint64_t n = layout.points;
     for (std::uint64_t i = 0; i < n; ++i)
       sink.add([&](int fi) {
-        const Field& f = fields[static_cast<std::size_t>(fi)];
+        const Field& f = layout.fields[static_cast<std::size_t>(fi)];
         return pcd::decode(unpacked.data() + f.offset * n + i * f.size * f.count, f.type, f.size);
       });
   }

@@ -109,8 +109,7 @@ struct PointStream::Impl {
   void read_las(Eigen::Index n, PointCloud& block);
   /// The next `n` E57 records into `block` (positions only; the invalid ones left out).
   void read_e57(Eigen::Index n, PointCloud& block);
-  /// Opens an ascii or binary PCD file (binary_compressed stores its fields one after another:
-  /// it is read whole).
+  /// Opens a PCD file (binary_compressed data is decoded through once here, to check it).
   void open_pcd();
   /// The next `n` PCD records into `block` (those whose position is NaN, PCL's "no point", left out).
   void read_pcd(Eigen::Index n, PointCloud& block);
@@ -215,8 +214,11 @@ void PointStream::Impl::read_e57(Eigen::Index n, PointCloud& block) {
 
 void PointStream::Impl::open_pcd() {
   pcd_layout = io::pcd::read_layout(file, mapped->view());
-  if (pcd_layout->data == io::pcd::Data::BinaryCompressed) pcd_layout.reset();
-  else pcd.emplace(file, mapped->view(), *pcd_layout);
+  std::size_t given_back = 0;  // the checking pass's pages go back as it reads
+  pcd.emplace(file, mapped->view(), *pcd_layout, [&](std::size_t offset) {
+    mapped->release(given_back, offset);
+    given_back = offset;
+  });
 }
 
 void PointStream::Impl::read_pcd(Eigen::Index n, PointCloud& block) {
@@ -242,7 +244,11 @@ void PointStream::Impl::read_pcd(Eigen::Index n, PointCloud& block) {
   }
   block.positions.conservativeResize(kept, 3);
   if (normals) block.normals.conservativeResize(kept, 3);
-  release_read(pcd->offset());
+  if (pcd_layout->data == io::pcd::Data::BinaryCompressed) {
+    for (const auto& [begin, end] : pcd->take_read_spans()) mapped->release(begin, end);
+  } else {
+    release_read(pcd->offset());
+  }
 }
 
 PointStream::PointStream(const std::filesystem::path& file, const ReadOptions& options) : impl_(std::make_unique<Impl>()) {
@@ -284,7 +290,7 @@ void PointStream::rewind() {
   impl_->released = 0;
   if (impl_->xyz || impl_->ptx) impl_->restart_text();
   if (impl_->e57) impl_->e57->rewind();
-  if (impl_->pcd) impl_->pcd.emplace(impl_->file, impl_->mapped->view(), *impl_->pcd_layout);
+  if (impl_->pcd) impl_->pcd->rewind();
 }
 
 bool PointStream::read(std::size_t count, PointCloud& block) {
