@@ -117,7 +117,7 @@ def _progress_printer() -> Optional[Progress]:
 def main(argv: Optional[list] = None) -> int:
     parser = argparse.ArgumentParser(prog="python3 -m clustersurf.distributed",
                                      description="Reconstruct a point file with tiles on a Dask cluster.")
-    parser.add_argument("input", help="point file (binary PLY, LAS, E57, uncompressed PCD, XYZ and PTX are read in place; other formats are read whole)")
+    parser.add_argument("input", help="point file (binary PLY, LAS, E57, PCD, XYZ and PTX are read in place; other formats are read whole)")
     parser.add_argument("--mesh", help="mesh file to write (.ply, .obj, .off, .stl or .glb)")
     parser.add_argument("-o", "--output", dest="tree", help="tree file to write (.cstree)")
     where = parser.add_mutually_exclusive_group()

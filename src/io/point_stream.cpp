@@ -1,5 +1,5 @@
-// Point files read a block at a time: binary PLY points, LAS, E57, PCD (ascii and binary), PTX and
-// XYZ text in place, anything else whole.
+// Point files read a block at a time: binary PLY points, LAS, E57, PCD (ascii, binary and
+// binary_compressed), PTX and XYZ text in place, anything else whole.
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/point_stream.hpp>
