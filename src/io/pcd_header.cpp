@@ -293,9 +293,7 @@ double Records::value(int f) const {
 FileLocation Records::location() const {
   if (layout_.data == Data::Ascii) return {cursor_->line(), std::nullopt};
   if (layout_.data == Data::BinaryCompressed)
-    return {std::nullopt, packed_begin_ + decoders_[static_cast<std::size_t>(
-                                              std::find(kept_.begin(), kept_.end(), layout_.roles.position[0]) - kept_.begin())]
-                                              .consumed()};
+    return {std::nullopt, packed_begin_ + decoders_[static_cast<std::size_t>(slot_[static_cast<std::size_t>(layout_.roles.position[0])])].consumed()};
   return {std::nullopt, layout_.body + (read_ - 1) * layout_.record};
 }
 

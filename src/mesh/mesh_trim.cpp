@@ -3,6 +3,7 @@
 #include <clustersurf/errors.hpp>
 #include <clustersurf/kd_tree.hpp>
 #include <clustersurf/mesh_trim.hpp>
+#include <clustersurf/moments.hpp>
 
 #include "mesh/data_reach.hpp"
 #include "mesh/mesh_components.hpp"
@@ -11,7 +12,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
@@ -49,18 +50,13 @@ constexpr double kMaxSurroundingGap = std::numbers::pi;
 bool surrounded(const Eigen::Vector3d& x, const Points& points, std::span<const Neighbor> around, double spread,
                 std::vector<double>& angles) {
   if (around.size() < 3) return false;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const auto& nb : around) mean += points.row(nb.index).transpose();
-  mean /= static_cast<double>(around.size());
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const auto& nb : around) {
-    const Eigen::Vector3d d = points.row(nb.index).transpose() - mean;
-    cov += d * d.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(cov);
-  if (!(eigen.eigenvalues()(0) <= kMaxSheetVarianceRatio * eigen.eigenvalues()(1))) return false;  // not one sheet
-  if (std::abs((x - mean).dot(eigen.eigenvectors().col(0))) > spread) return false;  // off the data's surface
-  const Eigen::Vector3d u = eigen.eigenvectors().col(2), w = eigen.eigenvectors().col(1);
+  PlaneMoments moments(x);
+  for (const auto& nb : around) moments.add(points.row(nb.index).transpose());
+  const Eigen::Vector3d variances = moments.spreads();  // ascending
+  if (!(variances(0) <= kMaxSheetVarianceRatio * variances(1))) return false;  // not one sheet
+  const PlaneProxy plane = moments.fit();
+  if (std::abs((x - plane.point).dot(plane.normal)) > spread) return false;  // off the data's surface
+  const Eigen::Vector3d u = plane.normal.unitOrthogonal(), w = plane.normal.cross(u);
   angles.clear();
   for (const auto& nb : around) {
     const Eigen::Vector3d d = points.row(nb.index).transpose() - x;
