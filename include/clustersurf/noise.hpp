@@ -17,8 +17,20 @@ struct NoiseOptions {
   /// The fits are repeated on the nearest half and quarter of each neighbourhood. A narrower
   /// fit whose median residual is below this fraction of the wider one's measured the model's
   /// detail, not noise (noise leaves the same residual at every width); it is taken instead,
-  /// if its neighbourhoods are still min_width_ratio times wider than that residual.
+  /// if its neighbourhoods are still min_width_ratio times wider than that residual. Clearly
+  /// below: a real scan's noise is not independent from point to point, and reads somewhat less
+  /// in narrower neighbourhoods too (Stanford's bun000: 0.66 of the widest fits' at half their
+  /// points). 0 keeps the widest fits' estimate.
   double detail_ratio = 0.6;
+  /// Where the widest neighbourhoods span fewer than this many estimated noise deviations (noise
+  /// dominates them: the estimate had to coarsen the sample, or nearly), a narrow fit follows a
+  /// measurable part of the noise and reads less than it (24 points 4 σ wide: 0.87; 96 points
+  /// 7 σ wide: 0.97). There each scale's estimate is corrected for that, by simulating the same
+  /// fit on a noisy plane of the same width; noise then reads the same at every width, and a
+  /// narrower scale reading below noisy_detail_ratio times the wider one's measured detail and
+  /// is taken (while its neighbourhoods span at least 3.5 of its deviations).
+  double noisy_width_ratio = 12;
+  double noisy_detail_ratio = 1;  ///< see noisy_width_ratio; 0 keeps the widest fits' estimate
   /// Also estimate the noise from the differences of neighbouring points' residuals in the
   /// narrowest fits (Rice's difference estimator): independent noise counts twice in them,
   /// detail the fit leaves is nearly the same at neighbours and cancels. Taken where clearly
@@ -40,8 +52,9 @@ struct NoiseOptions {
 /// over sampled neighbourhoods of the RMS residual of a local quadratic height-field fit,
 /// corrected for the fit's degrees of freedom, taken on a subsample coarse enough that the
 /// neighbourhoods are wide relative to the noise, and at the narrowest of three widths where
-/// the residual is still shrinking (detail, not noise); or, on request and when clearly lower, the median estimate
-/// from the differences of neighbouring residuals in the narrowest fits
+/// the residual is still shrinking (detail, not noise; where noise dominates, after correcting
+/// each width for the noise its fit follows); or, on request and when clearly lower, the median
+/// estimate from the differences of neighbouring residuals in the narrowest fits
 /// (NoiseOptions::residual_differences, off by default), which detail the fits leave hardly
 /// reaches. Smooth noise-free samples give a value near 0; clean scans of detailed models a
 /// value well below their detail's misfit at the widest scale.
