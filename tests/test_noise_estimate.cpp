@@ -31,7 +31,7 @@ void add_noise(PointCloud& c, double sigma, std::uint64_t seed) {
 NoiseOptions widest_only() {
   NoiseOptions o;
   o.detail_ratio = 0;
-  o.noisy_detail_ratio = 0;
+  o.noisy_width_ratio = 0;
   o.residual_differences = false;
   return o;
 }
@@ -121,8 +121,9 @@ TEST(NoiseEstimate, NarrowFitsSeeThroughTheDetailOfANoisySculptedModel) {
 
 TEST(NoiseEstimate, NarrowFitsAreCorrectedForTheNoiseTheyFollow) {
   // A noisy plane sampled so that the narrowest fits (24 points) span about 4 noise deviations:
-  // they read 0.87 of the noise, the widest (96 points, 7 σ) 0.97. Every scale, corrected, finds
-  // the noise; with the narrow fits taken as they read, the estimate would fall 13 % short.
+  // they read 0.87 of the noise, the widest (96 points, 7 σ) 0.97. Corrected, every width reads
+  // the noise, so none is taken for detail; a rule taking any width that reads less would fall
+  // 13 % short.
   const Eigen::Index n = 100000;
   const double width = std::sqrt(96 / (std::numbers::pi * static_cast<double>(n)));  // of a unit square
   const double sigma = width / 6.7;

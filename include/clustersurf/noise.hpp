@@ -22,15 +22,16 @@ struct NoiseOptions {
   /// in narrower neighbourhoods too (Stanford's bun000: 0.66 of the widest fits' at half their
   /// points). 0 keeps the widest fits' estimate.
   double detail_ratio = 0.6;
-  /// Where the widest neighbourhoods span fewer than this many estimated noise deviations (noise
-  /// dominates them: the estimate had to coarsen the sample, or nearly), a narrow fit follows a
-  /// measurable part of the noise and reads less than it (24 points 4 σ wide: 0.87; 96 points
-  /// 7 σ wide: 0.97). There each scale's estimate is corrected for that, by simulating the same
-  /// fit on a noisy plane of the same width; noise then reads the same at every width, and a
-  /// narrower scale reading below noisy_detail_ratio times the wider one's measured detail and
-  /// is taken (while its neighbourhoods span at least 3.5 of its deviations).
+  /// Where the widest fits' neighbourhoods (their median radius) are smaller than this many
+  /// times the residual they read, noise dominates them, and a narrow fit follows a measurable
+  /// part of it and reads less than the noise (24 points within 4 σ: 0.87 of it; 96 points
+  /// within 7 σ: 0.97). There each width's residual is first corrected for that, by simulating
+  /// the same fit on a noisy plane of the same radius and points; noise then reads the same at
+  /// every width, and a narrower width that reads less measured the model's detail and is
+  /// taken (neither min_width_ratio nor detail_ratio applies; a width too narrow for a reliable
+  /// correction is not taken). The correction only ever lowers the estimate below what the
+  /// rule above gives. 0 turns it off.
   double noisy_width_ratio = 12;
-  double noisy_detail_ratio = 1;  ///< see noisy_width_ratio; 0 keeps the widest fits' estimate
   /// Also estimate the noise from the differences of neighbouring points' residuals in the
   /// narrowest fits (Rice's difference estimator): independent noise counts twice in them,
   /// detail the fit leaves is nearly the same at neighbours and cancels. Taken where clearly

@@ -34,7 +34,8 @@ std::string describe(const ReconstructOptions& o) {
       << b.support_factor << " " << b.remove_outliers << " " << b.use_normals << " " << b.frames_from_normals << " " << b.creases
       << "\noutliers " << b.outliers.neighbors << " " << b.outliers.local_ratio << " " << b.outliers.global_ratio << " "
       << b.outliers.min_points << "\nnoise " << b.noise.neighbors << " " << b.noise.samples << " " << b.noise.min_width_ratio << " "
-      << b.noise.detail_ratio << " " << b.noise.noisy_width_ratio << " " << b.noise.noisy_detail_ratio << " " << b.noise.residual_differences << " " << b.noise.facing_normals << "\n";
+      << b.noise.detail_ratio << " " << b.noise.noisy_width_ratio << " " << b.noise.residual_differences << " "
+      << b.noise.facing_normals << "\n";
   const SurfaceMeshOptions& m = o.meshing;
   out << "mesh " << m.grid.resolution << " " << (m.grid.voxel_size ? *m.grid.voxel_size : 0.0) << " " << m.grid.newton_steps << " "
       << m.grid.min_weight << " " << m.grid.fill_cells << " " << m.auto_resolution << "\ntrim " << m.trim.spread_factor << " "
