@@ -27,6 +27,18 @@ void add_noise(PointCloud& c, double sigma, std::uint64_t seed) {
     for (int k = 0; k < 3; ++k) c.positions(i, k) += g(rng);
 }
 
+/// A unit sphere of `count` points with ripples of `amplitude` along its normals:
+/// r = 1 + amplitude · sin(f x) sin(f y) sin(f z).
+PointCloud rippled_sphere(int count, double amplitude, double frequency) {
+  PointCloud c = test::sample_sphere(count, 1.0);
+  for (Eigen::Index i = 0; i < c.size(); ++i) {
+    const Eigen::Vector3d p = c.positions.row(i).transpose();
+    const double r = 1 + amplitude * std::sin(frequency * p.x()) * std::sin(frequency * p.y()) * std::sin(frequency * p.z());
+    c.positions.row(i) = (r * p).transpose();
+  }
+  return c;
+}
+
 /// The single-scale estimate (the widest fits' residual only).
 NoiseOptions widest_only() {
   NoiseOptions o;
@@ -58,12 +70,7 @@ TEST(NoiseEstimate, DetailIsNotNoise) {
   // A clean sphere with ripples (amplitude 1 %, wavelength 0.3): 96 neighbours span a third
   // of a ripple, which a quadratic cannot follow; the residual shrinks with the
   // neighbourhood, so it is detail, and the estimate drops well below the widest fit's.
-  PointCloud c = test::sample_sphere(60000, 1.0);
-  for (Eigen::Index i = 0; i < c.size(); ++i) {
-    const Eigen::Vector3d p = c.positions.row(i).transpose();
-    const double r = 1 + 0.01 * std::sin(20 * p.x()) * std::sin(20 * p.y()) * std::sin(20 * p.z());
-    c.positions.row(i) = (r * p).transpose();
-  }
+  PointCloud c = rippled_sphere(60000, 0.01, 20);
   const double wide = estimate_noise(c.positions, widest_only());
   const double est = estimate_noise(c.positions);
   std::cout << "ripples: widest fit " << wide << ", estimate " << est << "\n";
@@ -176,12 +183,7 @@ TEST(NoiseEstimate, NoiseOverReliefAtTheScaleOfTheNeighbourhoods) {
   // follow the ripples, so the widest fits read them as noise (+25 %), and so did the estimate
   // while it took a narrower width only when its residual fell below 0.6 of the wider one's.
   // Corrected for the noise they follow, the narrow fits find the noise.
-  PointCloud c = test::sample_sphere(100000, 1.0);
-  for (Eigen::Index i = 0; i < c.size(); ++i) {
-    const Eigen::Vector3d p = c.positions.row(i).transpose();
-    const double r = 1 + 0.018 * std::sin(45 * p.x()) * std::sin(45 * p.y()) * std::sin(45 * p.z());
-    c.positions.row(i) = (r * p).transpose();
-  }
+  PointCloud c = rippled_sphere(100000, 0.018, 45);
   const double sigma = 0.006;
   add_noise(c, sigma, 7);
   const double widest = estimate_noise(c.positions, widest_only());
