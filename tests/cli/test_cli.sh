@@ -610,7 +610,9 @@ no_new_files "SIGINT: no mesh, no temporary file" "$tmp/int" "keep.cstree"
 # --- out of core ---------------------------------------------------------------------------------
 ooc="$tmp/ooc"
 mkdir "$ooc"
-run sample "$bunny_mesh" -o "$ooc/in.ply" -n 200000 --seed 5
+# 60,000 points: two regions and two tiles within the smallest limit, so seams, the merge and a
+# resume are exercised at a size the sanitized build runs in seconds.
+run sample "$bunny_mesh" -o "$ooc/in.ply" -n 60000 --seed 5
 expect_rc "sample a cloud for the out-of-core run" 0
 run --json reconstruct "$ooc/in.ply" --mesh "$ooc/mesh.ply" --memory-limit 128M
 expect_rc "reconstruct --memory-limit exits 0" 0
@@ -619,14 +621,15 @@ check "out of core: the work directory is removed" test ! -e "$ooc/mesh.ply.work
 run reconstruct "$ooc/in.ply" --mesh "$ooc/again.ply" --memory-limit 128M --work-dir "$ooc/work" --keep-work-dir
 expect_rc "reconstruct --memory-limit --keep-work-dir exits 0" 0
 check "out of core: --keep-work-dir keeps the run's files" test -f "$ooc/work/plan.txt"
+check "out of core: the cloud was split into regions" test -f "$ooc/work/region-000001.own"
 check "out of core: the same mesh from a kept work directory" cmp -s "$ooc/mesh.ply" "$ooc/again.ply"
 rm -f "$ooc/work/tile-000000.bin"  # as if the run had stopped before this tile
 run reconstruct "$ooc/in.ply" --mesh "$ooc/resumed.ply" --memory-limit 128M --work-dir "$ooc/work"
 expect_rc "a resumed out-of-core run exits 0" 0
 check "out of core: the resumed run gives the same mesh" cmp -s "$ooc/mesh.ply" "$ooc/resumed.ply"
-# A full disk, as a file-size limit (SIGXFSZ ignored, so a write past it fails with EFBIG): a
-# clear I/O error and no mesh.
-(ulimit -f 4096; trap '' XFSZ; exec "$cli" reconstruct "$ooc/in.ply" --mesh "$ooc/full.ply" --memory-limit 128M \
+# A full disk, as a 1 MB file-size limit (a region file is larger; SIGXFSZ ignored, so a write
+# past it fails with EFBIG): a clear I/O error and no mesh.
+(ulimit -f 1024; trap '' XFSZ; exec "$cli" reconstruct "$ooc/in.ply" --mesh "$ooc/full.ply" --memory-limit 128M \
   --work-dir "$ooc/full") >"$tmp/stdout" 2>"$tmp/stderr"
 rc=$?
 err=$(cat "$tmp/stderr")
