@@ -4,15 +4,17 @@
 
 #include <clustersurf/kd_tree.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <vector>
 
 namespace clustersurf::detail {
 
 namespace {
-/// Clusters up to this size find their points' nearest neighbours by comparing every pair.
-constexpr Eigen::Index kBruteForcePoints = 128;
+/// Clusters up to this size find their points' nearest neighbours by a scan in order of u.
+constexpr Eigen::Index kScanPoints = 128;
 }  // namespace
 
 double residual_correlation(const Points& points, std::span<const std::uint32_t> range, const Frame& frame,
@@ -28,21 +30,35 @@ double residual_correlation(const Points& points, std::span<const std::uint32_t>
     q[static_cast<std::size_t>(k)] = proxy.value(p);
   }
   // Each point's nearest other point in the plane (ties: the lowest index, as KdTree orders
-  // them): by brute force for the clusters near the leaves, where building a k-d tree costs
-  // more than comparing every pair.
+  // them). Clusters near the leaves scan their points in order of u outwards from each point,
+  // stopping where u alone is farther than the nearest found (the same answer as comparing
+  // every pair, which building a k-d tree would cost more than); larger ones query a k-d tree.
   std::vector<std::uint32_t> nearest(range.size());
-  if (n <= kBruteForcePoints) {
-    for (Eigen::Index k = 0; k < n; ++k) {
+  if (n <= kScanPoints) {
+    std::vector<std::uint32_t> by_u(range.size());
+    std::iota(by_u.begin(), by_u.end(), 0u);
+    std::sort(by_u.begin(), by_u.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return plane(a, 0) < plane(b, 0) || (plane(a, 0) == plane(b, 0) && a < b);
+    });
+    for (std::size_t p = 0; p < by_u.size(); ++p) {
+      const Eigen::Index k = by_u[p];
       double best = std::numeric_limits<double>::infinity();
-      for (Eigen::Index j = 0; j < n; ++j) {
-        if (j == k) continue;
-        double d2 = 0;
-        for (int c = 0; c < 3; ++c) {
-          const double d = plane(k, c) - plane(j, c);
-          d2 += d * d;
-        }
-        if (d2 < best) best = d2, nearest[static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(j);
+      std::uint32_t best_index = 0;
+      // d² = du² + dv² is never below du², and |du| grows away from p: past du² > best nothing
+      // closer (or as close with a lower index) remains on that side.
+      const auto visit = [&](std::size_t q) {
+        const Eigen::Index j = by_u[q];
+        const double du = plane(k, 0) - plane(j, 0), dv = plane(k, 1) - plane(j, 1);
+        if (du * du > best) return false;
+        const double d2 = du * du + dv * dv;
+        if (d2 < best || (d2 == best && static_cast<std::uint32_t>(j) < best_index)) best = d2, best_index = static_cast<std::uint32_t>(j);
+        return true;
+      };
+      for (std::size_t q = p + 1; q < by_u.size() && visit(q); ++q) {
       }
+      for (std::size_t q = p; q-- > 0 && visit(q);) {
+      }
+      nearest[static_cast<std::size_t>(k)] = best_index;
     }
   } else {
     const KdTree index(plane);

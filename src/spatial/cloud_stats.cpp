@@ -1,6 +1,8 @@
 #include <clustersurf/cloud_stats.hpp>
 #include <clustersurf/kd_tree.hpp>
 
+#include "spatial/spatial_order.hpp"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -19,11 +21,16 @@ PointSpacing point_spacing(const KdTree& index, std::size_t max_samples, std::si
   if (count < 1 || points.rows() < 2 || max_samples == 0) return {};
   const std::size_t samples = std::min(count, max_samples);
   const double stride = static_cast<double>(count) / static_cast<double>(samples);
+  std::vector<Eigen::Index> rows_sampled(samples);
+  for (std::size_t j = 0; j < samples; ++j) rows_sampled[j] = static_cast<Eigen::Index>(static_cast<double>(j) * stride);
+  // Queried in Morton order (the answers do not depend on it; the cache hits do).
+  const std::vector<std::uint32_t> order = detail::spatial_order(points, rows_sampled);
   std::vector<double> nearest(samples);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples), [&](const auto& r) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples, 1024), [&](const auto& r) {
     std::vector<Neighbor> nb;
-    for (std::size_t j = r.begin(); j != r.end(); ++j) {
-      const auto i = static_cast<Eigen::Index>(static_cast<double>(j) * stride);
+    for (std::size_t o = r.begin(); o != r.end(); ++o) {
+      const std::size_t j = order[o];
+      const Eigen::Index i = rows_sampled[j];
       index.knn(points.row(i).transpose(), 2, nb);
       // Skip the query itself (and exact duplicates count as spacing 0).
       nearest[j] = nb.size() > 1 ? std::sqrt(nb[1].distance_squared) : 0.0;

@@ -3,6 +3,8 @@
 #include <clustersurf/errors.hpp>
 #include <clustersurf/outliers.hpp>
 
+#include "spatial/spatial_order.hpp"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -20,35 +22,6 @@ double median_of(std::vector<double>& values) {
   const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
   std::nth_element(values.begin(), mid, values.end());
   return *mid;
-}
-
-/// The rows of `points` in Morton (Z-curve) order of their cells on a 2^21 grid over the bounding
-/// box: consecutive queries then touch the same k-d tree nodes and points, which keeps them in
-/// cache (random input order made the queries 2–3× slower).
-std::vector<std::uint32_t> spatial_order(const Points& points) {
-  const BoundingBox box = bounding_box(points);
-  const Eigen::Vector3d extent = box.extent().cwiseMax(Eigen::Vector3d::Constant(1e-300));
-  const auto spread = [](std::uint64_t v) {  // 21 bits → every third bit
-    v &= 0x1fffff;
-    v = (v | v << 32) & 0x1f00000000ffffULL;
-    v = (v | v << 16) & 0x1f0000ff0000ffULL;
-    v = (v | v << 8) & 0x100f00f00f00f00fULL;
-    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-    v = (v | v << 2) & 0x1249249249249249ULL;
-    return v;
-  };
-  const auto n = static_cast<std::size_t>(points.rows());
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d t = ((points.row(static_cast<Eigen::Index>(i)).transpose() - box.min).array() / extent.array()) * 2097151.0;
-    keyed[i] = {spread(static_cast<std::uint64_t>(t.x())) | spread(static_cast<std::uint64_t>(t.y())) << 1 |
-                    spread(static_cast<std::uint64_t>(t.z())) << 2,
-                static_cast<std::uint32_t>(i)};
-  }
-  std::sort(keyed.begin(), keyed.end());
-  std::vector<std::uint32_t> order(n);
-  for (std::size_t i = 0; i < n; ++i) order[i] = keyed[i].second;
-  return order;
 }
 
 OutlierReport nothing_flagged(std::size_t n) {
@@ -92,7 +65,7 @@ OutlierReport flag_outliers(const Points& points, const KdTree& index, const Out
   // Spread of every point, and its k neighbours (the query itself, at distance 0, left out).
   std::vector<double> spread(n);
   std::vector<std::uint32_t> neighbors(n * k);
-  const std::vector<std::uint32_t> order = spatial_order(points);
+  const std::vector<std::uint32_t> order = detail::spatial_order(points);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& r) {
     std::vector<Neighbor> nb;
     for (std::size_t o = r.begin(); o != r.end(); ++o) {

@@ -1,0 +1,51 @@
+// Morton order of points for batches of neighbour queries.
+
+#include "spatial/spatial_order.hpp"
+
+#include <algorithm>
+#include <utility>
+
+namespace clustersurf::detail {
+
+namespace {
+
+/// The Morton order of `count` points, the k-th at `position(k)`.
+template <class Position>
+std::vector<std::uint32_t> morton_order(std::size_t count, const Position& position) {
+  BoundingBox box;
+  for (std::size_t k = 0; k < count; ++k) box.extend(position(k));
+  const Eigen::Vector3d extent = box.extent().cwiseMax(Eigen::Vector3d::Constant(1e-300));
+  const auto spread = [](std::uint64_t v) {  // 21 bits → every third bit
+    v &= 0x1fffff;
+    v = (v | v << 32) & 0x1f00000000ffffULL;
+    v = (v | v << 16) & 0x1f0000ff0000ffULL;
+    v = (v | v << 8) & 0x100f00f00f00f00fULL;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+    v = (v | v << 2) & 0x1249249249249249ULL;
+    return v;
+  };
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    const Eigen::Vector3d t = ((position(k) - box.min).array() / extent.array()) * 2097151.0;
+    keyed[k] = {spread(static_cast<std::uint64_t>(t.x())) | spread(static_cast<std::uint64_t>(t.y())) << 1 |
+                    spread(static_cast<std::uint64_t>(t.z())) << 2,
+                static_cast<std::uint32_t>(k)};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<std::uint32_t> order(count);
+  for (std::size_t k = 0; k < count; ++k) order[k] = keyed[k].second;
+  return order;
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> spatial_order(const Points& points) {
+  return morton_order(static_cast<std::size_t>(points.rows()),
+                      [&](std::size_t k) -> Eigen::Vector3d { return points.row(static_cast<Eigen::Index>(k)).transpose(); });
+}
+
+std::vector<std::uint32_t> spatial_order(const Points& points, const std::vector<Eigen::Index>& rows) {
+  return morton_order(rows.size(), [&](std::size_t k) -> Eigen::Vector3d { return points.row(rows[k]).transpose(); });
+}
+
+}  // namespace clustersurf::detail
