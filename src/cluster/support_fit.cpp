@@ -46,6 +46,16 @@ double SupportFit::coverage_radius(const Eigen::Vector3d& center, double alpha_r
   return std::min(holding, kMaxSupportGrowth * alpha_radius);
 }
 
+bool SupportFit::own_points_cover(std::span<const std::uint32_t> range, const Eigen::Vector3d& center, double radius) const {
+  if (range.size() < kMinSupportPoints) return false;
+  // The margin keeps the answer exact against the k-d tree's own rounding of the distances.
+  const double r2 = radius * radius * (1 - 1e-9);
+  std::size_t inside = 0;
+  for (auto i : range)
+    if ((points_.row(i).transpose() - center).squaredNorm() < r2 && ++inside == kMinSupportPoints) return true;
+  return false;
+}
+
 SupportError SupportFit::check(ClusterNode& node, std::span<const std::uint32_t> range) const {
   const double r2 = node.support.radius * node.support.radius;
   if (!(r2 > 0)) return {};

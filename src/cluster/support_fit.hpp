@@ -30,6 +30,11 @@ class SupportFit {
   /// instead of leaving gaps, but never reaches across a gap for a few strays.
   double coverage_radius(const Eigen::Vector3d& center, double alpha_radius) const;
 
+  /// Whether kMinSupportPoints of the cluster's own points (`range`, which are among the input
+  /// points) lie within `radius` of `center`, with a margin of a billionth of the radius: the
+  /// coverage radius is then below `radius` (no k-nearest-neighbour query needed to know it).
+  bool own_points_cover(std::span<const std::uint32_t> range, const Eigen::Vector3d& center, double radius) const;
+
   /// The support check: a bounded sample of the input points inside the node's support; a
   /// polynomial proxy is first refitted to them (refit()); returns the weighted RMS of |Q|.
   SupportError check(ClusterNode& node, std::span<const std::uint32_t> range) const;

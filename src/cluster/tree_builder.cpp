@@ -141,6 +141,7 @@ class Builder {
             }
           }
         }
+        if (cover < 0) cover = support_->coverage_radius(node.support.center, options_.alpha * node.extent);
         // A leaf held at min_points may miss the threshold on its own points too; measure its
         // support against what it achieves there.
         const double own = std::sqrt(std::max(0.0, e * e - noise_ * noise_));
@@ -178,7 +179,8 @@ class Builder {
   double allowed(double tolerance, double n) const { return detail::allowed_error(tolerance, noise_, n); }
 
   /// Fits `node` to the points `range`: its frame (returned), proxy, errors and extent, and its
-  /// support: alpha × extent, grown to `cover`, the radius that holds MPU's N_min points.
+  /// support: alpha × extent, grown to `cover`, the radius that holds MPU's N_min points (-1
+  /// when the cluster's own points show it to be within alpha × extent: only leaves need it).
   Frame fit(ClusterNode& node, std::span<const std::uint32_t> range, double& cover) const {
     node.point_count = static_cast<std::uint32_t>(range.size());
     const Frame frame = detail::cluster_frame(points_, range, options_.frames_from_normals ? normals_ : nullptr, work_.ids, noise_);
@@ -191,7 +193,9 @@ class Builder {
     for (auto i : range) box.extend(points_.row(i).transpose());
     node.extent = box.diagonal();
     node.support = Sphere{frame.origin, options_.alpha * node.extent};
-    cover = support_ != nullptr ? support_->coverage_radius(frame.origin, node.support.radius) : 0.0;
+    cover = support_ == nullptr                                                       ? 0.0
+            : support_->own_points_cover(range, frame.origin, node.support.radius) ? -1.0
+                                                                                    : support_->coverage_radius(frame.origin, node.support.radius);
     node.support.radius = std::max(node.support.radius, cover);
     node.bound = node.support;
     return frame;
