@@ -30,9 +30,9 @@ double residual_correlation(const Points& points, std::span<const std::uint32_t>
     q[static_cast<std::size_t>(k)] = proxy.value(p);
   }
   // Each point's nearest other point in the plane (ties: the lowest index, as KdTree orders
-  // them). Clusters near the leaves scan their points in order of u outwards from each point,
-  // stopping where u alone is farther than the nearest found (the same answer as comparing
-  // every pair, which building a k-d tree would cost more than); larger ones query a k-d tree.
+  // them). Clusters near the leaves, too small to repay a k-d tree, scan their points in order
+  // of u outwards from each point, stopping where u alone is farther than the nearest found:
+  // the answer of comparing every pair, at a fraction of the cost. Larger ones query a k-d tree.
   std::vector<std::uint32_t> nearest(range.size());
   if (n <= kScanPoints) {
     std::vector<std::uint32_t> by_u(range.size());
@@ -54,10 +54,8 @@ double residual_correlation(const Points& points, std::span<const std::uint32_t>
         if (d2 < best || (d2 == best && static_cast<std::uint32_t>(j) < best_index)) best = d2, best_index = static_cast<std::uint32_t>(j);
         return true;
       };
-      for (std::size_t q = p + 1; q < by_u.size() && visit(q); ++q) {
-      }
-      for (std::size_t q = p; q-- > 0 && visit(q);) {
-      }
+      for (std::size_t q = p + 1; q < by_u.size() && visit(q);) ++q;  // rightwards
+      for (std::size_t q = p; q > 0 && visit(q - 1);) --q;             // leftwards
       nearest[static_cast<std::size_t>(k)] = best_index;
     }
   } else {
