@@ -193,9 +193,12 @@ class Builder {
     for (auto i : range) box.extend(points_.row(i).transpose());
     node.extent = box.diagonal();
     node.support = Sphere{frame.origin, options_.alpha * node.extent};
-    cover = support_ == nullptr                                                       ? 0.0
-            : support_->own_points_cover(range, frame.origin, node.support.radius) ? -1.0
-                                                                                    : support_->coverage_radius(frame.origin, node.support.radius);
+    if (support_ == nullptr)
+      cover = 0;
+    else if (support_->own_points_cover(range, frame.origin, node.support.radius))
+      cover = -1;  // within alpha × extent; a leaf queries it when it needs it
+    else
+      cover = support_->coverage_radius(frame.origin, node.support.radius);
     node.support.radius = std::max(node.support.radius, cover);
     node.bound = node.support;
     return frame;

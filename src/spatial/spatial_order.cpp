@@ -44,7 +44,7 @@ std::vector<std::uint32_t> spatial_order(const Points& points) {
                       [&](std::size_t k) -> Eigen::Vector3d { return points.row(static_cast<Eigen::Index>(k)).transpose(); });
 }
 
-std::vector<std::uint32_t> spatial_order(const Points& points, const std::vector<Eigen::Index>& rows) {
+std::vector<std::uint32_t> spatial_order(const Points& points, std::span<const Eigen::Index> rows) {
   return morton_order(rows.size(), [&](std::size_t k) -> Eigen::Vector3d { return points.row(rows[k]).transpose(); });
 }
 
