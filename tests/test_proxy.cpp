@@ -67,6 +67,41 @@ TEST(Proxy, PolyFitReproducesQuadraticExactly) {
   EXPECT_GT(plane, 0.05);
 }
 
+TEST(Proxy, HermiteFitFollowsNormalsOfEitherSign) {
+  // Noisy heights, exact normals of the noise-free height field: the normals pin the slopes,
+  // so the curvature comes out several times closer than from the positions alone.
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::normal_distribution<double> g(0, 0.05);
+  const Eigen::Matrix3d rot = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  const int n = 60;
+  Points p(n, 3), normals(n, 3);
+  for (int i = 0; i < n; ++i) {
+    const double a = u(rng), b = u(rng);
+    const double w = 0.3 + 0.2 * a - 0.1 * b + 0.5 * a * a - 0.3 * a * b + 0.25 * b * b;
+    const Eigen::Vector3d slope(0.2 + a - 0.3 * b, -0.1 - 0.3 * a + 0.5 * b, -1);
+    p.row(i) = (rot * Eigen::Vector3d(a, b, w + g(rng)) + Eigen::Vector3d(5, -2, 1)).transpose();
+    normals.row(i) = (rot * (i % 2 ? -slope : slope).normalized()).transpose();
+  }
+  Frame truth;
+  truth.origin = Eigen::Vector3d(5, -2, 1);
+  truth.axes = rot;
+  const auto idx = all(p);
+  const std::vector<double> ones(idx.size(), 1.0);
+  const auto curvature_error = [](const PolyProxy& f) {
+    return std::hypot(f.coeffs[3] - 0.5, f.coeffs[4] + 0.3, f.coeffs[5] - 0.25);
+  };
+  const PolyProxy positions = fit_poly_in_frame(truth, p, idx, ones);
+  const PolyProxy hermite = fit_poly_in_frame(truth, p, idx, ones, &normals, 1.0);
+  EXPECT_LT(curvature_error(hermite) * 4, curvature_error(positions));
+  EXPECT_LT(curvature_error(hermite), 0.02);
+  // A normal's sign does not matter; a zero weight is the positions' fit.
+  Points flipped = -normals;
+  const PolyProxy hermite_flipped = fit_poly_in_frame(truth, p, idx, ones, &flipped, 1.0);
+  for (int k = 0; k < 6; ++k) EXPECT_NEAR(hermite_flipped.coeffs[k], hermite.coeffs[k], 1e-12);
+  EXPECT_EQ(fit_poly_in_frame(truth, p, idx, ones, &normals, 0.0).coeffs, positions.coeffs);
+}
+
 TEST(Proxy, QuadricFitsSphereExactly) {
   const PointCloud s = test::sample_sphere(500, 2.0, Eigen::Vector3d(1, 2, 3));
   const auto idx = all(s.positions);

@@ -148,6 +148,7 @@ TEST(TreeFile, ReadsVersion1Files) {
   BuildOptions version1;
   version1.creases = false;
   version1.frames_from_normals = false;
+  version1.fit_normals = false;
   version1.min_points = old.parameters.min_points;
   version1.noise.facing_normals = false;
   version1.noise.noisy_width_ratio = 0;

@@ -85,6 +85,12 @@ struct BuildOptions {
   /// consistent normals: a noisy thin part has no principal plane). Clean data keep the
   /// principal plane either way.
   bool frames_from_normals = true;
+  /// With use_normals and support_factor > 0: a leaf's support fit also follows the slopes of
+  /// the input normals (either sign), weighted by how much surer they are than the positions
+  /// (exact normals on noisy positions: noise averages out faster), and only where they add at
+  /// least about a tenth of the positions' information. Clean data and a scanner's normals,
+  /// computed from the same positions, are mostly left to the positions.
+  bool fit_normals = true;
   /// A cluster on the two faces of a sharp edge, which no smooth proxy fits within the
   /// threshold, becomes a leaf whose proxy is the crease of two planes (CreaseProxy) when that
   /// fits: edges and corners of machined parts stay sharp instead of rounded and lumpy.

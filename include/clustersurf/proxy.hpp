@@ -144,6 +144,12 @@ PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<
 PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<const std::uint32_t> indices,
                             std::span<const double> weights);
 
+/// The weighted fit with normals (Hermite data): also minimizes normal_weight · Σ weights[k] ·
+/// |m_w ∇f + (m_u, m_v)|² over the local normals m = normals[indices[k]] (either sign; rows of
+/// `normals` as of `points`); normal_weight is a squared length (0 or no normals: the fit above).
+PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<const std::uint32_t> indices,
+                            std::span<const double> weights, const Points* normals, double normal_weight);
+
 /// RMS and max of |Q| over points[indices] (zero for no points).
 ProxyError proxy_error(const Proxy& proxy, const Points& points, std::span<const std::uint32_t> indices);
 

@@ -55,9 +55,10 @@ struct BuildScale {
 /// The tree of the rows `ids` of `cloud` (their positions: `clustered`, in that order): the
 /// recursion, the flattening and the point-leaf table of build_cluster_tree(), at the given
 /// scale, with the support checks over `support_points` (indexed by `support_index`: the
-/// clustered points, or those and their region's halo). The tree's bbox is that of `clustered`.
+/// clustered points, or those and their region's halo; `support_normals`: their input normals,
+/// or null). The tree's bbox is that of `clustered`.
 ClusterTree build_tree(const PointCloud& cloud, std::vector<std::uint32_t> ids, const Points& clustered,
-                       const Points& support_points, const KdTree& support_index, const BuildScale& scale,
+                       const Points& support_points, const Points* support_normals, const KdTree& support_index, const BuildScale& scale,
                        const BuildOptions& options, const ProgressCallback& progress);
 
 /// Smallest sphere containing spheres a and b (padded so rounding never leaves one outside).

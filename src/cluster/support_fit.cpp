@@ -32,12 +32,22 @@ constexpr double kMaxTrimmedShare = 0.05;
 /// few stray points never reach across a gap.
 constexpr std::size_t kMinSupportPoints = 30;
 constexpr double kMaxSupportGrowth = 4;
+/// The normals' weight λ in the support fit (a squared length: the ratio of the position fit's
+/// residual variance to its normals') compares the slopes the normals give with those the
+/// positions give over the support: λ / r² is about the ratio of their information (r the
+/// support radius). The normals enter only where they add at least about a tenth of the
+/// positions' information (λ ≥ 0.3² r²): below that they gain little, and a scanner's normals,
+/// computed from the same noisy positions, count the noise twice (virtual scans lost 1–5 %
+/// with every normal in). λ is capped at 100 r², where the positions only set the height.
+constexpr double kMinNormalWeight = 0.3 * 0.3;
+constexpr double kMaxNormalWeight = 100;
 
 }  // namespace
 
 SupportFit::SupportFit(const Points& input, const Points& cluster_points, const SupportSampler& sampler,
-                       const BuildOptions& options, double tolerance, double noise)
-    : input_(input), points_(cluster_points), sampler_(sampler), options_(options), tolerance_(tolerance), noise_(noise) {}
+                       const BuildOptions& options, double tolerance, double noise, const Points* normals)
+    : input_(input), points_(cluster_points), sampler_(sampler), options_(options), tolerance_(tolerance), noise_(noise),
+      normals_(normals) {}
 
 double SupportFit::coverage_radius(const Eigen::Vector3d& center, double alpha_radius) const {
   thread_local std::vector<Neighbor> nearest;
@@ -148,9 +158,39 @@ void SupportFit::refit(ClusterNode& node, std::span<const std::uint32_t> range, 
     fit = fit_poly_in_frame(cluster_fit.frame, input_, ids, weights);
     cut = measure();
   }
-  // Kept only while the cluster's own points still meet the threshold (or what the cluster's
-  // fit achieved): a leaf's error on its points stays within the threshold. A few own points
-  // beyond the stray cut (a stray that bent the cluster's fit) are not counted.
+  // With input normals, the fit also follows their slopes (Hermite data), weighted by the
+  // ratio of the position fit's residuals to its normals' (inverse variances: exact normals on
+  // noisy positions count much, a scanner's noisy normals little). The position fit stays where
+  // the Hermite fit would take the cluster's own points beyond the threshold.
+  if (normals_ != nullptr) {
+    const PolyProxy& poly = std::get<PolyProxy>(fit.variant());
+    const auto& c = poly.coeffs;
+    double position = 0, slope = 0;
+    for (std::size_t j = 0; j < ids.size(); ++j) {
+      const Eigen::Vector3d l = poly.frame.to_local(input_.row(ids[j]).transpose());
+      Eigen::Vector3d m = poly.frame.axes.transpose() * normals_->row(ids[j]).transpose();
+      if (m.z() < 0) m = -m;
+      const double gu = m.z() * (c[1] + 2 * c[3] * l.x() + c[4] * l.y()) + m.x();
+      const double gv = m.z() * (c[2] + c[4] * l.x() + 2 * c[5] * l.y()) + m.y();
+      position += weights[j] * residual[j] * residual[j];
+      slope += weights[j] * (gu * gu + gv * gv);
+    }
+    const double ratio = slope > 0 ? position / slope : 0;
+    if (ratio >= kMinNormalWeight * r2 && std::isfinite(ratio)) {
+      Proxy hermite = fit_poly_in_frame(poly.frame, input_, ids, weights, normals_, std::min(ratio, kMaxNormalWeight * r2));
+      if (accept(node, range, threshold, cut, std::move(hermite))) return;
+    }
+  }
+  accept(node, range, threshold, cut, std::move(fit));
+}
+
+/// Takes `fit` as the node's proxy while the cluster's own points still meet the threshold (or
+/// what the cluster's fit achieved): a leaf's error on its points stays within the threshold. A
+/// few own points beyond the stray `cut` (a stray that bent the cluster's fit) are not counted.
+bool SupportFit::accept(ClusterNode& node, std::span<const std::uint32_t> range, double threshold, double cut, Proxy fit) const {
+  const auto few = [](std::size_t strays, std::size_t total) {
+    return static_cast<double>(strays) <= std::max(1.0, kMaxTrimmedShare * static_cast<double>(total));
+  };
   double inlier_sum = 0, inlier_max = 0, all_sum = 0, all_max = 0;
   std::size_t inliers = 0;
   for (auto i : range) {
@@ -167,10 +207,11 @@ void SupportFit::refit(ClusterNode& node, std::span<const std::uint32_t> range, 
   const double max = trim ? inlier_max : all_max;
   const double e = options_.metric == ErrorMetric::Rms ? rms : max;
   const double own = options_.metric == ErrorMetric::Rms ? node.rms_error : node.max_error;
-  if (!(e <= std::max(threshold, own))) return;
+  if (!(e <= std::max(threshold, own))) return false;
   node.proxy = std::move(fit);
   node.rms_error = rms;
   node.max_error = max;
+  return true;
 }
 
 }  // namespace clustersurf::detail

@@ -23,7 +23,7 @@ class SupportFit {
   /// the working copy in cluster order (the ranges index it); `tolerance` and `noise` as the
   /// builder's.
   SupportFit(const Points& input, const Points& cluster_points, const SupportSampler& sampler, const BuildOptions& options,
-             double tolerance, double noise);
+             double tolerance, double noise, const Points* normals);
 
   /// The radius around `center` that holds kMinSupportPoints input points (MPU's N_min), at most
   /// kMaxSupportGrowth × `alpha_radius`: a small cluster's support overlaps its neighbours'
@@ -52,6 +52,7 @@ class SupportFit {
   /// The weighted RMS of |Q| of `proxy` over the support points `inside` of `support`.
   SupportError weighted_error(const Proxy& proxy, const Sphere& support, std::span<const Neighbor> inside) const;
   void refit(ClusterNode& node, std::span<const std::uint32_t> range, std::span<const Neighbor> inside) const;
+  bool accept(ClusterNode& node, std::span<const std::uint32_t> range, double threshold, double cut, Proxy fit) const;
 
   const Points& input_;
   const Points& points_;
@@ -59,6 +60,7 @@ class SupportFit {
   const BuildOptions& options_;
   double tolerance_;
   double noise_;
+  const Points* normals_;  // the input normals, rows as of input_, or null
 };
 
 }  // namespace clustersurf::detail

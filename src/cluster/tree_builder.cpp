@@ -313,11 +313,16 @@ ClusterTree build_cluster_tree(const CloudIndex& cloud_index, const BuildOptions
     const Points* facing = !normals ? nullptr : clustered_normals.rows() > 0 ? &clustered_normals : &cloud.normals;
     scale.noise_sigma = estimate_noise(clustered.positions, clustered.index, options.noise, facing);
   }
-  return detail::build_tree(cloud, ids, clustered.positions, clustered.positions, clustered.index, scale, options, progress);
+  const bool normals = options.use_normals && cloud.normals.rows() == cloud.positions.rows() && cloud.size() > 0;
+  const bool subset = ids.size() != static_cast<std::size_t>(cloud.size());
+  const Points clustered_normals = normals && subset ? Points(cloud.normals(ids, Eigen::all)) : Points();
+  const Points* support_normals = !normals ? nullptr : subset ? &clustered_normals : &cloud.normals;
+  return detail::build_tree(cloud, ids, clustered.positions, clustered.positions, support_normals, clustered.index, scale, options,
+                            progress);
 }
 
 ClusterTree detail::build_tree(const PointCloud& cloud, std::vector<std::uint32_t> ids, const Points& clustered,
-                               const Points& support_points, const KdTree& support_index, const BuildScale& scale,
+                               const Points& support_points, const Points* support_normals, const KdTree& support_index, const BuildScale& scale,
                                const BuildOptions& options, const ProgressCallback& progress) {
   validate(cloud, options);
   if (ids.empty()) throw OptionError("cannot build a tree without points to cluster");
@@ -367,7 +372,7 @@ ClusterTree detail::build_tree(const PointCloud& cloud, std::vector<std::uint32_
   std::optional<detail::SupportFit> support;
   if (options.support_factor > 0) {
     sampler.emplace(support_points, support_index);
-    support.emplace(support_points, work.positions, *sampler, resolved, tolerance, noise);
+    support.emplace(support_points, work.positions, *sampler, resolved, tolerance, noise, use_normals && options.fit_normals ? support_normals : nullptr);
   }
   detail::ProgressReporter reporter(progress, "building tree", n);
   BuildNode root;

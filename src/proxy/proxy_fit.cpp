@@ -110,10 +110,17 @@ PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<
 
 PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<const std::uint32_t> indices,
                             std::span<const double> weights) {
+  return fit_poly_in_frame(frame, points, indices, weights, nullptr, 0);
+}
+
+PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<const std::uint32_t> indices,
+                            std::span<const double> weights, const Points* normals, double normal_weight) {
   // Direct least squares on the design matrix [1 u v u² uv v² | w], in coordinates scaled for
   // conditioning, reduced block by block (R of [R; next rows] is R of all rows so far: memory
   // stays O(block) however large the cluster); then the minimum-norm solution of the 6×6
-  // triangular system by a complete orthogonal decomposition when rank-deficient.
+  // triangular system by a complete orthogonal decomposition when rank-deficient. With normals,
+  // each point adds the two rows of n_w ∇f + (n_u, n_v) = 0 (the fit's normal along n, linear
+  // in the coefficients and bounded for any n; slopes are invariant under the scaling).
   const std::size_t n = indices.size();
   PolyProxy p;
   p.frame = frame;
@@ -122,17 +129,30 @@ PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<
   for (auto i : indices) scale += frame.to_local(points.row(i).transpose()).head<2>().squaredNorm();
   scale = std::sqrt(scale / static_cast<double>(n));
   if (!(scale > 0) || !std::isfinite(scale)) scale = 1;
+  const bool hermite = normals != nullptr && normal_weight > 0 && std::isfinite(normal_weight);
+  // In scaled units a position row's residual is r / scale; the normal rows' weight keeps the
+  // ratio normal_weight (a squared length) between the two sums.
+  const double slope_factor = hermite ? std::sqrt(normal_weight) / scale : 0;
 
   constexpr Eigen::Index kBlock = 1024;
   using Augmented = Eigen::Matrix<double, Eigen::Dynamic, 7>;
-  Augmented stack(std::min<Eigen::Index>(kBlock, static_cast<Eigen::Index>(n)) + 7, 7);
+  Augmented stack(std::min<Eigen::Index>(kBlock, static_cast<Eigen::Index>(hermite ? 3 * n : n)) + 9, 7);
   Eigen::Index reduced = 0;  // rows of R carried over from the previous blocks (0 or 7)
   for (std::size_t first = 0; first < n;) {
     Eigen::Index rows = reduced;
-    for (; first < n && rows < reduced + kBlock; ++first, ++rows) {
+    for (; first < n && rows < reduced + kBlock; ++first) {
       const Eigen::Vector3d l = frame.to_local(points.row(indices[first]).transpose()) / scale;
+      const double w = weights.empty() ? 1.0 : std::sqrt(weights[first]);
       stack.row(rows) << 1, l.x(), l.y(), l.x() * l.x(), l.x() * l.y(), l.y() * l.y(), l.z();
-      if (!weights.empty()) stack.row(rows) *= std::sqrt(weights[first]);
+      if (!weights.empty()) stack.row(rows) *= w;
+      ++rows;
+      if (!hermite) continue;
+      Eigen::Vector3d m = frame.axes.transpose() * normals->row(indices[first]).transpose();
+      if (m.z() < 0) m = -m;
+      if (!m.allFinite()) continue;
+      const double a = w * slope_factor * m.z();
+      stack.row(rows++) << 0, a, 0, 2 * a * l.x(), a * l.y(), 0, -w * slope_factor * m.x();
+      stack.row(rows++) << 0, 0, a, 0, a * l.x(), 2 * a * l.y(), -w * slope_factor * m.y();
     }
     const Eigen::HouseholderQR<Augmented> qr(stack.topRows(rows));
     const Eigen::Index keep = std::min<Eigen::Index>(rows, 7);

@@ -53,7 +53,10 @@ ClusterTree build_region_tree(const RegionCloud& region, const RegionPlan& plan,
   build_scale.noise_sigma = scale.noise_sigma;
   BuildOptions build = options;
   build.keep_point_leaves = true;  // the orientation follows the points' normals through it
-  tree = detail::build_tree(cloud, std::move(ids), clustered, support.positions, support.index, build_scale, build, progress);
+  const bool normals = options.use_normals && cloud.normals.rows() == cloud.positions.rows();
+  const Points support_normals = normals ? Points(cloud.normals(std::vector<Eigen::Index>(kept.begin(), kept.end()), Eigen::all)) : Points();
+  tree = detail::build_tree(cloud, std::move(ids), clustered, support.positions, normals ? &support_normals : nullptr, support.index,
+                            build_scale, build, progress);
   const OrientationReport oriented = orient_tree(tree, index, options.use_normals);
   if (orientation != nullptr) *orientation = oriented;
   // The tree of the region's own points: the halo belongs to the neighbours' trees.

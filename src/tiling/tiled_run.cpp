@@ -31,7 +31,7 @@ std::string describe(const ReconstructOptions& o) {
   out << "build " << static_cast<int>(b.proxy) << " " << static_cast<int>(b.splitter) << " " << static_cast<int>(b.metric) << " "
       << static_cast<int>(b.threshold_mode) << " " << b.tolerance << " " << b.noise_factor << " " << b.min_points << " " << b.max_depth
       << " " << b.alpha << " " << b.kstep << " " << b.lloyd_restarts << " " << b.proxy_lloyd_iterations << " " << b.seed << " "
-      << b.support_factor << " " << b.remove_outliers << " " << b.use_normals << " " << b.frames_from_normals << " " << b.creases
+      << b.support_factor << " " << b.remove_outliers << " " << b.use_normals << " " << b.frames_from_normals << " " << b.fit_normals << " " << b.creases
       << "\noutliers " << b.outliers.neighbors << " " << b.outliers.local_ratio << " " << b.outliers.global_ratio << " "
       << b.outliers.min_points << "\nnoise " << b.noise.neighbors << " " << b.noise.samples << " " << b.noise.min_width_ratio << " "
       << b.noise.detail_ratio << " " << b.noise.noisy_width_ratio << " " << b.noise.residual_differences << " "

@@ -431,6 +431,18 @@ expect_rc "render --mode hit-blend --highlight exits 0" 0
 run render "$tmp/m.ply" "$bunny_mesh" "$tmp/b.cstree" --grid -o "$tmp/grid.png" --width 96 --height 72
 expect_rc "render --grid of a mesh, a cloud and a tree exits 0" 0
 check "render --grid writes a PNG" is_png "$tmp/grid.png"
+# Inputs far from zero (survey coordinates) are each read relative to their own origin; one
+# camera must still frame them all: every picture of the grid shows its input.
+"$cli" -q convert "$bunny" "$tmp/near.xyz"
+awk '{ $1 += 636000; $2 += 848900; $3 += 400; print }' OFMT='%.9f' CONVFMT='%.9f' "$tmp/near.xyz" >"$tmp/far.xyz"
+"$cli" -q reconstruct "$tmp/far.xyz" -o "$tmp/far.cstree" --mesh "$tmp/far.ply"
+run --json render "$tmp/far.ply" "$tmp/far.xyz" "$tmp/far.cstree" --grid -o "$tmp/far.png" --width 96 --height 72
+hits=$(json_field renders | python3 -c 'import json, sys; print(" ".join(str(r["hits"]) for r in json.load(sys.stdin)))' 2>/dev/null)
+if [ "$rc" -eq 0 ] && [ -n "$hits" ] && ! grep -qw 0 <<<"$hits"; then
+  ok "render --grid frames a mesh, a cloud and a tree far from zero (hits: $hits)"
+else
+  not_ok "render --grid of inputs far from zero: every picture shows its input" "rc $rc, hits: $hits"
+fi
 run render "$tmp/b.cstree" -o "$tmp/out/bad.png" --mode nonsense
 expect_rc "render with a bad --mode: exit code 2" 2
 run render "$tmp/b.cstree" -o "$tmp/out/bad.png" --show error

@@ -1,0 +1,89 @@
+// The support fit of a leaf (src/cluster/support_fit.cpp): with input normals surer than the
+// positions (exact normals on noisy positions), the fit follows their slopes and the surface
+// lands closer to the truth; where they add little (clean data), the tree is the positions'.
+
+#include <clustersurf/reconstruct.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <random>
+
+using namespace clustersurf;
+
+namespace {
+
+constexpr double kTube = 0.25;  // the torus's tube radius (its ring's radius is 1)
+
+/// n points on a torus around z (radii 1 and kTube) with their exact outward normals, and
+/// Gaussian noise of standard deviation `sigma` on the positions (the benchmark's noisy clouds:
+/// normals of the noise-free surface).
+PointCloud noisy_torus(int n, double sigma, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 2 * M_PI);
+  std::normal_distribution<double> g(0, 1);
+  PointCloud c;
+  c.positions.resize(n, 3);
+  c.normals.resize(n, 3);
+  for (int i = 0; i < n;) {
+    const double a = u(rng), b = u(rng);
+    // Area-uniform: accept by the circumference at b.
+    if (u(rng) / (2 * M_PI) * (1 + kTube) > 1 + kTube * std::cos(b)) continue;
+    const Eigen::Vector3d ring(std::cos(a), std::sin(a), 0);
+    const Eigen::Vector3d normal = std::cos(b) * ring + std::sin(b) * Eigen::Vector3d::UnitZ();
+    c.normals.row(i) = normal.transpose();
+    c.positions.row(i) = (ring + kTube * normal + sigma * Eigen::Vector3d(g(rng), g(rng), g(rng))).transpose();
+    ++i;
+  }
+  return c;
+}
+
+/// Mean distance of the mesh's vertices to the torus.
+double mean_distance_to_torus(const TriangleMesh& mesh) {
+  double sum = 0;
+  for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v) {
+    const Eigen::Vector3d p = mesh.vertices.row(v).transpose();
+    sum += std::abs(std::hypot(std::hypot(p.x(), p.y()) - 1, p.z()) - kTube);
+  }
+  return mesh.vertices.rows() > 0 ? sum / static_cast<double>(mesh.vertices.rows()) : std::numeric_limits<double>::infinity();
+}
+
+double meshed_distance(const PointCloud& cloud, bool fit_normals) {
+  ReconstructOptions options;
+  options.build.fit_normals = fit_normals;
+  const Reconstruction r = reconstruct(cloud, options);
+  return r.mesh ? mean_distance_to_torus(r.mesh->mesh) : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
+TEST(SupportFit, ExactNormalsOnNoisyPositionsBringTheSurfaceCloser) {
+  // Noise of 4 % of the tube's radius: the positions' fits follow part of it, the normals do not.
+  const PointCloud cloud = noisy_torus(30000, 0.04 * kTube, 7);
+  const double positions = meshed_distance(cloud, false);
+  const double hermite = meshed_distance(cloud, true);
+  std::cout << "noisy torus, mean distance of the mesh: positions only " << positions << ", with the normals " << hermite
+            << "\n";
+  EXPECT_LT(hermite, 0.9 * positions);
+}
+
+TEST(SupportFit, CleanDataKeepThePositionsFits) {
+  // Without noise the normals add less than a tenth of the positions' information: the same
+  // tree with and without them in the fit.
+  const PointCloud cloud = noisy_torus(20000, 0, 8);
+  ReconstructOptions options;
+  options.mesh = false;
+  const ClusterTree with = reconstruct(cloud, options).tree;
+  options.build.fit_normals = false;
+  const ClusterTree without = reconstruct(cloud, options).tree;
+  ASSERT_EQ(with.nodes.size(), without.nodes.size());
+  for (std::size_t k = 0; k < with.nodes.size(); ++k) {
+    const auto* a = std::get_if<PolyProxy>(&with.nodes[k].proxy.variant());
+    const auto* b = std::get_if<PolyProxy>(&without.nodes[k].proxy.variant());
+    ASSERT_EQ(a == nullptr, b == nullptr) << "node " << k;
+    if (a != nullptr) {
+      EXPECT_EQ(a->coeffs, b->coeffs) << "node " << k;
+    }
+  }
+}
