@@ -22,8 +22,6 @@ using detail::EmbreeScene;
 using render::Color;
 using render::SampleResult;
 
-const Color kSurface(0.80, 0.77, 0.72);
-constexpr int kOcclusionRays = 8;
 
 /// Shading shared by meshes and clouds: the hit's color, optional occlusion.
 class Splatter {
@@ -36,20 +34,16 @@ class Splatter {
     RTCRayHit rh;
     if (!scene_.intersect(ray, std::numeric_limits<float>::infinity(), rh)) return {};
     Eigen::Vector3d n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-    Color base = kSurface;
+    Color base = render::kSurfaceColor;
     color_at(rh.hit.primID, rh.hit.u, rh.hit.v, base, n);
     n = n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d(-ray.direction);
     double occlusion = 1;
     if (options_.ambient_occlusion) {
       const Eigen::Vector3d facing = n.dot(ray.direction) > 0 ? Eigen::Vector3d(-n) : n;
-      const Eigen::Vector3d x = ray.origin + static_cast<double>(rh.ray.tfar) * ray.direction + 1e-4 * diagonal_ * facing;
-      int open = 0;
-      for (int k = 0; k < kOcclusionRays; ++k) {
-        const std::uint64_t bits = detail::splitmix64(seed + 0x9e37 * static_cast<std::uint64_t>(k + 1));
-        const Eigen::Vector3d d = render::cosine_direction(facing, render::unit_interval(bits), render::unit_interval(detail::splitmix64(bits)));
-        if (!scene_.occluded({x, d}, static_cast<float>(0.08 * diagonal_))) ++open;
-      }
-      occlusion = 0.35 + 0.65 * open / kOcclusionRays;
+      const Eigen::Vector3d x = ray.origin + static_cast<double>(rh.ray.tfar) * ray.direction + render::kOcclusionOffset * diagonal_ * facing;
+      occlusion = render::ambient_occlusion(facing, seed, [&](const Eigen::Vector3d& d) {
+        return scene_.occluded({x, d}, static_cast<float>(render::kOcclusionReach * diagonal_));
+      });
     }
     return {render::shade(lights_, n, ray.direction, base, occlusion), 1.0};
   }

@@ -28,9 +28,7 @@ using render::SupportSpan;
 using render::SurfaceHit;
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-constexpr int kOcclusionRays = 8;
 
-const Color kSurface(0.80, 0.77, 0.72);
 const Color kGrey(0.72, 0.72, 0.72);
 const Color kRed(0.90, 0.12, 0.10);
 
@@ -109,16 +107,12 @@ class TreeTracer {
   double openness(const SurfaceHit& hit, const Ray& ray, std::uint64_t seed) {
     Eigen::Vector3d n = hit.normal;
     if (n.dot(ray.direction) > 0) n = -n;
-    const double reach = 0.08 * s_.diagonal;
-    int open = 0;
-    for (int k = 0; k < kOcclusionRays; ++k) {
-      const std::uint64_t bits = detail::splitmix64(seed + 0x9e37 * static_cast<std::uint64_t>(k + 1));
-      const Eigen::Vector3d d = render::cosine_direction(n, render::unit_interval(bits), render::unit_interval(detail::splitmix64(bits)));
-      const Ray r{hit.position + 1e-4 * s_.diagonal * n, d};
+    const double reach = render::kOcclusionReach * s_.diagonal;
+    return render::ambient_occlusion(n, seed, [&](const Eigen::Vector3d& d) {
+      const Ray r{hit.position + render::kOcclusionOffset * s_.diagonal * n, d};
       s_.index.collect(r, 0, reach, s_.search, ao_spans_);
-      if (!surface_hit(r, ao_spans_, 0, reach)) ++open;
-    }
-    return 0.35 + 0.65 * open / kOcclusionRays;
+      return surface_hit(r, ao_spans_, 0, reach).has_value();
+    });
   }
 
   SampleResult surface(const Ray& ray, std::uint64_t seed) {
@@ -127,7 +121,7 @@ class TreeTracer {
     if (s_.options.highlight) patch = proxy_patch_hit(s_, *s_.options.highlight, ray);
     SampleResult out;
     if (hit) {
-      Color base = kSurface;
+      Color base = render::kSurfaceColor;
       switch (s_.options.show) {
         case ShowMode::Clusters: {
           std::int32_t node = hit->dominant;
