@@ -60,7 +60,7 @@ double meshed_distance(const PointCloud& cloud, bool fit_normals) {
 
 TEST(SupportFit, ExactNormalsOnNoisyPositionsBringTheSurfaceCloser) {
   // Noise of 4 % of the tube's radius: the positions' fits follow part of it, the normals do not.
-  const PointCloud cloud = noisy_torus(30000, 0.04 * kTube, 7);
+  const PointCloud cloud = noisy_torus(12000, 0.04 * kTube, 7);
   const double positions = meshed_distance(cloud, false);
   const double hermite = meshed_distance(cloud, true);
   std::cout << "noisy torus, mean distance of the mesh: positions only " << positions << ", with the normals " << hermite
@@ -71,7 +71,7 @@ TEST(SupportFit, ExactNormalsOnNoisyPositionsBringTheSurfaceCloser) {
 TEST(SupportFit, CleanDataKeepThePositionsFits) {
   // Without noise the normals add less than a tenth of the positions' information: the same
   // tree with and without them in the fit.
-  const PointCloud cloud = noisy_torus(20000, 0, 8);
+  const PointCloud cloud = noisy_torus(8000, 0, 8);
   ReconstructOptions options;
   options.mesh = false;
   const ClusterTree with = reconstruct(cloud, options).tree;
