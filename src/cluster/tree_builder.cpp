@@ -305,19 +305,18 @@ ClusterTree build_cluster_tree(const CloudIndex& cloud_index, const BuildOptions
   }
   const CloudIndex::Subset clustered = cloud_index.rows(ids);
   scale.bbox = bounding_box(clustered.positions);
+  // The input normals of the clustered points (rows as of clustered.positions), or null.
+  const bool normals = options.use_normals && cloud.normals.rows() == cloud.positions.rows() && cloud.size() > 0;
+  const bool subset = ids.size() != static_cast<std::size_t>(cloud.size());
+  const Points subset_normals = normals && subset ? Points(cloud.normals(ids, Eigen::all)) : Points();
+  const Points* clustered_normals = !normals ? nullptr : subset ? &subset_normals : &cloud.normals;
   if (options.threshold_mode == ThresholdMode::Auto && options.noise_factor > 0) {
     stage("estimating noise");
     // With input normals, the two sides of a thin part or a narrow fold are not taken for noise.
-    const bool normals = options.use_normals && options.noise.facing_normals && cloud.normals.rows() == cloud.positions.rows() && cloud.size() > 0;
-    const Points clustered_normals = normals && ids.size() != static_cast<std::size_t>(cloud.size()) ? Points(cloud.normals(ids, Eigen::all)) : Points();
-    const Points* facing = !normals ? nullptr : clustered_normals.rows() > 0 ? &clustered_normals : &cloud.normals;
+    const Points* facing = options.noise.facing_normals ? clustered_normals : nullptr;
     scale.noise_sigma = estimate_noise(clustered.positions, clustered.index, options.noise, facing);
   }
-  const bool normals = options.use_normals && cloud.normals.rows() == cloud.positions.rows() && cloud.size() > 0;
-  const bool subset = ids.size() != static_cast<std::size_t>(cloud.size());
-  const Points clustered_normals = normals && subset ? Points(cloud.normals(ids, Eigen::all)) : Points();
-  const Points* support_normals = !normals ? nullptr : subset ? &clustered_normals : &cloud.normals;
-  return detail::build_tree(cloud, ids, clustered.positions, clustered.positions, support_normals, clustered.index, scale, options,
+  return detail::build_tree(cloud, ids, clustered.positions, clustered.positions, clustered_normals, clustered.index, scale, options,
                             progress);
 }
 

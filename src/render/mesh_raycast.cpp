@@ -22,7 +22,6 @@ using detail::EmbreeScene;
 using render::Color;
 using render::SampleResult;
 
-
 /// Shading shared by meshes and clouds: the hit's color, optional occlusion.
 class Splatter {
  public:

@@ -53,10 +53,13 @@ ClusterTree build_region_tree(const RegionCloud& region, const RegionPlan& plan,
   build_scale.noise_sigma = scale.noise_sigma;
   BuildOptions build = options;
   build.keep_point_leaves = true;  // the orientation follows the points' normals through it
-  const bool normals = options.use_normals && cloud.normals.rows() == cloud.positions.rows();
-  const Points support_normals = normals ? Points(cloud.normals(std::vector<Eigen::Index>(kept.begin(), kept.end()), Eigen::all)) : Points();
-  tree = detail::build_tree(cloud, std::move(ids), clustered, support.positions, normals ? &support_normals : nullptr, support.index,
-                            build_scale, build, progress);
+  // The support points' normals, for the support fits that follow them.
+  const bool normals = options.use_normals && options.fit_normals && cloud.normals.rows() == cloud.positions.rows();
+  const bool subset = kept.size() != static_cast<std::size_t>(cloud.size());
+  const Points subset_normals = normals && subset ? Points(cloud.normals(kept, Eigen::all)) : Points();
+  const Points* support_normals = !normals ? nullptr : subset ? &subset_normals : &cloud.normals;
+  tree = detail::build_tree(cloud, std::move(ids), clustered, support.positions, support_normals, support.index, build_scale, build,
+                            progress);
   const OrientationReport oriented = orient_tree(tree, index, options.use_normals);
   if (orientation != nullptr) *orientation = oriented;
   // The tree of the region's own points: the halo belongs to the neighbours' trees.
