@@ -40,24 +40,19 @@ Scene load_scene(Console& console, const std::string& file) {
   return read_input(console, file);
 }
 
-/// Where the scene's coordinates are in its file's: every kind stores them relative to an origin.
-Eigen::Vector3d scene_origin(const Scene& scene) {
-  return std::visit([](const auto& s) -> Eigen::Vector3d { return s.origin; }, scene);
-}
-
-/// The scene's bounding box in its file's coordinates (its own plus its origin).
+/// The scene's bounding box in its file's coordinates (every kind is stored relative to an
+/// origin), as the renderers take the framing.
 BoundingBox scene_box(const Scene& scene) {
-  BoundingBox box = std::visit(
+  return std::visit(
       [](const auto& s) -> BoundingBox {
         using T = std::decay_t<decltype(s)>;
-        if constexpr (std::is_same_v<T, ClusterTree>) return s.bbox;
-        else if constexpr (std::is_same_v<T, TriangleMesh>) return bounding_box(s.vertices);
-        else return bounding_box(s.positions);
+        BoundingBox box;
+        if constexpr (std::is_same_v<T, ClusterTree>) box = s.bbox;
+        else if constexpr (std::is_same_v<T, TriangleMesh>) box = bounding_box(s.vertices);
+        else box = bounding_box(s.positions);
+        return box.empty() ? box : BoundingBox{box.min + s.origin, box.max + s.origin};
       },
       scene);
-  if (box.empty()) return box;
-  const Eigen::Vector3d origin = scene_origin(scene);
-  return BoundingBox{box.min + origin, box.max + origin};
 }
 
 std::optional<Eigen::Vector3d> vector_option(const std::vector<double>& v, const char* name) {
@@ -115,22 +110,15 @@ int run_render(Console& console, const RenderArgs& args) {
   for (std::size_t k = 0; k < scenes.size(); ++k) {
     RenderStats stats;
     std::string kind;
-    // The framing, --eye and --target are in the files' coordinates; each scene is drawn in its
-    // own, relative to its origin, so several inputs far from zero share one camera.
-    RenderOptions in_scene = options;
-    const Eigen::Vector3d origin = scene_origin(scenes[k]);
-    if (!framing.empty()) in_scene.framing = BoundingBox{framing.min - origin, framing.max - origin};
-    if (in_scene.camera.eye) *in_scene.camera.eye -= origin;
-    if (in_scene.camera.target) *in_scene.camera.target -= origin;
     if (const auto* tree = std::get_if<ClusterTree>(&scenes[k])) {
-      RenderOptions o = in_scene;
+      RenderOptions o = options;
       o.lod = level_of_detail(*tree, args.lod_depth, args.lod_error);
       pictures.push_back(render_tree(*tree, o, &stats, progress));
       kind = "tree";
     } else {
       if (options.show != ShowMode::Surface || options.highlight)
         console.warn(args.inputs[k] + " is not a tree file: drawn as a plain surface");
-      RenderOptions o = in_scene;
+      RenderOptions o = options;
       o.show = ShowMode::Surface;
       if (const auto* mesh = std::get_if<TriangleMesh>(&scenes[k])) {
         pictures.push_back(render_mesh(*mesh, o, &stats, progress));

@@ -47,6 +47,8 @@ struct RenderOptions {
   ShowMode show = ShowMode::Surface;
   CameraOptions camera;
   /// Frame this box instead of the input's bounding box (the same camera for several inputs).
+  /// The framing and camera.eye / camera.target are in the input file's coordinates (a scene's
+  /// stored coordinates plus its origin), so scenes far from zero share one camera.
   std::optional<BoundingBox> framing;
   LevelOfDetail lod;  ///< which tree nodes are blended (default: the leaves)
   /// Surface defined only where the total weight exceeds this (as MeshOptions::min_weight, so

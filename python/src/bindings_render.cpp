@@ -55,7 +55,6 @@ void bind_render(py::class_<TreeRef>& tree_class) {
         o.ambient_occlusion = ao;
         o.lod = level_of_detail(tree, lod_depth ? std::optional(to_uint32(*lod_depth, "lod_depth")) : std::nullopt, lod_error);
         o.min_weight = min_weight;
-        o.framing = tree.bbox;
         Points reference;
         if (!points.is_none()) {
           reference = cloud_argument(points, py::none(), py::none(), py::none(), "points").positions;

@@ -54,16 +54,12 @@ class Splatter {
   double diagonal_;
 };
 
-BoundingBox framing_box(const RenderOptions& options, const Points& points) {
-  return options.framing.value_or(bounding_box(points));
-}
-
 }  // namespace
 
 Image render_mesh(const TriangleMesh& mesh, const RenderOptions& options, RenderStats* stats, const ProgressCallback& progress) {
   render::check_common_options(options);
   if (mesh.triangles.rows() == 0) throw OptionError("cannot render a mesh without triangles");
-  const Camera camera = make_camera(framing_box(options, mesh.vertices), options.camera, options.width, options.height);
+  const Camera camera = render::scene_camera(options, bounding_box(mesh.vertices), mesh.origin);
   EmbreeScene scene;
   scene.commit_triangles(mesh);
   const bool smooth = mesh.normals.rows() == mesh.vertices.rows();
@@ -89,7 +85,7 @@ Image render_mesh(const TriangleMesh& mesh, const RenderOptions& options, Render
 Image render_points(const PointCloud& cloud, const RenderOptions& options, RenderStats* stats, const ProgressCallback& progress) {
   render::check_common_options(options);
   if (cloud.empty()) throw OptionError("cannot render an empty point cloud");
-  const Camera camera = make_camera(framing_box(options, cloud.positions), options.camera, options.width, options.height);
+  const Camera camera = render::scene_camera(options, bounding_box(cloud.positions), cloud.origin);
   double radius = options.point_radius;
   if (radius == 0) {
     const CloudStats st = compute_stats(cloud, 20000);

@@ -207,8 +207,7 @@ Image render_tree(const ClusterTree& tree, const RenderOptions& options, RenderS
   if (options.show == ShowMode::Error && (options.reference_points == nullptr || options.reference_points->rows() == 0))
     throw OptionError("the error view needs the input points (--points FILE)");
 
-  const BoundingBox box = options.framing.value_or(tree.bbox);
-  const Camera camera = make_camera(box, options.camera, options.width, options.height);
+  const Camera camera = render::scene_camera(options, tree.bbox, tree.origin);
   Scene scene{tree, options, render::SupportIndex(tree, options.lod),
               options.mode == IntersectMode::BruteForce ? render::SupportSearch::BruteForce : render::SupportSearch::Hierarchy,
               {}, render::camera_lighting(camera), {}, {}, {}, {}};

@@ -64,6 +64,15 @@ void check_common_options(const RenderOptions& options) {
   if (!(options.point_radius >= 0) || !std::isfinite(options.point_radius)) throw OptionError("point radius must be >= 0");
 }
 
+Camera scene_camera(const RenderOptions& options, const BoundingBox& own, const Eigen::Vector3d& origin) {
+  BoundingBox box = own;
+  if (options.framing && !options.framing->empty()) box = BoundingBox{options.framing->min - origin, options.framing->max - origin};
+  CameraOptions camera = options.camera;
+  if (camera.eye) *camera.eye -= origin;
+  if (camera.target) *camera.target -= origin;
+  return make_camera(box, camera, options.width, options.height);
+}
+
 }  // namespace render
 
 }  // namespace clustersurf
