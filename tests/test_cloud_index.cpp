@@ -5,6 +5,7 @@
 #include <clustersurf/cloud_stats.hpp>
 #include <clustersurf/cluster_tree.hpp>
 #include <clustersurf/errors.hpp>
+#include <clustersurf/outliers.hpp>
 #include <clustersurf/tree_file.hpp>
 
 #include <gtest/gtest.h>
@@ -30,6 +31,24 @@ TEST(CloudIndex, SpacingIsComputeStatsMedian) {
   EXPECT_EQ(index.median_spacing(), compute_stats(c).median_spacing);
   EXPECT_EQ(&index.points(), &index.points());  // built once
   EXPECT_EQ(&index.points().points(), &c.positions);  // adapts the cloud, no copy
+}
+
+TEST(CloudIndex, SpacingFromTheOutlierPassIsTheQueriedOne) {
+  // Duplicates (spacing 0) and strays included; the outlier test runs first and the spacing is
+  // taken from its neighbour pass instead of queried.
+  PointCloud c = torus_with_strays();
+  for (Eigen::Index i = 1; i < c.positions.rows(); i += 37) c.positions.row(i) = c.positions.row(i - 1);
+  const CloudIndex index(c);
+  const OutlierReport report = index.outliers(OutlierOptions{});
+  ASSERT_EQ(report.nearest.size(), static_cast<std::size_t>(c.size()));
+  EXPECT_EQ(index.median_spacing(), compute_stats(c).median_spacing);
+  // And with a stride: the same samples as the k-d tree's queries.
+  for (const std::size_t samples : {std::size_t{500}, std::size_t{1001}}) {
+    const PointSpacing queried = point_spacing(index.points(), samples);
+    const PointSpacing measured = point_spacing(report.nearest, samples);
+    EXPECT_EQ(queried.median, measured.median);
+    EXPECT_EQ(queried.mean, measured.mean);
+  }
 }
 
 TEST(CloudIndex, TreeThroughTheIndexIsTheTreeFromTheCloud) {

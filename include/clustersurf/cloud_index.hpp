@@ -1,9 +1,11 @@
 #pragma once
 // A point cloud indexed once for the whole pipeline: the builder, the orientation, the trim,
 // the automatic grid and the distance colors share one k-d tree of the points, one of the rows
-// a tree clusters, and one measure of the spacing, each computed on first request.
+// a tree clusters, and one measure of the spacing (from the outlier test's neighbour pass when
+// that runs first), each computed on first request.
 
 #include <clustersurf/kd_tree.hpp>
+#include <clustersurf/outliers.hpp>
 #include <clustersurf/point_cloud.hpp>
 
 #include <cstdint>
@@ -31,6 +33,9 @@ class CloudIndex {
   const KdTree& points() const;
   /// PointSpacing::median of the points (point_spacing()): what ClusterTree::point_spacing stores.
   double median_spacing() const;
+  /// find_outliers() over points(). Its neighbour pass measures every point's spacing too, so a
+  /// median_spacing() not yet asked for is taken from it (the same value) instead of queried.
+  OutlierReport outliers(const OutlierOptions& options) const;
 
   /// A subset of the rows, in increasing order, and its k-d tree.
   struct Subset {

@@ -4,6 +4,8 @@
 #include <clustersurf/kd_tree.hpp>
 #include <clustersurf/point_cloud.hpp>
 
+#include <span>
+
 namespace clustersurf {
 
 /// What `clustersurf stats` reports about a cloud.
@@ -39,6 +41,11 @@ PointSpacing point_spacing(const KdTree& index, std::size_t max_samples = 200000
 /// The same over the first `rows` points only, their neighbours among all the points `index`
 /// holds (a region's own points, its halo after them).
 PointSpacing point_spacing(const KdTree& index, std::size_t max_samples, std::size_t rows);
+
+/// The same figures from each point's distance to its nearest other point (every point's, as
+/// OutlierReport::nearest holds them): the same samples, so the same values as point_spacing()
+/// of the points' k-d tree, without its queries.
+PointSpacing point_spacing(std::span<const double> nearest, std::size_t max_samples = 200000);
 
 /// Computes CloudStats; spacing uses every point up to `max_samples` points, then an evenly
 /// strided deterministic subset of that size.

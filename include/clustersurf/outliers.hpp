@@ -29,6 +29,9 @@ struct OutlierReport {
   std::vector<Eigen::Index> kept;      ///< rows that are not outliers, ascending
   std::vector<Eigen::Index> outliers;  ///< rows that are, ascending
   double median_spread = 0;            ///< the cloud's median d̄
+  /// Each point's distance to its nearest other point (0 beside a duplicate), measured on the
+  /// way (point_spacing() takes it); empty when the cloud was too small to test.
+  std::vector<double> nearest;
 };
 
 /// Splits the rows of `points` into outliers and the rest by the two spread tests above.

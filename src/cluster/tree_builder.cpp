@@ -287,18 +287,19 @@ ClusterTree build_cluster_tree(const CloudIndex& cloud_index, const BuildOptions
   const auto stage = [&progress](std::string_view name) {
     if (progress && !progress(name, 0.0)) throw Cancelled();
   };
-  // The k-d tree of the whole input gives its point spacing and finds the outliers; the points
-  // clustered are the input without them, and the k-d tree of those serves the noise estimate
-  // and the support checks (and, through the index, the trim).
+  // The k-d tree of the whole input finds the outliers, and the same neighbour pass gives the
+  // point spacing; the points clustered are the input without them, and the k-d tree of those
+  // serves the noise estimate and the support checks (and, through the index, the trim).
   stage("indexing points");
+  cloud_index.points();
   detail::BuildScale scale;
-  scale.point_spacing = cloud_index.median_spacing();
   std::vector<std::uint32_t> ids;  // input index of each clustered point
   if (options.remove_outliers) {
     stage("finding outliers");
-    const OutlierReport found = find_outliers(cloud.positions, cloud_index.points(), options.outliers);
+    const OutlierReport found = cloud_index.outliers(options.outliers);
     if (!found.outliers.empty() && !found.kept.empty()) ids.assign(found.kept.begin(), found.kept.end());
   }
+  scale.point_spacing = cloud_index.median_spacing();
   if (ids.empty()) {
     ids.resize(static_cast<std::size_t>(cloud.size()));
     std::iota(ids.begin(), ids.end(), 0u);

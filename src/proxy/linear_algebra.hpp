@@ -27,6 +27,33 @@ Eigen::Matrix<double, N, 1> solve_psd_pinv(const Eigen::Matrix<double, N, N>& a,
   return x;
 }
 
+/// The residual sum of squares min_c Σ (w − bᵀc)² of a least-squares problem from its augmented
+/// Gram matrix G = [Σbbᵀ Σwb; Σwbᵀ Σw²] (only the lower triangle is read): the last pivot of the
+/// LDLᵀ factorization of G, in one unpivoted pass. Nullopt when a pivot of Σbbᵀ is at most
+/// `relative_tolerance` times its largest diagonal entry (rank-deficient or ill-conditioned
+/// normal equations, for a solver that handles them).
+template <int N>
+std::optional<double> residual_sum_of_squares(const Eigen::Matrix<double, N, N>& gram, double relative_tolerance) {
+  constexpr int m = N - 1;  // unknowns
+  double top = 0;
+  for (int j = 0; j < m; ++j) top = std::max(top, gram(j, j));
+  if (!(top > 0) || !std::isfinite(top)) return std::nullopt;
+  Eigen::Matrix<double, N, N> l;  // unit lower factor (below the diagonal), pivots on it
+  for (int j = 0; j < N; ++j) {
+    double d = gram(j, j);
+    for (int k = 0; k < j; ++k) d -= l(j, k) * l(j, k) * l(k, k);
+    if (j == m) return std::max(0.0, d);
+    if (!(d > relative_tolerance * top)) return std::nullopt;
+    l(j, j) = d;
+    for (int i = j + 1; i < N; ++i) {
+      double v = gram(i, j);
+      for (int k = 0; k < j; ++k) v -= l(i, k) * l(j, k) * l(k, k);
+      l(i, j) = v / d;
+    }
+  }
+  return std::nullopt;
+}
+
 /// Smallest root t of a t² + b t + c = 0 within [t_min, t_max] (degenerates to the linear case).
 inline std::optional<double> smallest_root(double a, double b, double c, double t_min, double t_max) {
   auto inside = [&](double t) { return std::isfinite(t) && t >= t_min && t <= t_max; };

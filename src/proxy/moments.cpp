@@ -129,6 +129,13 @@ PolyProxy PolyMoments::fit() const {
 
 double PolyMoments::rms_error() const {
   if (n_ <= 0) return 0;
+  // The sweeps take one per candidate split: the residual straight from one factorization of
+  // the augmented moments while they are well-conditioned (as solve()'s fast path requires).
+  Eigen::Matrix<double, 7, 7> gram;
+  gram.topLeftCorner<6, 6>() = bb_;
+  gram.block<1, 6>(6, 0) = wb_.transpose();
+  gram(6, 6) = ww_;
+  if (const auto ss = detail::residual_sum_of_squares<7>(gram, 1e-10)) return scale_ * std::sqrt(*ss / n_);
   const Vector6 c = solve();
   const Matrix6 a = bb_.selfadjointView<Eigen::Lower>();
   // Σ (w − Bᵀc)² = Σw² − 2 cᵀΣwB + cᵀ(ΣBBᵀ)c, in scaled units.

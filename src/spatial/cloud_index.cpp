@@ -37,6 +37,13 @@ double CloudIndex::median_spacing() const {
   return impl_->spacing;
 }
 
+OutlierReport CloudIndex::outliers(const OutlierOptions& options) const {
+  OutlierReport report = find_outliers(impl_->cloud.positions, points(), options);
+  if (!report.nearest.empty())
+    std::call_once(impl_->spacing_once, [&] { impl_->spacing = point_spacing(report.nearest).median; });
+  return report;
+}
+
 CloudIndex::Subset CloudIndex::rows(std::span<const std::uint32_t> kept) const {
   if (kept.size() == static_cast<std::size_t>(impl_->cloud.size())) return {impl_->cloud.positions, points()};
   const std::lock_guard lock(impl_->subset_mutex);

@@ -11,6 +11,31 @@
 
 namespace clustersurf {
 
+namespace {
+
+/// The rows point_spacing() samples among `count`: every one up to `max_samples`, then an even
+/// stride.
+std::vector<Eigen::Index> sampled_rows(std::size_t count, std::size_t max_samples) {
+  const std::size_t samples = std::min(count, max_samples);
+  const double stride = static_cast<double>(count) / static_cast<double>(samples);
+  std::vector<Eigen::Index> rows(samples);
+  for (std::size_t j = 0; j < samples; ++j) rows[j] = static_cast<Eigen::Index>(static_cast<double>(j) * stride);
+  return rows;
+}
+
+/// The mean and the median of the sampled nearest-neighbour distances (reordered).
+PointSpacing summarize(std::vector<double>& nearest) {
+  PointSpacing out;
+  const std::size_t samples = nearest.size();
+  // Summation in sample order keeps the result independent of the thread count.
+  out.mean = std::accumulate(nearest.begin(), nearest.end(), 0.0) / static_cast<double>(samples);
+  std::nth_element(nearest.begin(), nearest.begin() + static_cast<std::ptrdiff_t>(samples / 2), nearest.end());
+  out.median = nearest[samples / 2];
+  return out;
+}
+
+}  // namespace
+
 PointSpacing point_spacing(const KdTree& index, std::size_t max_samples) {
   return point_spacing(index, max_samples, index.size());
 }
@@ -19,10 +44,8 @@ PointSpacing point_spacing(const KdTree& index, std::size_t max_samples, std::si
   const Points& points = index.points();
   const auto count = std::min(rows, static_cast<std::size_t>(points.rows()));
   if (count < 1 || points.rows() < 2 || max_samples == 0) return {};
-  const std::size_t samples = std::min(count, max_samples);
-  const double stride = static_cast<double>(count) / static_cast<double>(samples);
-  std::vector<Eigen::Index> rows_sampled(samples);
-  for (std::size_t j = 0; j < samples; ++j) rows_sampled[j] = static_cast<Eigen::Index>(static_cast<double>(j) * stride);
+  const std::vector<Eigen::Index> rows_sampled = sampled_rows(count, max_samples);
+  const std::size_t samples = rows_sampled.size();
   // Queried in Morton order (the answers do not depend on it; the cache hits do).
   const std::vector<std::uint32_t> order = detail::spatial_order(points, rows_sampled);
   std::vector<double> nearest(samples);
@@ -36,12 +59,15 @@ PointSpacing point_spacing(const KdTree& index, std::size_t max_samples, std::si
       nearest[j] = nb.size() > 1 ? std::sqrt(nb[1].distance_squared) : 0.0;
     }
   });
-  PointSpacing out;
-  // Summation in index order keeps the result independent of the thread count.
-  out.mean = std::accumulate(nearest.begin(), nearest.end(), 0.0) / static_cast<double>(samples);
-  std::nth_element(nearest.begin(), nearest.begin() + static_cast<std::ptrdiff_t>(samples / 2), nearest.end());
-  out.median = nearest[samples / 2];
-  return out;
+  return summarize(nearest);
+}
+
+PointSpacing point_spacing(std::span<const double> nearest, std::size_t max_samples) {
+  if (nearest.size() < 2 || max_samples == 0) return {};
+  const std::vector<Eigen::Index> rows_sampled = sampled_rows(nearest.size(), max_samples);
+  std::vector<double> sampled(rows_sampled.size());
+  for (std::size_t j = 0; j < sampled.size(); ++j) sampled[j] = nearest[static_cast<std::size_t>(rows_sampled[j])];
+  return summarize(sampled);
 }
 
 CloudStats compute_stats(const PointCloud& cloud, std::size_t max_samples) {

@@ -64,6 +64,7 @@ OutlierReport flag_outliers(const Points& points, const KdTree& index, const Out
   OutlierReport report;
   // Spread of every point, and its k neighbours (the query itself, at distance 0, left out).
   std::vector<double> spread(n);
+  report.nearest.resize(n);
   std::vector<std::uint32_t> neighbors(n * k);
   const std::vector<std::uint32_t> order = detail::spatial_order(points);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& r) {
@@ -77,6 +78,7 @@ OutlierReport flag_outliers(const Points& points, const KdTree& index, const Out
         sum += std::sqrt(nb[j].distance_squared);
       }
       spread[i] = sum / static_cast<double>(k);
+      report.nearest[i] = std::sqrt(nb[0].distance_squared);
     }
   });
   if (median_spread != nullptr) {
