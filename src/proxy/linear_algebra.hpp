@@ -27,32 +27,60 @@ Eigen::Matrix<double, N, 1> solve_psd_pinv(const Eigen::Matrix<double, N, N>& a,
   return x;
 }
 
-/// The residual sum of squares min_c Σ (w − bᵀc)² of a least-squares problem from its augmented
-/// Gram matrix G = [Σbbᵀ Σwb; Σwbᵀ Σw²] (only the lower triangle is read): the last pivot of the
-/// LDLᵀ factorization of G, in one unpivoted pass. Nullopt when a pivot of Σbbᵀ is at most
-/// `relative_tolerance` times its largest diagonal entry (rank-deficient or ill-conditioned
-/// normal equations, for a solver that handles them).
+/// A least-squares problem min_c Σ (w − bᵀc)² solved from its augmented Gram matrix
+/// G = [Σbbᵀ Σwb; Σwbᵀ Σw²] (N − 1 unknowns) by one unpivoted LDLᵀ factorization of G: the last
+/// pivot is the residual sum of squares, the last row of the factor gives the solution.
 template <int N>
-std::optional<double> residual_sum_of_squares(const Eigen::Matrix<double, N, N>& gram, double relative_tolerance) {
-  constexpr int m = N - 1;  // unknowns
-  double top = 0;
-  for (int j = 0; j < m; ++j) top = std::max(top, gram(j, j));
-  if (!(top > 0) || !std::isfinite(top)) return std::nullopt;
-  Eigen::Matrix<double, N, N> l;  // unit lower factor (below the diagonal), pivots on it
-  for (int j = 0; j < N; ++j) {
-    double d = gram(j, j);
-    for (int k = 0; k < j; ++k) d -= l(j, k) * l(j, k) * l(k, k);
-    if (j == m) return std::max(0.0, d);
-    if (!(d > relative_tolerance * top)) return std::nullopt;
-    l(j, j) = d;
-    for (int i = j + 1; i < N; ++i) {
-      double v = gram(i, j);
-      for (int k = 0; k < j; ++k) v -= l(i, k) * l(j, k) * l(k, k);
-      l(i, j) = v / d;
+class GramSolver {
+ public:
+  using Matrix = Eigen::Matrix<double, N, N>;
+  using Vector = Eigen::Matrix<double, N - 1, 1>;
+
+  /// Factors `gram` (only its lower triangle is read). Nullopt when a pivot of Σbbᵀ is at most
+  /// `relative_tolerance` times its largest diagonal entry: rank-deficient or ill-conditioned
+  /// normal equations, for a solver that handles them.
+  static std::optional<GramSolver> factor(const Matrix& gram, double relative_tolerance) {
+    double top = 0;
+    for (int j = 0; j < N - 1; ++j) top = std::max(top, gram(j, j));
+    if (!(top > 0) || !std::isfinite(top)) return std::nullopt;
+    GramSolver f;
+    Matrix& l = f.l_;  // unit lower factor below the diagonal, pivots on it
+    for (int j = 0; j < N; ++j) {
+      double d = gram(j, j);
+      for (int k = 0; k < j; ++k) d -= l(j, k) * l(j, k) * l(k, k);
+      if (j == N - 1) {
+        l(j, j) = std::max(0.0, d);
+        break;
+      }
+      if (!(d > relative_tolerance * top)) return std::nullopt;
+      l(j, j) = d;
+      for (int i = j + 1; i < N; ++i) {
+        double v = gram(i, j);
+        for (int k = 0; k < j; ++k) v -= l(i, k) * l(j, k) * l(k, k);
+        l(i, j) = v / d;
+      }
     }
+    return f;
   }
-  return std::nullopt;
-}
+
+  /// min_c Σ (w − bᵀc)².
+  double residual_sum_of_squares() const { return l_(N - 1, N - 1); }
+
+  /// The minimizing c: Lᵀ c = (last row of L), by back substitution.
+  Vector solution() const {
+    Vector c;
+    for (int i = N - 2; i >= 0; --i) {
+      double v = l_(N - 1, i);
+      for (int k = i + 1; k < N - 1; ++k) v -= l_(k, i) * c(k);
+      c(i) = v;
+    }
+    return c;
+  }
+
+ private:
+  GramSolver() = default;
+  Matrix l_;
+};
 
 /// Smallest root t of a t² + b t + c = 0 within [t_min, t_max] (degenerates to the linear case).
 inline std::optional<double> smallest_root(double a, double b, double c, double t_min, double t_max) {

@@ -113,14 +113,69 @@ PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<
   return fit_poly_in_frame(frame, points, indices, weights, nullptr, 0);
 }
 
+namespace {
+
+/// The rows of fit_poly_in_frame()'s least-squares problem, [1 u v u² uv v² | w] per point in
+/// coordinates divided by `scale` (for conditioning), each times the square root of its weight;
+/// with `slope_factor` > 0, each point also gives the two rows of n_w ∇f + (n_u, n_v) = 0 times
+/// slope_factor (the fit's normal along the input normal n: linear in the coefficients and
+/// bounded for any n; slopes are invariant under the scaling).
+template <class Row>
+void for_each_row(const Frame& frame, const Points& points, std::span<const std::uint32_t> indices, std::span<const double> weights,
+                  double scale, const Points* normals, double slope_factor, Row&& row) {
+  using Vector7 = Eigen::Matrix<double, 7, 1>;
+  for (std::size_t k = 0; k < indices.size(); ++k) {
+    const Eigen::Vector3d l = frame.to_local(points.row(indices[k]).transpose()) / scale;
+    const double w = weights.empty() ? 1.0 : std::sqrt(weights[k]);
+    Vector7 r;
+    r << 1, l.x(), l.y(), l.x() * l.x(), l.x() * l.y(), l.y() * l.y(), l.z();
+    row(Vector7(w * r));
+    if (!(slope_factor > 0)) continue;
+    Eigen::Vector3d m = frame.axes.transpose() * normals->row(indices[k]).transpose();
+    if (m.z() < 0) m = -m;
+    if (!m.allFinite()) continue;
+    const double a = w * slope_factor * m.z();
+    r << 0, a, 0, 2 * a * l.x(), a * l.y(), 0, -w * slope_factor * m.x();
+    row(r);
+    r << 0, 0, a, 0, a * l.x(), 2 * a * l.y(), -w * slope_factor * m.y();
+    row(r);
+  }
+}
+
+/// The coefficients of the same rows by a Householder QR, reduced block by block (R of
+/// [R; next rows] is R of all rows so far: memory stays O(block) however large the cluster), then
+/// the minimum-norm solution of the 6×6 triangular system by a complete orthogonal
+/// decomposition: exact where the normal equations are rank-deficient or ill-conditioned.
+template <class Rows>
+Eigen::Matrix<double, 6, 1> solve_by_qr(std::size_t row_count, Rows&& rows) {
+  constexpr Eigen::Index kBlock = 1024;
+  using Augmented = Eigen::Matrix<double, Eigen::Dynamic, 7>;
+  Augmented stack(std::min<Eigen::Index>(kBlock, static_cast<Eigen::Index>(row_count)) + 9, 7);
+  Eigen::Index filled = 0, reduced = 0;  // rows in the stack; rows of R carried over (0 or 7)
+  const auto reduce = [&] {
+    const Eigen::HouseholderQR<Augmented> qr(stack.topRows(filled));
+    const Eigen::Index keep = std::min<Eigen::Index>(filled, 7);
+    const Augmented r = qr.matrixQR().topRows(keep).template triangularView<Eigen::Upper>();
+    stack.topRows(keep) = r;
+    reduced = filled = keep;
+  };
+  rows([&](const Eigen::Matrix<double, 7, 1>& r) {
+    stack.row(filled++) = r.transpose();
+    if (filled >= reduced + kBlock) reduce();
+  });
+  if (filled > reduced || reduced == 0) reduce();
+  const Eigen::Index k = std::min<Eigen::Index>(reduced, 6);
+  Eigen::CompleteOrthogonalDecomposition<Eigen::Matrix<double, Eigen::Dynamic, 6>> cod(stack.topLeftCorner(k, 6));
+  cod.setThreshold(1e-10);
+  return cod.solve(stack.col(6).head(k));
+}
+
+}  // namespace
+
 PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<const std::uint32_t> indices,
                             std::span<const double> weights, const Points* normals, double normal_weight) {
-  // Direct least squares on the design matrix [1 u v u² uv v² | w], in coordinates scaled for
-  // conditioning, reduced block by block (R of [R; next rows] is R of all rows so far: memory
-  // stays O(block) however large the cluster); then the minimum-norm solution of the 6×6
-  // triangular system by a complete orthogonal decomposition when rank-deficient. With normals,
-  // each point adds the two rows of n_w ∇f + (n_u, n_v) = 0 (the fit's normal along n, linear
-  // in the coefficients and bounded for any n; slopes are invariant under the scaling).
+  // Least squares on the rows of for_each_row(): by the normal equations (one pass, no
+  // allocation) while they are well-conditioned, which the factorization tells; otherwise by QR.
   const std::size_t n = indices.size();
   PolyProxy p;
   p.frame = frame;
@@ -133,37 +188,14 @@ PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<
   // In scaled units a position row's residual is r / scale; the normal rows' weight keeps the
   // ratio normal_weight (a squared length) between the two sums.
   const double slope_factor = hermite ? std::sqrt(normal_weight) / scale : 0;
+  const auto rows = [&](auto&& row) { for_each_row(frame, points, indices, weights, scale, normals, slope_factor, row); };
 
-  constexpr Eigen::Index kBlock = 1024;
-  using Augmented = Eigen::Matrix<double, Eigen::Dynamic, 7>;
-  Augmented stack(std::min<Eigen::Index>(kBlock, static_cast<Eigen::Index>(hermite ? 3 * n : n)) + 9, 7);
-  Eigen::Index reduced = 0;  // rows of R carried over from the previous blocks (0 or 7)
-  for (std::size_t first = 0; first < n;) {
-    Eigen::Index rows = reduced;
-    for (; first < n && rows < reduced + kBlock; ++first) {
-      const Eigen::Vector3d l = frame.to_local(points.row(indices[first]).transpose()) / scale;
-      const double w = weights.empty() ? 1.0 : std::sqrt(weights[first]);
-      stack.row(rows) << 1, l.x(), l.y(), l.x() * l.x(), l.x() * l.y(), l.y() * l.y(), l.z();
-      if (!weights.empty()) stack.row(rows) *= w;
-      ++rows;
-      if (!hermite) continue;
-      Eigen::Vector3d m = frame.axes.transpose() * normals->row(indices[first]).transpose();
-      if (m.z() < 0) m = -m;
-      if (!m.allFinite()) continue;
-      const double a = w * slope_factor * m.z();
-      stack.row(rows++) << 0, a, 0, 2 * a * l.x(), a * l.y(), 0, -w * slope_factor * m.x();
-      stack.row(rows++) << 0, 0, a, 0, a * l.x(), 2 * a * l.y(), -w * slope_factor * m.y();
-    }
-    const Eigen::HouseholderQR<Augmented> qr(stack.topRows(rows));
-    const Eigen::Index keep = std::min<Eigen::Index>(rows, 7);
-    const Eigen::Matrix<double, Eigen::Dynamic, 7> r = qr.matrixQR().topRows(keep).template triangularView<Eigen::Upper>();
-    stack.topRows(keep) = r;
-    reduced = keep;
-  }
-  const Eigen::Index k = std::min<Eigen::Index>(reduced, 6);
-  Eigen::CompleteOrthogonalDecomposition<Eigen::Matrix<double, Eigen::Dynamic, 6>> cod(stack.topLeftCorner(k, 6));
-  cod.setThreshold(1e-10);
-  const Eigen::Matrix<double, 6, 1> c = cod.solve(stack.col(6).head(k));
+  Eigen::Matrix<double, 7, 7> gram = Eigen::Matrix<double, 7, 7>::Zero();
+  rows([&](const Eigen::Matrix<double, 7, 1>& r) { gram.noalias() += r * r.transpose(); });
+  // A relative pivot of 1e-8 bounds the condition number of the normal equations by 1e8: the
+  // fitted heights then stay within about 1e-8 of the cluster's size of the QR's.
+  const auto gram_solver = detail::GramSolver<7>::factor(gram, 1e-8);
+  const Eigen::Matrix<double, 6, 1> c = gram_solver ? gram_solver->solution() : solve_by_qr(hermite ? 3 * n : n, rows);
   // Back to unscaled coordinates: w = s·c0 + c1 u + c2 v + (c3 u² + c4 uv + c5 v²) / s.
   p.coeffs = {scale * c(0), c(1), c(2), c(3) / scale, c(4) / scale, c(5) / scale};
   for (double& x : p.coeffs)
