@@ -192,8 +192,8 @@ PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<
 
   Eigen::Matrix<double, 7, 7> gram = Eigen::Matrix<double, 7, 7>::Zero();
   rows([&](const Eigen::Matrix<double, 7, 1>& r) { gram.noalias() += r * r.transpose(); });
-  // A relative pivot of 1e-8 bounds the condition number of the normal equations by 1e8: the
-  // fitted heights then stay within about 1e-8 of the cluster's size of the QR's.
+  // Pivots above 1e-8 of the largest diagonal entry keep the normal equations' condition number
+  // under about 1e8: they lose at most half of the digits, which the heights never need.
   const auto gram_solver = detail::GramSolver<7>::factor(gram, 1e-8);
   const Eigen::Matrix<double, 6, 1> c = gram_solver ? gram_solver->solution() : solve_by_qr(hermite ? 3 * n : n, rows);
   // Back to unscaled coordinates: w = s·c0 + c1 u + c2 v + (c3 u² + c4 uv + c5 v²) / s.
