@@ -53,7 +53,9 @@ class PolyMoments {
   double count() const noexcept { return n_; }
   /// The least-squares polynomial in the frame (pseudo-inverse when rank-deficient).
   PolyProxy fit() const;
-  /// RMS of the vertical residual w − f(u, v) of that fit (an upper bound of the RMS of Q).
+  /// RMS of the vertical residual w − f(u, v) of the least-squares fit (an upper bound of the
+  /// RMS of Q): fit()'s, up to rounding, but on nearly singular moments, where fit() drops the
+  /// directions the pseudo-inverse cannot resolve and this keeps the full least-squares residual.
   double rms_error() const;
 
  private:

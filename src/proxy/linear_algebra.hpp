@@ -37,8 +37,10 @@ class GramSolver {
   using Vector = Eigen::Matrix<double, N - 1, 1>;
 
   /// Factors `gram` (only its lower triangle is read). Nullopt when a pivot of Σbbᵀ is at most
-  /// `relative_tolerance` times its largest diagonal entry: rank-deficient or ill-conditioned
-  /// normal equations, for a solver that handles them.
+  /// `relative_tolerance` times its largest diagonal entry: then the normal equations are
+  /// rank-deficient or ill-conditioned, for a solver that handles them. Larger pivots do not
+  /// prove the converse in general; the callers' bases (monomials of coordinates scaled to the
+  /// cluster) keep the factor itself well-conditioned.
   static std::optional<GramSolver> factor(const Matrix& gram, double relative_tolerance) {
     double top = 0;
     for (int j = 0; j < N - 1; ++j) top = std::max(top, gram(j, j));

@@ -130,7 +130,7 @@ PolyProxy PolyMoments::fit() const {
 double PolyMoments::rms_error() const {
   if (n_ <= 0) return 0;
   // The sweeps take one per candidate split: the residual straight from one factorization of
-  // the augmented moments while they are well-conditioned (as solve()'s fast path requires).
+  // the augmented moments, unless a pivot says they are nearly singular.
   Eigen::Matrix<double, 7, 7> gram;
   gram.topLeftCorner<6, 6>() = bb_;
   gram.block<1, 6>(6, 0) = wb_.transpose();

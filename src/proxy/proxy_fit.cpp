@@ -192,8 +192,9 @@ PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<
 
   Eigen::Matrix<double, 7, 7> gram = Eigen::Matrix<double, 7, 7>::Zero();
   rows([&](const Eigen::Matrix<double, 7, 1>& r) { gram.noalias() += r * r.transpose(); });
-  // Pivots above 1e-8 of the largest diagonal entry keep the normal equations' condition number
-  // under about 1e8: they lose at most half of the digits, which the heights never need.
+  // A pivot at most 1e-8 of the largest diagonal entry sends the fit to the QR: the normal
+  // equations would lose most of their digits. Above it, in this scaled monomial basis, the
+  // fits agree with the QR's to rounding (the same trees but for rounding, docs/benchmarks.md).
   const auto gram_solver = detail::GramSolver<7>::factor(gram, 1e-8);
   const Eigen::Matrix<double, 6, 1> c = gram_solver ? gram_solver->solution() : solve_by_qr(hermite ? 3 * n : n, rows);
   // Back to unscaled coordinates: w = s·c0 + c1 u + c2 v + (c3 u² + c4 uv + c5 v²) / s.
