@@ -49,6 +49,13 @@ TEST(CloudIndex, SpacingFromTheOutlierPassIsTheQueriedOne) {
     EXPECT_EQ(queried.median, measured.median);
     EXPECT_EQ(queried.mean, measured.mean);
   }
+  // A region's own first rows, their neighbours among all the points (its halo after them).
+  for (const std::size_t rows : {std::size_t{1}, std::size_t{777}}) {
+    const PointSpacing queried = point_spacing(index.points(), 500, rows);
+    const PointSpacing measured = point_spacing(std::span<const double>(report.nearest).first(rows), 500);
+    EXPECT_EQ(queried.median, measured.median);
+    EXPECT_EQ(queried.mean, measured.mean);
+  }
 }
 
 TEST(CloudIndex, TreeThroughTheIndexIsTheTreeFromTheCloud) {

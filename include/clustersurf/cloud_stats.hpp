@@ -42,9 +42,9 @@ PointSpacing point_spacing(const KdTree& index, std::size_t max_samples = 200000
 /// holds (a region's own points, its halo after them).
 PointSpacing point_spacing(const KdTree& index, std::size_t max_samples, std::size_t rows);
 
-/// The same figures from each point's distance to its nearest other point (every point's, as
-/// OutlierReport::nearest holds them): the same samples, so the same values as point_spacing()
-/// of the points' k-d tree, without its queries.
+/// The same figures from each point's distance to its nearest other point (as
+/// OutlierReport::nearest holds them, or their first rows for a region's own points): the same
+/// samples, so the same values as point_spacing() of the points' k-d tree, without its queries.
 PointSpacing point_spacing(std::span<const double> nearest, std::size_t max_samples = 200000);
 
 /// Computes CloudStats; spacing uses every point up to `max_samples` points, then an evenly

@@ -63,7 +63,7 @@ PointSpacing point_spacing(const KdTree& index, std::size_t max_samples, std::si
 }
 
 PointSpacing point_spacing(std::span<const double> nearest, std::size_t max_samples) {
-  if (nearest.size() < 2 || max_samples == 0) return {};
+  if (nearest.empty() || max_samples == 0) return {};
   const std::vector<Eigen::Index> rows_sampled = sampled_rows(nearest.size(), max_samples);
   std::vector<double> sampled(rows_sampled.size());
   for (std::size_t j = 0; j < sampled.size(); ++j) sampled[j] = nearest[static_cast<std::size_t>(rows_sampled[j])];

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <span>
 
 namespace clustersurf {
 
@@ -42,15 +43,20 @@ RegionSurvey survey_region(const RegionCloud& region, const BuildOptions& option
   survey.points = region.own;
   if (region.own == 0) return survey;
   const KdTree index(points);
-  survey.median_spacing = point_spacing(index, 200000, region.own).median;
   std::vector<Eigen::Index> kept;
+  std::vector<double> nearest;  // the outlier test's nearest-neighbour distances, when it ran
   if (options.remove_outliers) {
-    const OutlierReport found = find_outliers(points, index, options.outliers);
+    OutlierReport found = find_outliers(points, index, options.outliers);
     survey.median_spread = found.median_spread;
     for (const Eigen::Index r : found.kept)
       if (r < static_cast<Eigen::Index>(region.own)) kept.push_back(r);
     survey.outliers = region.own - kept.size();
+    nearest = std::move(found.nearest);
   }
+  // The region's own rows' spacing, their neighbours among the halo too: from the outlier
+  // test's pass when it ran (the same samples and values), else queried.
+  survey.median_spacing = nearest.empty() ? point_spacing(index, 200000, region.own).median
+                                          : point_spacing(std::span<const double>(nearest).first(region.own)).median;
   // As build_cluster_tree(): a test that flags every point flags none.
   if (kept.empty()) {
     kept.resize(region.own);
