@@ -5,6 +5,8 @@
 
 #include <clustersurf/moments.hpp>
 
+#include "cluster/key_sort.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -136,9 +138,9 @@ std::size_t sweep(const std::vector<SideMoments>& blocks, const SideMoments& emp
 std::size_t sorted_split(const Points& points, std::span<std::uint32_t> range, const Eigen::Vector3d& n,
                          const Frame& parent_frame, const BuildOptions& options, std::size_t kmin, double noise) {
   const std::size_t m = range.size();
-  std::vector<std::pair<double, std::uint32_t>> keyed(m);
+  std::vector<KeyedIndex> keyed(m);
   for (std::size_t k = 0; k < m; ++k) keyed[k] = {n.dot(points.row(range[k]).transpose()), range[k]};
-  std::sort(keyed.begin(), keyed.end());  // ties by point index: reproducible
+  sort_by_key(keyed);  // ties by point index: reproducible
   for (std::size_t k = 0; k < m; ++k) range[k] = keyed[k].second;
 
   const std::size_t span_len = m - 2 * kmin;

@@ -2,6 +2,8 @@
 
 #include "proxy/crease_fit.hpp"
 
+#include "proxy/linear_algebra.hpp"
+
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
@@ -66,7 +68,7 @@ std::optional<Faces> fit_faces(const Points& points, std::span<const std::uint32
   std::array<Eigen::Matrix3d, 2> cov = {Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero()};
   for (std::size_t k = 0; k < range.size(); ++k) {
     const Eigen::Vector3d d = points.row(range[k]).transpose() - mean[label[k]];
-    cov[label[k]].noalias() += d * d.transpose();
+    add_outer_lower(cov[label[k]], d);  // the eigensolver reads the lower triangle
   }
   Faces faces;
   for (int side : {0, 1}) {

@@ -27,6 +27,16 @@ Eigen::Matrix<double, N, 1> solve_psd_pinv(const Eigen::Matrix<double, N, N>& a,
   return x;
 }
 
+/// m += sign · b bᵀ on the lower triangle only (the part GramSolver and selfadjointView<Lower>
+/// read), a product per entry: the same sums as Eigen's rankUpdate, in fewer operations.
+template <int N>
+void add_outer_lower(Eigen::Matrix<double, N, N>& m, const Eigen::Matrix<double, N, 1>& b, double sign = 1.0) {
+  for (int j = 0; j < N; ++j) {
+    const double bj = sign * b(j);
+    for (int i = j; i < N; ++i) m(i, j) += bj * b(i);
+  }
+}
+
 /// A least-squares problem min_c Σ (w − bᵀc)² solved from its augmented Gram matrix
 /// G = [Σbbᵀ Σwb; Σwbᵀ Σw²] (N − 1 unknowns) by one unpivoted LDLᵀ factorization of G: the last
 /// pivot is the residual sum of squares, the last row of the factor gives the solution.

@@ -82,7 +82,7 @@ void PolyMoments::add(const Eigen::Vector3d& p) {
   const Eigen::Vector3d l = frame_.to_local(p) / scale_;
   const Vector6 b = basis(l);
   n_ += 1;
-  bb_.selfadjointView<Eigen::Lower>().rankUpdate(b);
+  detail::add_outer_lower(bb_, b);
   wb_ += l.z() * b;
   ww_ += l.z() * l.z();
 }
@@ -91,7 +91,7 @@ void PolyMoments::remove(const Eigen::Vector3d& p) {
   const Eigen::Vector3d l = frame_.to_local(p) / scale_;
   const Vector6 b = basis(l);
   n_ -= 1;
-  bb_.selfadjointView<Eigen::Lower>().rankUpdate(b, -1.0);
+  detail::add_outer_lower(bb_, b, -1.0);
   wb_ -= l.z() * b;
   ww_ -= l.z() * l.z();
 }

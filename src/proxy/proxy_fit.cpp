@@ -191,7 +191,7 @@ PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<
   const auto rows = [&](auto&& row) { for_each_row(frame, points, indices, weights, scale, normals, slope_factor, row); };
 
   Eigen::Matrix<double, 7, 7> gram = Eigen::Matrix<double, 7, 7>::Zero();
-  rows([&](const Eigen::Matrix<double, 7, 1>& r) { gram.noalias() += r * r.transpose(); });
+  rows([&](const Eigen::Matrix<double, 7, 1>& r) { detail::add_outer_lower(gram, r); });
   // A pivot at most 1e-8 of the largest diagonal entry sends the fit to the QR: the normal
   // equations would lose most of their digits. Above it, in this scaled monomial basis, the
   // fits agree with the QR's to rounding (the same trees but for rounding, docs/benchmarks.md).

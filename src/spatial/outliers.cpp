@@ -63,6 +63,8 @@ OutlierReport flag_outliers(const Points& points, const KdTree& index, const Out
   if (n < std::max(options.min_points, k + 2)) return nothing_flagged(n);
   OutlierReport report;
   // Spread of every point, and its k neighbours (the query itself, at distance 0, left out).
+  // The points are queried in spatial order, and the neighbours of the o-th query are stored
+  // at row o: both passes write and read that table sequentially.
   std::vector<double> spread(n);
   report.nearest.resize(n);
   std::vector<std::uint32_t> neighbors(n * k);
@@ -74,7 +76,7 @@ OutlierReport flag_outliers(const Points& points, const KdTree& index, const Out
       index.neighbors_of(static_cast<Eigen::Index>(i), k, nb);
       double sum = 0;
       for (std::size_t j = 0; j < k; ++j) {
-        neighbors[i * k + j] = nb[j].index;
+        neighbors[o * k + j] = nb[j].index;
         sum += std::sqrt(nb[j].distance_squared);
       }
       spread[i] = sum / static_cast<double>(k);
@@ -95,7 +97,7 @@ OutlierReport flag_outliers(const Points& points, const KdTree& index, const Out
     std::vector<double> around(k);
     for (std::size_t o = r.begin(); o != r.end(); ++o) {
       const std::size_t i = order[o];
-      for (std::size_t j = 0; j < k; ++j) around[j] = spread[neighbors[i * k + j]];
+      for (std::size_t j = 0; j < k; ++j) around[j] = spread[neighbors[o * k + j]];
       const double reference = std::max(median_of(around), 0.5 * report.median_spread);
       const bool local = options.local_ratio > 0 && reference > 0 && spread[i] > options.local_ratio * reference;
       outlier[i] = local || spread[i] > global_limit;

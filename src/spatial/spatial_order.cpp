@@ -2,6 +2,9 @@
 
 #include "spatial/spatial_order.hpp"
 
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <utility>
 
@@ -25,13 +28,15 @@ std::vector<std::uint32_t> morton_order(std::size_t count, const Position& posit
     return v;
   };
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(count);
-  for (std::size_t k = 0; k < count; ++k) {
-    const Eigen::Vector3d t = ((position(k) - box.min).array() / extent.array()) * 2097151.0;
-    keyed[k] = {spread(static_cast<std::uint64_t>(t.x())) | spread(static_cast<std::uint64_t>(t.y())) << 1 |
-                    spread(static_cast<std::uint64_t>(t.z())) << 2,
-                static_cast<std::uint32_t>(k)};
-  }
-  std::sort(keyed.begin(), keyed.end());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const auto& r) {
+    for (std::size_t k = r.begin(); k != r.end(); ++k) {
+      const Eigen::Vector3d t = ((position(k) - box.min).array() / extent.array()) * 2097151.0;
+      keyed[k] = {spread(static_cast<std::uint64_t>(t.x())) | spread(static_cast<std::uint64_t>(t.y())) << 1 |
+                      spread(static_cast<std::uint64_t>(t.z())) << 2,
+                  static_cast<std::uint32_t>(k)};
+    }
+  });
+  tbb::parallel_sort(keyed.begin(), keyed.end());  // keys are distinct: the same order on any thread count
   std::vector<std::uint32_t> order(count);
   for (std::size_t k = 0; k < count; ++k) order[k] = keyed[k].second;
   return order;
