@@ -10,6 +10,8 @@ namespace {
 
 /// Below this size a comparison sort is as fast.
 constexpr std::size_t kRadixMin = 2048;
+/// The largest scratch a thread keeps between sorts: the sweeps sort at most 65,536 points.
+constexpr std::size_t kMaxKeptScratch = std::size_t{1} << 16;
 constexpr int kDigitBits = 11;
 constexpr int kDigits = (64 + kDigitBits - 1) / kDigitBits;
 constexpr std::size_t kBuckets = std::size_t{1} << kDigitBits;
@@ -66,6 +68,8 @@ void sort_by_key(std::vector<KeyedIndex>& items) {
     begin = end;
   }
   for (std::size_t k = 0; k < n; ++k) items[k] = {key_of(a[k].bits), a[k].index};
+  // Larger sorts (a sweep's rare fallback to every point) free theirs.
+  if (a.capacity() > kMaxKeptScratch) a = {}, b = {};
 }
 
 }  // namespace clustersurf::detail

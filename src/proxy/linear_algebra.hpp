@@ -28,7 +28,7 @@ Eigen::Matrix<double, N, 1> solve_psd_pinv(const Eigen::Matrix<double, N, N>& a,
 }
 
 /// m += sign · b bᵀ on the lower triangle only (the part GramSolver and selfadjointView<Lower>
-/// read), a product per entry: the same sums as Eigen's rankUpdate, in fewer operations.
+/// read), one product per entry: the sums of Eigen's rankUpdate, half of a full outer product's.
 template <int N>
 void add_outer_lower(Eigen::Matrix<double, N, N>& m, const Eigen::Matrix<double, N, 1>& b, double sign = 1.0) {
   for (int j = 0; j < N; ++j) {

@@ -36,7 +36,7 @@ std::vector<std::uint32_t> morton_order(std::size_t count, const Position& posit
                   static_cast<std::uint32_t>(k)};
     }
   });
-  tbb::parallel_sort(keyed.begin(), keyed.end());  // keys are distinct: the same order on any thread count
+  tbb::parallel_sort(keyed.begin(), keyed.end());  // (code, row) pairs are distinct: one order on any thread count
   std::vector<std::uint32_t> order(count);
   for (std::size_t k = 0; k < count; ++k) order[k] = keyed[k].second;
   return order;
