@@ -9,6 +9,7 @@
 #include "mesh/mesh_components.hpp"
 #include "mesh/mesh_subset.hpp"
 #include "mesh/pinhole_fill.hpp"
+#include "spatial/spatial_order.hpp"
 
 #include <tbb/parallel_for.h>
 
@@ -138,11 +139,12 @@ std::size_t drop_unsupported_components(const TriangleMesh& mesh, const Points& 
   const Points vertices = mesh.vertices(rows, Eigen::all);
   const KdTree index(vertices);
   std::vector<std::uint32_t> voted(static_cast<std::size_t>(points.rows()));
-  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, points.rows(), 1024), [&](const auto& r) {
+  const std::vector<std::uint32_t> order = detail::spatial_order(points);  // queries in spatial order
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1024), [&](const auto& r) {
     std::vector<Neighbor> nb;
-    for (Eigen::Index i = r.begin(); i != r.end(); ++i) {
-      index.knn(points.row(i).transpose(), 1, nb);
-      voted[static_cast<std::size_t>(i)] = nb[0].index;
+    for (std::size_t o = r.begin(); o != r.end(); ++o) {
+      index.knn(points.row(order[o]).transpose(), 1, nb);
+      voted[order[o]] = nb[0].index;
     }
   });
   std::vector<std::size_t> votes(component.size(), 0);

@@ -4,6 +4,8 @@
 #include <clustersurf/kd_tree.hpp>
 #include <clustersurf/orientation.hpp>
 
+#include "spatial/spatial_order.hpp"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -112,9 +114,13 @@ std::vector<Edge> cluster_adjacency(const ClusterTree& tree, const KdTree& index
   };
   const auto n = static_cast<std::size_t>(points.rows());
   std::vector<std::vector<Pair>> found(n);
+  // Queried in spatial order (consecutive queries visit the same part of the k-d tree); the
+  // pairs are gathered by point, so the order of the queries does not change them.
+  const std::vector<std::uint32_t> order = detail::spatial_order(points);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& r) {
     std::vector<Neighbor> nb;
-    for (std::size_t p = r.begin(); p != r.end(); ++p) {
+    for (std::size_t o = r.begin(); o != r.end(); ++o) {
+      const std::size_t p = order[o];
       const Eigen::Vector3d x = points.row(static_cast<Eigen::Index>(p)).transpose();
       index.knn(x, k + 1, nb);
       const std::int32_t lp = tree.point_leaf[p];

@@ -6,10 +6,12 @@
 
 #include "mesh/clipped_extraction.hpp"
 #include "mesh/mesh_subset.hpp"
+#include "spatial/spatial_order.hpp"
 
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <numeric>
 
 namespace clustersurf {
 
@@ -63,11 +65,14 @@ MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::
   if (mesh.vertices.rows() > 0 && own_data > 0) {
     const KdTree vertices(mesh.vertices);
     std::vector<std::uint32_t> nearest(own_data);
+    std::vector<Eigen::Index> own(own_data);
+    std::iota(own.begin(), own.end(), Eigen::Index{0});
+    const std::vector<std::uint32_t> order = detail::spatial_order(data, own);  // queries in spatial order
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, own_data, 1024), [&](const auto& r) {
       std::vector<Neighbor> nb;
-      for (std::size_t i = r.begin(); i != r.end(); ++i) {
-        vertices.knn(data.row(static_cast<Eigen::Index>(i)).transpose(), 1, nb);
-        nearest[i] = nb[0].index;
+      for (std::size_t o = r.begin(); o != r.end(); ++o) {
+        vertices.knn(data.row(static_cast<Eigen::Index>(order[o])).transpose(), 1, nb);
+        nearest[order[o]] = nb[0].index;
       }
     });
     for (const std::uint32_t v : nearest) votes(v) += 1;
