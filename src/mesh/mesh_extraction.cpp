@@ -1,5 +1,5 @@
-// Surface-following sparse grid walk, then polygonization (cell_polygonizer: OpenVDB) and
-// projection of the vertices onto f = 0.
+// Surface-following sparse grid walk (its corner values and visited cells in OpenVDB grids),
+// then polygonization (cell_polygonizer: OpenVDB) and projection of the vertices onto f = 0.
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/mesh_extraction.hpp>
@@ -10,6 +10,7 @@
 #include "mesh/mesh_subset.hpp"
 #include "mesh/position_ids.hpp"
 
+#include <openvdb/openvdb.h>
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Geometry>
@@ -18,8 +19,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
-#include <unordered_set>
 #include <vector>
 
 namespace clustersurf {
@@ -143,9 +142,25 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
   if (clip != nullptr) std::erase_if(frontier, [&](Key cell) { return !allowed(cell); });
 
   // 2. Breadth-first walk over cells crossed by the surface, evaluating corners in batches.
+  //    The corners' values and the cells visited are kept in sparse grids (OpenVDB's trees,
+  //    whose accessors make neighbouring lookups cheap): a corner is active once queued for
+  //    evaluation, and holds f there once evaluated (NaN where f is undefined).
   detail::ProgressReporter reporter(progress, "meshing", 1000);
-  std::unordered_map<Key, float> corner_value;  // NaN where f is undefined
-  std::unordered_set<Key> visited(frontier.begin(), frontier.end());
+  const auto coord = [](std::int64_t i, std::int64_t j, std::int64_t k) {
+    return openvdb::Coord(static_cast<openvdb::Int32>(i), static_cast<openvdb::Int32>(j), static_cast<openvdb::Int32>(k));
+  };
+  const auto corner_of = [&](Key cell, int c) {
+    const auto [i, j, k] = unpack(cell);
+    return coord(i + kCorner[c][0], j + kCorner[c][1], k + kCorner[c][2]);
+  };
+  const openvdb::FloatGrid::Ptr corner_grid = openvdb::FloatGrid::create(0.0f);
+  const openvdb::MaskGrid::Ptr visited_grid = openvdb::MaskGrid::create();
+  auto corner_value = corner_grid->getAccessor();
+  auto visited = visited_grid->getAccessor();
+  for (Key cell : frontier) {
+    const auto [i, j, k] = unpack(cell);
+    visited.setValueOn(coord(i, j, k));
+  }
   std::vector<Key> surface_cells;
   std::vector<Key> todo;
   std::uint64_t reported = 0;
@@ -155,12 +170,12 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
     for (Key cell : frontier) {
       const auto [i, j, k] = unpack(cell);
       for (const auto& c : kCorner) {
-        const Key key = pack(i + c[0], j + c[1], k + c[2]);
-        if (!corner_value.contains(key)) todo.push_back(key);
+        const openvdb::Coord corner = coord(i + c[0], j + c[1], k + c[2]);
+        if (corner_value.isValueOn(corner)) continue;
+        corner_value.setValueOn(corner);
+        todo.push_back(pack(i + c[0], j + c[1], k + c[2]));
       }
     }
-    std::sort(todo.begin(), todo.end());
-    todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
     std::vector<float> values(todo.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 64), [&](const auto& r) {
       for (std::size_t t = r.begin(); t != r.end(); ++t) {
@@ -175,7 +190,10 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
         values[t] = v ? static_cast<float>(*v) : std::numeric_limits<float>::quiet_NaN();
       }
     });
-    for (std::size_t t = 0; t < todo.size(); ++t) corner_value.emplace(todo[t], values[t]);
+    for (std::size_t t = 0; t < todo.size(); ++t) {
+      const auto [i, j, k] = unpack(todo[t]);
+      corner_value.setValueOnly(coord(i, j, k), values[t]);
+    }
 
     std::vector<Key> next;
     for (Key cell : frontier) {
@@ -183,7 +201,7 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
       float v[8];
       bool defined = true, any_neg = false, any_pos = false;
       for (int c = 0; c < 8; ++c) {
-        v[c] = corner_value.at(pack(i + kCorner[c][0], j + kCorner[c][1], k + kCorner[c][2]));
+        v[c] = corner_value.getValue(corner_of(cell, c));
         defined = defined && !std::isnan(v[c]);
         (v[c] < 0 ? any_neg : any_pos) = true;
       }
@@ -194,7 +212,11 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
         for (int c : kFaceCorners[f]) (v[c] < 0 ? neg : pos) = true;
         if (!(neg && pos)) continue;
         const Key nb = pack(i + kFaceStep[f][0], j + kFaceStep[f][1], k + kFaceStep[f][2]);
-        if ((clip == nullptr || allowed(nb)) && visited.insert(nb).second) next.push_back(nb);
+        if (clip != nullptr && !allowed(nb)) continue;
+        const openvdb::Coord at = coord(i + kFaceStep[f][0], j + kFaceStep[f][1], k + kFaceStep[f][2]);
+        if (visited.isValueOn(at)) continue;
+        visited.setValueOn(at);
+        next.push_back(nb);
       }
     }
     std::sort(next.begin(), next.end());
@@ -210,12 +232,14 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
   //    polygonizer's float vertices keep full precision for models far from the world origin
   //    (coordinates near 1e8 would keep only ~8 units).
   std::vector<detail::SurfaceCell> cells(surface_cells.size());
-  for (std::size_t c = 0; c < surface_cells.size(); ++c) {
-    const auto [i, j, k] = unpack(surface_cells[c]);
-    cells[c].corner = {static_cast<std::int32_t>(i), static_cast<std::int32_t>(j), static_cast<std::int32_t>(k)};
-    for (int q = 0; q < 8; ++q)
-      cells[c].values[static_cast<std::size_t>(q)] = corner_value.at(pack(i + kCorner[q][0], j + kCorner[q][1], k + kCorner[q][2]));
-  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, surface_cells.size(), 4096), [&](const auto& r) {
+    auto values = corner_grid->getConstAccessor();  // one per task: accessors cache, so are not shared
+    for (std::size_t c = r.begin(); c != r.end(); ++c) {
+      const auto [i, j, k] = unpack(surface_cells[c]);
+      cells[c].corner = {static_cast<std::int32_t>(i), static_cast<std::int32_t>(j), static_cast<std::int32_t>(k)};
+      for (int q = 0; q < 8; ++q) cells[c].values[static_cast<std::size_t>(q)] = values.getValue(corner_of(surface_cells[c], q));
+    }
+  });
   const detail::CellPolygons polygons = detail::polygonize_cells(cells, static_cast<float>(3 * h));
 
   // 4. Vertices projected onto f = 0 (kept where the projection fails), normals from ∇f.
@@ -289,7 +313,7 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
   reporter.finish();
   if (report != nullptr) {
     report->voxel_size = h;
-    report->evaluated_corners = corner_value.size();
+    report->evaluated_corners = static_cast<std::size_t>(corner_grid->activeVoxelCount());
     report->surface_cells = surface_cells.size();
   }
   return mesh;
