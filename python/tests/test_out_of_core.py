@@ -37,7 +37,7 @@ def _peak_kib(command):
 
 
 def test_memory_limit_holds_on_an_input_that_needs_several_times_it(cli, tmp_path, bunny_file):
-    # 600,000 points need about 500 MB in core (the mesher's sparse grids), four times the limit.
+    # 600,000 points need about 500 MB in core, nearly four times the limit.
     cloud = tmp_path / "big.ply"
     subprocess.run([cli, "-q", "sample", str(bunny_file), "-o", str(cloud), "-n", "600000", "--seed", "7"], check=True)
     limit_kib = 128 * 1024

@@ -8,7 +8,6 @@
 namespace clustersurf::detail {
 
 CellPolygons polygonize_cells(std::span<const SurfaceCell> cells, float outside) {
-  constexpr int kCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
   openvdb::initialize();
   // The identity transform: index space is grid units.
   auto grid = openvdb::FloatGrid::create(outside);
@@ -20,7 +19,7 @@ CellPolygons polygonize_cells(std::span<const SurfaceCell> cells, float outside)
       const auto [i, j, k] = cell.corner;
       macc.setValueOn(openvdb::Coord(i, j, k), true);
       for (int c = 0; c < 8; ++c)
-        acc.setValueOn(openvdb::Coord(i + kCorner[c][0], j + kCorner[c][1], k + kCorner[c][2]), cell.values[static_cast<std::size_t>(c)]);
+        acc.setValueOn(openvdb::Coord(i + kCellCorner[c][0], j + kCellCorner[c][1], k + kCellCorner[c][2]), cell.values[static_cast<std::size_t>(c)]);
     }
   }
   openvdb::tools::VolumeToMesh mesher(0.0, 0.0);

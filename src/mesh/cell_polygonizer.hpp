@@ -1,7 +1,8 @@
 #pragma once
 // The polygonization step of mesh extraction: OpenVDB's VolumeToMesh over the cells the
 // surface walk found. Kept apart from the walk so that OpenVDB (slow to compile) is confined to
-// one translation unit, which sanitizer builds leave uninstrumented like the OpenVDB library.
+// this file and walk_grid.cpp, which sanitizer builds leave uninstrumented like the OpenVDB
+// library.
 
 #include <array>
 #include <cstdint>
@@ -10,9 +11,12 @@
 
 namespace clustersurf::detail {
 
+/// The offsets of a cell's 8 corners from its lowest one, in the order its values are kept.
+inline constexpr int kCellCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
+
 /// One grid cell crossed by the surface: its integer corner (i, j, k) and the values of f at
-/// its 8 corners, in the order (0,0,0), (1,0,0), (0,1,0), (1,1,0), (0,0,1), (1,0,1), (0,1,1),
-/// (1,1,1). Shared corners of neighbouring cells carry the same value.
+/// its 8 corners, in the kCellCorner order. Shared corners of neighbouring cells carry the same
+/// value.
 struct SurfaceCell {
   std::array<std::int32_t, 3> corner;
   std::array<float, 8> values;

@@ -1,5 +1,5 @@
-// Surface-following sparse grid walk (its corner values and visited cells in OpenVDB grids),
-// then polygonization (cell_polygonizer: OpenVDB) and projection of the vertices onto f = 0.
+// Surface-following sparse grid walk (its state in walk_grid: OpenVDB), then polygonization
+// (cell_polygonizer: OpenVDB) and projection of the vertices onto f = 0.
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/mesh_extraction.hpp>
@@ -9,8 +9,8 @@
 #include "mesh/clipped_extraction.hpp"
 #include "mesh/mesh_subset.hpp"
 #include "mesh/position_ids.hpp"
+#include "mesh/walk_grid.hpp"
 
-#include <openvdb/openvdb.h>
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Geometry>
@@ -37,7 +37,12 @@ std::array<std::int64_t, 3> unpack(Key key) {
           static_cast<std::int64_t>((key >> 42) & mask) - kBias};
 }
 
-constexpr int kCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
+/// The grid coordinates of a key (within [-2^20, 2^20) on each axis).
+detail::GridIndex grid_index(Key key) {
+  const auto [i, j, k] = unpack(key);
+  return {static_cast<std::int32_t>(i), static_cast<std::int32_t>(j), static_cast<std::int32_t>(k)};
+}
+
 // For each face direction (−x, +x, −y, +y, −z, +z): the 4 corners on that face, and the step.
 constexpr int kFaceCorners[6][4] = {{0, 2, 4, 6}, {1, 3, 5, 7}, {0, 1, 4, 5}, {2, 3, 6, 7}, {0, 1, 2, 3}, {4, 5, 6, 7}};
 constexpr int kFaceStep[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
@@ -142,25 +147,9 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
   if (clip != nullptr) std::erase_if(frontier, [&](Key cell) { return !allowed(cell); });
 
   // 2. Breadth-first walk over cells crossed by the surface, evaluating corners in batches.
-  //    The corners' values and the cells visited are kept in sparse grids (OpenVDB's trees,
-  //    whose accessors make neighbouring lookups cheap): a corner is active once queued for
-  //    evaluation, and holds f there once evaluated (NaN where f is undefined).
   detail::ProgressReporter reporter(progress, "meshing", 1000);
-  const auto coord = [](std::int64_t i, std::int64_t j, std::int64_t k) {
-    return openvdb::Coord(static_cast<openvdb::Int32>(i), static_cast<openvdb::Int32>(j), static_cast<openvdb::Int32>(k));
-  };
-  const auto corner_of = [&](Key cell, int c) {
-    const auto [i, j, k] = unpack(cell);
-    return coord(i + kCorner[c][0], j + kCorner[c][1], k + kCorner[c][2]);
-  };
-  const openvdb::FloatGrid::Ptr corner_grid = openvdb::FloatGrid::create(0.0f);
-  const openvdb::MaskGrid::Ptr visited_grid = openvdb::MaskGrid::create();
-  auto corner_value = corner_grid->getAccessor();
-  auto visited = visited_grid->getAccessor();
-  for (Key cell : frontier) {
-    const auto [i, j, k] = unpack(cell);
-    visited.setValueOn(coord(i, j, k));
-  }
+  detail::WalkGrid walk;  // corners queued (with f, NaN where undefined) and cells visited
+  for (Key cell : frontier) walk.visit(grid_index(cell));
   std::vector<Key> surface_cells;
   std::vector<Key> todo;
   std::uint64_t reported = 0;
@@ -169,11 +158,9 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
     todo.clear();
     for (Key cell : frontier) {
       const auto [i, j, k] = unpack(cell);
-      for (const auto& c : kCorner) {
-        const openvdb::Coord corner = coord(i + c[0], j + c[1], k + c[2]);
-        if (corner_value.isValueOn(corner)) continue;
-        corner_value.setValueOn(corner);
-        todo.push_back(pack(i + c[0], j + c[1], k + c[2]));
+      for (const auto& c : detail::kCellCorner) {
+        const Key corner = pack(i + c[0], j + c[1], k + c[2]);
+        if (walk.queue(grid_index(corner))) todo.push_back(corner);
       }
     }
     std::vector<float> values(todo.size());
@@ -190,10 +177,7 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
         values[t] = v ? static_cast<float>(*v) : std::numeric_limits<float>::quiet_NaN();
       }
     });
-    for (std::size_t t = 0; t < todo.size(); ++t) {
-      const auto [i, j, k] = unpack(todo[t]);
-      corner_value.setValueOnly(coord(i, j, k), values[t]);
-    }
+    for (std::size_t t = 0; t < todo.size(); ++t) walk.set_value(grid_index(todo[t]), values[t]);
 
     std::vector<Key> next;
     for (Key cell : frontier) {
@@ -201,7 +185,7 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
       float v[8];
       bool defined = true, any_neg = false, any_pos = false;
       for (int c = 0; c < 8; ++c) {
-        v[c] = corner_value.getValue(corner_of(cell, c));
+        v[c] = walk.value(grid_index(pack(i + detail::kCellCorner[c][0], j + detail::kCellCorner[c][1], k + detail::kCellCorner[c][2])));
         defined = defined && !std::isnan(v[c]);
         (v[c] < 0 ? any_neg : any_pos) = true;
       }
@@ -212,11 +196,7 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
         for (int c : kFaceCorners[f]) (v[c] < 0 ? neg : pos) = true;
         if (!(neg && pos)) continue;
         const Key nb = pack(i + kFaceStep[f][0], j + kFaceStep[f][1], k + kFaceStep[f][2]);
-        if (clip != nullptr && !allowed(nb)) continue;
-        const openvdb::Coord at = coord(i + kFaceStep[f][0], j + kFaceStep[f][1], k + kFaceStep[f][2]);
-        if (visited.isValueOn(at)) continue;
-        visited.setValueOn(at);
-        next.push_back(nb);
+        if ((clip == nullptr || allowed(nb)) && walk.visit(grid_index(nb))) next.push_back(nb);
       }
     }
     std::sort(next.begin(), next.end());
@@ -232,14 +212,8 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
   //    polygonizer's float vertices keep full precision for models far from the world origin
   //    (coordinates near 1e8 would keep only ~8 units).
   std::vector<detail::SurfaceCell> cells(surface_cells.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, surface_cells.size(), 4096), [&](const auto& r) {
-    auto values = corner_grid->getConstAccessor();  // one per task: accessors cache, so are not shared
-    for (std::size_t c = r.begin(); c != r.end(); ++c) {
-      const auto [i, j, k] = unpack(surface_cells[c]);
-      cells[c].corner = {static_cast<std::int32_t>(i), static_cast<std::int32_t>(j), static_cast<std::int32_t>(k)};
-      for (int q = 0; q < 8; ++q) cells[c].values[static_cast<std::size_t>(q)] = values.getValue(corner_of(surface_cells[c], q));
-    }
-  });
+  for (std::size_t c = 0; c < surface_cells.size(); ++c) cells[c].corner = grid_index(surface_cells[c]);
+  walk.corner_values(cells);
   const detail::CellPolygons polygons = detail::polygonize_cells(cells, static_cast<float>(3 * h));
 
   // 4. Vertices projected onto f = 0 (kept where the projection fails), normals from ∇f.
@@ -313,7 +287,7 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
   reporter.finish();
   if (report != nullptr) {
     report->voxel_size = h;
-    report->evaluated_corners = static_cast<std::size_t>(corner_grid->activeVoxelCount());
+    report->evaluated_corners = walk.queued();
     report->surface_cells = surface_cells.size();
   }
   return mesh;

@@ -1,0 +1,48 @@
+#pragma once
+// The state of mesh extraction's walk over grid cells: the corners queued or evaluated with
+// their values, and the cells visited, in OpenVDB sparse grids. Kept apart from the walk, as
+// the polygonizer is, so that OpenVDB's templates stay in files that sanitizer builds leave
+// uninstrumented like the OpenVDB library.
+
+#include "mesh/cell_polygonizer.hpp"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+
+namespace clustersurf::detail {
+
+/// Integer grid coordinates (i, j, k) of a corner or of a cell (its lowest corner).
+using GridIndex = std::array<std::int32_t, 3>;
+
+/// Corners and cells of a walk. Lookups of neighbouring coordinates are cheap (the grids'
+/// accessors cache the last leaf). Not thread-safe, but for corner_values().
+class WalkGrid {
+ public:
+  WalkGrid();
+  ~WalkGrid();
+  WalkGrid(const WalkGrid&) = delete;
+  WalkGrid& operator=(const WalkGrid&) = delete;
+
+  /// Queues `corner` for evaluation: true the first time, false when it was queued before.
+  bool queue(const GridIndex& corner);
+  /// The value of f at a queued corner (NaN where f is undefined).
+  void set_value(const GridIndex& corner, float value);
+  /// The value set at a queued corner. Throws std::logic_error for a corner never queued.
+  float value(const GridIndex& corner);
+  /// Marks `cell` visited: true the first time, false when it was visited before.
+  bool visit(const GridIndex& cell);
+  /// Fills the 8 corner values of each cell from its corner (SurfaceCell's order), in parallel.
+  /// Every corner must have been queued and set.
+  void corner_values(std::span<SurfaceCell> cells) const;
+  /// How many corners were queued.
+  std::size_t queued() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace clustersurf::detail
