@@ -7,24 +7,25 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
-#include <vector>
 
 using namespace clustersurf::detail;
 
 TEST(WalkGrid, CornersAreQueuedOnceAndKeepTheirValues) {
   WalkGrid walk;
-  const GridIndex far = {-1'048'576, 1'048'575, 7};  // the ends of the mesher's key range
-  EXPECT_TRUE(walk.queue({0, 0, 0}));
-  EXPECT_TRUE(walk.queue(far));
-  EXPECT_FALSE(walk.queue({0, 0, 0}));
+  const GridIndex far = {-1'048'576, 1'048'574, 7};  // near the ends of the mesher's key range
+  // Every corner of the cell at `far` is queued; one of them twice.
+  for (const auto& c : kCellCorner) EXPECT_TRUE(walk.queue({far[0] + c[0], far[1] + c[1], far[2] + c[2]}));
   EXPECT_FALSE(walk.queue(far));
-  walk.set_value({0, 0, 0}, -0.25f);
+  for (const auto& c : kCellCorner) walk.set_value({far[0] + c[0], far[1] + c[1], far[2] + c[2]}, -0.25f * static_cast<float>(c[0] + 2 * c[1] + 4 * c[2]));
   walk.set_value(far, std::numeric_limits<float>::quiet_NaN());
-  EXPECT_EQ(walk.value({0, 0, 0}), -0.25f);
-  EXPECT_TRUE(std::isnan(walk.value(far)));
-  EXPECT_FALSE(walk.queue({0, 0, 0}));  // a value keeps the corner queued
-  EXPECT_EQ(walk.queued(), 2u);
-  EXPECT_THROW(walk.value({1, 0, 0}), std::logic_error);
+  SurfaceCell cell{far, {}};
+  walk.values(cell);
+  EXPECT_TRUE(std::isnan(cell.values[0]));
+  for (std::size_t c = 1; c < 8; ++c) EXPECT_EQ(cell.values[c], -0.25f * static_cast<float>(c));
+  EXPECT_FALSE(walk.queue(far));  // a value keeps the corner queued
+  EXPECT_EQ(walk.queued(), 8u);
+  SurfaceCell unqueued{{0, 0, 0}, {}};
+  EXPECT_THROW(walk.values(unqueued), std::logic_error);
 }
 
 TEST(WalkGrid, CellsAreVisitedOnce) {
@@ -45,15 +46,12 @@ TEST(WalkGrid, SurfaceCellsGetTheirCornersInOrder) {
         ASSERT_TRUE(walk.queue({i, j, k}));
         walk.set_value({i, j, k}, code(i, j, k));
       }
-  std::vector<SurfaceCell> cells(2);
-  cells[0].corner = {0, 0, 0};
-  cells[1].corner = {1, 0, 0};
-  walk.corner_values(cells);
-  for (const SurfaceCell& cell : cells)
-    for (int c = 0; c < 8; ++c)
-      EXPECT_EQ(cell.values[static_cast<std::size_t>(c)],
-                code(cell.corner[0] + kCellCorner[c][0], cell.corner[1] + kCellCorner[c][1], cell.corner[2] + kCellCorner[c][2]));
-  std::vector<SurfaceCell> beyond(1);
-  beyond[0].corner = {2, 0, 0};  // its far corners were never queued
-  EXPECT_THROW(walk.corner_values(beyond), std::logic_error);
+  for (const GridIndex corner : {GridIndex{0, 0, 0}, GridIndex{1, 0, 0}}) {
+    SurfaceCell cell{corner, {}};
+    walk.values(cell);
+    for (std::size_t c = 0; c < 8; ++c)
+      EXPECT_EQ(cell.values[c], code(cell.corner[0] + kCellCorner[c][0], cell.corner[1] + kCellCorner[c][1], cell.corner[2] + kCellCorner[c][2]));
+  }
+  SurfaceCell beyond{{2, 0, 0}, {}};  // its far corners were never queued
+  EXPECT_THROW(walk.values(beyond), std::logic_error);
 }

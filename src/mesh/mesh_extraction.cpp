@@ -19,6 +19,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <tuple>
 #include <vector>
 
 namespace clustersurf {
@@ -150,23 +151,23 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
   detail::ProgressReporter reporter(progress, "meshing", 1000);
   detail::WalkGrid walk;  // corners queued (with f, NaN where undefined) and cells visited
   for (Key cell : frontier) walk.visit(grid_index(cell));
-  std::vector<Key> surface_cells;
-  std::vector<Key> todo;
+  std::vector<detail::SurfaceCell> surface_cells;  // with their corners' values
+  std::vector<detail::GridIndex> todo;  // corners to evaluate
   std::uint64_t reported = 0;
   while (!frontier.empty()) {
     reporter.check();
     todo.clear();
     for (Key cell : frontier) {
-      const auto [i, j, k] = unpack(cell);
+      const detail::GridIndex g = grid_index(cell);
       for (const auto& c : detail::kCellCorner) {
-        const Key corner = pack(i + c[0], j + c[1], k + c[2]);
-        if (walk.queue(grid_index(corner))) todo.push_back(corner);
+        const detail::GridIndex corner = {g[0] + c[0], g[1] + c[1], g[2] + c[2]};
+        if (walk.queue(corner)) todo.push_back(corner);
       }
     }
     std::vector<float> values(todo.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 64), [&](const auto& r) {
       for (std::size_t t = r.begin(); t != r.end(); ++t) {
-        const auto [i, j, k] = unpack(todo[t]);
+        const auto [i, j, k] = todo[t];
         const Eigen::Vector3d x = corner_position(i, j, k);
         std::optional<double> v;
         if (closed != nullptr) v = closed->value(x);
@@ -177,23 +178,24 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
         values[t] = v ? static_cast<float>(*v) : std::numeric_limits<float>::quiet_NaN();
       }
     });
-    for (std::size_t t = 0; t < todo.size(); ++t) walk.set_value(grid_index(todo[t]), values[t]);
+    for (std::size_t t = 0; t < todo.size(); ++t) walk.set_value(todo[t], values[t]);
 
     std::vector<Key> next;
     for (Key cell : frontier) {
       const auto [i, j, k] = unpack(cell);
-      float v[8];
+      detail::SurfaceCell here{grid_index(cell), {}};
+      walk.values(here);
+      const auto& v = here.values;
       bool defined = true, any_neg = false, any_pos = false;
-      for (int c = 0; c < 8; ++c) {
-        v[c] = walk.value(grid_index(pack(i + detail::kCellCorner[c][0], j + detail::kCellCorner[c][1], k + detail::kCellCorner[c][2])));
-        defined = defined && !std::isnan(v[c]);
-        (v[c] < 0 ? any_neg : any_pos) = true;
+      for (const float value : v) {
+        defined = defined && !std::isnan(value);
+        (value < 0 ? any_neg : any_pos) = true;
       }
       if (!defined || !any_neg || !any_pos) continue;
-      surface_cells.push_back(cell);
+      surface_cells.push_back(here);
       for (int f = 0; f < 6; ++f) {
         bool neg = false, pos = false;
-        for (int c : kFaceCorners[f]) (v[c] < 0 ? neg : pos) = true;
+        for (int c : kFaceCorners[f]) (v[static_cast<std::size_t>(c)] < 0 ? neg : pos) = true;
         if (!(neg && pos)) continue;
         const Key nb = pack(i + kFaceStep[f][0], j + kFaceStep[f][1], k + kFaceStep[f][2]);
         if ((clip == nullptr || allowed(nb)) && walk.visit(grid_index(nb))) next.push_back(nb);
@@ -206,15 +208,15 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
     const auto permille = static_cast<std::uint64_t>(900 * done);
     if (permille > reported) reporter.advance(permille - reported), reported = permille;
   }
-  std::sort(surface_cells.begin(), surface_cells.end());
+  // In key order: by k, then j, then i.
+  std::sort(surface_cells.begin(), surface_cells.end(), [](const detail::SurfaceCell& a, const detail::SurfaceCell& b) {
+    return std::tie(a.corner[2], a.corner[1], a.corner[0]) < std::tie(b.corner[2], b.corner[1], b.corner[0]);
+  });
 
   // 3. Polygons of f = 0 in the surface cells. The grid is relative to `origin`: the
   //    polygonizer's float vertices keep full precision for models far from the world origin
   //    (coordinates near 1e8 would keep only ~8 units).
-  std::vector<detail::SurfaceCell> cells(surface_cells.size());
-  for (std::size_t c = 0; c < surface_cells.size(); ++c) cells[c].corner = grid_index(surface_cells[c]);
-  walk.corner_values(cells);
-  const detail::CellPolygons polygons = detail::polygonize_cells(cells, static_cast<float>(3 * h));
+  const detail::CellPolygons polygons = detail::polygonize_cells(surface_cells, static_cast<float>(3 * h));
 
   // 4. Vertices projected onto f = 0 (kept where the projection fails), normals from ∇f.
   TriangleMesh mesh;

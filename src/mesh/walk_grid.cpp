@@ -1,7 +1,6 @@
 #include "mesh/walk_grid.hpp"
 
 #include <openvdb/openvdb.h>
-#include <tbb/parallel_for.h>
 
 #include <stdexcept>
 
@@ -33,10 +32,11 @@ bool WalkGrid::queue(const GridIndex& corner) {
 
 void WalkGrid::set_value(const GridIndex& corner, float value) { impl_->corner_access.setValueOnly(coord(corner), value); }
 
-float WalkGrid::value(const GridIndex& corner) {
-  float v = 0;
-  if (!impl_->corner_access.probeValue(coord(corner), v)) throw std::logic_error("mesh walk: a corner read before it was queued");
-  return v;
+void WalkGrid::values(SurfaceCell& cell) {
+  for (std::size_t c = 0; c < 8; ++c) {
+    const openvdb::Coord at(cell.corner[0] + kCellCorner[c][0], cell.corner[1] + kCellCorner[c][1], cell.corner[2] + kCellCorner[c][2]);
+    if (!impl_->corner_access.probeValue(at, cell.values[c])) throw std::logic_error("mesh walk: a corner read before it was queued");
+  }
 }
 
 bool WalkGrid::visit(const GridIndex& cell) {
@@ -44,21 +44,6 @@ bool WalkGrid::visit(const GridIndex& cell) {
   if (impl_->cell_access.isValueOn(c)) return false;
   impl_->cell_access.setValueOn(c);
   return true;
-}
-
-void WalkGrid::corner_values(std::span<SurfaceCell> cells) const {
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.size(), 4096), [&](const auto& r) {
-    // One accessor per task (an accessor caches, so it is not shared); the grid is only read.
-    auto values = impl_->corners->getConstUnsafeAccessor();
-    for (std::size_t n = r.begin(); n != r.end(); ++n) {
-      SurfaceCell& cell = cells[n];
-      for (int c = 0; c < 8; ++c) {
-        const openvdb::Coord at(cell.corner[0] + kCellCorner[c][0], cell.corner[1] + kCellCorner[c][1], cell.corner[2] + kCellCorner[c][2]);
-        if (!values.probeValue(at, cell.values[static_cast<std::size_t>(c)]))
-          throw std::logic_error("mesh walk: a surface cell's corner was never queued");
-      }
-    }
-  });
 }
 
 std::size_t WalkGrid::queued() const { return static_cast<std::size_t>(impl_->corners->activeVoxelCount()); }

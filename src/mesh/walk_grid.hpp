@@ -10,7 +10,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
-#include <span>
 
 namespace clustersurf::detail {
 
@@ -18,7 +17,7 @@ namespace clustersurf::detail {
 using GridIndex = std::array<std::int32_t, 3>;
 
 /// Corners and cells of a walk. Lookups of neighbouring coordinates are cheap (the grids'
-/// accessors cache the last leaf). Not thread-safe, but for corner_values().
+/// accessors cache the last leaf). Not thread-safe.
 class WalkGrid {
  public:
   WalkGrid();
@@ -30,13 +29,11 @@ class WalkGrid {
   bool queue(const GridIndex& corner);
   /// The value of f at a queued corner (NaN where f is undefined).
   void set_value(const GridIndex& corner, float value);
-  /// The value set at a queued corner. Throws std::logic_error for a corner never queued.
-  float value(const GridIndex& corner);
+  /// Fills cell.values with the values set at its 8 corners (SurfaceCell's order). Throws
+  /// std::logic_error for a corner never queued.
+  void values(SurfaceCell& cell);
   /// Marks `cell` visited: true the first time, false when it was visited before.
   bool visit(const GridIndex& cell);
-  /// Fills the 8 corner values of each cell from its corner (SurfaceCell's order), in parallel.
-  /// Every corner must have been queued and set.
-  void corner_values(std::span<SurfaceCell> cells) const;
   /// How many corners were queued.
   std::size_t queued() const;
 
