@@ -2,8 +2,6 @@
 
 #include "proxy/crease_fit.hpp"
 
-#include "proxy/linear_algebra.hpp"
-
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
@@ -44,8 +42,35 @@ std::uint8_t nearer_face(const PlaneProxy& a, const PlaneProxy& b, const Eigen::
 struct FaceSums {
   std::array<Eigen::Vector3d, 2> sum = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
   std::array<std::size_t, 2> count = {0, 0};
-  void add(std::uint8_t side, const Eigen::Vector3d& x) { sum[side] += x, ++count[side]; }
 };
+
+/// A sum of points, or the lower triangle of a scatter matrix, kept in scalars. The k-planes
+/// passes add each point to one of two of these by its label: indexing sums in memory by label
+/// chained every point's update on the last one's store (and on a spilled vector's reload);
+/// two named accumulators stay in registers. Each entry still sums its terms in range order,
+/// so the sums are the same to the bit.
+struct PointSum {
+  double x = 0, y = 0, z = 0;
+  std::size_t count = 0;
+  void add(const double* p) { x += p[0], y += p[1], z += p[2], ++count; }
+};
+
+struct Scatter {
+  double xx = 0, yx = 0, zx = 0, yy = 0, zy = 0, zz = 0;
+  void add(double dx, double dy, double dz) {
+    xx += dx * dx, yx += dx * dy, zx += dx * dz, yy += dy * dy, zy += dy * dz, zz += dz * dz;
+  }
+  /// The matrix with this lower triangle (the part the eigensolver reads), zeros above.
+  Eigen::Matrix3d lower() const {
+    Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+    m(0, 0) = xx, m(1, 0) = yx, m(2, 0) = zx, m(1, 1) = yy, m(2, 1) = zy, m(2, 2) = zz;
+    return m;
+  }
+};
+
+FaceSums face_sums(const PointSum& a, const PointSum& b) {
+  return {{Eigen::Vector3d(a.x, a.y, a.z), Eigen::Vector3d(b.x, b.y, b.z)}, {a.count, b.count}};
+}
 
 /// A face's points pin its plane down when they spread across it clearly more than off it: the
 /// middle spread (its width) at least kMinFaceWidth times the smallest (its residual). A row of
@@ -65,11 +90,15 @@ std::optional<Faces> fit_faces(const Points& points, std::span<const std::uint32
   if (sums.count[0] < kMinFacePoints || sums.count[1] < kMinFacePoints) return std::nullopt;
   std::array<Eigen::Vector3d, 2> mean;
   for (int side : {0, 1}) mean[side] = sums.sum[side] / static_cast<double>(sums.count[side]);
-  std::array<Eigen::Matrix3d, 2> cov = {Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero()};
+  Scatter s0, s1;
   for (std::size_t k = 0; k < range.size(); ++k) {
-    const Eigen::Vector3d d = points.row(range[k]).transpose() - mean[label[k]];
-    add_outer_lower(cov[label[k]], d);  // the eigensolver reads the lower triangle
+    const double* x = points.row(range[k]).data();
+    if (label[k] == 0)
+      s0.add(x[0] - mean[0](0), x[1] - mean[0](1), x[2] - mean[0](2));
+    else
+      s1.add(x[0] - mean[1](0), x[1] - mean[1](1), x[2] - mean[1](2));
   }
+  const std::array<Eigen::Matrix3d, 2> cov = {s0.lower(), s1.lower()};
   Faces faces;
   for (int side : {0, 1}) {
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov[side]);
@@ -87,12 +116,13 @@ std::optional<Faces> fit_faces(const Points& points, std::span<const std::uint32
 std::optional<std::array<PlaneProxy, 2>> k_planes(const Points& points, std::span<const std::uint32_t> range,
                                                   const Eigen::Vector3d& origin, const Eigen::Vector3d& axis) {
   std::vector<std::uint8_t> label(range.size());
-  FaceSums sums;
+  PointSum a, b;
   for (std::size_t k = 0; k < range.size(); ++k) {
     const Eigen::Vector3d x = points.row(range[k]).transpose();
     label[k] = (x - origin).dot(axis) < 0 ? 0 : 1;
-    sums.add(label[k], x);
+    (label[k] == 0 ? a : b).add(x.data());
   }
+  FaceSums sums = face_sums(a, b);
   Faces faces;
   std::array<PlaneProxy, 2>& planes = faces.planes;
   for (int round = 0; round < kMaxRounds; ++round) {
@@ -100,14 +130,15 @@ std::optional<std::array<PlaneProxy, 2>> k_planes(const Points& points, std::spa
     if (!fitted) return std::nullopt;
     faces = *fitted;
     bool changed = false;
-    sums = FaceSums{};
+    a = PointSum{}, b = PointSum{};
     for (std::size_t k = 0; k < range.size(); ++k) {
       const Eigen::Vector3d x = points.row(range[k]).transpose();
       const std::uint8_t side = nearer_face(planes[0], planes[1], x);
       changed = changed || side != label[k];
       label[k] = side;
-      sums.add(side, x);
+      (side == 0 ? a : b).add(x.data());
     }
+    sums = face_sums(a, b);
     if (!changed) break;
   }
   if (!faces.pinned) return std::nullopt;
