@@ -65,7 +65,7 @@ class ImplicitSurface {
   /// The radius margin (0 unless set by with_margin()).
   double margin() const noexcept { return margin_; }
   /// The blending radius of node i: its support radius + margin().
-  double radius(std::int32_t i) const noexcept { return tree_->nodes[static_cast<std::size_t>(i)].support.radius + margin_; }
+  double radius(std::int32_t i) const noexcept { return supports_[static_cast<std::size_t>(i)].radius; }
 
   /// f and ∇f at x (exact analytic gradient of the blend).
   SurfaceSample sample(const Eigen::Vector3d& x) const;
@@ -91,21 +91,32 @@ class ImplicitSurface {
   /// The nodes blended (pre-order).
   const std::vector<std::int32_t>& cut() const noexcept { return cut_; }
   /// Whether node i is blended.
-  bool in_cut(std::int32_t i) const noexcept { return in_cut_[static_cast<std::size_t>(i)] != 0; }
+  bool in_cut(std::int32_t i) const noexcept { return walk_nodes_[static_cast<std::size_t>(i)].in_cut != 0; }
 
  private:
+  /// What walk() reads of a node, packed into one cache line: a ClusterNode spans five, and
+  /// the walk touched two of them per node.
+  struct WalkNode {
+    Sphere bound;  ///< the node's bounding sphere grown by the margin
+    std::int32_t left = -1, right = -1;
+    std::uint8_t in_cut = 0;
+  };
+  /// Sets the radii of walk_nodes_ and supports_ for margin_.
+  void grow_by_margin();
+
   const ClusterTree* tree_;
   std::vector<std::int32_t> cut_;
-  std::vector<std::uint8_t> in_cut_;  // per node
+  std::vector<WalkNode> walk_nodes_;  // per node
+  std::vector<Sphere> supports_;      // per node: its support grown by the margin
   double margin_ = 0;
 };
 
 template <class Meets, class Visit>
 void ImplicitSurface::walk(Meets&& meets, Visit&& visit) const {
+  if (walk_nodes_.empty()) return;
   std::int32_t stack[256];
   int top = 0;
   stack[top++] = 0;
-  const auto& nodes = tree_->nodes;
   std::vector<std::int32_t> overflow;
   while (top > 0 || !overflow.empty()) {
     std::int32_t i;
@@ -115,13 +126,13 @@ void ImplicitSurface::walk(Meets&& meets, Visit&& visit) const {
     } else {
       i = stack[--top];
     }
-    const ClusterNode& n = nodes[static_cast<std::size_t>(i)];
-    if (!meets(Sphere{n.bound.center, n.bound.radius + margin_})) continue;
-    if (in_cut_[static_cast<std::size_t>(i)]) {
+    const WalkNode& n = walk_nodes_[static_cast<std::size_t>(i)];
+    if (!meets(n.bound)) continue;
+    if (n.in_cut) {
       visit(i);
       continue;
     }
-    if (n.is_leaf()) continue;
+    if (n.left < 0) continue;
     for (std::int32_t c : {n.right, n.left}) {
       if (top < 256) stack[top++] = c;
       else overflow.push_back(c);
@@ -131,12 +142,10 @@ void ImplicitSurface::walk(Meets&& meets, Visit&& visit) const {
 
 template <class Visit>
 void ImplicitSurface::for_each_support(const Eigen::Vector3d& x, Visit&& visit) const {
-  const auto& nodes = tree_->nodes;
   walk([&x](const Sphere& bound) { return (x - bound.center).squaredNorm() < bound.radius * bound.radius; },
        [&](std::int32_t i) {
-         const ClusterNode& n = nodes[static_cast<std::size_t>(i)];
-         const double r = n.support.radius + margin_;
-         const double s = (x - n.support.center).squaredNorm() / (r * r);
+         const Sphere& support = supports_[static_cast<std::size_t>(i)];
+         const double s = (x - support.center).squaredNorm() / (support.radius * support.radius);
          if (s < 1) visit(i, s);
        });
 }

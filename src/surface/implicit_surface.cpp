@@ -42,14 +42,28 @@ LevelOfDetail level_of_detail(const ClusterTree& tree, std::optional<std::uint32
 }
 
 ImplicitSurface::ImplicitSurface(const ClusterTree& tree, const LevelOfDetail& lod)
-    : tree_(&tree), cut_(lod_cut(tree, lod)), in_cut_(tree.nodes.size(), 0) {
-  for (auto i : cut_) in_cut_[static_cast<std::size_t>(i)] = 1;
+    : tree_(&tree), cut_(lod_cut(tree, lod)), walk_nodes_(tree.nodes.size()), supports_(tree.nodes.size()) {
+  for (std::size_t i = 0; i < tree.nodes.size(); ++i) {
+    walk_nodes_[i].left = tree.nodes[i].left;
+    walk_nodes_[i].right = tree.nodes[i].right;
+  }
+  for (auto i : cut_) walk_nodes_[static_cast<std::size_t>(i)].in_cut = 1;
+  grow_by_margin();
 }
 
 ImplicitSurface ImplicitSurface::with_margin(double margin) const {
   ImplicitSurface out = *this;
   out.margin_ = std::max(margin, 0.0);
+  out.grow_by_margin();
   return out;
+}
+
+void ImplicitSurface::grow_by_margin() {
+  for (std::size_t i = 0; i < tree_->nodes.size(); ++i) {
+    const ClusterNode& n = tree_->nodes[i];
+    walk_nodes_[i].bound = Sphere{n.bound.center, n.bound.radius + margin_};
+    supports_[i] = Sphere{n.support.center, n.support.radius + margin_};
+  }
 }
 
 SurfaceSample ImplicitSurface::sample(const Eigen::Vector3d& x) const {
@@ -61,7 +75,7 @@ SurfaceSample ImplicitSurface::sample(const Eigen::Vector3d& x) const {
     const double one_minus = 1 - s;
     const double w = blend_weight(s);
     const double r = radius(i);
-    const Eigen::Vector3d dw = (-6 * one_minus * one_minus / (r * r)) * (x - n.support.center);
+    const Eigen::Vector3d dw = (-6 * one_minus * one_minus / (r * r)) * (x - supports_[static_cast<std::size_t>(i)].center);
     const double q = n.proxy.value(x);
     a += w * q;
     w_sum += w;
