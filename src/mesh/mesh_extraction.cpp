@@ -19,6 +19,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <tuple>
 #include <vector>
 
@@ -44,16 +45,50 @@ detail::GridIndex grid_index(Key key) {
   return {static_cast<std::int32_t>(i), static_cast<std::int32_t>(j), static_cast<std::int32_t>(k)};
 }
 
+/// Corners and vertices are evaluated in blocks of 2^kBlockShift cells a side, one
+/// ImplicitSurface::BoxWalk per block.
+constexpr int kBlockShift = 3;
+
+/// Items grouped by block: block b holds order[begin[b] .. begin[b + 1]), in item order.
+struct Blocks {
+  std::vector<std::uint32_t> order;
+  std::vector<std::size_t> begin;
+  std::size_t count() const { return begin.size() - 1; }
+  std::span<const std::uint32_t> block(std::size_t b) const {
+    return std::span(order).subspan(begin[b], begin[b + 1] - begin[b]);
+  }
+};
+
+/// Items 0 … n − 1 grouped by the block of their grid cell `cell(t)`.
+template <class Cell>
+Blocks group_by_block(std::size_t n, Cell&& cell) {
+  std::vector<std::pair<Key, std::uint32_t>> keyed(n);
+  for (std::size_t t = 0; t < n; ++t) {
+    const auto [i, j, k] = cell(t);
+    keyed[t] = {pack(i >> kBlockShift, j >> kBlockShift, k >> kBlockShift), static_cast<std::uint32_t>(t)};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  Blocks blocks;
+  blocks.order.resize(n);
+  for (std::size_t t = 0; t < n; ++t) {
+    if (t == 0 || keyed[t].first != keyed[t - 1].first) blocks.begin.push_back(t);
+    blocks.order[t] = keyed[t].second;
+  }
+  blocks.begin.push_back(n);
+  return blocks;
+}
+
 // For each face direction (−x, +x, −y, +y, −z, +z): the 4 corners on that face, and the step.
 constexpr int kFaceCorners[6][4] = {{0, 2, 4, 6}, {1, 3, 5, 7}, {0, 1, 4, 5}, {2, 3, 6, 7}, {0, 1, 2, 3}, {4, 5, 6, 7}};
 constexpr int kFaceStep[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
 
-/// Newton steps x ← x − f ∇f / |∇f|² towards f = 0; returns false if f is undefined or the
-/// point wanders farther than `max_move`.
-bool project(const ImplicitSurface& s, Eigen::Vector3d& x, int steps, double max_move, double tolerance) {
+/// Newton steps x ← x − f ∇f / |∇f|² towards f = 0 on the surface of `near`; returns false if
+/// f is undefined or the point wanders farther than `max_move`.
+bool project(const ImplicitSurface::BoxWalk& near, Eigen::Vector3d& x, int steps, double max_move, double tolerance) {
+  const ImplicitSurface& s = near.surface();
   const Eigen::Vector3d start = x;
   for (int k = 0; k < steps; ++k) {
-    const SurfaceSample q = s.sample(x);
+    const SurfaceSample q = s.sample(x, near);
     if (!q.defined) return false;
     if (std::abs(q.value) <= tolerance) return true;
     const double g2 = q.gradient.squaredNorm();
@@ -61,8 +96,13 @@ bool project(const ImplicitSurface& s, Eigen::Vector3d& x, int steps, double max
     x -= (q.value / g2) * q.gradient;
     if ((x - start).norm() > max_move) return false;
   }
-  const auto v = s.value(x);
+  const auto v = s.value(x, 0, near);
   return v && std::abs(*v) <= 10 * tolerance;
+}
+
+/// The box of `center` ± `reach` on every axis.
+BoundingBox box_around(const Eigen::Vector3d& center, double reach) {
+  return {center.array() - reach, center.array() + reach};
 }
 
 /// A unit vector orthogonal to n.
@@ -126,10 +166,11 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
       const Eigen::Vector3d normal = n.proxy.normal();
       const Eigen::Vector3d t1 = any_tangent(normal), t2 = normal.cross(t1);
       const double step = n.support.radius / 3;
+      const ImplicitSurface::BoxWalk near(surface, box_around(n.support.center, n.support.radius));
       for (int a = -1; a <= 1; ++a)
         for (int b = -1; b <= 1; ++b) {
           Eigen::Vector3d x = n.support.center + step * (a * t1 + b * t2);
-          if (project(surface, x, 12, n.support.radius, 1e-3 * h)) seed_cells[c].push_back(cell_of(x));
+          if (project(near, x, 12, n.support.radius, 1e-3 * h)) seed_cells[c].push_back(cell_of(x));
         }
     }
   });
@@ -164,18 +205,28 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
         if (walk.queue(corner)) todo.push_back(corner);
       }
     }
+    // Corners evaluated block by block, each block's walk done once.
+    const Blocks corner_blocks = group_by_block(todo.size(), [&](std::size_t t) {
+      return std::array<std::int64_t, 3>{todo[t][0], todo[t][1], todo[t][2]};
+    });
     std::vector<float> values(todo.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 64), [&](const auto& r) {
-      for (std::size_t t = r.begin(); t != r.end(); ++t) {
-        const auto [i, j, k] = todo[t];
-        const Eigen::Vector3d x = corner_position(i, j, k);
-        std::optional<double> v;
-        if (closed != nullptr) v = closed->value(x);
-        else {
-          v = surface.value(x, options.min_weight);
-          if (!v && fill) v = wide.value(x, options.min_weight);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, corner_blocks.count()), [&](const auto& r) {
+      for (std::size_t b = r.begin(); b != r.end(); ++b) {
+        const auto position = [&](std::uint32_t t) { return corner_position(todo[t][0], todo[t][1], todo[t][2]); };
+        BoundingBox box;
+        for (const std::uint32_t t : corner_blocks.block(b)) box.extend(position(t));
+        const ImplicitSurface::BoxWalk near(surface, box);
+        std::optional<ImplicitSurface::BoxWalk> wide_near;  // built when a corner needs the fill
+        for (const std::uint32_t t : corner_blocks.block(b)) {
+          const Eigen::Vector3d x = position(t);
+          std::optional<double> v;
+          if (closed != nullptr) v = closed->value(x);
+          else {
+            v = surface.value(x, options.min_weight, near);
+            if (!v && fill) v = wide.value(x, options.min_weight, wide_near ? *wide_near : wide_near.emplace(wide, box));
+          }
+          values[t] = v ? static_cast<float>(*v) : std::numeric_limits<float>::quiet_NaN();
         }
-        values[t] = v ? static_cast<float>(*v) : std::numeric_limits<float>::quiet_NaN();
       }
     });
     for (std::size_t t = 0; t < todo.size(); ++t) walk.set_value(todo[t], values[t]);
@@ -223,34 +274,51 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
   const auto nv = static_cast<Eigen::Index>(polygons.vertices.size());
   mesh.vertices.resize(nv, 3);
   mesh.normals.resize(nv, 3);
-  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, nv, 256), [&](const auto& r) {
-    for (Eigen::Index v = r.begin(); v != r.end(); ++v) {
-      const auto& p = polygons.vertices[static_cast<std::size_t>(v)];
-      Eigen::Vector3d x = origin + h * Eigen::Vector3d(p[0], p[1], p[2]);
-      Eigen::Vector3d y = x;
-      // A closed surface's filled vertex (where F is the fill, or fades into it) stays where
-      // F's cells put it: projecting it onto f = 0 would leave F's zero set.
-      const bool filled = closed != nullptr && closed->filled(x);
-      if (options.newton_steps > 0 && !filled) {
-        if (project(surface, y, options.newton_steps, h, 1e-6 * h)) {
-          if (closed == nullptr || !closed->filled(y)) x = y;  // onto f = 0, unless F is not f there
-        } else if (fill && project(wide, y = x, options.newton_steps, h, 1e-6 * h)) {
-          x = y;
+  const Blocks vertex_blocks = group_by_block(polygons.vertices.size(), [&](std::size_t v) {
+    const auto& p = polygons.vertices[v];
+    return std::array<std::int64_t, 3>{static_cast<std::int64_t>(std::floor(p[0])), static_cast<std::int64_t>(std::floor(p[1])),
+                                       static_cast<std::int64_t>(std::floor(p[2]))};
+  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertex_blocks.count()), [&](const auto& r) {
+    for (std::size_t b = r.begin(); b != r.end(); ++b) {
+      const auto position = [&](std::uint32_t v) {
+        const auto& p = polygons.vertices[v];
+        return Eigen::Vector3d(origin + h * Eigen::Vector3d(p[0], p[1], p[2]));
+      };
+      // The block's vertices and as far as their projections may move.
+      BoundingBox box;
+      for (const std::uint32_t v : vertex_blocks.block(b)) box.extend(position(v));
+      box.min.array() -= h, box.max.array() += h;
+      const ImplicitSurface::BoxWalk near(surface, box);
+      std::optional<ImplicitSurface::BoxWalk> wide_near;  // built when a vertex needs the fill
+      const auto wide_walk = [&]() -> const ImplicitSurface::BoxWalk& { return wide_near ? *wide_near : wide_near.emplace(wide, box); };
+      for (const std::uint32_t v : vertex_blocks.block(b)) {
+        Eigen::Vector3d x = position(v);
+        Eigen::Vector3d y = x;
+        // A closed surface's filled vertex (where F is the fill, or fades into it) stays where
+        // F's cells put it: projecting it onto f = 0 would leave F's zero set.
+        const bool filled = closed != nullptr && closed->filled(x);
+        if (options.newton_steps > 0 && !filled) {
+          if (project(near, y, options.newton_steps, h, 1e-6 * h)) {
+            if (closed == nullptr || !closed->filled(y)) x = y;  // onto f = 0, unless F is not f there
+          } else if (fill && project(wide_walk(), y = x, options.newton_steps, h, 1e-6 * h)) {
+            x = y;
+          }
         }
-      }
-      SurfaceSample s = surface.sample(x);
-      if (!s.defined && fill) s = wide.sample(x);
-      if (filled || (!s.defined && closed != nullptr)) {
-        // F's gradient by central differences over half a cell.
-        const double d = h / 2;
-        for (int a = 0; a < 3; ++a) {
-          const Eigen::Vector3d e = d * Eigen::Vector3d::Unit(a);
-          s.gradient(a) = (closed->value(x + e) - closed->value(x - e)) / (2 * d);
+        SurfaceSample s = surface.sample(x, near);
+        if (!s.defined && fill) s = wide.sample(x, wide_walk());
+        if (filled || (!s.defined && closed != nullptr)) {
+          // F's gradient by central differences over half a cell.
+          const double d = h / 2;
+          for (int a = 0; a < 3; ++a) {
+            const Eigen::Vector3d e = d * Eigen::Vector3d::Unit(a);
+            s.gradient(a) = (closed->value(x + e) - closed->value(x - e)) / (2 * d);
+          }
         }
+        mesh.vertices.row(v) = x.transpose();
+        const double g = s.gradient.norm();
+        mesh.normals.row(v) = (g > 0 ? Eigen::Vector3d(s.gradient / g) : Eigen::Vector3d::UnitZ()).transpose();
       }
-      mesh.vertices.row(v) = x.transpose();
-      const double g = s.gradient.norm();
-      mesh.normals.row(v) = (g > 0 ? Eigen::Vector3d(s.gradient / g) : Eigen::Vector3d::UnitZ()).transpose();
     }
   });
 

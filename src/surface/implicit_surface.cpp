@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <stdexcept>
 
 namespace clustersurf {
 
@@ -66,16 +67,42 @@ void ImplicitSurface::grow_by_margin() {
   }
 }
 
-SurfaceSample ImplicitSurface::sample(const Eigen::Vector3d& x) const {
+namespace {
+
+/// Σ wᵢ Qᵢ(x) and Σ wᵢ over the supports `for_each_support` enumerates at x.
+template <class ForEachSupport>
+std::pair<double, double> blend(const ClusterTree& tree, const Eigen::Vector3d& x, ForEachSupport&& for_each_support) {
+  double a = 0, w_sum = 0;
+  for_each_support(x, [&](std::int32_t i, double s) {
+    const double w = blend_weight(s);
+    a += w * tree.nodes[static_cast<std::size_t>(i)].proxy.value(x);
+    w_sum += w;
+  });
+  return {a, w_sum};
+}
+
+void require_built_for(const ImplicitSurface::BoxWalk& near, const ImplicitSurface& surface) {
+  if (&near.surface() != &surface) throw std::logic_error("a BoxWalk serves only the surface it was built for");
+}
+
+std::optional<double> defined_value(const std::pair<double, double>& sums, double min_weight) {
+  const auto [a, w_sum] = sums;
+  if (!(w_sum > 0) || !(w_sum > min_weight)) return std::nullopt;
+  return a / w_sum;
+}
+
+/// f and ∇f at x over the supports `for_each_support` enumerates.
+template <class ForEachSupport>
+SurfaceSample blend_sample(const ImplicitSurface& surface, const Eigen::Vector3d& x, ForEachSupport&& for_each_support) {
   // f = A / W with A = Σ w Q and W = Σ w; ∇f = (∇A − f ∇W) / W.
   double a = 0, w_sum = 0;
   Eigen::Vector3d grad_a = Eigen::Vector3d::Zero(), grad_w = Eigen::Vector3d::Zero();
   for_each_support(x, [&](std::int32_t i, double s) {
-    const ClusterNode& n = tree_->nodes[static_cast<std::size_t>(i)];
+    const ClusterNode& n = surface.tree().nodes[static_cast<std::size_t>(i)];
     const double one_minus = 1 - s;
     const double w = blend_weight(s);
-    const double r = radius(i);
-    const Eigen::Vector3d dw = (-6 * one_minus * one_minus / (r * r)) * (x - supports_[static_cast<std::size_t>(i)].center);
+    const double r = surface.radius(i);
+    const Eigen::Vector3d dw = (-6 * one_minus * one_minus / (r * r)) * (x - n.support.center);
     const double q = n.proxy.value(x);
     a += w * q;
     w_sum += w;
@@ -91,20 +118,29 @@ SurfaceSample ImplicitSurface::sample(const Eigen::Vector3d& x) const {
   return out;
 }
 
+}  // namespace
+
+SurfaceSample ImplicitSurface::sample(const Eigen::Vector3d& x) const {
+  return blend_sample(*this, x, [this](const Eigen::Vector3d& y, auto&& visit) { for_each_support(y, visit); });
+}
+
+SurfaceSample ImplicitSurface::sample(const Eigen::Vector3d& x, const BoxWalk& near) const {
+  require_built_for(near, *this);
+  return blend_sample(*this, x, [&near](const Eigen::Vector3d& y, auto&& visit) { near.for_each_support(y, visit); });
+}
+
 std::pair<double, double> ImplicitSurface::weighted_sum(const Eigen::Vector3d& x) const {
-  double a = 0, w_sum = 0;
-  for_each_support(x, [&](std::int32_t i, double s) {
-    const double w = blend_weight(s);
-    a += w * tree_->nodes[static_cast<std::size_t>(i)].proxy.value(x);
-    w_sum += w;
-  });
-  return {a, w_sum};
+  return blend(*tree_, x, [this](const Eigen::Vector3d& y, auto&& visit) { for_each_support(y, visit); });
 }
 
 std::optional<double> ImplicitSurface::value(const Eigen::Vector3d& x, double min_weight) const {
-  const auto [a, w_sum] = weighted_sum(x);
-  if (!(w_sum > 0) || !(w_sum > min_weight)) return std::nullopt;
-  return a / w_sum;
+  return defined_value(weighted_sum(x), min_weight);
+}
+
+std::optional<double> ImplicitSurface::value(const Eigen::Vector3d& x, double min_weight, const BoxWalk& near) const {
+  require_built_for(near, *this);
+  return defined_value(blend(*tree_, x, [&near](const Eigen::Vector3d& y, auto&& visit) { near.for_each_support(y, visit); }),
+                       min_weight);
 }
 
 std::vector<SurfaceSample> ImplicitSurface::sample_all(const Points& points) const {
