@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cstddef>
 #include <vector>
 
 namespace clustersurf {
@@ -13,18 +14,24 @@ MeshTopology mesh_topology(const TriangleMesh& mesh) {
   MeshTopology t;
   t.vertices = static_cast<std::size_t>(mesh.vertices.rows());
   t.triangles = static_cast<std::size_t>(mesh.triangles.rows());
-  // Directed half-edges sorted by undirected key.
+  // Directed half-edges sorted by undirected key (lo, hi), then direction: grouped by lo with a
+  // counting sort, each group (a vertex's few edges) then sorted. Equal half-edges are alike,
+  // so this is the order of one sort of them all, in linear time.
   struct HalfEdge {
     std::int32_t lo, hi;
     bool forward;
   };
-  std::vector<HalfEdge> half;
-  half.reserve(3 * t.triangles);
+  std::vector<std::size_t> first(t.vertices + 1, 0);  // half-edges of lo = v: [first[v], first[v + 1])
+  for (Eigen::Index f = 0; f < mesh.triangles.rows(); ++f)
+    for (int k = 0; k < 3; ++k) ++first[static_cast<std::size_t>(std::min(mesh.triangles(f, k), mesh.triangles(f, (k + 1) % 3))) + 1];
+  for (std::size_t v = 0; v < t.vertices; ++v) first[v + 1] += first[v];
+  std::vector<HalfEdge> half(3 * t.triangles);
+  std::vector<std::size_t> next(first.begin(), first.end() - 1);
   std::vector<double> triangle_area(t.triangles);
   for (Eigen::Index f = 0; f < mesh.triangles.rows(); ++f) {
     for (int k = 0; k < 3; ++k) {
       const std::int32_t a = mesh.triangles(f, k), b = mesh.triangles(f, (k + 1) % 3);
-      half.push_back({std::min(a, b), std::max(a, b), a < b});
+      half[next[static_cast<std::size_t>(std::min(a, b))]++] = {std::min(a, b), std::max(a, b), a < b};
     }
     const Eigen::Vector3d p0 = mesh.vertices.row(mesh.triangles(f, 0)).transpose();
     const Eigen::Vector3d p1 = mesh.vertices.row(mesh.triangles(f, 1)).transpose();
@@ -33,9 +40,9 @@ MeshTopology mesh_topology(const TriangleMesh& mesh) {
     triangle_area[static_cast<std::size_t>(f)] = 0.5 * (p1 - p0).cross(p2 - p0).norm();
     t.area += triangle_area[static_cast<std::size_t>(f)];
   }
-  std::sort(half.begin(), half.end(), [](const HalfEdge& a, const HalfEdge& b) {
-    return a.lo < b.lo || (a.lo == b.lo && (a.hi < b.hi || (a.hi == b.hi && a.forward < b.forward)));
-  });
+  for (std::size_t v = 0; v < t.vertices; ++v)
+    std::sort(half.begin() + static_cast<std::ptrdiff_t>(first[v]), half.begin() + static_cast<std::ptrdiff_t>(first[v + 1]),
+              [](const HalfEdge& a, const HalfEdge& b) { return a.hi < b.hi || (a.hi == b.hi && a.forward < b.forward); });
   for (std::size_t i = 0; i < half.size();) {
     std::size_t j = i;
     std::size_t forward = 0;
