@@ -2,13 +2,14 @@
 // order and with the same weights, as the walk from the root, so values and samples are the
 // same to the bit; inside and on the box, outside it, and on the bounding spheres it cuts.
 
-#include <clustersurf/implicit_surface.hpp>
+#include <clustersurf/box_walk.hpp>
+#include <clustersurf/errors.hpp>
 #include <clustersurf/orientation.hpp>
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
-#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -52,14 +53,18 @@ std::vector<Eigen::Vector3d> probes(const ImplicitSurface& f, const BoundingBox&
   std::normal_distribution<double> g(0, 1);
   const auto inside = [&](const Eigen::Vector3d& x) { return (x.array() >= box.min.array()).all() && (x.array() <= box.max.array()).all(); };
   for (std::int32_t i = 0; i < static_cast<std::int32_t>(f.tree().nodes.size()); ++i) {
-    const Sphere& s = f.bound(i);
-    for (int k = 0; k < 8; ++k) {
-      const Eigen::Vector3d x = s.center + s.radius * Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
-      if (!inside(x)) continue;
-      for (const double toward : {-1.0, 0.0, 1.0}) {
-        Eigen::Vector3d y = x;
-        if (toward != 0) y.x() = std::nextafter(y.x(), toward * 1e300);
-        if (inside(y)) out.push_back(y);
+    // Its bounding sphere, and the support of a blended node (the sphere its visit tests).
+    std::vector<Sphere> spheres = {f.bound(i)};
+    if (f.in_cut(i)) spheres.push_back(Sphere{f.tree().nodes[static_cast<std::size_t>(i)].support.center, f.radius(i)});
+    for (const Sphere& s : spheres) {
+      for (int k = 0; k < 8; ++k) {
+        const Eigen::Vector3d x = s.center + s.radius * Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+        if (!inside(x)) continue;
+        for (const double toward : {-1.0, 0.0, 1.0}) {
+          Eigen::Vector3d y = x;
+          if (toward != 0) y.x() = std::nextafter(y.x(), toward * 1e300);
+          if (inside(y)) out.push_back(y);
+        }
       }
     }
   }
@@ -89,12 +94,19 @@ TEST(BoxWalk, VisitsWhatTheWalkFromTheRootVisits) {
         const BoundingBox box = box_of(center, Eigen::Vector3d::Constant(size * diagonal / 2));
         const ImplicitSurface::BoxWalk near(f, box);
         for (const Eigen::Vector3d& x : probes(f, box, rng)) {
+          ASSERT_TRUE(near.covers(x));
           ASSERT_EQ(through(near, x), from_root(f, x)) << "at " << x.transpose();
           ++compared;
         }
-        // Outside the box: the walk from the root.
-        const Eigen::Vector3d away = box.max + Eigen::Vector3d::Constant(0.01 * diagonal);
-        EXPECT_EQ(through(near, away), from_root(f, away));
+        // Just outside the box: the walk from the root.
+        for (const Eigen::Vector3d& corner : {box.min, box.max}) {
+          for (int a = 0; a < 3; ++a) {
+            Eigen::Vector3d away = corner;
+            away(a) = std::nextafter(away(a), corner == box.max ? 1e300 : -1e300);
+            EXPECT_FALSE(near.covers(away));
+            EXPECT_EQ(through(near, away), from_root(f, away));
+          }
+        }
       }
     }
   }
@@ -167,13 +179,32 @@ TEST(BoxWalk, KeepsOnlyTheNodesNearASmallBox) {
   const ImplicitSurface::BoxWalk near(f, box);
   EXPECT_GT(near.size(), 0u);
   EXPECT_LT(near.size() * 20, t.nodes.size());
+  EXPECT_TRUE(near.covers(Eigen::Vector3d(1.35, 0, 0)));
   EXPECT_TRUE(f.value(Eigen::Vector3d(1.35, 0, 0), 0, near).has_value());
+}
+
+TEST(BoxWalk, AnEmptyBoxOrTreeWalksFromTheRoot) {
+  const ClusterTree t = torus_tree();
+  const ImplicitSurface f(t);
+  const ImplicitSurface::BoxWalk empty_box(f, BoundingBox{});
+  EXPECT_EQ(empty_box.size(), 0u);
+  const Eigen::Vector3d x(1.35, 0, 0);
+  EXPECT_FALSE(empty_box.covers(x));
+  EXPECT_EQ(through(empty_box, x), from_root(f, x));
+  EXPECT_FALSE(from_root(f, x).empty());
+
+  const ClusterTree none;
+  const ImplicitSurface g(none);
+  const ImplicitSurface::BoxWalk near(g, box_of(x, Eigen::Vector3d::Constant(1.0)));
+  EXPECT_EQ(near.size(), 0u);
+  EXPECT_TRUE(through(near, x).empty());
+  EXPECT_FALSE(g.value(x, 0, near).has_value());
 }
 
 TEST(BoxWalk, ServesOnlyItsOwnSurface) {
   const ClusterTree t = torus_tree();
   const ImplicitSurface f(t), g = f.with_margin(0.1);
   const ImplicitSurface::BoxWalk near(f, box_of(Eigen::Vector3d(1.35, 0, 0), Eigen::Vector3d::Constant(0.01)));
-  EXPECT_THROW((void)g.value(Eigen::Vector3d(1.35, 0, 0), 0, near), std::logic_error);
-  EXPECT_THROW((void)g.sample(Eigen::Vector3d(1.35, 0, 0), near), std::logic_error);
+  EXPECT_THROW((void)g.value(Eigen::Vector3d(1.35, 0, 0), 0, near), OptionError);
+  EXPECT_THROW((void)g.sample(Eigen::Vector3d(1.35, 0, 0), near), OptionError);
 }

@@ -339,6 +339,14 @@ TEST(MeshCheck, DuplicatedFaceCounts) {
   EXPECT_FALSE(c.printable);
 }
 
+TEST(MeshCheck, TopologyRejectsATriangleOfAMissingVertex) {
+  for (const int bad : {-1, 4}) {
+    TriangleMesh t = tetrahedron(Vec(0, 0, 0), Vec(1, 0, 0), Vec(0, 1, 0), Vec(0, 0, 1));
+    t.triangles(2, 1) = bad;
+    EXPECT_THROW((void)mesh_topology(t), OptionError) << bad;
+  }
+}
+
 TEST(MeshCheck, FlatFacesOfATurnedCubeDoNotIntersect) {
   // Every face a flat fan, off every axis: the triangles sharing a vertex in one plane must not
   // count, however the rounding falls.

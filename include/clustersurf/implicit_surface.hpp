@@ -67,18 +67,19 @@ class ImplicitSurface {
   /// The blending radius of node i: its support radius + margin().
   double radius(std::int32_t i) const noexcept { return supports_[static_cast<std::size_t>(i)].radius; }
 
+  /// The walk of a whole box done once (box_walk.hpp).
   class BoxWalk;
 
   /// f and ∇f at x (exact analytic gradient of the blend).
   SurfaceSample sample(const Eigen::Vector3d& x) const;
-  /// sample() with the supports found through `near`: the same sample (std::logic_error when
-  /// `near` was built for another surface).
+  /// sample() with the supports found through `near`: the same sample (OptionError when `near`
+  /// was built for another surface).
   SurfaceSample sample(const Eigen::Vector3d& x, const BoxWalk& near) const;
   /// f at x, or nullopt where undefined: where the total weight is 0, or not above
   /// `min_weight` (a confidence floor, kMinWeight for the mesher and the renderer).
   std::optional<double> value(const Eigen::Vector3d& x, double min_weight = 0) const;
-  /// value() with the supports found through `near`: the same value (std::logic_error when
-  /// `near` was built for another surface).
+  /// value() with the supports found through `near`: the same value (OptionError when `near`
+  /// was built for another surface).
   std::optional<double> value(const Eigen::Vector3d& x, double min_weight, const BoxWalk& near) const;
   /// Σ wᵢ Qᵢ(x) and Σ wᵢ over the supports containing x: value() is their ratio.
   std::pair<double, double> weighted_sum(const Eigen::Vector3d& x) const;
@@ -106,8 +107,8 @@ class ImplicitSurface {
   bool in_cut(std::int32_t i) const noexcept { return walk_nodes_[static_cast<std::size_t>(i)].in_cut != 0; }
 
  private:
-  /// What walk() reads of a node, packed into one cache line: a ClusterNode spans five, and
-  /// the walk touched two of them per node.
+  /// What walk() reads of a node, packed in 48 bytes: a ClusterNode spans 264, and the walk
+  /// touched two of its cache lines per node.
   struct WalkNode {
     Sphere bound;  ///< the node's bounding sphere grown by the margin
     std::int32_t left = -1, right = -1;
@@ -128,38 +129,6 @@ class ImplicitSurface {
   std::vector<WalkNode> walk_nodes_;  // per node
   std::vector<Sphere> supports_;      // per node: its support grown by the margin
   double margin_ = 0;
-};
-
-/// The walk for every point of one box, done once. Queries in a small box (a block of mesh
-/// grid corners) repeat most of the same descent from the root; a BoxWalk keeps the cut nodes
-/// whose supports may reach into the box, in the walk's order, and the bounding spheres that
-/// part of the box lies outside of (the others are passed by all of it or by none of it, beyond
-/// any rounding). A query through it visits the same nodes in the same order as
-/// for_each_support(), so it gives the same values to the bit; a point outside the box is
-/// walked from the root. Holds a reference to the surface.
-class ImplicitSurface::BoxWalk {
- public:
-  BoxWalk(const ImplicitSurface& surface, const BoundingBox& box);
-
-  /// for_each_support() of `surface` at x.
-  template <class Visit>
-  void for_each_support(const Eigen::Vector3d& x, Visit&& visit) const;
-  const ImplicitSurface& surface() const noexcept { return *surface_; }
-  /// The nodes kept (each tested or visited per query).
-  std::size_t size() const noexcept { return steps_.size(); }
-
- private:
-  /// A node of the walk: `test`: x must lie inside its bounding sphere, else the walk goes on
-  /// at `skip` (past its subtree); `visit`: a cut node, its support tested and visited.
-  struct Step {
-    std::int32_t node;
-    std::int32_t skip;
-    bool test;
-    bool visit;
-  };
-  const ImplicitSurface* surface_;
-  BoundingBox box_;
-  std::vector<Step> steps_;
 };
 
 template <class Meets, class Visit>
@@ -194,23 +163,6 @@ void ImplicitSurface::walk(Meets&& meets, Visit&& visit) const {
 template <class Visit>
 void ImplicitSurface::for_each_support(const Eigen::Vector3d& x, Visit&& visit) const {
   walk([&x](const Sphere& bound) { return bound.contains(x); }, [&](std::int32_t i) { visit_support(i, x, visit); });
-}
-
-template <class Visit>
-void ImplicitSurface::BoxWalk::for_each_support(const Eigen::Vector3d& x, Visit&& visit) const {
-  if (!((x.array() >= box_.min.array()).all() && (x.array() <= box_.max.array()).all())) {
-    surface_->for_each_support(x, visit);
-    return;
-  }
-  for (std::size_t k = 0; k < steps_.size();) {
-    const Step& step = steps_[k];
-    if (step.test && !surface_->bound(step.node).contains(x)) {
-      k = static_cast<std::size_t>(step.skip);
-      continue;
-    }
-    if (step.visit) surface_->visit_support(step.node, x, visit);
-    ++k;
-  }
 }
 
 }  // namespace clustersurf

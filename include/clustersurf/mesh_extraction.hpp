@@ -102,7 +102,8 @@ struct MeshTopology {
   double boundary_length = 0;
 };
 
-/// Edge and component counts of `mesh`, its area, boundary length and signed volume.
+/// Edge and component counts of `mesh`, its area, boundary length and signed volume
+/// (OptionError when a triangle refers to a vertex that does not exist).
 MeshTopology mesh_topology(const TriangleMesh& mesh);
 
 /// MeshTopology::boundary_length over the square root of the area (0 for a mesh without area).

@@ -1,6 +1,7 @@
 // Surface-following sparse grid walk (its state in walk_grid: OpenVDB), then polygonization
 // (cell_polygonizer: OpenVDB) and projection of the vertices onto f = 0.
 
+#include <clustersurf/box_walk.hpp>
 #include <clustersurf/errors.hpp>
 #include <clustersurf/mesh_extraction.hpp>
 
@@ -213,8 +214,10 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, corner_blocks.count()), [&](const auto& r) {
       for (std::size_t b = r.begin(); b != r.end(); ++b) {
         const auto position = [&](std::uint32_t t) { return corner_position(todo[t][0], todo[t][1], todo[t][2]); };
+        // A closed surface evaluates its own field: its corners keep an empty box.
         BoundingBox box;
-        for (const std::uint32_t t : corner_blocks.block(b)) box.extend(position(t));
+        if (closed == nullptr)
+          for (const std::uint32_t t : corner_blocks.block(b)) box.extend(position(t));
         const ImplicitSurface::BoxWalk near(surface, box);
         std::optional<ImplicitSurface::BoxWalk> wide_near;  // built when a corner needs the fill
         for (const std::uint32_t t : corner_blocks.block(b)) {

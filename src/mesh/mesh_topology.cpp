@@ -1,3 +1,4 @@
+#include <clustersurf/errors.hpp>
 #include <clustersurf/mesh_extraction.hpp>
 
 #include "mesh/mesh_components.hpp"
@@ -14,6 +15,8 @@ MeshTopology mesh_topology(const TriangleMesh& mesh) {
   MeshTopology t;
   t.vertices = static_cast<std::size_t>(mesh.vertices.rows());
   t.triangles = static_cast<std::size_t>(mesh.triangles.rows());
+  if ((mesh.triangles.array() < 0).any() || (mesh.triangles.array() >= mesh.vertices.rows()).any())
+    throw OptionError("mesh topology: a triangle refers to a vertex that does not exist");
   // Directed half-edges sorted by undirected key (lo, hi), then direction: grouped by lo with a
   // counting sort, each group (a vertex's few edges) then sorted. Equal half-edges are alike,
   // so this is the order of one sort of them all, in linear time.

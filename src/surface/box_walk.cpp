@@ -1,9 +1,10 @@
 // The walk of the implicit surface's tree for every point of one box, done once.
 
-#include <clustersurf/implicit_surface.hpp>
+#include <clustersurf/box_walk.hpp>
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace clustersurf {
@@ -29,6 +30,7 @@ Reach reach(const Sphere& sphere, const BoundingBox& box) {
     farthest += span * span;
   }
   const double r2 = sphere.radius * sphere.radius;
+  if (!(r2 >= std::numeric_limits<double>::min())) return Reach::Part;  // a relative guard needs a normal r²
   if (nearest > r2 * (1 + kRoundingGuard)) return Reach::None;
   if (farthest < r2 * (1 - kRoundingGuard)) return Reach::All;
   return Reach::Part;

@@ -1,12 +1,12 @@
 // Partition-of-unity blending of the proxies of a tree cut.
 
 #include <clustersurf/errors.hpp>
+#include <clustersurf/box_walk.hpp>
 #include <clustersurf/implicit_surface.hpp>
 
 #include <tbb/parallel_for.h>
 
 #include <cmath>
-#include <stdexcept>
 
 namespace clustersurf {
 
@@ -82,7 +82,7 @@ std::pair<double, double> blend(const ClusterTree& tree, const Eigen::Vector3d& 
 }
 
 void require_built_for(const ImplicitSurface::BoxWalk& near, const ImplicitSurface& surface) {
-  if (&near.surface() != &surface) throw std::logic_error("a BoxWalk serves only the surface it was built for");
+  if (&near.surface() != &surface) throw OptionError("a BoxWalk serves only the surface it was built for");
 }
 
 std::optional<double> defined_value(const std::pair<double, double>& sums, double min_weight) {
