@@ -83,13 +83,14 @@ Blocks group_by_block(std::size_t n, Cell&& cell) {
 constexpr int kFaceCorners[6][4] = {{0, 2, 4, 6}, {1, 3, 5, 7}, {0, 1, 4, 5}, {2, 3, 6, 7}, {0, 1, 2, 3}, {4, 5, 6, 7}};
 constexpr int kFaceStep[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
 
-/// Newton steps x ← x − f ∇f / |∇f|² towards f = 0 on the surface of `near`; returns false if
-/// f is undefined or the point wanders farther than `max_move`.
-bool project(const ImplicitSurface::BoxWalk& near, Eigen::Vector3d& x, int steps, double max_move, double tolerance) {
-  const ImplicitSurface& s = near.surface();
+/// Newton steps x ← x − f ∇f / |∇f|² towards f = 0 of `s`, its supports found through `near`
+/// (null: from the root); returns false if f is undefined or the point wanders farther than
+/// `max_move`.
+bool project(const ImplicitSurface& s, const ImplicitSurface::BoxWalk* near, Eigen::Vector3d& x, int steps, double max_move,
+             double tolerance) {
   const Eigen::Vector3d start = x;
   for (int k = 0; k < steps; ++k) {
-    const SurfaceSample q = s.sample(x, near);
+    const SurfaceSample q = near != nullptr ? s.sample(x, *near) : s.sample(x);
     if (!q.defined) return false;
     if (std::abs(q.value) <= tolerance) return true;
     const double g2 = q.gradient.squaredNorm();
@@ -97,13 +98,8 @@ bool project(const ImplicitSurface::BoxWalk& near, Eigen::Vector3d& x, int steps
     x -= (q.value / g2) * q.gradient;
     if ((x - start).norm() > max_move) return false;
   }
-  const auto v = s.value(x, 0, near);
+  const auto v = near != nullptr ? s.value(x, 0, *near) : s.value(x);
   return v && std::abs(*v) <= 10 * tolerance;
-}
-
-/// The box of `center` ± `reach` on every axis.
-BoundingBox box_around(const Eigen::Vector3d& center, double reach) {
-  return {center.array() - reach, center.array() + reach};
 }
 
 /// A unit vector orthogonal to n.
@@ -167,11 +163,10 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
       const Eigen::Vector3d normal = n.proxy.normal();
       const Eigen::Vector3d t1 = any_tangent(normal), t2 = normal.cross(t1);
       const double step = n.support.radius / 3;
-      const ImplicitSurface::BoxWalk near(surface, box_around(n.support.center, n.support.radius));
       for (int a = -1; a <= 1; ++a)
         for (int b = -1; b <= 1; ++b) {
           Eigen::Vector3d x = n.support.center + step * (a * t1 + b * t2);
-          if (project(near, x, 12, n.support.radius, 1e-3 * h)) seed_cells[c].push_back(cell_of(x));
+          if (project(surface, nullptr, x, 12, n.support.radius, 1e-3 * h)) seed_cells[c].push_back(cell_of(x));
         }
     }
   });
@@ -302,9 +297,9 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
         // F's cells put it: projecting it onto f = 0 would leave F's zero set.
         const bool filled = closed != nullptr && closed->filled(x);
         if (options.newton_steps > 0 && !filled) {
-          if (project(near, y, options.newton_steps, h, 1e-6 * h)) {
+          if (project(surface, &near, y, options.newton_steps, h, 1e-6 * h)) {
             if (closed == nullptr || !closed->filled(y)) x = y;  // onto f = 0, unless F is not f there
-          } else if (fill && project(wide_walk(), y = x, options.newton_steps, h, 1e-6 * h)) {
+          } else if (fill && project(wide, &wide_walk(), y = x, options.newton_steps, h, 1e-6 * h)) {
             x = y;
           }
         }
