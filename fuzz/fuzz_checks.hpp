@@ -11,8 +11,30 @@
 #include <string_view>
 
 #include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <unistd.h>
 
 namespace clustersurf::fuzz {
+
+/// A directory of this process's own, made with mkdtemp on first use and removed with what
+/// it holds when the process exits: the targets that read files write their inputs there.
+inline const std::filesystem::path& scratch_directory() {
+  struct Scratch {
+    std::filesystem::path dir;
+    Scratch() {
+      std::string pattern = (std::filesystem::temp_directory_path() / "clustersurf-fuzz-XXXXXX").string();
+      if (::mkdtemp(pattern.data()) == nullptr) std::abort();
+      dir = pattern;
+    }
+    ~Scratch() {
+      std::error_code ec;
+      std::filesystem::remove_all(dir, ec);
+    }
+  };
+  static const Scratch scratch;
+  return scratch.dir;
+}
 
 /// Aborts unless `condition` holds.
 inline void require(bool condition) {

@@ -18,7 +18,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   using namespace clustersurf;
   // The same bytes as a .ply (binary PLY, LAS, E57 and PCD by their signature, others read
   // whole), as a .xyz and a .ptx (text read in place) and as a .pcd.
-  const std::string stem = "/tmp/clustersurf-fuzz-stream-" + std::to_string(::getpid());
+  static const std::string stem = (fuzz::scratch_directory() / "stream").string();
   for (const std::string& file : {stem + ".ply", stem + ".xyz", stem + ".ptx", stem + ".pcd"}) {
     std::ofstream(file, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
     for (const bool drop : {false, true}) {

@@ -1,4 +1,4 @@
-// libFuzzer target: the files of a tiled run (plan, survey, orientation, merge record, mesh tile), which a
+// libFuzzer target: the files of a tiled run (plan, survey, orientation, merge record, mesh tile, run record), which a
 // worker reads from a directory other machines write to. The first byte picks the reader; the
 // rest is the file.
 
@@ -7,17 +7,18 @@
 #include "io/tiled_run_files.hpp"
 
 #include <fstream>
+#include <optional>
 #include <string>
 #include <unistd.h>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace clustersurf;
   if (size == 0) return 0;
-  static const std::string file = "/tmp/clustersurf-fuzz-tiles-" + std::to_string(::getpid());
+  static const std::string file = (fuzz::scratch_directory() / detail::kRunRecordName).string();
   std::ofstream(file, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data + 1),
                                                                 static_cast<std::streamsize>(size - 1));
   try {
-    switch (data[0] % 5) {
+    switch (data[0] % 6) {
       case 0: {
         const detail::PartitionRecord r = detail::read_partition(file);
         // A plan that reads is one region_of() can walk: children after parents, leaves naming regions.
@@ -39,6 +40,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       case 3: {
         const RegionMerge m = detail::read_merge(file);
         fuzz::require(m.flipped.size() == m.reach.size());
+        break;
+      }
+      case 5: {
+        const std::optional<detail::RunRecord> r = detail::read_run_record(fuzz::scratch_directory());
+        fuzz::require(r && r->created_levels >= 0);
         break;
       }
       default: {

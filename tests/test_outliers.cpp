@@ -137,10 +137,10 @@ TEST(Outliers, TreeFileRoundTripKeepsTheOutlierMarks) {
   add_uniform_outliers(c, 50, 9);
   const ClusterTree t = build_cluster_tree(c, {});
   ASSERT_GT(t.outliers(), 0u);
-  const auto file = std::filesystem::temp_directory_path() / "clustersurf_outliers_roundtrip.cstree";
+  const test::TempDir dir;
+  const auto file = dir / "outliers.cstree";
   save_tree(file, t);
   const ClusterTree back = load_tree(file);
-  std::filesystem::remove(file);
   EXPECT_EQ(back.point_leaf, t.point_leaf);
   EXPECT_EQ(back.outliers(), t.outliers());
 }

@@ -170,7 +170,8 @@ int main(int argc, char** argv) {
                 "regions on disk, each built and meshed in turn, the tiles welded into one mesh");
   r->add_option("--work-dir", rec.work_dir,
                 "Where an out-of-core run keeps its files (default: the mesh or tree file's name + .work); a run "
-                "interrupted and started again resumes there");
+                "interrupted and started again resumes there. A folder holding other files is used alongside them: only the run's "
+                "own files are removed when it is done, and the folder only if the run created it");
   r->add_flag("--keep-work-dir", rec.keep_work_dir, "Keep an out-of-core run's files when it is done");
 
   InfoArgs info;

@@ -59,7 +59,7 @@ struct WrittenMesh {
 /// missing. Tasks of one stage are independent of each other; a stage needs the results of
 /// the one before (InputError naming the missing file otherwise).
 ///
-/// Files: plan.txt (the partition, written last), region-R.own / region-R.halo (points),
+/// Files: clustersurf-run.txt (the run record, first), plan.txt (the partition, written last), region-R.own / region-R.halo (points),
 /// survey-R.txt, tree-R.cstree and orientation-R.txt, merge.txt and tree.cstree (merged),
 /// tile-R.bin.
 class TiledRun {
@@ -68,8 +68,11 @@ class TiledRun {
   /// over the input for its count, bounding box and an even sample, the plan (plan_regions()),
   /// and one pass writing each point to its region's file and to the halo files of the regions
   /// near it. A directory already holding a partition of the same input (same size and
-  /// modification time) and options is reused as it is. Throws IoError, InputError,
-  /// OptionError, Cancelled.
+  /// modification time) and options is reused as it is; one holding another input's or other
+  /// options' partition is an OptionError. A directory that is not a run's is used alongside
+  /// the files it holds (none is touched), unless one of them has the name of a run's file
+  /// (OptionError, before anything is written); a path that is not a directory is an
+  /// OptionError. Throws IoError, InputError, OptionError, Cancelled.
   static TiledRun partition(const std::filesystem::path& input, const std::filesystem::path& directory,
                             const PartitionOptions& options = {}, const ProgressCallback& progress = {});
 
@@ -122,6 +125,9 @@ class TiledRun {
   /// never the whole mesh in memory); any other mesh is join()'s, written with `ply`.
   WrittenMesh write_mesh(const std::filesystem::path& file, const SurfaceMeshOptions& options, const PlyWriteOptions& ply = {}) const;
 
+  /// The bytes of the run's files in its directory now (no other file is counted).
+  std::uintmax_t file_bytes() const;
+
   /// Whether a region's stage result is there: "survey", "build" or "mesh".
   bool done(std::string_view stage, std::int32_t region) const;
 
@@ -136,6 +142,13 @@ class TiledRun {
   std::unique_ptr<Impl> impl_;
 };
 
+/// Removes what a tiled run made in `directory`: the files it wrote there (named by its run
+/// record, clustersurf-run.txt), the temporary files of its writes that a killed task left,
+/// and the directory itself, with the parents the run created, where that leaves them empty.
+/// Nothing else is touched; a directory without a run record is left as it is. IoError when a
+/// removal fails, InputError when the run record is malformed.
+void remove_tiled_run(const std::filesystem::path& directory);
+
 /// Options of reconstruct_out_of_core().
 struct OutOfCoreOptions {
   /// Memory for one region's build and tile, in bytes: sets the regions' size
@@ -148,7 +161,7 @@ struct OutOfCoreOptions {
   /// The mesh file (required when the options ask for a mesh), and how a PLY is written.
   std::filesystem::path mesh_output;
   PlyWriteOptions ply;
-  /// Remove the run's files (and the directory, when that leaves it empty) once it is done.
+  /// Remove the run's files once it is done (remove_tiled_run(): nothing the run did not make).
   bool remove_work_directory = true;
   /// How the input is read.
   ReadOptions read;

@@ -3,7 +3,9 @@
     python3 -m clustersurf.distributed IN --mesh OUT [--scheduler ADDRESS | --local-workers N]
 
 The input is split into regions under a work directory (``--work-dir``, default OUT.work),
-which every worker must see: one machine, or a filesystem the machines share. Each region's
+which every worker must see: one machine, or a filesystem the machines share. A directory
+that already holds other files is used alongside them, and at the end only the run's own files
+are removed (and the directory, when the run created it and that leaves it empty). Each region's
 survey, build and mesh are then Dask tasks that pass the directory and the region's number,
 never points; each writes its result atomically and does nothing when the result is already
 there, so a task lost with its worker is simply run again, and a run started again redoes only
@@ -17,7 +19,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import shutil
 import sys
 import time
 from typing import Any, Callable, Dict, Optional
@@ -51,8 +52,9 @@ def _run_stage(client: Any, run: Any, stage: str, options: Dict[str, Any], progr
     for future in as_completed(futures):
         future.result()  # raises the task's error (after its retries)
         done += 1
-        if progress is not None:
-            progress(f"{stage} regions", done / run.regions)
+        if progress is not None and progress(f"{stage} regions", done / run.regions) is False:
+            client.cancel(futures)  # finished tasks' files stay: a run started again resumes
+            raise _cs.Cancelled("cancelled")
     return len(todo)
 
 
@@ -62,6 +64,7 @@ def reconstruct_distributed(input: str | os.PathLike, *, client: Any, work_dir: 
                             progress: Optional[Progress] = None, retries: int = 3, **options: Any) -> Dict[str, Any]:
     """Reconstructs the point file ``input`` with the tasks of a tiled run on ``client``
     (a distributed.Client); writes the mesh to ``mesh`` and the tree to ``tree`` when given.
+    ``progress(stage, fraction)`` returning False raises Cancelled, the finished tasks' files kept.
     ``options`` are reconstruct()'s and Tree.mesh()'s keyword options. Returns a report: regions,
     points, triangles, the tasks each stage ran and its seconds."""
     if mesh is None and tree is None:
@@ -91,12 +94,13 @@ def reconstruct_distributed(input: str | os.PathLike, *, client: Any, work_dir: 
         report["mesh"] = os.fspath(mesh)
         report["vertices"] = written["vertices"]
         report["triangles"] = written["triangles"]
-    if tree is not None:
-        run.merge().save(tree)  # read back from the work directory
-        report["tree"] = os.fspath(tree)
-    report["work_bytes"] = sum(entry.stat().st_size for entry in os.scandir(work_dir) if entry.is_file())
+    merged = run.merge() if tree is not None else None  # read back from the work directory
+    report["work_bytes"] = run.file_bytes
     if not keep_work_dir:
-        shutil.rmtree(work_dir, ignore_errors=True)
+        run.remove_files()  # the run's own files only, and the directory when the run created it
+    if merged is not None:
+        merged.save(tree)  # after the cleanup, which would remove a tree saved as the run's own tree.cstree
+        report["tree"] = os.fspath(tree)
     report["seconds"]["total"] = time.monotonic() - start
     return report
 
@@ -123,7 +127,8 @@ def main(argv: Optional[list] = None) -> int:
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--scheduler", help="address of a running Dask scheduler (tcp://host:8786)")
     where.add_argument("--local-workers", type=int, default=2, help="workers of a local cluster (default 2)")
-    parser.add_argument("--work-dir", help="the run's files, seen by every worker (default: the output's name + .work)")
+    parser.add_argument("--work-dir", help="the run's files, seen by every worker (default: the output's name + .work); other files "
+                        "there are left alone, and only the run's own are removed at the end")
     parser.add_argument("--keep-work-dir", action="store_true", help="keep the run's files when it is done")
     size = parser.add_mutually_exclusive_group()
     size.add_argument("--memory-limit", help="memory of one worker's task (e.g. 4G): sets the regions' size")

@@ -163,6 +163,16 @@ and be retried. clustersurf.distributed runs them on Dask.)doc")
           py::arg("path"),
           "Stage 5 into the file ``path`` (format by extension): a binary PLY is joined straight into it, tile by "
           "tile, never whole in memory. Returns what was written (file, vertices, triangles, streamed, ...).")
+      .def_property_readonly("file_bytes", [](const RunRef& r) { return r.run->file_bytes(); },
+                             "The bytes of the run's own files in its directory now.")
+      .def(
+          "remove_files",
+          [](const RunRef& r) {
+            py::gil_scoped_release release;
+            remove_tiled_run(r.run->directory());
+          },
+          "Removes the files the run wrote and the directories it created, where that leaves them empty; nothing "
+          "else in the directory is touched.")
       .def("__repr__", [](const RunRef& r) {
         return "<clustersurf.TiledRun " + r.run->directory().string() + ": " + std::to_string(r.run->regions()) + " regions, " +
                std::to_string(r.run->input_points()) + " points>";

@@ -77,7 +77,60 @@ def test_cluster_gives_the_serial_runs_mesh(cloud_file, serial_mesh, client, tmp
     assert (tmp_path / "mesh.ply").read_bytes() == serial_mesh
     assert report["tasks"] == {"survey": report["regions"], "build": report["regions"], "mesh": report["regions"]}
     assert clustersurf.load(tmp_path / "tree.cstree").info()["leaves"] == report["leaves"]
-    assert not (tmp_path / "run").exists()  # the run's files are removed at the end
+    assert not (tmp_path / "run").exists()  # the run's files are removed at the end, and the folder it made
+
+
+def _users_folder(path):
+    path.mkdir()
+    (path / "thesis.txt").write_text("my thesis\n")
+    return path
+
+
+def test_a_users_work_dir_keeps_their_files(cloud_file, serial_mesh, client, tmp_path):
+    precious = _users_folder(tmp_path / "precious")
+    report = cd.reconstruct_distributed(cloud_file, client=client, work_dir=precious, mesh=tmp_path / "mesh.ply",
+                                        max_region_points=REGION_POINTS)
+    assert (tmp_path / "mesh.ply").read_bytes() == serial_mesh
+    assert sorted(p.name for p in precious.iterdir()) == ["thesis.txt"]  # only the run's own files went
+    assert (precious / "thesis.txt").read_text() == "my thesis\n"
+    assert report["work_bytes"] > 30000 * 48  # the region files, not the user's
+
+
+def test_a_failed_or_cancelled_run_keeps_the_users_files(cloud_file, serial_mesh, client, tmp_path):
+    precious = _users_folder(tmp_path / "precious")
+    with pytest.raises(clustersurf.IoError):  # fails half way: the join cannot write its mesh
+        cd.reconstruct_distributed(cloud_file, client=client, work_dir=precious, mesh=tmp_path / "no such folder" / "mesh.ply",
+                                   max_region_points=REGION_POINTS)
+    assert (precious / "thesis.txt").read_text() == "my thesis\n"
+
+    def cancel(stage, fraction):
+        return stage != "build regions"
+
+    other = _users_folder(tmp_path / "other")
+    with pytest.raises(clustersurf.Cancelled):
+        cd.reconstruct_distributed(cloud_file, client=client, work_dir=other, mesh=tmp_path / "mesh.ply",
+                                   max_region_points=REGION_POINTS, progress=cancel)
+    assert (other / "thesis.txt").read_text() == "my thesis\n"
+    assert not (tmp_path / "mesh.ply").exists()
+    cd.reconstruct_distributed(cloud_file, client=client, work_dir=other, mesh=tmp_path / "mesh.ply",
+                               max_region_points=REGION_POINTS)  # resumes, then cleans up after itself
+    assert (tmp_path / "mesh.ply").read_bytes() == serial_mesh
+    assert sorted(p.name for p in other.iterdir()) == ["thesis.txt"]
+
+
+def test_a_work_dir_that_cannot_be_one_is_refused(cloud_file, client, tmp_path):
+    afile = tmp_path / "afile"
+    afile.write_text("data\n")
+    with pytest.raises(clustersurf.OptionError, match="is not a directory"):
+        cd.reconstruct_distributed(cloud_file, client=client, work_dir=afile, mesh=tmp_path / "mesh.ply",
+                                   max_region_points=REGION_POINTS)
+    assert afile.read_text() == "data\n"
+    foreign = _users_folder(tmp_path / "foreign")
+    (foreign / "plan.txt").write_text("my plan\n")
+    with pytest.raises(clustersurf.OptionError, match="holds plan.txt"):
+        cd.reconstruct_distributed(cloud_file, client=client, work_dir=foreign, mesh=tmp_path / "mesh.ply",
+                                   max_region_points=REGION_POINTS)
+    assert sorted(p.name for p in foreign.iterdir()) == ["plan.txt", "thesis.txt"]
 
 
 def test_a_worker_killed_mid_run_changes_nothing(cloud_file, serial_mesh, client, tmp_path):
@@ -131,6 +184,20 @@ def test_command_line_writes_the_mesh_and_reports(cloud_file, serial_mesh, tmp_p
     report = json.loads(done.stdout)
     assert report["regions"] >= 4 and report["triangles"] > 10000
     assert out.read_bytes() == serial_mesh
+
+
+def test_command_line_keeps_the_users_work_dir(cloud_file, serial_mesh, tmp_path):
+    precious = _users_folder(tmp_path / "precious")
+    done = _command(cloud_file, "--mesh", tmp_path / "mesh.ply", "--local-workers", 1, "--max-region-points", REGION_POINTS,
+                    "--work-dir", precious, "--quiet")
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "mesh.ply").read_bytes() == serial_mesh
+    assert sorted(p.name for p in precious.iterdir()) == ["thesis.txt"]
+    afile = tmp_path / "afile"
+    afile.write_text("data\n")
+    refused = _command(cloud_file, "--mesh", tmp_path / "m.ply", "--local-workers", 1, "--work-dir", afile)
+    assert refused.returncode == 2 and "is not a directory" in refused.stderr, refused.stderr
+    assert afile.read_text() == "data\n"
 
 
 def test_command_line_errors_are_clear(tmp_path):

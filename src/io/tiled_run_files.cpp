@@ -5,6 +5,7 @@
 #include "io/atomic_file.hpp"
 #include "io/tiled_run_files.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -12,12 +13,15 @@
 #include <fstream>
 #include <iomanip>
 #include <sstream>
+#include <unordered_set>
+#include <utility>
 
 namespace clustersurf::detail {
 
 namespace {
 
 constexpr std::string_view kPlanMagic = "clustersurf-tiles 1";
+constexpr std::string_view kRunMagic = "clustersurf-run 1";
 constexpr char kTileMagic[8] = {'C', 'S', 'T', 'I', 'L', 'E', '1', '\n'};
 
 /// Reads whitespace-separated fields of a text file, line by line, with the line in errors.
@@ -64,22 +68,68 @@ std::filesystem::path region_file(const std::filesystem::path& dir, std::string_
   return dir / (std::string(name) + "-" + number + "." + std::string(ext));
 }
 
-bool is_run_file(const std::filesystem::path& file) {
+bool is_run_file_name(const std::filesystem::path& file) {
   std::string name = file.filename().string();
   if (name.starts_with(".") && name.find(".tmp") != std::string::npos) name = name.substr(1, name.rfind(".tmp") - 1);
   for (const char* prefix : {"region-", "survey-", "tree-", "orientation-", "tile-"})
     if (name.starts_with(prefix)) return true;
-  return name == "tree.cstree" || name == "merge.txt" || name == "options.txt" || name == "plan.txt";
+  return name == "tree.cstree" || name == "merge.txt" || name == "options.txt" || name == "plan.txt" || name == kRunRecordName;
 }
 
-void remove_run_files(const std::filesystem::path& dir) {
+std::vector<std::filesystem::path> run_files(const std::filesystem::path& dir, std::uint64_t regions) {
+  std::unordered_set<std::string> names = {"tree.cstree", "merge.txt", "options.txt", "plan.txt"};
+  for (std::uint64_t k = 0; k < regions; ++k) {
+    const auto r = static_cast<std::int32_t>(k);
+    for (const auto& [name, ext] : {std::pair{"region", "own"}, {"region", "halo"}, {"survey", "txt"}, {"tree", "cstree"},
+                                    {"orientation", "txt"}, {"tile", "bin"}})
+      names.insert(region_file({}, name, r, ext).string());
+  }
+  // A temporary file of an atomic write is ".NAME.tmpXXXXXX" (io::AtomicFile).
+  const auto ours = [&](const std::string& name) {
+    if (names.count(name)) return true;
+    const std::size_t tmp = name.rfind(".tmp");
+    return name.starts_with(".") && tmp != std::string::npos && name.size() == tmp + 10 && names.count(name.substr(1, tmp - 1));
+  };
+  std::vector<std::filesystem::path> out;
   std::error_code ec;
-  std::vector<std::filesystem::path> files;
   for (auto it = std::filesystem::directory_iterator(dir, ec); !ec && it != std::filesystem::directory_iterator(); it.increment(ec))
-    if (it->is_regular_file() && is_run_file(it->path())) files.push_back(it->path());
+    if (it->is_regular_file() && !it->is_symlink() && ours(it->path().filename().string())) out.push_back(it->path());
   if (ec) throw IoError(dir.string() + ": cannot list the work directory: " + ec.message());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+void remove_files(const std::vector<std::filesystem::path>& files) {
+  std::error_code ec;
   for (const auto& f : files)
     if (!std::filesystem::remove(f, ec) && ec) throw IoError(f.string() + ": cannot remove: " + ec.message());
+}
+
+void write_run_record(const std::filesystem::path& dir, const RunRecord& r) {
+  std::ostringstream out = text_stream();
+  out << kRunMagic << "\ncreated-levels " << r.created_levels << "\nregions " << r.regions << "\n";
+  write_text(dir / kRunRecordName, out.str());
+}
+
+std::optional<RunRecord> read_run_record(const std::filesystem::path& dir) {
+  const std::filesystem::path file = dir / kRunRecordName;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) return std::nullopt;
+  const std::string text = read_text(file);
+  Lines lines(file, text);
+  {
+    std::istringstream f = lines.next("", "the header");
+    std::string word, version;
+    f >> word >> version;
+    if (word + " " + version != kRunMagic) lines.fail("not a clustersurf run record (expected \"" + std::string(kRunMagic) + "\")");
+  }
+  RunRecord r;
+  auto f = lines.next("created-levels", "the created directories");
+  lines.read(f, "created directories", r.created_levels);
+  f = lines.next("regions", "the region count");
+  lines.read(f, "region count", r.regions);
+  if (r.created_levels < 0 || r.created_levels > 4096) lines.fail("implausible count of created directories");
+  return r;
 }
 
 std::string read_text(const std::filesystem::path& file) {

@@ -6,6 +6,7 @@
 #include <clustersurf/tiled_run.hpp>
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,11 +52,28 @@ void write_tile(const std::filesystem::path& file, const MeshTile& tile);
 /// InputError (file, byte) when the file is not a whole tile written by write_tile().
 MeshTile read_tile(const std::filesystem::path& file);
 
-/// Whether `file` is one a run makes in its directory, or the temporary file of a write a
-/// killed task left behind (".NAME.tmpXXXXXX").
-bool is_run_file(const std::filesystem::path& file);
-/// Removes a run's files from `dir` (nothing else); IoError when that fails.
-void remove_run_files(const std::filesystem::path& dir);
+/// The record that a directory holds a tiled run (clustersurf-run.txt, written before any
+/// other file of the run): how many directory levels the run created, removed again when the
+/// run's files are and they are then empty, and how many regions the run's files are named for.
+struct RunRecord {
+  int created_levels = 0;
+  std::uint64_t regions = 0;
+};
+inline constexpr const char* kRunRecordName = "clustersurf-run.txt";
+void write_run_record(const std::filesystem::path& dir, const RunRecord& record);
+/// The directory's run record; nullopt when it has none, InputError (file, line) when it is malformed.
+std::optional<RunRecord> read_run_record(const std::filesystem::path& dir);
+
+/// Whether a file's name is of the kind a run writes ("plan.txt", "tile-000003.bin", their
+/// temporary files ".NAME.tmpXXXXXX"): a directory without a run record that holds one is not
+/// taken for a work directory.
+bool is_run_file_name(const std::filesystem::path& file);
+/// The files of a run of `regions` regions that are in `dir`: exactly the names the run
+/// writes, and the temporary files of those writes that a killed task left behind. The run
+/// record itself is not among them. Regular files only, never a link. IoError when `dir` cannot be listed.
+std::vector<std::filesystem::path> run_files(const std::filesystem::path& dir, std::uint64_t regions);
+/// Removes the files; IoError when a removal fails.
+void remove_files(const std::vector<std::filesystem::path>& files);
 
 /// The whole file as text; IoError when it cannot be read.
 std::string read_text(const std::filesystem::path& file);

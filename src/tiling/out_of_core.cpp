@@ -88,14 +88,8 @@ OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& inp
     out.mesh->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - mesh_start).count();
   }
   out.tree = run.merge();  // read back from its file
-  std::error_code ec;
-  for (auto it = std::filesystem::directory_iterator(out_of_core.work_directory, ec); !ec && it != std::filesystem::directory_iterator();
-       it.increment(ec))
-    if (it->is_regular_file() && detail::is_run_file(it->path())) out.work_bytes += it->file_size();
-  if (out_of_core.remove_work_directory) {
-    detail::remove_run_files(out_of_core.work_directory);
-    std::filesystem::remove(out_of_core.work_directory, ec);  // only when that left it empty
-  }
+  out.work_bytes = run.file_bytes();
+  if (out_of_core.remove_work_directory) remove_tiled_run(out_of_core.work_directory);
   return out;
 }
 

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 #include <tuple>
 #include <vector>
 
@@ -61,6 +62,42 @@ class RegionWriter {
   std::vector<double> buffer_;
 };
 
+/// How many levels of `directory`, from the deepest down to it, do not exist yet.
+int missing_levels(const std::filesystem::path& directory) {
+  int levels = 0;
+  std::error_code ec;
+  // Canonical: "new/../old" creates only "old", and a parent reached through ".." is not counted.
+  for (std::filesystem::path p = std::filesystem::weakly_canonical(std::filesystem::absolute(directory, ec), ec);
+       !ec && p.has_relative_path() && !std::filesystem::exists(p, ec); p = p.parent_path())
+    ++levels;
+  return levels;
+}
+
+/// The run record of `directory`, which is created (with its parents) when missing. A
+/// directory that is not a run's is used alongside the files it holds, unless one of them has
+/// a run file's name (OptionError: nothing is written then). OptionError for a path that is
+/// not a directory.
+detail::RunRecord open_work_directory(const std::filesystem::path& directory) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(directory, ec);
+  if (std::filesystem::exists(status) && !std::filesystem::is_directory(status))
+    throw OptionError("the work directory " + directory.string() + " is not a directory");
+  if (std::filesystem::exists(status)) {
+    if (std::optional<detail::RunRecord> record = detail::read_run_record(directory)) return *record;
+    for (auto it = std::filesystem::directory_iterator(directory, ec); !ec && it != std::filesystem::directory_iterator(); it.increment(ec))
+      if (detail::is_run_file_name(it->path()))
+        throw OptionError("the work directory " + directory.string() + " holds " + it->path().filename().string() +
+                          ", which is not a clustersurf run's file: use another work directory");
+    if (ec) throw IoError(directory.string() + ": cannot list the work directory: " + ec.message());
+  }
+  detail::RunRecord record;
+  record.created_levels = missing_levels(directory);
+  std::filesystem::create_directories(directory, ec);
+  if (ec) throw IoError(directory.string() + ": cannot create the work directory: " + ec.message());
+  detail::write_run_record(directory, record);
+  return record;
+}
+
 }  // namespace
 
 TiledRun TiledRun::partition(const std::filesystem::path& input, const std::filesystem::path& directory,
@@ -71,21 +108,20 @@ TiledRun TiledRun::partition(const std::filesystem::path& input, const std::file
   impl->dir = directory;
   detail::PartitionRecord& r = impl->record;
   std::tie(r.input_size, r.input_mtime) = file_identity(input);
-  std::error_code ec;
-  std::filesystem::create_directories(directory, ec);
-  if (ec) throw IoError(directory.string() + ": cannot create the work directory: " + ec.message());
+  detail::RunRecord run = open_work_directory(directory);
   r.max_points = options.regions.max_points;
   r.halo_spacings = options.regions.halo_spacings;
   const std::filesystem::path plan_file = directory / "plan.txt";
   if (std::filesystem::exists(plan_file)) {
     const detail::PartitionRecord old = detail::read_partition(plan_file);
-    if (old.input_size == r.input_size && old.input_mtime == r.input_mtime && old.max_points == r.max_points &&
-        old.halo_spacings == r.halo_spacings) {
-      impl->record = old;
-      return TiledRun(std::move(impl));
-    }
+    if (old.input_size != r.input_size || old.input_mtime != r.input_mtime || old.max_points != r.max_points ||
+        old.halo_spacings != r.halo_spacings)
+      throw OptionError(directory.string() + " holds a run of another input, or of the input before it changed, or of other "
+                        "region options: remove it, or use another work directory");
+    impl->record = old;
+    return TiledRun(std::move(impl));
   }
-  detail::remove_run_files(directory);  // another input's or options' partition and results
+  detail::remove_files(detail::run_files(directory, run.regions));  // a partition that was interrupted
 
   // Pass 1: count, bounds, an even sample.
   PointStream stream(input, options.read);
@@ -120,6 +156,8 @@ TiledRun TiledRun::partition(const std::filesystem::path& input, const std::file
 
   // Pass 2: every point to its region's file and the halo files of the regions near it.
   const std::size_t n = r.plan.regions();
+  run.regions = n;
+  detail::write_run_record(directory, run);  // before the files it names
   const std::size_t record = r.normals ? 6 : 3;
   const std::size_t capacity = std::max<std::size_t>(record * 1024, options.buffer_bytes / sizeof(double) / (2 * n));
   std::vector<RegionWriter> own, halo;

@@ -103,6 +103,30 @@ RegionCloud TiledRun::load(std::int32_t region) const {
   return out;
 }
 
+std::uintmax_t TiledRun::file_bytes() const {
+  std::uintmax_t bytes = 0;
+  std::error_code ec;
+  for (const std::filesystem::path& f : detail::run_files(impl_->dir, regions())) {
+    const std::uintmax_t size = std::filesystem::file_size(f, ec);
+    if (!ec) bytes += size;
+  }
+  return bytes;
+}
+
+void remove_tiled_run(const std::filesystem::path& directory) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(directory, ec)) return;
+  const std::optional<detail::RunRecord> record = detail::read_run_record(directory);
+  if (!record) return;
+  detail::remove_files(detail::run_files(directory, record->regions));
+  detail::remove_files({directory / detail::kRunRecordName});
+  // The directories the run created, each only when that left it empty (remove() fails on
+  // a directory that holds anything).
+  std::filesystem::path level = std::filesystem::canonical(directory, ec);
+  for (int k = 0; k < record->created_levels && !ec && level.has_relative_path(); ++k, level = level.parent_path())
+    if (!std::filesystem::remove(level, ec)) break;
+}
+
 bool TiledRun::done(std::string_view stage, std::int32_t region) const {
   impl_->check(region);
   if (stage == "survey") return std::filesystem::exists(impl_->file("survey", region, "txt"));
@@ -230,6 +254,9 @@ SurfaceMesh TiledRun::join(const SurfaceMeshOptions& options) const {
 
 WrittenMesh TiledRun::write_mesh(const std::filesystem::path& file, const SurfaceMeshOptions& options, const PlyWriteOptions& ply) const {
   require_tiled_meshing(options);
+  std::error_code ec;
+  if (detail::is_run_file_name(file) && std::filesystem::equivalent(file.parent_path().empty() ? "." : file.parent_path(), impl_->dir, ec))
+    throw OptionError("the mesh file " + file.string() + " has the name of one of the work directory's own files: choose another name");
   std::string extension = file.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   WrittenMesh out;

@@ -649,6 +649,45 @@ expect_rc "out of core, disk full: I/O error" 4
 expect_contains "out of core, disk full: the message names the failed write" "$err" "write failed"
 check "out of core, disk full: no mesh" test ! -e "$ooc/full.ply"
 rm -rf "$ooc/full"
+# A work directory of the user's: used alongside their files, which are never touched; only the
+# run's own files are removed, and the directory is kept (the run did not create it).
+mkdir "$tmp/precious"
+printf 'my thesis\n' >"$tmp/precious/thesis.txt"
+printf 'my notes\n' >"$tmp/precious/.notes.txt.tmp123456"
+run reconstruct "$ooc/in.ply" --mesh "$ooc/user.ply" --memory-limit 128M --work-dir "$tmp/precious"
+expect_rc "out of core in the user's directory exits 0" 0
+check "out of core in the user's directory: the same mesh" cmp -s "$ooc/mesh.ply" "$ooc/user.ply"
+no_new_files "out of core in the user's directory: their files are kept, the run's removed" "$tmp/precious" ".notes.txt.tmp123456
+thesis.txt"
+# Failing half way (a full disk) and interrupted (SIGINT): the user's files are still there.
+(ulimit -f 1024; trap '' XFSZ; exec "$cli" reconstruct "$ooc/in.ply" --mesh "$ooc/full.ply" --memory-limit 128M \
+  --work-dir "$tmp/precious") >"$tmp/stdout" 2>"$tmp/stderr"
+rc=$?
+err=$(cat "$tmp/stderr")
+expect_rc "out of core in the user's directory, disk full: I/O error" 4
+check "out of core in the user's directory, disk full: their file is kept" grep -q "my thesis" "$tmp/precious/thesis.txt"
+"$cli" reconstruct "$big" --mesh "$ooc/int.ply" --memory-limit 128M --work-dir "$tmp/precious" >"$tmp/stdout" 2>"$tmp/stderr" &
+pid=$!
+sleep 3
+kill -INT "$pid"
+wait "$pid"
+rc=$?
+err=$(cat "$tmp/stderr")
+expect_rc "out of core in the user's directory, SIGINT: exit code 130" 130
+check "out of core in the user's directory, SIGINT: their file is kept" grep -q "my thesis" "$tmp/precious/thesis.txt"
+check "out of core in the user's directory, SIGINT: no mesh" test ! -e "$ooc/int.ply"
+# A work directory that is a file, or that holds a file named like a run's: refused before any work.
+printf 'not a directory\n' >"$tmp/afile"
+run reconstruct "$ooc/in.ply" --mesh "$ooc/bad.ply" --memory-limit 128M --work-dir "$tmp/afile"
+expect_rc "a work directory that is a file: usage error" 2
+expect_contains "a work directory that is a file: the message says so" "$err" "is not a directory"
+expect_eq "a work directory that is a file: the file is untouched" "$(cat "$tmp/afile")" "not a directory"
+mkdir "$tmp/foreign"
+printf 'my plan\n' >"$tmp/foreign/plan.txt"
+run reconstruct "$ooc/in.ply" --mesh "$ooc/bad.ply" --memory-limit 128M --work-dir "$tmp/foreign"
+expect_rc "a work directory holding another plan.txt: usage error" 2
+expect_contains "a work directory holding another plan.txt: the message names it" "$err" "holds plan.txt"
+no_new_files "a work directory holding another plan.txt: nothing written" "$tmp/foreign" "plan.txt"
 run reconstruct "$ooc/in.ply" --mesh "$ooc/bad.ply" --memory-limit 4X
 expect_rc "--memory-limit 4X: usage error" 2
 expect_contains "--memory-limit 4X: the message says what a size is" "$err" "a memory size is a number"
@@ -658,7 +697,8 @@ expect_rc "out of core, missing input: I/O error" 4
 no_new_files "out of core: failed runs leave nothing" "$ooc" "again.ply
 in.ply
 mesh.ply
-resumed.ply"
+resumed.ply
+user.ply"
 
 # --- shared data (optional) ---------------------------------------------------------------------
 if [ -n "$shared" ] && [ -f "$shared/bunny/scans/bun000.ply" ]; then
