@@ -160,3 +160,22 @@ TEST(WorkDirectory, AMalformedRunRecordIsAClearError) {
   }
   EXPECT_TRUE(f.users_files_intact());
 }
+
+TEST(WorkDirectory, APathThroughDotDotNeverCountsAParentItDidNotCreate) {
+  const Fixture f;
+  std::filesystem::create_directory(f.dir / "empty");  // the user's, empty
+  const TiledRun run = TiledRun::partition(f.input, f.dir / "missing" / ".." / "empty" / "work", small_regions());
+  EXPECT_FALSE(std::filesystem::exists(f.dir / "missing"));  // only "empty/work" was made
+  remove_tiled_run(f.dir / "empty" / "work");
+  EXPECT_TRUE(std::filesystem::is_directory(f.dir / "empty"));
+  EXPECT_TRUE(std::filesystem::is_empty(f.dir / "empty"));
+}
+
+TEST(WorkDirectory, AMeshNamedLikeTheRunsOwnFilesIsRefused) {
+  const Fixture f;
+  OutOfCoreOptions o = f.out_of_core();
+  o.mesh_output = f.work / "tile-all.ply";
+  o.remove_work_directory = false;
+  EXPECT_THROW(reconstruct_out_of_core(f.input, {}, o), OptionError);
+  EXPECT_TRUE(f.users_files_intact());
+}

@@ -72,7 +72,9 @@ class TiledRun {
   /// options' partition is an OptionError. A directory that is not a run's is used alongside
   /// the files it holds (none is touched), unless one of them has the name of a run's file
   /// (OptionError, before anything is written); a path that is not a directory is an
-  /// OptionError. Throws IoError, InputError, OptionError, Cancelled.
+  /// OptionError. The run's directory() is the canonical path of `directory`, and only the
+  /// levels of it that did not exist are made (and counted as the run's). Throws IoError,
+  /// InputError, OptionError, Cancelled.
   static TiledRun partition(const std::filesystem::path& input, const std::filesystem::path& directory,
                             const PartitionOptions& options = {}, const ProgressCallback& progress = {});
 

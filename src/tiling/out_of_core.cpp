@@ -89,7 +89,7 @@ OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& inp
   }
   out.tree = run.merge();  // read back from its file
   out.work_bytes = run.file_bytes();
-  if (out_of_core.remove_work_directory) remove_tiled_run(out_of_core.work_directory);
+  if (out_of_core.remove_work_directory) remove_tiled_run(run.directory());
   return out;
 }
 

@@ -62,39 +62,40 @@ class RegionWriter {
   std::vector<double> buffer_;
 };
 
-/// How many levels of `directory`, from the deepest down to it, do not exist yet.
+/// How many levels of the canonical path `directory`, from the deepest up, do not exist yet.
 int missing_levels(const std::filesystem::path& directory) {
   int levels = 0;
   std::error_code ec;
-  // Canonical: "new/../old" creates only "old", and a parent reached through ".." is not counted.
-  for (std::filesystem::path p = std::filesystem::weakly_canonical(std::filesystem::absolute(directory, ec), ec);
-       !ec && p.has_relative_path() && !std::filesystem::exists(p, ec); p = p.parent_path())
-    ++levels;
+  for (std::filesystem::path p = directory; p.has_relative_path() && !std::filesystem::exists(p, ec); p = p.parent_path()) ++levels;
   return levels;
 }
 
-/// The run record of `directory`, which is created (with its parents) when missing. A
-/// directory that is not a run's is used alongside the files it holds, unless one of them has
-/// a run file's name (OptionError: nothing is written then). OptionError for a path that is
-/// not a directory.
-detail::RunRecord open_work_directory(const std::filesystem::path& directory) {
+/// The run record of `directory`, which is created (with its parents, along its canonical
+/// path `canonical`) when missing. A directory that is not a run's is used alongside the files
+/// it holds, unless one of them has a run file's name (OptionError: nothing is written then).
+/// OptionError for a path that is not a directory.
+detail::RunRecord open_work_directory(const std::filesystem::path& directory, std::filesystem::path& canonical) {
   std::error_code ec;
-  const auto status = std::filesystem::status(directory, ec);
+  // The canonical path: "new/../old" is "old" (no "new" is made for it), and a parent reached
+  // through ".." is never counted as the run's.
+  canonical = std::filesystem::weakly_canonical(std::filesystem::absolute(directory, ec), ec);
+  if (ec) throw IoError(directory.string() + ": cannot resolve the work directory: " + ec.message());
+  const auto status = std::filesystem::status(canonical, ec);
   if (std::filesystem::exists(status) && !std::filesystem::is_directory(status))
     throw OptionError("the work directory " + directory.string() + " is not a directory");
   if (std::filesystem::exists(status)) {
-    if (std::optional<detail::RunRecord> record = detail::read_run_record(directory)) return *record;
-    for (auto it = std::filesystem::directory_iterator(directory, ec); !ec && it != std::filesystem::directory_iterator(); it.increment(ec))
+    if (std::optional<detail::RunRecord> record = detail::read_run_record(canonical)) return *record;
+    for (auto it = std::filesystem::directory_iterator(canonical, ec); !ec && it != std::filesystem::directory_iterator(); it.increment(ec))
       if (detail::is_run_file_name(it->path()))
         throw OptionError("the work directory " + directory.string() + " holds " + it->path().filename().string() +
                           ", which is not a clustersurf run's file: use another work directory");
     if (ec) throw IoError(directory.string() + ": cannot list the work directory: " + ec.message());
   }
   detail::RunRecord record;
-  record.created_levels = missing_levels(directory);
-  std::filesystem::create_directories(directory, ec);
+  record.created_levels = missing_levels(canonical);
+  std::filesystem::create_directories(canonical, ec);
   if (ec) throw IoError(directory.string() + ": cannot create the work directory: " + ec.message());
-  detail::write_run_record(directory, record);
+  detail::write_run_record(canonical, record);
   return record;
 }
 
@@ -105,23 +106,23 @@ TiledRun TiledRun::partition(const std::filesystem::path& input, const std::file
   if (options.block_points == 0) throw OptionError("the input must be read in blocks of at least one point");
   if (options.regions.max_points == 0) throw OptionError("a region must hold at least one point");
   auto impl = std::make_unique<Impl>();
-  impl->dir = directory;
   detail::PartitionRecord& r = impl->record;
   std::tie(r.input_size, r.input_mtime) = file_identity(input);
-  detail::RunRecord run = open_work_directory(directory);
+  detail::RunRecord run = open_work_directory(directory, impl->dir);
   r.max_points = options.regions.max_points;
   r.halo_spacings = options.regions.halo_spacings;
-  const std::filesystem::path plan_file = directory / "plan.txt";
+  const std::filesystem::path& dir = impl->dir;
+  const std::filesystem::path plan_file = dir / "plan.txt";
   if (std::filesystem::exists(plan_file)) {
     const detail::PartitionRecord old = detail::read_partition(plan_file);
     if (old.input_size != r.input_size || old.input_mtime != r.input_mtime || old.max_points != r.max_points ||
         old.halo_spacings != r.halo_spacings)
-      throw OptionError(directory.string() + " holds a run of another input, or of the input before it changed, or of other "
+      throw OptionError(dir.string() + " holds a run of another input, or of the input before it changed, or of other "
                         "region options: remove it, or use another work directory");
     impl->record = old;
     return TiledRun(std::move(impl));
   }
-  detail::remove_files(detail::run_files(directory, run.regions));  // a partition that was interrupted
+  detail::remove_files(detail::run_files(dir, run.regions));  // a partition that was interrupted
 
   // Pass 1: count, bounds, an even sample.
   PointStream stream(input, options.read);
@@ -157,7 +158,7 @@ TiledRun TiledRun::partition(const std::filesystem::path& input, const std::file
   // Pass 2: every point to its region's file and the halo files of the regions near it.
   const std::size_t n = r.plan.regions();
   run.regions = n;
-  detail::write_run_record(directory, run);  // before the files it names
+  detail::write_run_record(dir, run);  // before the files it names
   const std::size_t record = r.normals ? 6 : 3;
   const std::size_t capacity = std::max<std::size_t>(record * 1024, options.buffer_bytes / sizeof(double) / (2 * n));
   std::vector<RegionWriter> own, halo;
