@@ -178,4 +178,5 @@ TEST(WorkDirectory, AMeshNamedLikeTheRunsOwnFilesIsRefused) {
   o.remove_work_directory = false;
   EXPECT_THROW(reconstruct_out_of_core(f.input, {}, o), OptionError);
   EXPECT_TRUE(f.users_files_intact());
+  EXPECT_FALSE(std::filesystem::exists(f.work / "survey-000000.txt"));  // refused before any region was worked on
 }

@@ -127,6 +127,10 @@ class TiledRun {
   /// never the whole mesh in memory); any other mesh is join()'s, written with `ply`.
   WrittenMesh write_mesh(const std::filesystem::path& file, const SurfaceMeshOptions& options, const PlyWriteOptions& ply = {}) const;
 
+  /// OptionError when `file`, an output of the run, would be one of the run's own files in its
+  /// directory (the clean-up would remove it); write_mesh() checks its file so.
+  void check_output(const std::filesystem::path& file) const;
+
   /// The bytes of the run's files in its directory now (no other file is counted).
   std::uintmax_t file_bytes() const;
 

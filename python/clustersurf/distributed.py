@@ -73,6 +73,8 @@ def reconstruct_distributed(input: str | os.PathLike, *, client: Any, work_dir: 
     start = time.monotonic()
     run = _cs.TiledRun.partition(input, work_dir, max_region_points=max_region_points, progress=progress)
     run.claim(**options)
+    if mesh is not None:
+        run.check_output(mesh)  # before any task runs
     report["regions"] = run.regions
     report["points"] = run.input_points
     report["seconds"]["partition"] = time.monotonic() - start

@@ -163,6 +163,9 @@ and be retried. clustersurf.distributed runs them on Dask.)doc")
           py::arg("path"),
           "Stage 5 into the file ``path`` (format by extension): a binary PLY is joined straight into it, tile by "
           "tile, never whole in memory. Returns what was written (file, vertices, triangles, streamed, ...).")
+      .def(
+          "check_output", [](const RunRef& r, const std::filesystem::path& path) { r.run->check_output(path); }, py::arg("path"),
+          "Raises OptionError when ``path``, an output of the run, would be one of the run's own files in its directory.")
       .def_property_readonly("file_bytes", [](const RunRef& r) { return r.run->file_bytes(); },
                              "The bytes of the run's own files in its directory now.")
       .def(

@@ -68,32 +68,40 @@ std::filesystem::path region_file(const std::filesystem::path& dir, std::string_
   return dir / (std::string(name) + "-" + number + "." + std::string(ext));
 }
 
+namespace {
+
+/// The files of a run: one of each kind per region ("tile-000003.bin"), and the run's own.
+constexpr std::pair<std::string_view, std::string_view> kRegionFiles[] = {
+    {"region", "own"}, {"region", "halo"}, {"survey", "txt"}, {"tree", "cstree"}, {"orientation", "txt"}, {"tile", "bin"}};
+constexpr std::string_view kRunFiles[] = {"tree.cstree", "merge.txt", "options.txt", "plan.txt"};
+
+/// The name of the file a write is for: `name` itself, or NAME for the temporary file
+/// ".NAME.tmpXXXXXX" of an atomic write (io::AtomicFile) that a killed task left behind.
+std::string written_name(const std::string& name) {
+  const std::size_t tmp = name.rfind(".tmp");
+  if (name.starts_with(".") && tmp != std::string::npos && tmp > 1 && name.size() == tmp + 10) return name.substr(1, tmp - 1);
+  return name;
+}
+
+}  // namespace
+
 bool is_run_file_name(const std::filesystem::path& file) {
-  std::string name = file.filename().string();
-  if (name.starts_with(".") && name.find(".tmp") != std::string::npos) name = name.substr(1, name.rfind(".tmp") - 1);
-  for (const char* prefix : {"region-", "survey-", "tree-", "orientation-", "tile-"})
-    if (name.starts_with(prefix)) return true;
-  return name == "tree.cstree" || name == "merge.txt" || name == "options.txt" || name == "plan.txt" || name == kRunRecordName;
+  const std::string name = written_name(file.filename().string());
+  for (const auto& [kind, ext] : kRegionFiles)
+    if (name.starts_with(std::string(kind) + "-")) return true;
+  return std::find(std::begin(kRunFiles), std::end(kRunFiles), name) != std::end(kRunFiles) || name == kRunRecordName;
 }
 
 std::vector<std::filesystem::path> run_files(const std::filesystem::path& dir, std::uint64_t regions) {
-  std::unordered_set<std::string> names = {"tree.cstree", "merge.txt", "options.txt", "plan.txt"};
-  for (std::uint64_t k = 0; k < regions; ++k) {
-    const auto r = static_cast<std::int32_t>(k);
-    for (const auto& [name, ext] : {std::pair{"region", "own"}, {"region", "halo"}, {"survey", "txt"}, {"tree", "cstree"},
-                                    {"orientation", "txt"}, {"tile", "bin"}})
-      names.insert(region_file({}, name, r, ext).string());
-  }
-  // A temporary file of an atomic write is ".NAME.tmpXXXXXX" (io::AtomicFile).
-  const auto ours = [&](const std::string& name) {
-    if (names.count(name)) return true;
-    const std::size_t tmp = name.rfind(".tmp");
-    return name.starts_with(".") && tmp != std::string::npos && name.size() == tmp + 10 && names.count(name.substr(1, tmp - 1));
-  };
+  std::unordered_set<std::string> names;
+  for (const std::string_view name : kRunFiles) names.emplace(name);
+  for (std::uint64_t k = 0; k < regions; ++k)
+    for (const auto& [kind, ext] : kRegionFiles) names.insert(region_file({}, kind, static_cast<std::int32_t>(k), ext).string());
   std::vector<std::filesystem::path> out;
   std::error_code ec;
   for (auto it = std::filesystem::directory_iterator(dir, ec); !ec && it != std::filesystem::directory_iterator(); it.increment(ec))
-    if (it->is_regular_file() && !it->is_symlink() && ours(it->path().filename().string())) out.push_back(it->path());
+    if (it->is_regular_file() && !it->is_symlink() && names.count(written_name(it->path().filename().string())))
+      out.push_back(it->path());
   if (ec) throw IoError(dir.string() + ": cannot list the work directory: " + ec.message());
   std::sort(out.begin(), out.end());
   return out;

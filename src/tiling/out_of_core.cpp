@@ -64,6 +64,7 @@ OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& inp
   };
   const TiledRun run = TiledRun::partition(input, out_of_core.work_directory, partition, progress);
   run.claim(options);
+  if (options.mesh) run.check_output(out_of_core.mesh_output);  // before any work, not after it
   timed("partition");
   const auto n = static_cast<std::int32_t>(run.regions());
   out.regions = run.regions();

@@ -127,6 +127,12 @@ void remove_tiled_run(const std::filesystem::path& directory) {
     if (!std::filesystem::remove(level, ec)) break;
 }
 
+void TiledRun::check_output(const std::filesystem::path& file) const {
+  std::error_code ec;
+  if (detail::is_run_file_name(file) && std::filesystem::equivalent(file.parent_path().empty() ? "." : file.parent_path(), impl_->dir, ec))
+    throw OptionError("the output file " + file.string() + " has the name of one of the work directory's own files: choose another name");
+}
+
 bool TiledRun::done(std::string_view stage, std::int32_t region) const {
   impl_->check(region);
   if (stage == "survey") return std::filesystem::exists(impl_->file("survey", region, "txt"));
@@ -254,9 +260,7 @@ SurfaceMesh TiledRun::join(const SurfaceMeshOptions& options) const {
 
 WrittenMesh TiledRun::write_mesh(const std::filesystem::path& file, const SurfaceMeshOptions& options, const PlyWriteOptions& ply) const {
   require_tiled_meshing(options);
-  std::error_code ec;
-  if (detail::is_run_file_name(file) && std::filesystem::equivalent(file.parent_path().empty() ? "." : file.parent_path(), impl_->dir, ec))
-    throw OptionError("the mesh file " + file.string() + " has the name of one of the work directory's own files: choose another name");
+  check_output(file);
   std::string extension = file.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   WrittenMesh out;
