@@ -9,6 +9,24 @@
 
 namespace clustersurf::detail {
 
+/// A cluster's frame, and whether it is determined: whether the cluster is resolved against
+/// the noise.
+struct ClusterFrame {
+  Frame frame;
+  /// Whether the frame's tangent plane is known: it comes from the input normals, or the
+  /// cluster's spread across its plane (the frame's second axis) is at least
+  /// kDeterminedSpread times the noise variance. Below it the points are a blob as thick as
+  /// it is wide, whose principal axes the noise chooses: no proxy fitted in that frame, nor
+  /// the split of it, follows the surface.
+  bool determined = true;
+};
+
+/// A principal frame is determined when the variance across the plane, λ₁, is at least twice
+/// the noise's, λ₀ = σ²: its normal then tilts with the noise by at most about as much height,
+/// at one spread from the centre, as the offset's own standard error σ/√n (the tilt's share
+/// grows as λ₁ / (λ₁ − λ₀)).
+inline constexpr double kDeterminedSpread = 2;
+
 /// The frame of the points `range` (rows of `points`): origin at their mean, x along their
 /// largest spread, z the normal of their tangent plane. The normal is the principal
 /// component's (pca_frame()) unless the input normals (rows `ids[row]` of `normals`, or null)
@@ -17,7 +35,7 @@ namespace clustersurf::detail {
 /// own spread, 2 (1 − |mean|), over n; the smaller wins. Clean data (σ ≈ 0) keep the principal
 /// frame exactly; noisy positions with consistent normals take the normals' plane, where the
 /// principal one tilts with the noise (a noisy blob around a finger has no principal plane).
-Frame cluster_frame(const Points& points, std::span<const std::uint32_t> range, const Points* normals,
-                    std::span<const std::uint32_t> ids, double noise);
+ClusterFrame cluster_frame(const Points& points, std::span<const std::uint32_t> range, const Points* normals,
+                           std::span<const std::uint32_t> ids, double noise);
 
 }  // namespace clustersurf::detail

@@ -65,7 +65,8 @@ class Builder {
     ClusterNode& node = bn.node;
     node.depth = depth;
     double cover = 0;
-    const Frame frame = fit(node, range, cover);
+    const detail::ClusterFrame fitted = fit(node, range, cover);
+    const Frame& frame = fitted.frame;
     double e = error(node);
     const bool can_split = depth < options_.max_depth && range.size() >= 2 * std::size_t{options_.min_points};
     const double threshold = allowed(tolerance_, static_cast<double>(range.size()));
@@ -93,17 +94,19 @@ class Builder {
     };
     std::optional<detail::SupportError> support;  // the support check's error, once computed
     std::size_t k = 0;
-    // A cluster is split when its error exceeds the threshold, when its residuals show structure
-    // that noise does not leave, or when its proxy fails over its support.
-    if (can_split && (e > threshold || systematic_misfit(node.proxy, frame, range) ||
-                      (support_ != nullptr && support_fails(*(support = support_->check(node, range)), tolerance_)))) {
+    // A cluster is split when its error exceeds the threshold, or, when its frame is determined,
+    // when its residuals show structure that noise does not leave or its proxy fails over its
+    // support. A blob as thick as it is wide has a frame the noise chooses: its proxy's misfit,
+    // there and over its support, is the noise's, and splitting it leaves smaller blobs.
+    if (can_split && (e > threshold || (fitted.determined && (systematic_misfit(node.proxy, frame, range) ||
+                                                              (support_ != nullptr && support_fails(*(support = support_->check(node, range)), tolerance_)))))) {
       k = options_.splitter == SplitterKind::SplitPlane ? detail::split_plane(points_, range, frame, options_, noise_)
                                                         : detail::lloyd_split(points_, range, options_, detail::splitmix64(path_seed));
     } else if (range.size() >= 2) {
       // The proxy fits, but the cluster may be two parts with empty space between them (below
       // 2 × min_points only stray points across a wide gap are cut off).
       k = detail::split_at_gap(points_, range, frame, options_.min_points);
-      if ((k == 0 || k >= range.size()) && detail_splits_ && !can_split && depth < options_.max_depth) {
+      if ((k == 0 || k >= range.size()) && detail_splits_ && !can_split && depth < options_.max_depth && fitted.determined) {
         if (e > threshold) {
           k = detail_split(range, frame, e, nullptr);
         } else if (support_ != nullptr) {
@@ -181,9 +184,11 @@ class Builder {
   /// Fits `node` to the points `range`: its frame (returned), proxy, errors and extent, and its
   /// support: alpha × extent, grown to `cover`, the radius that holds MPU's N_min points (-1
   /// when the cluster's own points show it to be within alpha × extent: only leaves need it).
-  Frame fit(ClusterNode& node, std::span<const std::uint32_t> range, double& cover) const {
+  detail::ClusterFrame fit(ClusterNode& node, std::span<const std::uint32_t> range, double& cover) const {
     node.point_count = static_cast<std::uint32_t>(range.size());
-    const Frame frame = detail::cluster_frame(points_, range, options_.frames_from_normals ? normals_ : nullptr, work_.ids, noise_);
+    const detail::ClusterFrame fitted =
+        detail::cluster_frame(points_, range, options_.frames_from_normals ? normals_ : nullptr, work_.ids, noise_);
+    const Frame& frame = fitted.frame;
     node.proxy = options_.proxy == ProxyKind::Poly ? Proxy(fit_poly_in_frame(frame, points_, range))
                                                    : fit_proxy(options_.proxy, points_, range);
     const ProxyError err = proxy_error(node.proxy, points_, range);
@@ -201,7 +206,7 @@ class Builder {
       cover = support_->coverage_radius(frame.origin, node.support.radius);
     node.support.radius = std::max(node.support.radius, cover);
     node.bound = node.support;
-    return frame;
+    return fitted;
   }
 
   /// The node's error by the metric of the options.

@@ -547,12 +547,13 @@ if [ -n "$shared" ] && [ -f "$shared/formats/las/4_6_crop.las" ]; then
   expect_rc "LAS: reconstruct and mesh" 0
   run --json stats "$tmp/fmt/las.ply"
   mesh_box="$(json_field bbox_min) $(json_field bbox_max)"
-  # The mesh is written back in the file's projected coordinates, within a few cells of the data.
+  # The mesh is written back in the file's projected coordinates (not about the origin the
+  # reader shifted them to), within a tenth of the tile's 200 units of the data.
   if python3 -c '
 import json, sys
 a = [v for part in sys.argv[1].split("] [") for v in json.loads("[" + part.strip("[] ") + "]")]
 b = [v for part in sys.argv[2].split("] [") for v in json.loads("[" + part.strip("[] ") + "]")]
-sys.exit(0 if a[0] > 1e5 and all(abs(x - y) < 10 for x, y in zip(a, b)) else 1)' "$las_box" "$mesh_box"; then
+sys.exit(0 if a[0] > 1e5 and all(abs(x - y) < 20 for x, y in zip(a, b)) else 1)' "$las_box" "$mesh_box"; then
     ok "LAS: the mesh is back at the data's coordinates ($mesh_box)"
   else
     not_ok "LAS: mesh coordinates" "data $las_box, mesh $mesh_box"
