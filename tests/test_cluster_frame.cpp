@@ -135,14 +135,16 @@ TEST(ClusterFrame, CleanDataKeepThePrincipalFrame) {
 TEST(ClusterFrame, NoiseAboveTheSpacingWithoutNormalsIsAveragedNotFitted) {
   // 100 k points on relief of 5σ amplitude, σ about 4.7 point spacings: a cluster of a few
   // dozen points is a blob as thick as it is wide. Split further, such blobs took the noise for
-  // surface and blended into flaps several σ high; kept whole, leaves average it.
+  // surface and blended into flaps several σ high (RMS 2.2 σ); kept whole, in their principal
+  // frames, they still tilt with the noise (0.61 σ); in the frame of the normals estimated over
+  // their points' neighbourhoods, they average it.
   constexpr double kSigma = 0.015, kAmplitude = 0.08, kFrequency = 3;
   const PointCloud cloud = noisy_relief(100000, kSigma, kAmplitude, kFrequency, 7);
   const Reconstruction r = reconstruct(cloud);
   ASSERT_TRUE(r.mesh.has_value());
   const auto [rms, p99] = relief_error(r.mesh->mesh, kAmplitude, kFrequency);
   std::cout << "noisy relief without normals: RMS " << rms / kSigma << " σ, 99th percentile " << p99 / kSigma << " σ\n";
-  // Leaves' supports hold at least 30 points (MPU's N_min): 4 σ/√30 ≈ 0.73 σ.
-  EXPECT_LT(rms, 4 * kSigma / std::sqrt(30.0));
-  EXPECT_LT(p99, 3 * kSigma);
+  // Leaves' supports hold at least 30 points (MPU's N_min): within 2 σ/√30 ≈ 0.37 σ.
+  EXPECT_LT(rms, 2 * kSigma / std::sqrt(30.0));
+  EXPECT_LT(p99, kSigma);
 }

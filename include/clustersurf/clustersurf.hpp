@@ -17,6 +17,7 @@
 
 // points, proxies, the tree and its implicit surface (clustersurf::tree)
 #include <clustersurf/cloud_stats.hpp>
+#include <clustersurf/normal_estimation.hpp>
 #include <clustersurf/cluster_tree.hpp>
 #include <clustersurf/implicit_surface.hpp>
 #include <clustersurf/closed_surface.hpp>

@@ -4,6 +4,8 @@
 
 #include <clustersurf/proxy.hpp>
 
+#include "cluster/estimated_normals.hpp"
+
 #include <cstdint>
 #include <span>
 
@@ -27,15 +29,27 @@ struct ClusterFrame {
 /// grows as λ₁ / (λ₁ − λ₀)).
 inline constexpr double kDeterminedSpread = 2;
 
+/// Normals a cluster's frame may follow: the input's (oriented consistently, rows indexed like
+/// the input cloud: the `ids` of the cluster rows), or normals estimated from the positions
+/// (unoriented), or none.
+struct FrameNormals {
+  const Points* input = nullptr;
+  const EstimatedNormals* estimated = nullptr;
+};
+
 /// The frame of the points `range` (rows of `points`): origin at their mean, x along their
 /// largest spread, z the normal of their tangent plane. The normal is the principal
-/// component's (pca_frame()) unless the input normals (rows `ids[row]` of `normals`, or null)
-/// pin it down better: the principal normal's tilt varies by σ² / (ℓ² n) over n points of
+/// component's (pca_frame()) unless the normals (of input rows `ids[row]`) pin it down better;
+/// estimated normals, which carry the positions' own information over overlapping
+/// neighbourhoods, are consulted only when the principal frame is not determined: the principal normal's tilt varies by σ² / (ℓ² n) over n points of
 /// noise σ (the tree's estimate) spread ℓ across the plane, the mean normal's by its normals'
-/// own spread, 2 (1 − |mean|), over n; the smaller wins. Clean data (σ ≈ 0) keep the principal
-/// frame exactly; noisy positions with consistent normals take the normals' plane, where the
-/// principal one tilts with the noise (a noisy blob around a finger has no principal plane).
-ClusterFrame cluster_frame(const Points& points, std::span<const std::uint32_t> range, const Points* normals,
+/// own spread over n: 2 (1 − |mean|) for oriented normals, 1 − μ for unoriented ones (μ the
+/// largest eigenvalue of their mean outer product n nᵀ, whose axis is then the normal); the
+/// smaller wins. Clean data (σ ≈ 0) keep the principal frame exactly; noisy positions with
+/// consistent normals take the normals' plane, where the principal one tilts with the noise
+/// (a noisy blob around a finger has no principal plane). A frame from the normals is
+/// determined; so is every frame when the normals are the input's.
+ClusterFrame cluster_frame(const Points& points, std::span<const std::uint32_t> range, const FrameNormals& normals,
                            std::span<const std::uint32_t> ids, double noise);
 
 }  // namespace clustersurf::detail

@@ -45,12 +45,14 @@ class Builder {
  public:
   /// `tolerance`: the error a leaf may keep beyond the noise; `noise`: the noise level the
   /// leaves may keep (0 when the threshold ignores noise). Both in the input's units.
-  /// `normals`: the input normals, indexed like the input cloud (WorkingSet::ids), or null.
+  /// `normals`: the input normals, indexed like the input cloud (WorkingSet::ids), or null;
+  /// `frame_normals`: the normals the clusters' frames may follow (the input's, or estimated).
   /// `support`: the support checks, or null when they are off. `detail_splits`: whether a leaf
   /// may be split below options.min_points (detail_split(); when min_points was "auto").
-  Builder(const Points* normals, WorkingSet& work, const detail::SupportFit* support, const BuildOptions& options,
-          double tolerance, double noise, bool detail_splits, detail::ProgressReporter& progress)
+  Builder(const Points* normals, const detail::FrameNormals& frame_normals, WorkingSet& work, const detail::SupportFit* support,
+          const BuildOptions& options, double tolerance, double noise, bool detail_splits, detail::ProgressReporter& progress)
       : normals_(normals),
+        frame_normals_(frame_normals),
         work_(work),
         points_(work.positions),
         support_(support),
@@ -187,7 +189,7 @@ class Builder {
   detail::ClusterFrame fit(ClusterNode& node, std::span<const std::uint32_t> range, double& cover) const {
     node.point_count = static_cast<std::uint32_t>(range.size());
     const detail::ClusterFrame fitted =
-        detail::cluster_frame(points_, range, options_.frames_from_normals ? normals_ : nullptr, work_.ids, noise_);
+        detail::cluster_frame(points_, range, frame_normals_, work_.ids, noise_);
     const Frame& frame = fitted.frame;
     node.proxy = options_.proxy == ProxyKind::Poly ? Proxy(fit_poly_in_frame(frame, points_, range))
                                                    : fit_proxy(options_.proxy, points_, range);
@@ -261,6 +263,7 @@ class Builder {
   }
 
   const Points* normals_;  // the input cloud's normals (rows: WorkingSet::ids), or null
+  detail::FrameNormals frame_normals_;
   WorkingSet& work_;       // the input in cluster order; subtrees touch disjoint rows
   const Points& points_;   // work_.positions
   const detail::SupportFit* support_;
@@ -379,9 +382,19 @@ ClusterTree detail::build_tree(const PointCloud& cloud, std::vector<std::uint32_
     sampler.emplace(support_points, support_index);
     support.emplace(support_points, work.positions, *sampler, resolved, tolerance, noise, use_normals && options.fit_normals ? support_normals : nullptr);
   }
+  // The clusters' frames follow the input normals, or without them normals estimated over each
+  // point's neighbourhood (slopes from a wider scale than a blob's own spread).
+  std::optional<detail::EstimatedNormals> estimated;
+  detail::FrameNormals frame_normals;
+  if (options.frames_from_normals && normals != nullptr) {
+    frame_normals.input = normals;
+  } else if (options.frames_from_normals && noise > 0) {
+    estimated.emplace(support_index, static_cast<std::size_t>(cloud.size()));
+    frame_normals.estimated = &*estimated;
+  }
   detail::ProgressReporter reporter(progress, "building tree", n);
   BuildNode root;
-  Builder(normals, work, support ? &*support : nullptr, resolved, tolerance, noise, options.min_points == 0, reporter)
+  Builder(normals, frame_normals, work, support ? &*support : nullptr, resolved, tolerance, noise, options.min_points == 0, reporter)
       .build(root, work.local, 0, options.seed);
   reporter.finish();
   const std::vector<std::uint32_t>& perm = work.ids;
