@@ -25,10 +25,12 @@ int run_sample(Console& console, const SampleArgs& args) {
     options.count = args.count;
     options.noise = args.noise;
     options.registration = args.registration;
+    options.flipped_normals = args.flipped_normals;
     options.distance = args.scanner_distance;
     options.seed = args.seed;
     cloud = scan_surface(mesh, options);
   } else {
+    if (args.flipped_normals > 0) throw OptionError("--flip-normals is for --scanner");
     SurfaceSamplingOptions options;
     options.count = args.count;
     options.noise = args.noise;
@@ -44,7 +46,7 @@ int run_sample(Console& console, const SampleArgs& args) {
     std::cout << nlohmann::json{{"mesh", args.mesh},       {"output", args.output}, {"points", cloud.size()},
                                 {"noise", args.noise},     {"outliers", args.outliers},
                                 {"seed", args.seed},       {"scanner", args.scanner},
-                                {"registration", args.registration}}
+                                {"registration", args.registration}, {"flipped_normals", args.flipped_normals}}
                      .dump(2)
               << "\n";
   } else {

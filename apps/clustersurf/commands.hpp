@@ -98,6 +98,7 @@ struct SampleArgs {
   bool no_normals = false;
   std::size_t scanner = 0;  // 0: area-uniform samples; N: a virtual range scanner at N viewpoints
   double registration = RangeScanOptions{}.registration;
+  double flipped_normals = RangeScanOptions{}.flipped_normals;
   double scanner_distance = RangeScanOptions{}.distance;
 };
 int run_sample(Console& console, const SampleArgs& args);

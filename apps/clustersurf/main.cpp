@@ -209,6 +209,10 @@ int main(int argc, char** argv) {
                  "--scanner: each scan's rigid misregistration, sigma as a fraction of the bbox diagonal")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  sm->add_option("--flip-normals", sample.flipped_normals,
+                 "--scanner: fraction of the returns whose normal points away from its scanner (orientation errors)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   sm->add_option("--scanner-distance", sample.scanner_distance, "--scanner: distance to the bbox center, in diagonals")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();

@@ -27,6 +27,9 @@ struct RangeScanOptions {
   /// scan is moved by a random rigid motion that displaces the bounding sphere's rim by about
   /// this much (half rotation about the center, half translation).
   double registration = 0;
+  /// Fraction of the returns, in [0, 1], whose normal is flipped to point away from its scanner
+  /// (drawn independently per return): the orientation errors of a real scan's normals.
+  double flipped_normals = 0;
   /// Returns whose line of sight meets the surface more obliquely than this (degrees from the
   /// surface normal) are dropped, as real scanners drop grazing returns.
   double max_incidence_degrees = 80;

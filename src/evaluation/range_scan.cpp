@@ -144,6 +144,8 @@ void validate(const TriangleMesh& mesh, const RangeScanOptions& o) {
   if (!(o.noise >= 0) || !std::isfinite(o.noise)) throw OptionError(fmt::format("noise must be a finite fraction >= 0, got {}", o.noise));
   if (!(o.registration >= 0) || !std::isfinite(o.registration))
     throw OptionError(fmt::format("registration error must be a finite fraction >= 0, got {}", o.registration));
+  if (!(o.flipped_normals >= 0 && o.flipped_normals <= 1))
+    throw OptionError(fmt::format("the share of flipped normals must be in [0, 1], got {}", o.flipped_normals));
   if (!(o.max_incidence_degrees > 0 && o.max_incidence_degrees <= 90))
     throw OptionError(fmt::format("the largest incidence angle must be in (0, 90] degrees, got {}", o.max_incidence_degrees));
   const Eigen::Index nv = mesh.vertices.rows();
@@ -199,9 +201,11 @@ PointCloud scan_surface(const TriangleMesh& mesh, const RangeScanOptions& option
   PointCloud cloud;
   cloud.positions.resize(static_cast<Eigen::Index>(points.size()), 3);
   cloud.normals.resize(static_cast<Eigen::Index>(points.size()), 3);
+  detail::PortableRandom flips(detail::splitmix64(options.seed ^ 0x666c6970ULL));
   for (std::size_t k = 0; k < points.size(); ++k) {
     cloud.positions.row(static_cast<Eigen::Index>(k)) = points[k];
-    cloud.normals.row(static_cast<Eigen::Index>(k)) = normals[k];
+    const bool flip = options.flipped_normals > 0 && flips.uniform() < options.flipped_normals;
+    cloud.normals.row(static_cast<Eigen::Index>(k)) = flip ? Eigen::Vector3d(-normals[k]) : normals[k];
   }
   return cloud;
 }
