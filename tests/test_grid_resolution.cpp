@@ -1,11 +1,19 @@
-// The mesh grid matched to the input's sampling density (cell_size_for_points).
+// The mesh grid matched to the input's sampling density (cell_size_for_points), what a walk of
+// it costs (estimate_mesh) and the automatic cell of a tree (auto_cell_size): clumped points
+// do not make a grid finer than the points can resolve.
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/mesh_extraction.hpp>
+#include <clustersurf/orientation.hpp>
+#include <clustersurf/reconstruct.hpp>
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
+#include <cmath>
 #include <limits>
+#include <random>
 
 #include "test_support.hpp"
 
@@ -30,4 +38,74 @@ TEST(GridResolution, CoincidentPointsOrABadFactorAreOptionErrors) {
   const PointCloud c = test::sample_plane(10, 10);
   EXPECT_THROW(cell_size_for_points(c, 0.0), OptionError);
   EXPECT_THROW(cell_size_for_points(c, std::numeric_limits<double>::quiet_NaN()), OptionError);
+}
+
+namespace {
+
+/// `clumps` clumps of `per_clump` points each on the unit sphere, every clump's points within
+/// about `spread` of its centre (a multi-view stereo cloud: dense where features matched).
+PointCloud clumped_sphere(int clumps, int per_clump, double spread, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0, 1);
+  PointCloud c;
+  c.positions.resize(static_cast<Eigen::Index>(clumps) * per_clump, 3);
+  Eigen::Index row = 0;
+  for (int k = 0; k < clumps; ++k) {
+    const Eigen::Vector3d centre = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+    for (int p = 0; p < per_clump; ++p)
+      c.positions.row(row++) = (centre + spread * Eigen::Vector3d(g(rng), g(rng), g(rng))).normalized().transpose();
+  }
+  return c;
+}
+
+}  // namespace
+
+TEST(GridResolution, EstimateFollowsTheSurfaceArea) {
+  const PointCloud c = test::sample_sphere(20000);
+  ClusterTree tree = build_cluster_tree(c, {});
+  orient_tree(tree, c);
+  const ImplicitSurface surface(tree);
+  const MeshEstimate e = estimate_mesh(surface, 0.02);
+  // The leaves cover the unit sphere (4π) once, overlapping little: within a factor of 1.5.
+  EXPECT_GT(e.area, 4 * M_PI / 1.5);
+  EXPECT_LT(e.area, 4 * M_PI * 1.5);
+  EXPECT_NEAR(e.surface_cells, e.area / (0.02 * 0.02), 1e-6 * e.surface_cells);
+  MeshReport report;
+  MeshOptions o;
+  o.voxel_size = 0.02;
+  extract_mesh(surface, o, &report);
+  EXPECT_GT(static_cast<double>(report.surface_cells), e.surface_cells / 2);
+  EXPECT_LT(static_cast<double>(report.surface_cells), e.surface_cells * 2);
+}
+
+TEST(GridResolution, ClumpedPointsDoNotMakeTheGridFinerThanThePointsResolve) {
+  // 30,000 points in 3,000 clumps a thirtieth of their distance apart: the median spacing is
+  // the clumps' own (about 0.001 of a unit sphere), and twice it a grid crossing some 3 million
+  // surface cells, a hundred per point.
+  const PointCloud c = clumped_sphere(3000, 10, 0.002, 4);
+  ClusterTree tree = build_cluster_tree(c, {});
+  orient_tree(tree, c);
+  const ImplicitSurface surface(tree);
+  const double h = auto_cell_size(surface);
+  MeshOptions o;
+  o.voxel_size = h;
+  MeshReport report;
+  const TriangleMesh m = extract_mesh(surface, o, &report);
+  const double cells = static_cast<double>(report.surface_cells);
+  std::cout << "clumped sphere: spacing " << tree.point_spacing << ", cell " << h << ", " << cells << " surface cells for "
+            << c.size() << " points\n";
+  EXPECT_GT(h, 4 * tree.point_spacing);
+  // The estimate reads the patches of clumped leaves small by up to about 3×.
+  EXPECT_LE(cells, 3 * kMaxSurfaceCellsPerPoint * static_cast<double>(c.size()));
+  // The whole sphere, on the sphere.
+  double area = 0, off = 0;
+  for (Eigen::Index t = 0; t < m.triangles.rows(); ++t) {
+    const Eigen::Vector3d a = m.vertices.row(m.triangles(t, 0)), b = m.vertices.row(m.triangles(t, 1)), d = m.vertices.row(m.triangles(t, 2));
+    area += 0.5 * (b - a).cross(d - a).norm();
+  }
+  for (Eigen::Index v = 0; v < m.vertices.rows(); ++v) off += std::abs(m.vertices.row(v).norm() - 1);
+  off /= std::max<double>(1, static_cast<double>(m.vertices.rows()));
+  std::cout << "area " << area / (4 * M_PI) << " of the sphere's, mean distance " << off << "\n";
+  EXPECT_NEAR(area, 4 * M_PI, 0.1 * 4 * M_PI);
+  EXPECT_LT(off, 0.005);
 }

@@ -1,6 +1,7 @@
 // Mesh extraction: accuracy against the true surface, manifoldness, watertightness, Euler
 // characteristic, outward orientation, holes where data is missing.
 
+#include <clustersurf/errors.hpp>
 #include <clustersurf/implicit_surface.hpp>
 #include <clustersurf/mesh_extraction.hpp>
 #include <clustersurf/orientation.hpp>
@@ -156,4 +157,22 @@ TEST(MeshExtraction, FineLeavesMeshWithoutPinholes) {
   double worst = 0;
   for (Eigen::Index v = 0; v < m.vertices.rows(); ++v) worst = std::max(worst, std::abs(m.vertices.row(v).norm() - 1.0));
   EXPECT_LT(worst, 0.002 * diagonal(c));
+}
+
+TEST(MeshExtraction, AWalkOverItsMemoryLimitIsRefusedBeforeItStarts) {
+  const PointCloud c = test::sample_sphere(5000);
+  ClusterTree t = build_cluster_tree(c, {});
+  orient_tree(t, c);
+  const ImplicitSurface f(t);
+  MeshOptions o;
+  o.voxel_size = 0.001;  // about 12 million surface cells of the unit sphere: some 7 GiB
+  o.memory_limit = std::uint64_t{64} << 20;
+  try {
+    extract_mesh(f, o);
+    FAIL() << "a walk of about 7 GiB ran under a 64 MiB limit";
+  } catch (const OptionError& e) {
+    EXPECT_NE(std::string(e.what()).find("voxel_size"), std::string::npos) << e.what();
+  }
+  o.voxel_size = 0.05;  // about 5,000 cells: 3 MiB
+  EXPECT_GT(extract_mesh(f, o).triangles.rows(), 1000);
 }

@@ -42,7 +42,8 @@ void add_mesh_options(CLI::App& cmd, clustersurf::cli::MeshArgs& m) {
   auto& o = m.options;
   cmd.add_option("--resolution", m.resolution,
                  "Mesh grid cells along the longest bbox side, or \"auto\": cells two median point spacings of the "
-                 "input wide (stored in the tree; a version-1 tree file without --points gets " +
+                 "input wide, coarser where clumped points would give over 4 surface cells per point (stored in the "
+                 "tree; a version-1 tree file without --points gets " +
                      std::to_string(o.grid.resolution) + " cells)")
       ->check(CLI::Range(2, 100000) | CLI::IsMember({"auto"}))
       ->capture_default_str();

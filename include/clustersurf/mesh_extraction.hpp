@@ -7,6 +7,7 @@
 #include <clustersurf/progress.hpp>
 
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <string_view>
 
@@ -37,7 +38,30 @@ struct MeshOptions {
   /// gaps in the data stay holes (and trim_to_points() cuts the band back to the data).
   /// 0 = no fill.
   double fill_cells = 2;
+  /// The most memory, in bytes, the walk may take by its estimate (estimate_mesh()) before it
+  /// starts; 0: the physical memory the machine has free. Over it, extract_mesh() throws
+  /// OptionError instead of starting a walk the machine cannot hold.
+  std::uint64_t memory_limit = 0;
 };
+
+/// Bytes a walk takes per surface cell, all its stages together (the walk's grids, the
+/// polygons, the mesh with its normals): measured 420 on Igea sampled at 1 M points and 385 on
+/// a clumped sphere (docs/benchmarks.md), with a margin.
+inline constexpr double kMeshBytesPerSurfaceCell = 450;
+
+/// What a walk of extract_mesh() will cost, estimated from the blended proxies before any cell is
+/// visited: the surface they cover (each blended cluster a square patch whose diagonal is its
+/// extent, extent² / 2, as clusters are nearly flat at their own scale; times the square of how
+/// far its support grew beyond alpha × extent to hold its N_min points, the gap it blends
+/// across) in cells.
+struct MeshEstimate {
+  double area = 0;           ///< surface covered by the blended clusters
+  double surface_cells = 0;  ///< area / cell size²
+  double bytes = 0;          ///< surface_cells × kMeshBytesPerSurfaceCell
+};
+
+/// estimate_mesh() of `surface` at cell size `cell_size` (> 0).
+MeshEstimate estimate_mesh(const ImplicitSurface& surface, double cell_size);
 
 /// What extract_mesh() visited.
 struct MeshReport {
@@ -70,6 +94,18 @@ TriangleMesh extract_mesh(const ClosedSurface& closed, const MeshOptions& option
 /// accuracy; a coarser one loses the detail the leaves fit. Throws OptionError when the
 /// spacing is 0 (most points coincide).
 double cell_size_for_spacing(double median_spacing, double spacing_factor = kSpacingsPerCell);
+
+/// A grid of cell size `cell_size` visits at most this many surface cells per clustered point
+/// when its size is automatic: a uniform sample at the default two spacings per cell gives
+/// about one (its median spacing is half the side of the area per point); where the points
+/// come in clumps (multi-view stereo) the median spacing is the clumps', and a grid that fine
+/// would cost far more than the points can resolve.
+inline constexpr double kMaxSurfaceCellsPerPoint = 4;
+
+/// The automatic cell size of `surface`: cell_size_for_spacing() of its tree's point spacing,
+/// coarsened until estimate_mesh() finds at most kMaxSurfaceCellsPerPoint surface cells per
+/// clustered point. Throws OptionError when the tree has no spacing.
+double auto_cell_size(const ImplicitSurface& surface);
 
 /// cell_size_for_spacing() of `cloud`'s median spacing (compute_stats()).
 double cell_size_for_points(const PointCloud& cloud, double spacing_factor = kSpacingsPerCell);

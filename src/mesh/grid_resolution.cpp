@@ -1,10 +1,15 @@
-// The mesh grid matched to the sampling density of the input points.
+// The mesh grid matched to the sampling density of the input points, and what a walk of it costs.
 
 #include <clustersurf/cloud_stats.hpp>
 #include <clustersurf/errors.hpp>
 #include <clustersurf/mesh_extraction.hpp>
 
+#include "mesh/clipped_extraction.hpp"
+
 #include <charconv>
+#include <Eigen/Core>
+
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -19,6 +24,38 @@ double cell_size_for_spacing(double median_spacing, double spacing_factor) {
 
 double cell_size_for_points(const PointCloud& cloud, double spacing_factor) {
   return cell_size_for_spacing(compute_stats(cloud).median_spacing, spacing_factor);
+}
+
+MeshEstimate detail::estimate_mesh_within(const ImplicitSurface& surface, double cell_size, const BoundingBox* box) {
+  if (!(cell_size > 0) || !std::isfinite(cell_size)) throw OptionError("mesh voxel size must be positive");
+  const ClusterTree& tree = surface.tree();
+  MeshEstimate out;
+  for (const std::int32_t n : surface.cut()) {
+    const ClusterNode& node = tree.nodes[static_cast<std::size_t>(n)];
+    if (box != nullptr && !detail::sphere_meets_box(node.support, *box)) continue;
+    // A support grown beyond alpha × extent to hold MPU's N_min points (sparse or clumped
+    // points) blends the surface over the gap it reaches across, in proportion to its disk.
+    const double own = tree.parameters.alpha * node.extent;
+    const double grown = own > 0 ? std::max(1.0, node.support.radius * node.support.radius / (own * own)) : 1.0;
+    out.area += 0.5 * node.extent * node.extent * grown;
+  }
+  out.surface_cells = out.area / (cell_size * cell_size);
+  out.bytes = out.surface_cells * kMeshBytesPerSurfaceCell;
+  return out;
+}
+
+MeshEstimate estimate_mesh(const ImplicitSurface& surface, double cell_size) {
+  return detail::estimate_mesh_within(surface, cell_size, nullptr);
+}
+
+double auto_cell_size(const ImplicitSurface& surface) {
+  const ClusterTree& tree = surface.tree();
+  const double h = cell_size_for_spacing(tree.point_spacing);
+  const double points = tree.nodes.empty() ? 0.0 : static_cast<double>(tree.nodes[0].point_count);
+  const double cells = estimate_mesh(surface, h).surface_cells;
+  const double most = kMaxSurfaceCellsPerPoint * points;
+  // The estimate falls with the square of the cell size.
+  return cells > most && most > 0 ? h * std::sqrt(cells / most) : h;
 }
 
 std::optional<std::uint32_t> parse_resolution(std::string_view text) {

@@ -6,12 +6,14 @@
 #include <clustersurf/mesh_extraction.hpp>
 
 #include "core/progress_reporter.hpp"
+#include "core/system_memory.hpp"
 #include "mesh/cell_polygonizer.hpp"
 #include "mesh/clipped_extraction.hpp"
 #include "mesh/mesh_subset.hpp"
 #include "mesh/position_ids.hpp"
 #include "mesh/walk_grid.hpp"
 
+#include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Geometry>
@@ -123,6 +125,15 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
   if (!(options.min_weight >= 0) || !std::isfinite(options.min_weight)) throw OptionError("mesh min_weight must be >= 0");
   if (longest / h > 500000) throw OptionError("mesh grid too fine: more than 500000 cells along the bounding box");
   if (!(options.fill_cells >= 0) || !std::isfinite(options.fill_cells)) throw OptionError("mesh fill_cells must be >= 0");
+  // Before any cell is visited: a walk the machine cannot hold is refused, not started.
+  const MeshEstimate cost = detail::estimate_mesh_within(surface, h, clip != nullptr ? &clip->box : nullptr);
+  const std::uint64_t limit = options.memory_limit > 0 ? options.memory_limit : detail::available_memory();
+  if (limit > 0 && cost.bytes > static_cast<double>(limit))
+    throw OptionError(fmt::format("the mesh grid of cell size {:.4g} would cross about {:.3g} million surface cells and take about "
+                                  "{:.1f} GiB, more than {} ({:.1f} GiB): use a coarser voxel_size or resolution",
+                                  h, cost.surface_cells / 1e6, cost.bytes / double(1ull << 30),
+                                  options.memory_limit > 0 ? "the memory limit" : "the machine has free",
+                                  static_cast<double>(limit) / double(1ull << 30)));
   // Where `surface` is undefined: the same blend with supports fill_cells cells wider (a closed
   // surface has its own fill).
   const ImplicitSurface wide = surface.with_margin(surface.margin() + options.fill_cells * h);
@@ -146,11 +157,7 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
     const Eigen::Array3d c(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k));
     return (c >= clip_lo).all() && (c <= clip_hi).all();
   };
-  auto support_meets_clip = [&](const Sphere& s) {
-    if (clip == nullptr) return true;
-    const Eigen::Vector3d below = (clip->box.min - s.center).cwiseMax(0.0), above = (s.center - clip->box.max).cwiseMax(0.0);
-    return (below + above).norm() <= s.radius;
-  };
+  auto support_meets_clip = [&](const Sphere& s) { return clip == nullptr || detail::sphere_meets_box(s, clip->box); };
 
   // 1. Seeds: points on every blended proxy near its center and at ±r/3 along two tangents,
   //    projected onto f = 0.

@@ -75,17 +75,17 @@ SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options
     throw OptionError("the distance color scale must be positive");
   if (input != nullptr) require_tree_input(tree, input->cloud().positions);
 
+  const ImplicitSurface surface(tree, level_of_detail(tree, options.lod_depth, options.lod_error));
   MeshOptions grid = options.grid;
   if (options.auto_resolution && !grid.voxel_size) {
     if (tree.point_spacing > 0) {
-      grid.voxel_size = cell_size_for_spacing(tree.point_spacing);
+      grid.voxel_size = auto_cell_size(surface);
     } else if (input != nullptr) {
       grid.voxel_size = cell_size_for_spacing(input->median_spacing());
     }
   }
   const auto start = std::chrono::steady_clock::now();
   SurfaceMesh out;
-  const ImplicitSurface surface(tree, level_of_detail(tree, options.lod_depth, options.lod_error));
   out.blended_nodes = surface.cut().size();
   if (options.closing.enabled) {
     out.mesh = closed_mesh(surface, options, grid, input == nullptr ? nullptr : &input->clustered(tree).index, out, progress);
