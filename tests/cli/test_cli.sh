@@ -537,6 +537,11 @@ expect_contains "mesh --watertight: the filled vertices are a PLY property" "$(h
 run --json mesh "$tmp/fmt/b.cstree" -o "$tmp/fmt/small.ply" --points "$bunny" --watertight --fill-holes 0.000001
 filled_open=$(python3 -c 'import json,sys; print(json.loads(sys.stdin.read())["opened_holes"])' <<<"$out" 2>/dev/null)
 if [ -n "$filled_open" ] && [ "$filled_open" -gt 0 ]; then ok "--fill-holes: larger holes left open ($filled_open)"; else not_ok "--fill-holes" "$out"; fi
+# A grid no machine holds (some 10^9 surface cells of the bunny) is refused before the walk, saying why.
+run mesh "$tmp/fmt/b.cstree" -o "$tmp/fmt/huge.ply" --resolution 100000
+expect_rc "mesh on a grid beyond the free memory: option error" 2
+expect_contains "mesh beyond the free memory: the message names the estimate" "$err" "GiB"
+if [ ! -e "$tmp/fmt/huge.ply" ]; then ok "mesh beyond the free memory: nothing written"; else not_ok "mesh beyond the free memory wrote a file"; fi
 if [ -n "$shared" ] && [ -f "$shared/formats/las/4_6_crop.las" ]; then
   las="$shared/formats/las/4_6_crop.las"
   run --json stats "$las"
