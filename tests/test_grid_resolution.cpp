@@ -14,6 +14,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <utility>
 
 #include "test_support.hpp"
 
@@ -58,6 +59,34 @@ PointCloud clumped_sphere(int clumps, int per_clump, double spread, std::uint64_
   return c;
 }
 
+/// `sparse` points uniform on the unit sphere and `dense` more on the cap within `cap` radians
+/// of +z (a scan with one patch seen far more densely than the rest).
+PointCloud sphere_with_dense_patch(int sparse, int dense, double cap, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0, 1);
+  std::uniform_real_distribution<double> u(0, 1);
+  PointCloud c;
+  c.positions.resize(sparse + dense, 3);
+  for (int i = 0; i < sparse; ++i) c.positions.row(i) = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized().transpose();
+  const double lowest = std::cos(cap);
+  for (int i = 0; i < dense; ++i) {
+    const double z = lowest + (1 - lowest) * u(rng), a = 2 * M_PI * u(rng), r = std::sqrt(1 - z * z);
+    c.positions.row(sparse + i) << r * std::cos(a), r * std::sin(a), z;
+  }
+  return c;
+}
+
+/// The area of `m` and the mean distance of its vertices from the unit sphere.
+std::pair<double, double> area_and_distance_to_unit_sphere(const TriangleMesh& m) {
+  double area = 0, off = 0;
+  for (Eigen::Index t = 0; t < m.triangles.rows(); ++t) {
+    const Eigen::Vector3d a = m.vertices.row(m.triangles(t, 0)), b = m.vertices.row(m.triangles(t, 1)), d = m.vertices.row(m.triangles(t, 2));
+    area += 0.5 * (b - a).cross(d - a).norm();
+  }
+  for (Eigen::Index v = 0; v < m.vertices.rows(); ++v) off += std::abs(m.vertices.row(v).norm() - 1);
+  return {area, off / std::max<double>(1, static_cast<double>(m.vertices.rows()))};
+}
+
 }  // namespace
 
 TEST(GridResolution, EstimateFollowsTheSurfaceArea) {
@@ -98,14 +127,28 @@ TEST(GridResolution, ClumpedPointsDoNotMakeTheGridFinerThanThePointsResolve) {
   // The estimate reads the patches of clumped leaves small by up to about 3×.
   EXPECT_LE(cells, 3 * kMaxSurfaceCellsPerPoint * static_cast<double>(c.size()));
   // The whole sphere, on the sphere.
-  double area = 0, off = 0;
-  for (Eigen::Index t = 0; t < m.triangles.rows(); ++t) {
-    const Eigen::Vector3d a = m.vertices.row(m.triangles(t, 0)), b = m.vertices.row(m.triangles(t, 1)), d = m.vertices.row(m.triangles(t, 2));
-    area += 0.5 * (b - a).cross(d - a).norm();
-  }
-  for (Eigen::Index v = 0; v < m.vertices.rows(); ++v) off += std::abs(m.vertices.row(v).norm() - 1);
-  off /= std::max<double>(1, static_cast<double>(m.vertices.rows()));
+  const auto [area, off] = area_and_distance_to_unit_sphere(m);
   std::cout << "area " << area / (4 * M_PI) << " of the sphere's, mean distance " << off << "\n";
   EXPECT_NEAR(area, 4 * M_PI, 0.1 * 4 * M_PI);
   EXPECT_LT(off, 0.005);
+}
+
+TEST(GridResolution, ADensePatchMeshesWithTheRestOnABoundedGrid) {
+  // 20,000 points on a cap of 1 % of the sphere, 2,000 on the rest, about 1,000 times
+  // sparser: the median spacing is the patch's, and twice it a grid crossing some 2 million
+  // surface cells for 22,000 points. The sparse rest is surface, not points in the air.
+  const PointCloud c = sphere_with_dense_patch(2000, 20000, 0.2, 4);
+  ReconstructOptions o;
+  o.mesh = true;
+  const Reconstruction r = reconstruct(c, o);
+  ASSERT_TRUE(r.mesh.has_value());
+  const double cells = static_cast<double>(r.mesh->grid.surface_cells);
+  const auto [area, off] = area_and_distance_to_unit_sphere(r.mesh->mesh);
+  std::cout << "sphere with a dense patch: " << r.tree.outliers() << " outliers, cell " << r.mesh->grid.voxel_size << " ("
+            << r.mesh->grid.voxel_size / r.tree.point_spacing << " spacings), " << cells << " surface cells, area "
+            << area / (4 * M_PI) << " of the sphere's, mean distance " << off << "\n";
+  EXPECT_LT(r.tree.outliers(), 100u);
+  EXPECT_LE(cells, 3 * kMaxSurfaceCellsPerPoint * static_cast<double>(c.size()));
+  EXPECT_NEAR(area, 4 * M_PI, 0.1 * 4 * M_PI);
+  EXPECT_LT(off, 0.01);
 }

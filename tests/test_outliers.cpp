@@ -61,6 +61,28 @@ TEST(Outliers, FindsPointsInTheAirAndKeepsTheSurface) {
   EXPECT_GE(far_flagged, 0.98 * far);
 }
 
+TEST(Outliers, ASparselySampledPartOfTheSurfaceIsNotInTheAir) {
+  // 20,000 points on a cap of 1 % of the sphere, 2,000 on the rest: the rest is about 1,000
+  // times sparser, its spread 30 times the cloud's median, and every point of it isolated by
+  // the global ratio alone. Its neighbours lie on the sphere's tangent plane: it is kept.
+  std::mt19937_64 rng(4);
+  std::normal_distribution<double> g(0, 1);
+  std::uniform_real_distribution<double> u(0, 1);
+  PointCloud c;
+  c.positions.resize(22000, 3);
+  for (int i = 0; i < 2000; ++i) c.positions.row(i) = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized().transpose();
+  const double lowest = std::cos(0.2);
+  for (int i = 2000; i < 22000; ++i) {
+    const double z = lowest + (1 - lowest) * u(rng), a = 2 * M_PI * u(rng), r = std::sqrt(1 - z * z);
+    c.positions.row(i) << r * std::cos(a), r * std::sin(a), z;
+  }
+  const OutlierReport found = find_outliers(c.positions);
+  std::size_t sparse_lost = 0;
+  for (const Eigen::Index i : found.outliers) sparse_lost += i < 2000;
+  std::cout << "dense patch: " << sparse_lost << " of 2000 sparse surface points flagged\n";
+  EXPECT_LT(sparse_lost, 20u);
+}
+
 TEST(Outliers, SmallCloudsAndZeroRatiosFlagNothing) {
   PointCloud c = test::sample_sphere(50);
   add_uniform_outliers(c, 5, 1);

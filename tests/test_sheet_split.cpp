@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include <cmath>
 
 using namespace clustersurf;
@@ -92,8 +94,10 @@ TEST(SheetSplit, OutliersLeftOutDoNotShiftTheNormals) {
   const int strays = 40;
   c.positions.resize(strays + plate.size(), 3);
   c.normals.resize(strays + plate.size(), 3);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0, 1);
   for (int i = 0; i < strays; ++i) {
-    c.positions.row(i) << 0.5 + 0.01 * i, 0.5, 2.0 + 0.3 * (i % 7);  // far above the plate
+    c.positions.row(i) << 0.3 + 0.4 * u(rng), 0.3 + 0.4 * u(rng), 2.0 + 2.0 * u(rng);  // scattered far above the plate
     c.normals.row(i) << 0, 0, -1;
   }
   c.positions.bottomRows(plate.size()) = plate.positions;

@@ -18,11 +18,21 @@ struct OutlierOptions {
   /// median spread, so a point beside a dense patch is not judged by the patch alone.
   double local_ratio = 3;
   /// ... or this many times the cloud's median spread (points in the air, whose neighbours are
-  /// other isolated points). Real scans vary in density far less (36× in point density).
+  /// other isolated points), unless its `plane_neighbors` nearest points lie on a plane and
+  /// it on their plane (their spread across it, and its distance from it, at most
+  /// kSparseSurfaceFlatness times their spread along it): a part of the surface sampled far
+  /// more sparsely than the rest (a terrestrial scan's far side, the sparse rest of a
+  /// multi-view stereo cloud), not points in the air, which scatter in all three directions.
   double global_ratio = 6;
+  std::size_t plane_neighbors = 16;
   /// Clouds with fewer points are left whole: too few for the statistics.
   std::size_t min_points = 100;
 };
+
+/// OutlierOptions::global_ratio's plane: the spread across it (the square root of the least
+/// eigenvalue of the points' covariance) at most this fraction of the spread along it (of the
+/// middle one). Points scattered in a ball: about 0.7; on a plane, the noise over the spacing.
+inline constexpr double kSparseSurfaceFlatness = 0.25;
 
 /// What find_outliers() found.
 struct OutlierReport {

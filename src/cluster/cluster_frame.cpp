@@ -17,7 +17,7 @@ namespace {
 /// variance of one normal): 2 (1 − |mean|) for the input's oriented normals, 1 − μ for
 /// estimated unoriented ones.
 /// Nullopt without usable normals (a zero mean, or a NaN among them).
-std::optional<std::pair<Eigen::Vector3d, double>> mean_normal(const Points& points, std::span<const std::uint32_t> range,
+std::optional<std::pair<Eigen::Vector3d, double>> normals_axis(const Points& points, std::span<const std::uint32_t> range,
                                                               const FrameNormals& normals, std::span<const std::uint32_t> ids) {
   const double n = static_cast<double>(range.size());
   if (normals.input != nullptr) {
@@ -56,7 +56,7 @@ ClusterFrame cluster_frame(const Points& points, std::span<const std::uint32_t> 
   // Estimated normals carry the positions' own information, over overlapping neighbourhoods:
   // they only stand in for a principal frame the noise chooses.
   if (normals.input == nullptr && (normals.estimated == nullptr || out.determined)) return out;
-  const auto mean = mean_normal(points, range, normals, ids);
+  const auto mean = normals_axis(points, range, normals, ids);
   if (!mean) return out;
   const double tilt_principal = noise * noise / (across / n * n);
   const double tilt_normals = mean->second / n;

@@ -5,6 +5,8 @@
 
 #include "spatial/spatial_order.hpp"
 
+#include <Eigen/Eigenvalues>
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -22,6 +24,28 @@ double median_of(std::vector<double>& values) {
   const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
   std::nth_element(values.begin(), mid, values.end());
   return *mid;
+}
+
+/// Whether point `row` lies on the plane of its `k` nearest other points, and they on it
+/// (OutlierOptions::global_ratio): their spread across the plane, and the point's distance from
+/// it, at most kSparseSurfaceFlatness times their spread along it.
+bool on_a_plane(const Points& points, const KdTree& index, Eigen::Index row, std::size_t k, std::vector<Neighbor>& near) {
+  index.neighbors_of(row, k, near);
+  if (near.size() < 3) return false;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Neighbor& q : near) mean += points.row(q.index).transpose();
+  mean /= static_cast<double>(near.size());
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const Neighbor& q : near) {
+    const Eigen::Vector3d d = points.row(q.index).transpose() - mean;
+    scatter.noalias() += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter / static_cast<double>(near.size()));  // ascending
+  if (eig.info() != Eigen::Success) return false;
+  const double across = std::max(0.0, eig.eigenvalues()(0)), along = eig.eigenvalues()(1);
+  const double off = (points.row(row).transpose() - mean).dot(eig.eigenvectors().col(0));
+  const double limit = kSparseSurfaceFlatness * kSparseSurfaceFlatness * along;
+  return along > 0 && across <= limit && off * off <= limit;
 }
 
 OutlierReport nothing_flagged(std::size_t n) {
@@ -54,6 +78,7 @@ namespace {
 
 OutlierReport flag_outliers(const Points& points, const KdTree& index, const OutlierOptions& options, const double* median_spread) {
   if (options.neighbors < 1) throw OptionError("outlier test: neighbors must be at least 1");
+  if (options.plane_neighbors < 3) throw OptionError("outlier test: plane_neighbors must be at least 3");
   if (!(options.local_ratio >= 0) || !(options.global_ratio >= 0) || !std::isfinite(options.local_ratio) ||
       !std::isfinite(options.global_ratio))
     throw OptionError("outlier test: ratios must be finite and >= 0 (0 turns a test off)");
@@ -95,12 +120,14 @@ OutlierReport flag_outliers(const Points& points, const KdTree& index, const Out
   std::vector<std::uint8_t> outlier(n, 0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& r) {
     std::vector<double> around(k);
+    std::vector<Neighbor> near;
     for (std::size_t o = r.begin(); o != r.end(); ++o) {
       const std::size_t i = order[o];
       for (std::size_t j = 0; j < k; ++j) around[j] = spread[neighbors[o * k + j]];
       const double reference = std::max(median_of(around), 0.5 * report.median_spread);
       const bool local = options.local_ratio > 0 && reference > 0 && spread[i] > options.local_ratio * reference;
-      outlier[i] = local || spread[i] > global_limit;
+      outlier[i] = local || (spread[i] > global_limit &&
+                             !on_a_plane(points, index, static_cast<Eigen::Index>(i), options.plane_neighbors, near));
     }
   });
   for (std::size_t i = 0; i < n; ++i) (outlier[i] ? report.outliers : report.kept).push_back(static_cast<Eigen::Index>(i));
