@@ -1,5 +1,7 @@
 #include <clustersurf/normal_estimation.hpp>
 
+#include "spatial/neighborhood_shape.hpp"
+
 #include <Eigen/Eigenvalues>
 
 #include <tbb/parallel_for.h>
@@ -9,18 +11,9 @@
 namespace clustersurf {
 
 Eigen::Vector3d unoriented_normal(const KdTree& index, const Eigen::Vector3d& at, std::size_t k, std::vector<Neighbor>& scratch) {
-  const Points& points = index.points();
   index.knn(at, k, scratch);
   if (scratch.size() < 3) return Eigen::Vector3d::Zero();
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Neighbor& q : scratch) mean += points.row(q.index).transpose();
-  mean /= static_cast<double>(scratch.size());
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (const Neighbor& q : scratch) {
-    const Eigen::Vector3d d = points.row(q.index).transpose() - mean;
-    scatter.noalias() += d * d.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter);  // ascending eigenvalues
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(detail::neighborhood_shape(index.points(), scratch).covariance);  // ascending
   // A line (or a point) spans no plane: its two smaller spreads are both about zero.
   if (eig.info() != Eigen::Success || !(eig.eigenvalues()(1) > 1e-12 * eig.eigenvalues()(2))) return Eigen::Vector3d::Zero();
   Eigen::Vector3d n = eig.eigenvectors().col(0);

@@ -3,6 +3,7 @@
 #include <clustersurf/errors.hpp>
 #include <clustersurf/outliers.hpp>
 
+#include "spatial/neighborhood_shape.hpp"
 #include "spatial/spatial_order.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -32,18 +33,11 @@ double median_of(std::vector<double>& values) {
 bool on_a_plane(const Points& points, const KdTree& index, Eigen::Index row, std::size_t k, std::vector<Neighbor>& near) {
   index.neighbors_of(row, k, near);
   if (near.size() < 3) return false;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Neighbor& q : near) mean += points.row(q.index).transpose();
-  mean /= static_cast<double>(near.size());
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (const Neighbor& q : near) {
-    const Eigen::Vector3d d = points.row(q.index).transpose() - mean;
-    scatter.noalias() += d * d.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter / static_cast<double>(near.size()));  // ascending
+  const detail::NeighborhoodShape shape = detail::neighborhood_shape(points, near);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(shape.covariance);  // ascending
   if (eig.info() != Eigen::Success) return false;
   const double across = std::max(0.0, eig.eigenvalues()(0)), along = eig.eigenvalues()(1);
-  const double off = (points.row(row).transpose() - mean).dot(eig.eigenvectors().col(0));
+  const double off = (points.row(row).transpose() - shape.mean).dot(eig.eigenvectors().col(0));
   const double limit = kSparseSurfaceFlatness * kSparseSurfaceFlatness * along;
   return along > 0 && across <= limit && off * off <= limit;
 }
