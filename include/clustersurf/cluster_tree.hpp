@@ -82,8 +82,10 @@ struct BuildOptions {
   bool use_normals = true;
   /// With use_normals: a cluster's tangent plane comes from the mean of its input normals
   /// instead of its principal components where the normals pin it down better (noisy positions,
-  /// consistent normals: a noisy thin part has no principal plane). Clean data keep the
-  /// principal plane either way.
+  /// consistent normals: a noisy thin part has no principal plane). Without input normals, a
+  /// cluster as thick as it is wide (its principal frame the noise's) takes the mean axis of
+  /// normals estimated over its points' 30 nearest neighbours where they pin it down better.
+  /// Clean data keep the principal plane either way.
   bool frames_from_normals = true;
   /// With use_normals and support_factor > 0: a leaf's support fit also follows the slopes of
   /// the input normals (either sign), weighted by how much surer they are than the positions
