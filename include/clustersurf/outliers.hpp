@@ -24,7 +24,8 @@ struct OutlierOptions {
   /// more sparsely than the rest (a terrestrial scan's far side, the sparse rest of a
   /// multi-view stereo cloud), not points in the air, which scatter in all three directions.
   double global_ratio = 6;
-  std::size_t plane_neighbors = 16;
+  std::size_t plane_neighbors = 16;  ///< the neighbours whose plane global_ratio's exception tests
+
   /// Clouds with fewer points are left whole: too few for the statistics.
   std::size_t min_points = 100;
 };

@@ -74,6 +74,7 @@ def scan_surface(
     scans: int = 8,
     noise: float = 0.0,
     registration: float = 0.0,
+    flipped_normals: float = 0.0,
     distance: float = 1.5,
     seed: int = 1,
 ) -> PointCloud: ...

@@ -238,7 +238,7 @@ mesh's origin.)doc");
   m.def(
       "scan_surface",
       [](const py::handle& vertices, const py::handle& faces, std::int64_t n, std::int64_t scans, double noise,
-         double registration, double distance, std::uint64_t seed) {
+         double registration, double flipped_normals, double distance, std::uint64_t seed) {
         if (n < 1) throw OptionError("n must be positive, not " + std::to_string(n));
         if (scans < 1) throw OptionError("scans must be positive, not " + std::to_string(scans));
         const TriangleMesh mesh = surface_to_sample(vertices, faces);
@@ -247,6 +247,7 @@ mesh's origin.)doc");
         options.scans = static_cast<std::size_t>(scans);
         options.noise = noise;
         options.registration = registration;
+        options.flipped_normals = flipped_normals;
         options.distance = distance;
         options.seed = seed;
         PointCloud cloud = [&] {
@@ -258,14 +259,16 @@ mesh's origin.)doc");
       },
       py::arg("vertices"), py::arg("faces") = py::none(), py::arg("n") = RangeScanOptions{}.count,
       py::arg("scans") = RangeScanOptions{}.scans, py::arg("noise") = RangeScanOptions{}.noise,
-      py::arg("registration") = RangeScanOptions{}.registration, py::arg("distance") = RangeScanOptions{}.distance,
+      py::arg("registration") = RangeScanOptions{}.registration,
+      py::arg("flipped_normals") = RangeScanOptions{}.flipped_normals, py::arg("distance") = RangeScanOptions{}.distance,
       py::arg("seed") = RangeScanOptions{}.seed, R"doc(
 Scans a triangle mesh with a virtual range scanner, as ``clustersurf sample --scanner`` does.
 
 ``vertices`` and ``faces``, or a mesh object in place of both, as in sample_surface().
 About ``n`` points over ``scans`` viewpoints around the mesh (occlusion holes, grazing returns
 dropped); ``noise``: Gaussian sigma along the line of sight and ``registration``: each scan's
-rigid misregistration, both fractions of the bounding-box diagonal; ``distance``: the scanners'
+rigid misregistration, both fractions of the bounding-box diagonal; ``flipped_normals``: the
+share of the returns whose normal points away from its scanner; ``distance``: the scanners'
 distance to the box center, in diagonals; ``seed``: the same seed gives the same points.
 Returns a PointCloud with normals from each scan's grid, pointing towards its scanner, with
 the mesh's origin.)doc");

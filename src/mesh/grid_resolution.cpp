@@ -6,10 +6,10 @@
 
 #include "mesh/clipped_extraction.hpp"
 
-#include <charconv>
 #include <Eigen/Core>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <string>
 
