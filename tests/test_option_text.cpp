@@ -47,7 +47,7 @@ TEST(OptionText, RefusalsSayWhatIsAccepted) {
   expect_refused([] { parse_proxy_kind("point"); }, "proxy must be plane, poly or quadric, not \"point\"");
   expect_refused([] { parse_splitter("kmeans"); }, "splitter must be split-plane or lloyd, not \"kmeans\"");
   expect_refused([] { parse_error_metric("mean"); }, "error metric must be rms or max, not \"mean\"");
-  expect_refused([] { parse_mesh_coloring("red"); }, "color must be none, leaf or distance, not \"red\"");
+  expect_refused([] { parse_mesh_coloring("red"); }, "color must be none, leaf, distance or input, not \"red\"");
   for (const char* bad : {"big", "-1", "1e", "", " 0.1", "nan", "inf"})
     expect_refused([&] { parse_tolerance(bad); },
                    std::string("tolerance must be \"auto\" or a non-negative fraction of the diagonal, not \"") + bad + "\"");

@@ -24,13 +24,18 @@ namespace {
 PointCloud read_all(PointStream& stream, std::size_t block) {
   PointCloud all, part;
   std::vector<Eigen::RowVector3d> p, n;
+  std::vector<Eigen::Matrix<std::uint8_t, 1, 3>> c;
   while (stream.read(block, part)) {
     EXPECT_LE(part.size(), static_cast<Eigen::Index>(block));
+    EXPECT_EQ(part.has_colors(), stream.has_colors() && part.size() > 0);
     for (Eigen::Index i = 0; i < part.size(); ++i) {
       p.push_back(part.positions.row(i));
       if (part.has_normals()) n.push_back(part.normals.row(i));
+      if (part.has_colors()) c.push_back(part.colors.row(i));
     }
   }
+  all.colors.resize(static_cast<Eigen::Index>(c.size()), 3);
+  for (std::size_t i = 0; i < c.size(); ++i) all.colors.row(static_cast<Eigen::Index>(i)) = c[i];
   all.positions.resize(static_cast<Eigen::Index>(p.size()), 3);
   for (std::size_t i = 0; i < p.size(); ++i) all.positions.row(static_cast<Eigen::Index>(i)) = p[i];
   if (!n.empty()) {
@@ -41,8 +46,8 @@ PointCloud read_all(PointStream& stream, std::size_t block) {
 }
 
 /// The shared sample `name` (under formats/) read in place in blocks of `block` gives the
-/// reader's points, to within `tolerance` (the reader moves a far cloud next to zero); false,
-/// with nothing checked, when the sample is absent.
+/// reader's points, to within `tolerance` (the reader moves a far cloud next to zero), its
+/// colors exactly and its up axis; false, with nothing checked, when the sample is absent.
 bool streams_as_read(const std::string& name, std::size_t block, double tolerance) {
   const auto file = test::shared_data("formats/" + name);
   if (!file) return false;
@@ -56,6 +61,11 @@ bool streams_as_read(const std::string& name, std::size_t block, double toleranc
   if (blocks.size() == whole.size()) {
     EXPECT_LE((blocks.positions - world).cwiseAbs().maxCoeff(), tolerance) << name;
   }
+  EXPECT_EQ(stream.has_colors(), whole.has_colors()) << name;
+  if (stream.has_colors() && whole.has_colors() && blocks.size() == whole.size()) {
+    EXPECT_EQ(blocks.colors, whole.colors) << name;
+  }
+  EXPECT_EQ(stream.up(), whole.up) << name;
   return true;
 }
 
@@ -65,17 +75,24 @@ TEST(PointStream, BinaryPlyInBlocksIsTheReadersCloud) {
   const test::TempDir dir;
   PointCloud cloud = test::sample_torus(1000);
   cloud.positions.rowwise() += Eigen::RowVector3d(5e6, -3e6, 100);  // far from zero: no shift in the stream
+  cloud.colors.resize(cloud.size(), 3);
+  for (Eigen::Index i = 0; i < cloud.size(); ++i) cloud.colors.row(i) << i % 256, (7 * i) % 256, 255 - i % 256;
+  cloud.up = UpAxis::Z;
   write_ply(dir / "t.ply", cloud);
   PointStream stream(dir / "t.ply");
   EXPECT_TRUE(stream.streamed());
   EXPECT_EQ(stream.size(), 1000u);
   EXPECT_TRUE(stream.has_normals());
+  EXPECT_TRUE(stream.has_colors());
+  EXPECT_EQ(stream.up(), UpAxis::Z);  // the "comment up z" line
   const PointCloud read = read_point_cloud(dir / "t.ply");
   const PointCloud streamed = read_all(stream, 64);
   Points world = read.positions;
   world.rowwise() += read.origin.transpose();
   EXPECT_EQ(streamed.positions, world);
   EXPECT_EQ(streamed.normals, read.normals);
+  EXPECT_EQ(streamed.colors, cloud.colors);
+  EXPECT_EQ(read.up, UpAxis::Z);
   stream.rewind();
   EXPECT_EQ(read_all(stream, 1000).positions, world);
 }
@@ -244,6 +261,15 @@ TEST(PointStream, LasInBlocksIsTheReadersCloud) {
   const PointCloud blocks = read_all(autzen, 4096);
   ASSERT_EQ(blocks.size(), 110000);
   EXPECT_LT((blocks.positions - whole_world).cwiseAbs().maxCoeff(), 1e-9);  // the reader's shift is exact to rounding
+  // Its RGB, and a survey's up axis.
+  ASSERT_TRUE(autzen.has_colors());
+  EXPECT_EQ(blocks.colors, whole.colors);
+  EXPECT_EQ(autzen.up(), UpAxis::Z);
+  EXPECT_EQ(whole.up, UpAxis::Z);
+  std::string absent;
+  for (const char* name : {"las/1.2-with-color.las", "las/simple.las"})
+    if (!streams_as_read(name, 100, 1e-9)) absent += std::string(" ") + name;
+  if (!absent.empty()) GTEST_SKIP() << "shared samples absent under formats/:" << absent;
 }
 
 // A LAS header that promises more points than the file holds is refused when opened, with the
@@ -309,7 +335,7 @@ TEST(PointStream, E57InBlocksIsTheReadersCloud) {
   }
 
   std::string absent;
-  for (const char* name : {"e57/A_B.e57", "e57/A_moved_B.e57"})
+  for (const char* name : {"e57/A_B.e57", "e57/A_moved_B.e57", "e57/A_B_different_dims.e57", "e57/B2.e57"})
     if (!streams_as_read(name, 4096, 1e-6)) absent += std::string(" ") + name;
   if (!absent.empty()) GTEST_SKIP() << "shared samples absent under formats/:" << absent;
 }
@@ -412,7 +438,7 @@ TEST(PointStream, PtxInBlocksIsTheReadersCloud) {
   EXPECT_EQ(world.row(0), Eigen::RowVector3d(600000, 4000000 + 0.25, 14));  // (x, y) turned 90°, then moved
 
   std::string absent;
-  for (const char* name : {"ptx/multiple-and-transform.ptx", "ptx/complex-transform.ptx"})
+  for (const char* name : {"ptx/multiple-and-transform.ptx", "ptx/complex-transform.ptx", "ptx/1.2-with-color.ptx"})
     if (!streams_as_read(name, 2, 1e-6)) absent += std::string(" ") + name;
   if (!absent.empty()) GTEST_SKIP() << "shared samples absent under formats/:" << absent;
 }

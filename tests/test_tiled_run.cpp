@@ -215,7 +215,7 @@ TEST(TiledRun, DamagedFilesAreClearErrors) {
   }
   EXPECT_FALSE(std::filesystem::exists(work / "tile-000001.bin"));
   // A plan that is not one: the line is named.
-  test::write_file(work / "plan.txt", "clustersurf-tiles 1\ninput 1 2 3\n");
+  test::write_file(work / "plan.txt", "clustersurf-tiles 2\ninput 1 2 3\n");
   try {
     TiledRun reopened(work);
     FAIL() << "a broken plan was read";

@@ -31,7 +31,8 @@ bool is_tree_file(const std::string& file) {
 
 Scene load_scene(Console& console, const std::string& file) {
   if (is_tree_file(file)) return load_tree(file);
-  if (format_from_extension(file) != FileFormat::Xyz) {
+  const FileFormat format = format_from_extension(file);
+  if (format == FileFormat::Ply || format == FileFormat::Obj) {
     ReadOptions options;
     options.warn = [&console](const std::string& message) { console.warn(message); };
     TriangleMesh mesh = read_triangle_mesh(file, options);
@@ -81,7 +82,7 @@ int run_render(Console& console, const RenderArgs& args) {
   options.camera.fov = args.fov;
   options.camera.eye = vector_option(args.eye, "--eye");
   options.camera.target = vector_option(args.target, "--target");
-  if (auto up = vector_option(args.up, "--up")) options.camera.up = *up;
+  options.camera.up = vector_option(args.up, "--up");
   options.background = parse_background(args.background);
   options.ambient_occlusion = args.ambient_occlusion;
   options.min_weight = args.min_weight;

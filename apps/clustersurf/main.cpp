@@ -51,8 +51,10 @@ void add_mesh_options(CLI::App& cmd, clustersurf::cli::MeshArgs& m) {
   cmd.add_option("--lod-depth", o.lod_depth, "Blend the tree cut at this depth instead of the leaves");
   cmd.add_option("--lod-error", o.lod_error, "Blend the shallowest nodes with error <= this fraction of the diagonal")
       ->check(CLI::NonNegativeNumber);
-  cmd.add_option("--color", m.color, "Vertex colors: none, leaf (per blended node) or distance (to the input points)")
-      ->check(CLI::IsMember({"none", "leaf", "distance"}))
+  cmd.add_option("--color", m.color,
+                 "Vertex colors: input (the input points' own colors, when they have them: a scan's RGB), none, "
+                 "leaf (per blended node) or distance (to the input points)")
+      ->check(CLI::IsMember({"input", "none", "leaf", "distance"}))
       ->capture_default_str();
   cmd.add_option("--trim", o.trim.spread_factor,
                  "Drop triangles farther from the input points than this x the nearest point's spread "
@@ -183,7 +185,7 @@ int main(int argc, char** argv) {
   auto* m = app.add_subcommand("mesh", "Mesh the implicit surface of a tree file");
   m->add_option("tree", meshcmd.tree, "Tree file (.cstree)")->required();
   m->add_option("-o,--output", meshcmd.output, "Mesh file to write (.ply, .obj, .off, .stl or .glb)")->required();
-  m->add_option("--points", meshcmd.mesh.points, "The tree's input cloud, for --trim and --color distance");
+  m->add_option("--points", meshcmd.mesh.points, "The tree's input cloud, for --trim and --color distance or input");
   add_mesh_options(*m, meshcmd.mesh);
 
   SampleArgs sample;
@@ -258,7 +260,7 @@ int main(int argc, char** argv) {
   v->add_option("--fov", rnd.fov, "Vertical field of view, degrees")->check(CLI::Range(1.0, 170.0))->capture_default_str();
   v->add_option("--eye", rnd.eye, "Explicit camera position x,y,z")->delimiter(',')->expected(3);
   v->add_option("--target", rnd.target, "Point looked at x,y,z (default: bbox center)")->delimiter(',')->expected(3);
-  v->add_option("--up", rnd.up, "Up direction x,y,z (default 0,1,0)")->delimiter(',')->expected(3);
+  v->add_option("--up", rnd.up, "Up direction x,y,z (default: the input's up axis: 0,0,1 for LAS, E57 and PTX surveys and what was made from them, else 0,1,0)")->delimiter(',')->expected(3);
   v->add_option("--background", rnd.background, "transparent, white, black or #rrggbb")->default_val("white");
   v->add_flag("--ao", rnd.ambient_occlusion, "Ambient occlusion (8 short rays per hit)");
   v->add_option("--lod-depth", rnd.lod_depth, "Blend the tree cut at this depth instead of the leaves");

@@ -13,13 +13,15 @@ namespace clustersurf {
 
 /// How the camera is placed. Angles in degrees. Unset fields are derived from the framed box.
 struct CameraOptions {
-  double azimuth = 30;    ///< turn around `up`, from the front axis (+z for +y up) toward +x
+  double azimuth = 30;    ///< turn around `up`, from the front axis (+z for +y up, +x for +z up) toward the side axis up × front
   double elevation = 20;  ///< above the horizontal plane through the target
   std::optional<double> distance;  ///< eye–target distance; default: the nearest with the whole box in view
   double fov = 35;        ///< vertical field of view
   std::optional<Eigen::Vector3d> eye;     ///< explicit eye (overrides azimuth/elevation/distance)
   std::optional<Eigen::Vector3d> target;  ///< default: center of the box
-  Eigen::Vector3d up = Eigen::Vector3d::UnitY();
+  /// Default: the scene's up axis (ClusterTree::up, TriangleMesh::up, PointCloud::up) in the
+  /// renderers, +y in make_camera().
+  std::optional<Eigen::Vector3d> up;
 };
 
 /// A perspective camera for a width × height picture. Pixel (x, y) covers [x, x+1) × [y, y+1),

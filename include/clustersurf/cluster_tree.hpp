@@ -163,6 +163,9 @@ struct ClusterTree {
   /// The input's origin (PointCloud::origin): nodes, bbox and meshes are relative to it, and
   /// meshes of the tree are written back at it.
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  /// The input's up axis (PointCloud::up): what pictures and the viewer of the tree take as up,
+  /// and what its meshes carry.
+  UpAxis up = UpAxis::Y;
   std::uint64_t input_points = 0;        ///< all input points; the root holds those not outliers
   std::vector<ClusterNode> nodes;        ///< pre-order, nodes[0] is the root
   /// Node index of each input point's leaf (-1 for an outlier), or empty.

@@ -1,5 +1,6 @@
 #pragma once
-// Per-vertex colors that show how a mesh relates to the tree and to the input.
+// Per-vertex colors: the input's own (from a scan's RGB), or ones that show how a mesh relates to
+// the tree and to the input.
 
 #include <clustersurf/implicit_surface.hpp>
 #include <clustersurf/kd_tree.hpp>
@@ -7,6 +8,17 @@
 #include <clustersurf/point_cloud.hpp>
 
 namespace clustersurf {
+
+/// Input points whose colors blend into each vertex's (colors_from_points()).
+inline constexpr std::size_t kColorNeighbors = 8;
+
+/// The colors of `points` carried onto the mesh: each vertex gets, channel by channel, the
+/// median of the colors of its `neighbors` nearest points weighted by exp(-(d / d_k)^2) (d the
+/// point's distance, d_k the farthest neighbour's), so a stray point among them changes nothing
+/// and a border between two colors stays as sharp as the points draw it. `colors` has one row
+/// per point of `points` (the k-d tree's), else OptionError. Deterministic for any thread count.
+Colors colors_from_points(const TriangleMesh& mesh, const KdTree& points, const Colors& colors,
+                          std::size_t neighbors = kColorNeighbors);
 
 /// A color per blended node (hashed from its index: neighbours almost always differ),
 /// given to each vertex by the node of largest weight there.

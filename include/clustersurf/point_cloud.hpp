@@ -17,6 +17,15 @@ using Colors = Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 3, Eigen::RowMajor>;
 /// n x 3 matrix of vertex indices, one triangle per row.
 using Triangles = Eigen::Matrix<std::int32_t, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
+/// The axis that points up in a file's convention: +y for meshes and most point formats, +z for
+/// georeferenced surveys (LAS, E57 and PTX are z-up). Pictures and the viewer take it as up.
+enum class UpAxis : std::uint8_t { Y = 0, Z = 1 };
+
+/// The unit vector of `axis`.
+inline Eigen::Vector3d up_vector(UpAxis axis) {
+  return axis == UpAxis::Z ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY();
+}
+
 /// A named per-point scalar a scanner file carries (LAS intensity and classification, E57 and
 /// PTX intensity): one value per point.
 struct PointAttribute {
@@ -34,6 +43,8 @@ struct PointCloud {
   /// Readers move a cloud that lies far from zero next to it (see shift_to_origin) so that no
   /// stage loses precision; writers add the origin back. Zero for clouds near zero.
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  /// Which axis is up in the file's convention (readers set it; stages pass it on).
+  UpAxis up = UpAxis::Y;
   /// Extra scalars per point, kept through every selection of rows.
   std::vector<PointAttribute> attributes;
   /// Where the scanners stood (one row per scan, in the same frame as `positions`) and which
@@ -57,6 +68,9 @@ struct TriangleMesh {
   Points normals;
   Colors colors;
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  /// Which axis is up (the input's, PointCloud::up): PLY files record it, GLB files turn a z-up
+  /// mesh to glTF's +y up.
+  UpAxis up = UpAxis::Y;
   /// Extra scalars per vertex (`filled`: 1 where a closed mesh was filled in, not fitted),
   /// kept by every operation that keeps vertices and written to PLY as float properties.
   std::vector<PointAttribute> attributes;

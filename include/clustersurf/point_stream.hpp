@@ -24,7 +24,9 @@ namespace clustersurf {
 ///     error the reader gives, then again block by block; a PTX file's scans posed, the cells
 ///     without a return left out).
 /// Other files (OBJ, ascii PLY, meshes, which read_point_cloud() samples)
-/// are read whole first and served from memory. Positions and normals only.
+/// are read whole first and served from memory. Positions, normals and colors, as
+/// read_point_cloud() gives them (LAS files and PCD files with red, green and blue fields are
+/// looked through once when opened, for whether their 16-bit colors hold 8-bit values).
 class PointStream {
  public:
   /// Opens `file`; IoError when it cannot be read, InputError when it is malformed (a binary
@@ -40,6 +42,10 @@ class PointStream {
   /// so), and before an E57 file's invalid records and a PCD file's NaN ones are left out.
   std::uint64_t size() const noexcept;
   bool has_normals() const noexcept;
+  /// Whether each block carries its points' colors (the class comment says which).
+  bool has_colors() const noexcept;
+  /// The file's up axis (PointCloud::up): z for LAS, E57 and PTX.
+  UpAxis up() const noexcept;
   /// Read in place (binary PLY points, LAS, E57, PCD, XYZ and PTX text) rather
   /// than whole.
   bool streamed() const noexcept;

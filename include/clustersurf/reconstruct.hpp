@@ -23,9 +23,12 @@ enum class MeshColoring : std::uint8_t {
   None = 0,
   ByNode = 1,      ///< colors_by_node(): the blended node of largest weight
   ByDistance = 2,  ///< colors_by_distance() to the input points (needs them)
+  /// colors_from_points() of the clustered input points when they have colors (a scan's RGB);
+  /// no colors when the input has none or is not given.
+  FromInput = 3,
 };
 
-/// "none", "leaf" or "distance" (the command-line words).
+/// "none", "leaf", "distance" or "input" (the words the front ends take).
 const char* to_string(MeshColoring coloring);
 /// The coloring named by to_string(). Throws OptionError otherwise.
 MeshColoring parse_mesh_coloring(std::string_view text);
@@ -50,7 +53,7 @@ struct SurfaceMeshOptions {
   ClosingOptions closing;
   /// Fewer triangles after the trim (off by default).
   DecimationOptions decimation;
-  MeshColoring coloring = MeshColoring::None;
+  MeshColoring coloring = MeshColoring::FromInput;
   /// ByDistance: the distance drawn full red, as a fraction of the tree's diagonal.
   double distance_scale = 0.005;
 };

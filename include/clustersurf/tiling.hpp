@@ -169,11 +169,12 @@ struct MeshTile {
 /// size grid.voxel_size (required) anchored at the tree's box: the lattice is meshed over the
 /// region's cell and a margin of cells around it, seeded on the blended proxies and on the
 /// region's points, and trimmed with `trim` to the region's points but its outliers (without the
-/// fragment test, which join_tiles() decides, and without closing pinholes). Deterministic.
-/// Throws OptionError for invalid options.
+/// fragment test, which join_tiles() decides, and without closing pinholes); with
+/// `input_colors`, colored from those points (colors_from_points()) when they have colors.
+/// Deterministic. Throws OptionError for invalid options.
 MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::int32_t region_index,
                    const RegionCloud& region, const MeshOptions& grid, const TrimOptions& trim = {},
-                   const ProgressCallback& progress = {});
+                   bool input_colors = true, const ProgressCallback& progress = {});
 
 /// Cells of lattice a tile meshes beyond its region (mesh_tile()): a triangle whose centroid
 /// lies in the region comes from cells within two of it (a quad spans the two cells on each side
@@ -211,7 +212,7 @@ struct JoinedMesh {
 };
 
 /// join_tiles() of the tiles tile(0), ..., tile(count − 1) (tile(k): region k's), written to
-/// a binary PLY file tile by tile, with colors by node from `colors` when given: the bytes
+/// a binary PLY file tile by tile, with colors by node from `colors` when given, else the tiles' own colors when they have them: the bytes
 /// write_ply() writes of join_tiles()'s mesh, never the whole mesh in memory. Each tile is asked
 /// for four times; memory holds one tile, 13 bytes per vertex and the vertices near region
 /// borders (welded by position). Atomic. Throws OptionError for tiles that do not match the plan.

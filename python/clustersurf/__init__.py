@@ -5,10 +5,11 @@ proxies into one implicit surface f (positive outside), then mesh it, evaluate i
 
     import clustersurf
     cloud = clustersurf.read_points("data/bunny.ply")
-    tree = clustersurf.reconstruct(cloud.positions, cloud.normals)   # options as the CLI's
-    mesh = tree.mesh(points=cloud)                                  # a Mesh, trimmed to the points
-    clustersurf.write_mesh("bunny.ply", mesh.vertices, mesh.faces, mesh.normals)
-    tree.save("bunny.cstree")                                       # == `clustersurf reconstruct`
+    mesh = clustersurf.reconstruct_mesh(cloud)      # == `clustersurf reconstruct IN --mesh OUT`
+    clustersurf.write_mesh("bunny.ply", mesh)
+    tree = clustersurf.reconstruct(cloud)           # options as the CLI's
+    mesh = tree.mesh()                              # the same Mesh: trimmed to the points it keeps
+    tree.save("bunny.cstree")                       # == `clustersurf reconstruct`
 
 Arrays are numpy (n, 3) float64 (float32 input is converted). A PointCloud's positions and a
 Mesh's vertices are relative to its ``origin`` (zero unless a file lay far from zero); their
@@ -39,6 +40,7 @@ from ._clustersurf import (
     read_mesh,
     read_points,
     reconstruct,
+    reconstruct_mesh,
     reconstruct_file,
     region_points_for_memory,
     check_mesh,
@@ -69,6 +71,7 @@ __all__ = [
     "read_mesh",
     "read_points",
     "reconstruct",
+    "reconstruct_mesh",
     "reconstruct_file",
     "region_points_for_memory",
     "check_mesh",

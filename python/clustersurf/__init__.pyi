@@ -17,6 +17,7 @@ from ._clustersurf import load as load
 from ._clustersurf import read_mesh as read_mesh
 from ._clustersurf import read_points as read_points
 from ._clustersurf import reconstruct as reconstruct
+from ._clustersurf import reconstruct_mesh as reconstruct_mesh
 from ._clustersurf import reconstruct_file as reconstruct_file
 from ._clustersurf import region_points_for_memory as region_points_for_memory
 from ._clustersurf import check_mesh as check_mesh
@@ -47,6 +48,7 @@ __all__ = [
     "read_mesh",
     "read_points",
     "reconstruct",
+    "reconstruct_mesh",
     "reconstruct_file",
     "region_points_for_memory",
     "check_mesh",

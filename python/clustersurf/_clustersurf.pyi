@@ -115,6 +115,13 @@ def reconstruct(
     absolute_error: Optional[float] = None,
     progress: _Progress = None,
 ) -> Tree: ...
+def reconstruct_mesh(
+    points: _Points,
+    normals: Optional[ArrayLike] = None,
+    *,
+    progress: _Progress = None,
+    **kwargs: Any,
+) -> Mesh: ...
 def load(path: _Path) -> Tree: ...
 def reconstruct_file(
     input: _Path,
@@ -246,7 +253,7 @@ class Tree:
         trim: float = 2.0,
         min_component_points: int = 30,
         close_pinholes: bool = False,
-        color: str = "none",
+        color: str = "input",
         watertight: bool = False,
         fill_holes: float = 0.0,
         decimate: int = 0,

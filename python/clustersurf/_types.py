@@ -146,12 +146,16 @@ def _surface_parts(obj: Any) -> Tuple[Any, Any, Any, Any, Any, Any, Any]:
     """What the bindings take from a mesh or cloud object, None for what it lacks:
     (vertices, faces, normals, colors, origin, scanner_positions, scanner_of_point).
 
-    clustersurf's Mesh and PointCloud give all they have. Any other object gives its
-    ``.vertices`` (or ``.positions``), its ``.faces`` (or ``.triangles``; none: a point set)
-    and its ``.origin`` if it has one, as numpy arrays (trimesh.Trimesh, Open3D meshes, ...);
-    its normals and colors are not read, as their conventions differ (Open3D colors are floats,
-    trimesh's RGBA): convert Open3D objects with from_open3d() to keep them.
+    clustersurf's Mesh and PointCloud give all they have, and so do Open3D point clouds and
+    meshes (through from_open3d()). Any other object gives its ``.vertices`` (or
+    ``.positions``, or ``.points``), its ``.faces`` (or ``.triangles``; none: a point set) and its ``.origin``
+    if it has one, as numpy arrays (trimesh.Trimesh, ...); its normals and colors are not read,
+    as their conventions differ (trimesh's colors are RGBA).
     """
+    if type(obj).__module__.startswith("open3d"):
+        from ._open3d import from_open3d
+
+        obj = from_open3d(obj)
     if isinstance(obj, PointCloud):
         return (obj.positions, None, obj.normals, obj.colors, obj.origin, obj.scanner_positions,
                 obj.scanner_of_point)
@@ -160,6 +164,8 @@ def _surface_parts(obj: Any) -> Tuple[Any, Any, Any, Any, Any, Any, Any]:
     vertices = getattr(obj, "vertices", None)
     if vertices is None:
         vertices = getattr(obj, "positions", None)
+    if vertices is None:
+        vertices = getattr(obj, "points", None)
     faces = getattr(obj, "faces", None)
     if faces is None:
         faces = getattr(obj, "triangles", None)

@@ -176,7 +176,7 @@ Eigen::Vector3d to_vector3(const py::handle& value, const char* name) {
 
 bool is_surface_object(const py::handle& object) {
   return !object.is_none() && !py::isinstance<py::array>(object) &&
-         (py::hasattr(object, "vertices") || py::hasattr(object, "positions"));
+         (py::hasattr(object, "vertices") || py::hasattr(object, "positions") || py::hasattr(object, "points"));
 }
 
 namespace {

@@ -50,7 +50,7 @@ void bind_render(py::class_<TreeRef>& tree_class) {
         o.camera.fov = fov;
         o.camera.eye = vector_option(eye, "eye");
         o.camera.target = vector_option(target, "target");
-        if (auto u = vector_option(up, "up")) o.camera.up = *u;
+        o.camera.up = vector_option(up, "up");
         o.background = parse_background(background);
         o.ambient_occlusion = ao;
         o.lod = level_of_detail(tree, lod_depth ? std::optional(to_uint32(*lod_depth, "lod_depth")) : std::nullopt, lod_error);
@@ -86,7 +86,8 @@ Options mirror the CLI: ``width``, ``height``, ``samples`` (rays per pixel); ``m
 "implicit", "hit-blend" or "brute-force"; ``show`` "surface", "clusters", "spheres", "proxies"
 or "error" (needs ``points``, an (n, 3) array or PointCloud; ``error_scale``); ``level``
 (clusters: color by the ancestor at this depth); ``highlight`` (a node index); the camera
-``azimuth``, ``elevation``, ``distance``, ``fov`` or ``eye``/``target``/``up`` as (x, y, z);
+``azimuth``, ``elevation``, ``distance``, ``fov`` or ``eye``/``target``/``up`` as (x, y, z) (``up``
+default: the tree's up axis, z for a tree of a LAS, E57 or PTX survey, else y);
 ``background`` "transparent", "white", "black" or "#rrggbb"; ``ao`` (ambient occlusion);
 ``lod_depth``, ``lod_error``, ``min_weight``. ``progress`` as in reconstruct(). Runs on all
 cores without the GIL.)doc");

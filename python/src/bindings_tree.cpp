@@ -78,6 +78,13 @@ py::array_t<double> sample(const ClusterTree& tree, const py::handle& xyz, doubl
 
 }  // namespace
 
+std::shared_ptr<const PointCloud> tree_input(PointCloud cloud) {
+  auto kept = std::make_shared<PointCloud>();
+  kept->positions = std::move(cloud.positions);
+  kept->colors = std::move(cloud.colors);
+  return kept;
+}
+
 void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class) {
   const BuildOptions defaults;
   m.def(
@@ -99,11 +106,11 @@ void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class) {
                          "no_point_leaves"_a = no_point_leaves, "keep_outliers"_a = keep_outliers, "creases"_a = creases);
         ReconstructOptions o = reconstruct_options(options);
         o.mesh = false;
-        const PointCloud cloud = cloud_argument(points, normals, py::none(), py::none(), "points");
+        PointCloud cloud = cloud_argument(points, normals, py::none(), py::none(), "points");
         auto tree = run_released(progress, [&](const ProgressCallback& callback) {
           return std::make_shared<const ClusterTree>(reconstruct(cloud, o, callback).tree);
         });
-        return TreeRef{std::move(tree)};
+        return TreeRef{std::move(tree), tree_input(std::move(cloud))};
       },
       py::arg("points"), py::arg("normals") = py::none(), py::kw_only(), py::arg("proxy") = to_string(defaults.proxy),
       py::arg("splitter") = to_string(defaults.splitter), py::arg("tolerance") = "auto",
@@ -137,6 +144,30 @@ as ``--no-creases``).
 ``progress``: optional callable (stage: str, fraction: float) -> bool; returning False raises
 Cancelled. Ctrl-C interrupts the build. The GIL is released while building. The result is
 the same tree for any thread count, byte-identical to the CLI's when saved.)doc");
+
+  m.def(
+      "reconstruct_mesh",
+      [](const py::object& points, const py::object& normals, const py::object& progress, const py::kwargs& kwargs) {
+        ReconstructOptions o = reconstruct_options(kwargs);
+        o.mesh = true;
+        const PointCloud cloud = cloud_argument(points, normals, py::none(), py::none(), "points");
+        SurfaceMesh mesh = run_released(progress, [&](const ProgressCallback& callback) {
+          return std::move(*reconstruct(cloud, o, callback).mesh);
+        });
+        return mesh_object(std::move(mesh.mesh));
+      },
+      py::arg("points"), py::arg("normals") = py::none(), py::kw_only(), py::arg("progress") = py::none(), R"doc(
+The whole pipeline in one call, as ``clustersurf reconstruct IN --mesh OUT`` does (the library's
+reconstruct() with its mesh): the tree built and oriented, its surface meshed, trimmed to the
+points, its loose fragments dropped and, when the points have colors, colored from them.
+Returns the Mesh, byte for byte the CLI's for the same points and options.
+
+``points`` as in reconstruct(): an (n, 3) array, a PointCloud (its normals and colors used), an
+Open3D point cloud, or any object with ``.positions`` or ``.vertices``; ``normals`` overrides
+theirs. Keyword options are reconstruct()'s and Tree.mesh()'s (tolerance, min_points, ...,
+resolution, voxel_size, trim, min_component_points, close_pinholes, color, watertight,
+fill_holes, decimate, decimate_tolerance), with the CLI's defaults. ``progress`` as in
+reconstruct(); the GIL is released.)doc");
 
   m.def(
       "load",
@@ -285,11 +316,17 @@ coarser cut of the tree, as in evaluate() and mesh().)doc")
             o.trim.min_component_points = min_component_points;
             o.trim.close_pinholes = close_pinholes;
             o.coloring = parse_mesh_coloring(color);
-            PointCloud input;
-            if (!points.is_none()) input.positions = cloud_argument(points, py::none(), py::none(), py::none(), "points").positions;
+            PointCloud given;
+            if (!points.is_none()) {
+              PointCloud cloud = cloud_argument(points, py::none(), py::none(), py::none(), "points");
+              given.positions = std::move(cloud.positions);
+              given.colors = std::move(cloud.colors);
+            }
+            const PointCloud* input = points.is_none() ? t.input.get() : &given;
             SurfaceMesh mesh = run_released(progress, [&](const ProgressCallback& callback) {
-              const CloudIndex index(input);
-              return mesh_tree(*t.tree, o, points.is_none() ? nullptr : &index, callback);
+              if (input == nullptr) return mesh_tree(*t.tree, o, nullptr, callback);
+              const CloudIndex index(*input);
+              return mesh_tree(*t.tree, o, &index, callback);
             });
             return mesh_object(std::move(mesh.mesh));
           },
@@ -311,11 +348,13 @@ median point spacings of the input wide (the tree stores the spacing; a tree fro
 file takes it from ``points``, else 256 cells); ``voxel_size`` (input units) overrides it;
 ``lod_depth``: blend the cut at this depth instead of the leaves; ``lod_error``: blend the
 shallowest nodes whose error is at most this fraction of the diagonal; ``points``: the tree's
-input ((n, 3) array or PointCloud; OptionError when it is not), to drop the triangles farther
+input ((n, 3) array or PointCloud; OptionError when it is not; default: the input a tree built
+by reconstruct() keeps, none for a loaded or unpickled tree), to drop the triangles farther
 from it than ``trim`` x the local spread (up to 1.5 times that over a gap the points surround; 0: keep all) and the loose fragments on which fewer
 than ``min_component_points`` input points lie nearest (0: keep all), and to close the pinholes
 the points cover (``close_pinholes``), as ``clustersurf reconstruct --mesh`` does; ``color``:
-"none", "leaf" (per blended node) or "distance" (to ``points``); ``watertight`` (default
+"input" (the default: the colors of ``points``, when they have them), "none", "leaf" (per
+blended node) or "distance" (to ``points``); ``watertight`` (default
 False): a closed, manifold mesh whatever holes the data has (``--watertight``), the filled-in
 vertices marked 1 in ``attributes["filled"]``; ``fill_holes`` (default 0: every hole): with
 ``watertight``, fill only holes up to this size (input units); ``decimate`` (default 0: keep

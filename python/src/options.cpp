@@ -81,6 +81,8 @@ ReconstructOptions reconstruct_options(const py::dict& options) {
     else if (key == "min_component_points") m.trim.min_component_points = as<std::size_t>(value, key);
     else if (key == "close_pinholes") m.trim.close_pinholes = as<bool>(value, key);
     else if (key == "color") m.coloring = parse_mesh_coloring(as<std::string>(value, key));
+    else if (key == "watertight") m.closing.enabled = as<bool>(value, key);
+    else if (key == "fill_holes") m.closing.max_hole_size = as<double>(value, key);
     else if (key == "decimate") m.decimation.target_triangles = as<std::size_t>(value, key);
     else if (key == "decimate_tolerance") m.decimation.max_deviation = as<double>(value, key);
     else throw OptionError("unknown option \"" + key + "\"");

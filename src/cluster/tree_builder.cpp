@@ -360,6 +360,7 @@ ClusterTree detail::build_tree(const PointCloud& cloud, std::vector<std::uint32_
   tree.point_spacing = scale.point_spacing;
   tree.bbox = bounding_box(clustered);
   tree.origin = cloud.origin;
+  tree.up = cloud.up;
   const double diagonal = scale.bbox.diagonal();
   const double tolerance = p.threshold_mode == ThresholdMode::Absolute ? options.tolerance : options.tolerance * diagonal;
   double noise = 0;  // the noise the leaves may keep on top of the tolerance

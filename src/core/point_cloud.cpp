@@ -21,6 +21,7 @@ PointCloud select(const PointCloud& cloud, const std::vector<Eigen::Index>& indi
   if (cloud.has_normals()) out.normals = cloud.normals(indices, Eigen::all);
   if (cloud.has_colors()) out.colors = cloud.colors(indices, Eigen::all);
   out.origin = cloud.origin;
+  out.up = cloud.up;
   for (const PointAttribute& a : cloud.attributes) out.attributes.push_back({a.name, a.values(indices)});
   out.scanner_positions = cloud.scanner_positions;
   if (cloud.has_scanners()) {

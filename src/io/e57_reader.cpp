@@ -25,13 +25,6 @@ namespace clustersurf::io {
 
 namespace {
 
-/// 0..255 of `v` scaled from [lo, hi] (values outside clamped; an empty range: `v` itself).
-std::uint8_t color_byte(double v, double lo, double hi) {
-  const double t = hi > lo && std::isfinite(hi - lo) ? (v - lo) * 255.0 / (hi - lo) : v;
-  if (!(t > 0)) return 0;
-  return t >= 255 ? std::uint8_t{255} : static_cast<std::uint8_t>(std::lround(t));
-}
-
 /// `v` as a float without undefined behaviour (finite values beyond float saturate).
 float to_float(double v) {
   constexpr double m = std::numeric_limits<float>::max();
@@ -45,7 +38,7 @@ ParsedFile read_e57(const std::filesystem::path& file, std::string_view bytes) {
   const auto [scans, total] = e57::read_scans(pages);
   bool colors = !scans.empty(), intensity = !scans.empty(), scanners = !scans.empty();
   for (const e57::Scan& s : scans) {
-    colors = colors && s.color[0] >= 0 && s.color[1] >= 0 && s.color[2] >= 0;
+    colors = colors && s.has_colors();
     intensity = intensity && s.intensity >= 0;
     scanners = scanners && (s.has_pose || s.spherical);
   }
@@ -74,8 +67,8 @@ ParsedFile read_e57(const std::filesystem::path& file, std::string_view bytes) {
         invalid[static_cast<std::size_t>(row0) + r] = v != 0;
       };
     for (int k = 0; colors && k < 3; ++k)
-      streams[static_cast<std::size_t>(s.color[k])].sink = [&, k, row0, lo = s.color_lo[k], hi = s.color_hi[k]](std::uint64_t r, double v, std::uint64_t) {
-        cloud.colors(row0 + static_cast<Eigen::Index>(r), k) = color_byte(v, lo, hi);
+      streams[static_cast<std::size_t>(s.color[k])].sink = [&, k, row0](std::uint64_t r, double v, std::uint64_t) {
+        cloud.colors(row0 + static_cast<Eigen::Index>(r), k) = s.color_byte(k, v);
       };
     if (intensity)
       streams[static_cast<std::size_t>(s.intensity)].sink = [&, row0, lim = s.intensity_limits](std::uint64_t r, double v, std::uint64_t) {

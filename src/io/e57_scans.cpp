@@ -223,6 +223,13 @@ std::vector<StreamField> Scan::streams() const {
   return out;
 }
 
+std::uint8_t Scan::color_byte(int k, double v) const {
+  const double lo = color_lo[k], hi = color_hi[k];
+  const double t = hi > lo && std::isfinite(hi - lo) ? (v - lo) * 255.0 / (hi - lo) : v;
+  if (!(t > 0)) return 0;
+  return t >= 255 ? std::uint8_t{255} : static_cast<std::uint8_t>(std::lround(t));
+}
+
 Eigen::Vector3d Scan::position(const Eigen::Vector3d& decoded) const {
   Eigen::Vector3d p = decoded;
   if (spherical) {

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,6 +37,11 @@ struct Scan {
   std::uint64_t records = 0;
   Section section;
 
+  /// Whether the scan has colorRed, colorGreen and colorBlue.
+  bool has_colors() const noexcept { return color[0] >= 0 && color[1] >= 0 && color[2] >= 0; }
+  /// 0..255 of the value `v` of color channel k, scaled from the scan's colorLimits (values
+  /// outside clamped; an empty range: `v` itself).
+  std::uint8_t color_byte(int k, double v) const;
   /// The fields as bytestreams to decode, without sinks.
   std::vector<StreamField> streams() const;
   /// The point that the three coordinate fields' values `decoded` stand for: spherical ones

@@ -16,15 +16,20 @@ namespace clustersurf::io {
 constexpr std::size_t kCompactValues = std::size_t{1} << 16;
 
 struct E57Points::Impl {
-  Impl(const std::filesystem::path& file, std::string_view bytes) : pages(file, bytes), scans(e57::read_scans(pages)) {}
+  Impl(const std::filesystem::path& file, std::string_view bytes) : pages(file, bytes), scans(e57::read_scans(pages)) {
+    colors = !scans.scans.empty() &&
+             std::all_of(scans.scans.begin(), scans.scans.end(), [](const e57::Scan& s) { return s.has_colors(); });
+  }
 
   e57::PagedFile pages;
   e57::Scans scans;
   std::size_t scan = 0;     // the scan being read
   std::uint64_t taken = 0;  // its records taken
   std::optional<e57::RecordDecoder> decoder;
-  std::array<std::vector<double>, 4> values;  // decoded and not yet taken from `head` on: x, y, z, invalid state
-  std::array<std::optional<double>, 4> constant;  // the value of a field stored in no bits
+  bool colors = false;  // every scan has colors: they are decoded too
+  /// Decoded and not yet taken from `head` on: x, y, z, invalid state, red, green, blue.
+  std::array<std::vector<double>, 7> values;
+  std::array<std::optional<double>, 7> constant;  // the value of a field stored in no bits
   std::size_t head = 0;
   /// The records of the scan not yet taken that were decoded with a non-finite coordinate, and
   /// where (logical offset) the first such value of each is.
@@ -39,10 +44,12 @@ struct E57Points::Impl {
   std::size_t ready() const {
     const e57::Scan& s = scans.scans[scan];
     std::size_t n = static_cast<std::size_t>(s.records - taken);
-    for (std::size_t k = 0; k < (s.invalid >= 0 ? 4U : 3U); ++k)
-      if (!constant[k]) n = std::min(n, values[k].size() - head);
+    for (std::size_t k = 0; k < values.size(); ++k)
+      if (used(k) && !constant[k]) n = std::min(n, values[k].size() - head);
     return n;
   }
+  /// Whether field k (of `values`) is decoded for the current scan.
+  bool used(std::size_t k) const { return k < 3 || (k == 3 ? scans.scans[scan].invalid >= 0 : colors); }
   /// Field k's value of the i-th record held.
   double value(std::size_t k, std::size_t i) const { return constant[k] ? *constant[k] : values[k][i]; }
   /// Hands out the current scan's bytes up to physical offset `to`.
@@ -65,9 +72,9 @@ void E57Points::Impl::open_scan() {
   if (s.records == 0) return;
   released = pages.to_physical(s.section.begin);
   std::vector<e57::StreamField> streams = s.streams();
-  const int fields[4] = {s.coord[0], s.coord[1], s.coord[2], s.invalid};
-  for (std::size_t k = 0; k < 4; ++k) {
-    if (fields[k] < 0) continue;
+  const int fields[7] = {s.coord[0], s.coord[1], s.coord[2], s.invalid, s.color[0], s.color[1], s.color[2]};
+  for (std::size_t k = 0; k < 7; ++k) {
+    if (fields[k] < 0 || !used(k)) continue;
     e57::StreamField& f = streams[static_cast<std::size_t>(fields[k])];
     if (f.codec.bits == 0) {  // a constant, not decoded record by record
       constant[k] = f.codec.value(0);
@@ -88,10 +95,12 @@ E57Points::E57Points(const std::filesystem::path& file, std::string_view bytes) 
 E57Points::~E57Points() = default;
 
 std::uint64_t E57Points::records() const noexcept { return impl_->scans.records; }
+bool E57Points::has_colors() const noexcept { return impl_->colors; }
 
-void E57Points::read(std::uint64_t n, Points& out, std::vector<std::optional<std::uint64_t>>& located) {
+void E57Points::read(std::uint64_t n, Points& out, std::vector<std::optional<std::uint64_t>>& located, Colors* colors) {
   Impl& d = *impl_;
   out.resize(static_cast<Eigen::Index>(std::min<std::uint64_t>(n, d.scans.records)), 3);
+  if (colors != nullptr) colors->resize(d.colors ? out.rows() : 0, 3);
   located.clear();
   Eigen::Index kept = 0;
   while (n > 0 && d.scan < d.scans.scans.size()) {
@@ -108,6 +117,8 @@ void E57Points::read(std::uint64_t n, Points& out, std::vector<std::optional<std
     for (std::size_t i = d.head; i < d.head + m; ++i) {
       if (s.invalid >= 0 && d.value(3, i) != 0) continue;
       const std::uint64_t record = d.taken + (i - d.head);
+      if (colors != nullptr && d.colors)
+        for (int k = 0; k < 3; ++k) (*colors)(kept, k) = s.color_byte(k, d.value(4 + static_cast<std::size_t>(k), i));
       out.row(kept++) = s.position({d.value(0, i), d.value(1, i), d.value(2, i)}).transpose();
       std::optional<std::uint64_t> where;
       if (const auto it = d.non_finite.find(record); it != d.non_finite.end()) where = d.pages.to_physical(it->second);
@@ -127,6 +138,7 @@ void E57Points::read(std::uint64_t n, Points& out, std::vector<std::optional<std
   }
   if (d.decoder) d.finish_up_to(d.pages.to_physical(d.decoder->position()));
   out.conservativeResize(kept, 3);
+  if (colors != nullptr && d.colors) colors->conservativeResize(kept, 3);
 }
 
 std::vector<std::pair<std::uint64_t, std::uint64_t>> E57Points::finished_bytes() {

@@ -51,6 +51,21 @@ RecordLayout layout_of(unsigned format) {
 
 }  // namespace
 
+bool LasPoints::has_colors() const noexcept { return layout_of(format).rgb.has_value(); }
+
+std::array<std::uint16_t, 3> LasPoints::color(std::string_view bytes, std::uint64_t i) const {
+  const std::uint64_t at = first + i * record + *layout_of(format).rgb;
+  return {field<std::uint16_t>(bytes, at), field<std::uint16_t>(bytes, at + 2), field<std::uint16_t>(bytes, at + 4)};
+}
+
+bool LasPoints::eight_bit_colors(std::string_view bytes) const {
+  for (std::uint64_t i = 0; i < count; ++i) {
+    const std::array<std::uint16_t, 3> c = color(bytes, i);
+    if (std::max({c[0], c[1], c[2]}) > 255) return false;
+  }
+  return true;
+}
+
 Eigen::Vector3d LasPoints::position(std::string_view bytes, std::uint64_t i) const {
   const std::uint64_t r = first + i * record;
   Eigen::Vector3d x;
@@ -149,22 +164,19 @@ ParsedFile read_las(const std::filesystem::path& file, std::string_view bytes) {
   PointCloud& cloud = parsed.cloud;
   cloud.positions.resize(n, 3);
   Eigen::VectorXf intensity(n), classification(n);
-  Eigen::Matrix<std::uint16_t, Eigen::Dynamic, 3, Eigen::RowMajor> rgb;
-  if (layout.rgb) rgb.resize(n, 3);
+  // LAS colours are 16-bit; writers that stored 8-bit values in them (all of them at most
+  // 255) are read as they are.
+  const bool eight_bit = las.has_colors() && las.eight_bit_colors(bytes);
+  if (las.has_colors()) cloud.colors.resize(n, 3);
   for (Eigen::Index i = 0; i < n; ++i) {
     const std::uint64_t r = las.first + static_cast<std::uint64_t>(i) * las.record;
     cloud.positions.row(i) = las.position(bytes, static_cast<std::uint64_t>(i)).transpose();
     intensity(i) = field<std::uint16_t>(bytes, r + 12);
     classification(i) = static_cast<float>(static_cast<unsigned char>(bytes[r + layout.classification]) & layout.classification_mask);
-    if (layout.rgb)
-      for (int k = 0; k < 3; ++k) rgb(i, k) = field<std::uint16_t>(bytes, r + *layout.rgb + 2 * static_cast<unsigned>(k));
-  }
-  if (layout.rgb && n > 0) {
-    // LAS colours are 16-bit; writers that stored 8-bit values in them (all of them at most
-    // 255) are read as they are.
-    const bool eight_bit = rgb.maxCoeff() <= 255;
-    cloud.colors = eight_bit ? Colors(rgb.cast<std::uint8_t>())
-                             : Colors(((rgb.cast<double>().array() / 257.0).round()).cast<std::uint8_t>());
+    if (las.has_colors()) {
+      const std::array<std::uint16_t, 3> c = las.color(bytes, static_cast<std::uint64_t>(i));
+      for (int k = 0; k < 3; ++k) cloud.colors(i, k) = wide_color_byte(c[static_cast<std::size_t>(k)], eight_bit);
+    }
   }
   cloud.attributes.push_back({"intensity", std::move(intensity)});
   cloud.attributes.push_back({"classification", std::move(classification)});

@@ -156,9 +156,13 @@ void write_glb(const std::filesystem::path& file, const TriangleMesh& mesh) {
   }
   add_accessor(add_view(kElementArray), kUnsignedInt, 3 * nf, "SCALAR", "");
   const int indices = accessor++;
-  const std::string translation =
-      mesh.origin.isZero() ? std::string()
-                           : fmt::format(R"(,"translation":[{},{},{}])", mesh.origin.x(), mesh.origin.y(), mesh.origin.z());
+  // glTF is +y up: a z-up mesh is turned by -90 degrees about x, (x, y, z) -> (x, z, -y), its
+  // origin with it (the node's transform is translation * rotation).
+  const bool z_up = mesh.up == UpAxis::Z;
+  const Eigen::Vector3d shift = z_up ? Eigen::Vector3d(mesh.origin.x(), mesh.origin.z(), -mesh.origin.y()) : mesh.origin;
+  std::string translation =
+      shift.isZero() ? std::string() : fmt::format(R"(,"translation":[{},{},{}])", shift.x(), shift.y(), shift.z());
+  if (z_up) translation += R"(,"rotation":[-0.7071067811865476,0,0,0.7071067811865476])";
   std::string json = fmt::format(
       R"({{"asset":{{"version":"2.0","generator":"clustersurf"}},"scene":0,"scenes":[{{"nodes":[0]}}],)"
       R"("nodes":[{{"mesh":0{}}}],"meshes":[{{"primitives":[{{"attributes":{{{}}},"indices":{},"mode":4}}]}}],)"

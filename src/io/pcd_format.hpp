@@ -8,6 +8,7 @@
 #include "io/lzf_stream.hpp"
 #include "io/text_parse.hpp"
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -72,6 +73,10 @@ CompressedData compressed_data(const std::filesystem::path& file, std::string_vi
 
 /// The value of element `bytes` (little-endian) of a field of `type` and `size`.
 double decode(const char* bytes, char type, unsigned size);
+
+/// The red, green and blue packed as 0x00RRGGBB in `value` (decode()'s) of field `f`: the bytes
+/// of a 4-byte float, or an unsigned integer.
+std::array<std::uint8_t, 3> packed_color(double value, const Field& f);
 
 /// The records of a PCD file, one at a time: ascii lines, binary records, or binary_compressed
 /// data (its fields' values one after another), decoded by one LzfStream per field, each

@@ -41,6 +41,19 @@ Roles roles_of(const std::vector<Field>& fields) {
 
 }  // namespace
 
+std::array<std::uint8_t, 3> packed_color(double value, const Field& f) {
+  std::uint32_t packed = 0;
+  if (f.type == 'F' && f.size == 4) {
+    constexpr double kMax = std::numeric_limits<float>::max();
+    const float bits = std::isnan(value) ? std::numeric_limits<float>::quiet_NaN() : static_cast<float>(std::clamp(value, -kMax, kMax));
+    std::memcpy(&packed, &bits, 4);
+  } else {
+    packed = std::isnan(value) ? 0u : static_cast<std::uint32_t>(std::clamp(value, 0.0, 4294967295.0));
+  }
+  return {static_cast<std::uint8_t>((packed >> 16) & 0xFF), static_cast<std::uint8_t>((packed >> 8) & 0xFF),
+          static_cast<std::uint8_t>(packed & 0xFF)};
+}
+
 double decode(const char* bytes, char type, unsigned size) {
   auto get = [&](auto value) {
     std::memcpy(&value, bytes, sizeof(value));

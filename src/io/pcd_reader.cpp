@@ -53,12 +53,8 @@ class PointSink {
       for (int k = 0; k < 3; ++k) nrm_.push_back(value(roles_.normal[k]));
     if (has_rgb_) {
       if (roles_.packed_rgb >= 0) {
-        // Packed 0x00RRGGBB in the bytes of a float or an unsigned int.
-        const Field& f = fields_[static_cast<std::size_t>(roles_.packed_rgb)];
-        std::uint32_t packed = 0;
-        if (f.type == 'F' && f.size == 4) std::memcpy(&packed, &(packed_float_ = to_float(value(roles_.packed_rgb))), 4);
-        else packed = to_unsigned(value(roles_.packed_rgb), 4294967295.0);
-        for (int k = 0; k < 3; ++k) wide_rgb_.push_back(static_cast<std::uint16_t>((packed >> (16 - 8 * k)) & 0xFF));
+        const auto rgb = pcd::packed_color(value(roles_.packed_rgb), fields_[static_cast<std::size_t>(roles_.packed_rgb)]);
+        wide_rgb_.insert(wide_rgb_.end(), rgb.begin(), rgb.end());
       } else {
         for (int k = 0; k < 3; ++k)
           wide_rgb_.push_back(static_cast<std::uint16_t>(to_unsigned(value(roles_.rgb[k]), 65535.0)));
@@ -87,7 +83,6 @@ class PointSink {
   const std::vector<Field>& fields_;
   const Roles& roles_;
   bool has_normals_ = false, has_rgb_ = false;
-  float packed_float_ = 0;
   std::vector<double> pos_, nrm_;
   std::vector<std::uint16_t> wide_rgb_;
   std::vector<float> intensity_, classification_;

@@ -86,6 +86,7 @@ struct Header {
   std::vector<Element> elements;
   std::size_t data_offset = 0;  // first byte after "end_header\n"
   std::uint64_t data_line = 0;  // line number of the first data line (ascii)
+  UpAxis up = UpAxis::Y;        // "comment up z" (as clustersurf writes it) says z
 };
 
 [[noreturn]] void fail_line(const std::filesystem::path& file, std::uint64_t line, const std::string& msg);
@@ -116,6 +117,10 @@ struct VertexLayout {
   bool normals() const { return nrm[0] >= 0 && nrm[1] >= 0 && nrm[2] >= 0; }
   bool colors() const { return rgb[0] >= 0 && rgb[1] >= 0 && rgb[2] >= 0; }
 };
+
+/// A color property's value as 0..255 by its type: floats from 0..1, 16-bit integers from
+/// 0..65535, others as they are, clamped.
+std::uint8_t to_color(double v, Scalar type);
 
 /// The vertex properties of `v` we use; InputError when x, y or z is missing or one of them is a list.
 VertexLayout vertex_layout(const std::filesystem::path& file, const Element& v);

@@ -42,6 +42,7 @@ Header parse_header(const std::filesystem::path& file, std::string_view bytes) {
     split_fields(line, tok);
     // split_fields treats ',' and '#' as separators; PLY keywords never contain them, comments
     // are handled by keyword below.
+    if (line == "comment up z") header.up = UpAxis::Z;
     if (line.rfind("comment", 0) == 0 || line.rfind("obj_info", 0) == 0) continue;
     if (tok.empty()) continue;
     const std::string_view kw = tok[0];

@@ -7,10 +7,10 @@
 namespace clustersurf::io {
 
 PlyMeshStream::PlyMeshStream(const std::filesystem::path& file, std::uint64_t vertices, std::uint64_t triangles, bool normals,
-                             bool colors, const Eigen::Vector3d& origin)
+                             bool colors, const Eigen::Vector3d& origin, UpAxis up)
     : out_(file), vertices_(vertices), triangles_(triangles), normals_(normals && vertices > 0), colors_(colors && vertices > 0),
       double_(!origin.isZero()), origin_(origin) {
-  out_.write(ply_header(vertices, triangles, true, double_, normals_, colors_, {}));
+  out_.write(ply_header(vertices, triangles, true, double_, normals_, colors_, {}, up));
   buffer_.reserve(1 << 20);
 }
 

@@ -14,9 +14,10 @@
 namespace clustersurf::io {
 
 /// The header write_ply() writes: `vertices` with float (or double) x, y, z, normals, uchar
-/// colors and float attributes as asked, and `faces` as vertex-index lists when given.
+/// colors and float attributes as asked, and `faces` as vertex-index lists when given; a z-up
+/// geometry says so in a "comment up z" line, which the reader takes back as PointCloud::up.
 std::string ply_header(std::uint64_t vertices, std::optional<std::uint64_t> faces, bool binary, bool double_precision,
-                       bool normals, bool colors, const std::vector<std::string>& attributes);
+                       bool normals, bool colors, const std::vector<std::string>& attributes, UpAxis up);
 
 /// A binary little-endian PLY mesh whose counts are known first and whose vertices, then
 /// triangles, come in pieces: the bytes write_ply() writes for the whole mesh (coordinates put
@@ -25,7 +26,7 @@ std::string ply_header(std::uint64_t vertices, std::optional<std::uint64_t> face
 class PlyMeshStream {
  public:
   PlyMeshStream(const std::filesystem::path& file, std::uint64_t vertices, std::uint64_t triangles, bool normals, bool colors,
-                const Eigen::Vector3d& origin);
+                const Eigen::Vector3d& origin, UpAxis up);
   /// Appends the rows of `positions` (relative to the origin), with their normals and colors
   /// when the stream has them.
   void add_vertices(const Points& positions, const Points& normals, const Colors& colors);

@@ -9,8 +9,10 @@ namespace clustersurf::io {
 ParsedFile read_ply(const std::filesystem::path& file, std::string_view bytes, bool want_faces) {
   const ply::Header h = ply::parse_header(file, bytes);
   ply::check_counts(file, h, bytes);
-  return h.encoding == ply::Encoding::Ascii ? ply::read_ascii(file, bytes, h, want_faces)
-                                            : ply::read_binary(file, bytes, h, want_faces);
+  ParsedFile parsed = h.encoding == ply::Encoding::Ascii ? ply::read_ascii(file, bytes, h, want_faces)
+                                                         : ply::read_binary(file, bytes, h, want_faces);
+  parsed.cloud.up = h.up;
+  return parsed;
 }
 
 }  // namespace clustersurf::io

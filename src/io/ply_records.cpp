@@ -6,9 +6,6 @@
 
 namespace clustersurf::io::ply {
 
-namespace {
-
-/// Maps a color property value to 0..255 according to its type.
 std::uint8_t to_color(double v, Scalar type) {
   double c;
   switch (type) {
@@ -22,8 +19,6 @@ std::uint8_t to_color(double v, Scalar type) {
   if (c >= 255) return 255;
   return static_cast<std::uint8_t>(std::lround(c));
 }
-
-}  // namespace
 
 VertexLayout vertex_layout(const std::filesystem::path& file, const Element& v) {
   VertexLayout l;

@@ -92,6 +92,8 @@ io::ParsedFile parse(std::string_view bytes, FileFormat format, const std::files
                                      " files: clustersurf writes them (read clouds from .ply, .xyz, .obj, "
                                      ".las, .e57, .ptx or .pcd)");
   }
+  // Georeferenced surveys are z-up by convention.
+  if (format == FileFormat::Las || format == FileFormat::E57 || format == FileFormat::Ptx) parsed.cloud.up = UpAxis::Z;
   check_finite(file, parsed, options);
   if (parsed.cloud.empty()) throw InputError(file, {}, "file holds no points");
   return parsed;
@@ -122,6 +124,7 @@ TriangleMesh to_mesh(io::ParsedFile&& parsed) {
   mesh.vertices = std::move(parsed.cloud.positions);
   mesh.normals = std::move(parsed.cloud.normals);
   mesh.colors = std::move(parsed.cloud.colors);
+  mesh.up = parsed.cloud.up;
   mesh.triangles = std::move(parsed.triangles);
   return mesh;
 }
@@ -212,6 +215,7 @@ PointCloud parse_point_cloud(std::string_view bytes, FileFormat format, const st
   if (mesh.vertices.rows() != cloud.size() || mesh.triangles.rows() == 0) return cloud;
   mesh.vertices.rowwise() -= cloud.origin.transpose();  // as shift_to_origin moved the points
   mesh.origin = cloud.origin;
+  mesh.up = cloud.up;
   if (sample) {
     if (mesh.normals.rows() == mesh.vertices.rows()) orient_faces_by_normals(mesh);
     try {
@@ -249,6 +253,7 @@ void write_point_cloud(const std::filesystem::path& file, const PointCloud& clou
       m.vertices = cloud.positions;
       m.normals = cloud.normals;
       m.origin = cloud.origin;
+      m.up = cloud.up;
       write_obj(file, m);
       return;
     }

@@ -27,6 +27,7 @@ struct PlyPoints {
   std::size_t record = 0;
   std::size_t begin = 0;  // byte offset of the first record
   bool swap = false;
+  UpAxis up = UpAxis::Y;
 };
 
 std::optional<PlyPoints> ply_points(const std::filesystem::path& file, std::string_view bytes) {
@@ -36,6 +37,7 @@ std::optional<PlyPoints> ply_points(const std::filesystem::path& file, std::stri
   io::ply::check_counts(file, h, bytes);
   PlyPoints out;
   out.begin = h.data_offset;
+  out.up = h.up;
   const io::ply::Element* vertex = nullptr;
   for (const io::ply::Element& e : h.elements) {
     if (e.name == "face" && e.count > 0) return std::nullopt;  // a mesh: read_point_cloud() decides
@@ -72,6 +74,9 @@ struct PointStream::Impl {
   std::optional<io::pcd::Records> pcd;
   std::uint64_t text_points = 0;  // points of an XYZ or PTX file, counted when opened
   bool xyz_normals = false;
+  bool ptx_colored = false;    // PTX: the points have colors
+  bool colors = false;         // blocks carry colors
+  bool eight_bit = false;      // LAS, PCD red, green, blue: every color is at most 255 (read as it is)
   std::size_t released = 0;  // bytes of a text or PCD file given back to the system
   bool failed = false;       // a read threw: the text parser is past the point it refused
   std::uint64_t points = 0;  // E57: valid points decoded so far (for messages)
@@ -98,6 +103,11 @@ struct PointStream::Impl {
   }
   /// The next `n` XYZ points into `block`.
   void read_xyz(Eigen::Index n, PointCloud& block);
+  /// Whether blocks carry colors (as read_point_cloud() gives them); for LAS and PCD's red, green
+  /// and blue fields, a look at every point's color says whether they are 8-bit (`eight_bit`).
+  bool find_colors();
+  /// PCD: the largest red, green or blue value (0..65535) of the points that are points.
+  double pcd_color_maximum();
   /// The next `n` PTX points into `block` (positions only).
   void read_ptx(Eigen::Index n, PointCloud& block);
   /// Gives back the file's pages read so far (up to byte `offset`).
@@ -137,9 +147,46 @@ void PointStream::Impl::open_text() {
     io::PtxLines counting(file, bytes);
     io::PtxPoint p;
     for (; counting.next(p); ++text_points) release(counting.offset());
+    ptx_colored = counting.colored().value_or(false);
   }
   mapped->release(counted, bytes.size());
   restart_text();
+}
+
+bool PointStream::Impl::find_colors() {
+  if (ply) return ply->layout.colors();
+  if (e57) return e57->has_colors();
+  if (ptx) return ptx_colored;
+  if (pcd) {
+    const io::pcd::Roles& r = pcd_layout->roles;
+    if (r.packed_rgb >= 0) return true;
+    if (r.rgb[0] < 0 || r.rgb[1] < 0 || r.rgb[2] < 0) return false;
+    eight_bit = pcd_color_maximum() <= 255;
+    return true;
+  }
+  if (las) {
+    if (!las->has_colors()) return false;
+    eight_bit = las->eight_bit_colors(mapped->view());
+    mapped->release(0, mapped->view().size());  // the look at every record's color
+    return true;
+  }
+  return xyz ? false : whole.has_colors();
+}
+
+double PointStream::Impl::pcd_color_maximum() {
+  const io::pcd::Roles& r = pcd_layout->roles;
+  double top = 0;
+  while (pcd->next()) {
+    if (std::isnan(pcd->value(r.position[0])) || std::isnan(pcd->value(r.position[1])) || std::isnan(pcd->value(r.position[2])))
+      continue;  // no point
+    for (int k = 0; k < 3; ++k) {
+      const double v = pcd->value(r.rgb[k]);
+      if (v > top) top = std::min(v, 65535.0);
+    }
+  }
+  pcd->rewind();
+  mapped->release(0, mapped->view().size());
+  return top;
 }
 
 void PointStream::Impl::read_xyz(Eigen::Index n, PointCloud& block) {
@@ -165,6 +212,7 @@ void PointStream::Impl::read_xyz(Eigen::Index n, PointCloud& block) {
 
 void PointStream::Impl::read_ptx(Eigen::Index n, PointCloud& block) {
   block.positions.resize(n, 3);
+  if (colors) block.colors.resize(n, 3);
   io::PtxPoint p;
   Eigen::Index kept = 0;
   for (Eigen::Index i = 0; i < n && ptx->next(p); ++i) {
@@ -173,35 +221,47 @@ void PointStream::Impl::read_ptx(Eigen::Index n, PointCloud& block) {
       throw non_finite_point(file, {ptx->line(), std::nullopt}, next + static_cast<std::uint64_t>(i),
                              "a non-finite coordinate (NaN or Inf)");
     }
+    if (colors)
+      for (int k = 0; k < 3; ++k) block.colors(kept, k) = p.rgb[static_cast<std::size_t>(k)];
     block.positions.row(kept++) = p.position.transpose();
   }
   block.positions.conservativeResize(kept, 3);
+  if (colors) block.colors.conservativeResize(kept, 3);
   release_read(ptx->offset());
 }
 
 void PointStream::Impl::read_las(Eigen::Index n, PointCloud& block) {
   const std::string_view bytes = mapped->view();
   block.positions.resize(n, 3);
+  if (colors) block.colors.resize(n, 3);
   Eigen::Index kept = 0;
   for (Eigen::Index i = 0; i < n; ++i) {
     const std::uint64_t record = next + static_cast<std::uint64_t>(i);
     const Eigen::Vector3d x = las->position(bytes, record);
-    if (x.allFinite()) block.positions.row(kept++) = x.transpose();
-    else if (!options.drop_non_finite)
+    if (x.allFinite()) {
+      if (colors) {
+        const std::array<std::uint16_t, 3> c = las->color(bytes, record);
+        for (int k = 0; k < 3; ++k) block.colors(kept, k) = io::wide_color_byte(c[static_cast<std::size_t>(k)], eight_bit);
+      }
+      block.positions.row(kept++) = x.transpose();
+    } else if (!options.drop_non_finite)
       throw InputError(file, FileLocation{std::nullopt, las->first + record * las->record},
                        "point " + std::to_string(record) + ": its coordinates overflow (integer times the header's scale)");
   }
   block.positions.conservativeResize(kept, 3);
+  if (colors) block.colors.conservativeResize(kept, 3);
   const std::size_t begin = las->first + static_cast<std::size_t>(next) * las->record;
   mapped->release(begin, begin + static_cast<std::size_t>(n) * las->record);
 }
 
 void PointStream::Impl::read_e57(Eigen::Index n, PointCloud& block) {
-  e57->read(static_cast<std::uint64_t>(n), block.positions, located);
+  e57->read(static_cast<std::uint64_t>(n), block.positions, located, colors ? &block.colors : nullptr);
   Eigen::Index kept = 0;
   for (Eigen::Index i = 0; i < block.positions.rows(); ++i) {
-    if (block.positions.row(i).allFinite()) block.positions.row(kept++) = block.positions.row(i);
-    else if (!options.drop_non_finite) {
+    if (block.positions.row(i).allFinite()) {
+      if (colors) block.colors.row(kept) = block.colors.row(i);
+      block.positions.row(kept++) = block.positions.row(i);
+    } else if (!options.drop_non_finite) {
       const auto& at = located[static_cast<std::size_t>(i)];
       throw non_finite_point(file, {std::nullopt, at}, points + static_cast<std::uint64_t>(i),
                              at ? "a non-finite coordinate (NaN or Inf)" : "a coordinate that overflows when posed");
@@ -209,6 +269,7 @@ void PointStream::Impl::read_e57(Eigen::Index n, PointCloud& block) {
   }
   points += static_cast<std::uint64_t>(block.positions.rows());
   block.positions.conservativeResize(kept, 3);
+  if (colors) block.colors.conservativeResize(kept, 3);
   for (const auto& [begin, end] : e57->finished_bytes()) mapped->release(begin, end);
 }
 
@@ -226,6 +287,7 @@ void PointStream::Impl::read_pcd(Eigen::Index n, PointCloud& block) {
   const bool normals = roles.normals();
   block.positions.resize(n, 3);
   if (normals) block.normals.resize(n, 3);
+  if (colors) block.colors.resize(n, 3);
   Eigen::Index kept = 0;
   for (Eigen::Index i = 0; i < n && pcd->next(); ++i) {
     Eigen::Vector3d p, q = Eigen::Vector3d::Zero();
@@ -240,10 +302,21 @@ void PointStream::Impl::read_pcd(Eigen::Index n, PointCloud& block) {
     }
     block.positions.row(kept) = p.transpose();
     if (normals) block.normals.row(kept) = q.transpose();
+    if (colors && roles.packed_rgb >= 0) {
+      const auto rgb = io::pcd::packed_color(pcd->value(roles.packed_rgb), pcd_layout->fields[static_cast<std::size_t>(roles.packed_rgb)]);
+      for (int k = 0; k < 3; ++k) block.colors(kept, k) = rgb[static_cast<std::size_t>(k)];
+    } else if (colors) {
+      for (int k = 0; k < 3; ++k) {
+        const double v = pcd->value(roles.rgb[k]);
+        const auto wide = std::isnan(v) ? std::uint16_t{0} : static_cast<std::uint16_t>(std::clamp(v, 0.0, 65535.0));
+        block.colors(kept, k) = io::wide_color_byte(wide, eight_bit);
+      }
+    }
     ++kept;
   }
   block.positions.conservativeResize(kept, 3);
   if (normals) block.normals.conservativeResize(kept, 3);
+  if (colors) block.colors.conservativeResize(kept, 3);
   if (pcd_layout->data == io::pcd::Data::BinaryCompressed) {
     for (const auto& [begin, end] : pcd->take_read_spans()) mapped->release(begin, end);
   } else {
@@ -268,9 +341,9 @@ PointStream::PointStream(const std::filesystem::path& file, const ReadOptions& o
     impl_->whole = read_point_cloud(file, options);
     impl_->whole.positions.rowwise() += impl_->whole.origin.transpose();  // exact: the shift was
     impl_->whole.origin.setZero();
-    impl_->whole.colors.resize(0, 3);
     impl_->whole.attributes.clear();
   }
+  impl_->colors = impl_->find_colors();
 }
 
 PointStream::~PointStream() = default;
@@ -281,6 +354,11 @@ bool PointStream::has_normals() const noexcept {
          : impl_->pcd ? impl_->pcd_layout->roles.normals()
          : impl_->xyz ? impl_->xyz_normals
                       : impl_->whole.has_normals();
+}
+bool PointStream::has_colors() const noexcept { return impl_->colors; }
+UpAxis PointStream::up() const noexcept {
+  if (impl_->las || impl_->e57 || impl_->ptx) return UpAxis::Z;
+  return impl_->ply ? impl_->ply->up : impl_->whole.up;
 }
 bool PointStream::streamed() const noexcept { return impl_->streamed(); }
 void PointStream::rewind() {
@@ -317,12 +395,14 @@ bool PointStream::read(std::size_t count, PointCloud& block) {
   if (!s.ply) {
     block.positions = s.whole.positions.middleRows(static_cast<Eigen::Index>(s.next), n);
     if (s.whole.has_normals()) block.normals = s.whole.normals.middleRows(static_cast<Eigen::Index>(s.next), n);
+    if (s.whole.has_colors()) block.colors = s.whole.colors.middleRows(static_cast<Eigen::Index>(s.next), n);
     s.next += static_cast<std::uint64_t>(n);
     return true;
   }
   const PlyPoints& p = *s.ply;
   block.positions.resize(n, 3);
   if (p.layout.normals()) block.normals.resize(n, 3);
+  if (s.colors) block.colors.resize(n, 3);
   const char* base = s.mapped->data();
   const std::size_t first = p.begin + static_cast<std::size_t>(s.next) * p.record;
   Eigen::Index kept = 0;
@@ -341,6 +421,11 @@ bool PointStream::read(std::size_t count, PointCloud& block) {
         finite = finite && std::isfinite(block.normals(kept, c));
       }
     }
+    if (finite && s.colors)
+      for (int c = 0; c < 3; ++c) {
+        const int k = p.layout.rgb[static_cast<std::size_t>(c)];
+        block.colors(kept, c) = io::ply::to_color(value(k), p.vertex.properties[static_cast<std::size_t>(k)].type);
+      }
     if (finite) ++kept;
     else if (!s.options.drop_non_finite)
       throw InputError(s.file, FileLocation{std::nullopt, at},
@@ -348,6 +433,7 @@ bool PointStream::read(std::size_t count, PointCloud& block) {
   }
   block.positions.conservativeResize(kept, 3);
   if (p.layout.normals()) block.normals.conservativeResize(kept, 3);
+  if (s.colors) block.colors.conservativeResize(kept, 3);
   s.mapped->release(first, first + static_cast<std::size_t>(n) * p.record);
   s.next += static_cast<std::uint64_t>(n);
   return true;

@@ -8,6 +8,7 @@
 #include "io/text_parse.hpp"
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -82,14 +83,27 @@ struct LasPoints {
   /// The position of record `i` (< count) in the file's coordinates: integers times the
   /// scale plus the offset, in double precision.
   Eigen::Vector3d position(std::string_view bytes, std::uint64_t i) const;
+  /// Whether the point format has red, green and blue.
+  bool has_colors() const noexcept;
+  /// The 16-bit red, green and blue of record `i` (< count; has_colors() required).
+  std::array<std::uint16_t, 3> color(std::string_view bytes, std::uint64_t i) const;
+  /// Whether every record's color is at most 255: 8-bit values stored in the 16-bit fields, read
+  /// as they are (wide_color_byte()). Reads every record's color.
+  bool eight_bit_colors(std::string_view bytes) const;
 };
+
+/// The byte of a 16-bit color channel (LAS, PDAL's PCD): as it is when the file's colors are
+/// all at most 255 (8-bit values in 16-bit fields), else rounded from 0..65535.
+inline std::uint8_t wide_color_byte(std::uint16_t value, bool eight_bit) {
+  return eight_bit ? static_cast<std::uint8_t>(value) : static_cast<std::uint8_t>(std::lround(value / 257.0));
+}
 LasPoints las_points(const std::filesystem::path& file, std::string_view bytes);
 /// E57: every scan, posed, with colors and intensity when present (e57_reader.cpp).
 ParsedFile read_e57(const std::filesystem::path& file, std::string_view bytes);
 
 /// An E57 file's points decoded a block of records at a time (e57_stream.cpp), as read_e57()
 /// gives them: every scan in turn, posed, the records the scanner marked invalid left out.
-/// Positions only: the other fields are not decoded, so a damaged color or intensity stream,
+/// Positions and colors only: the other fields are not decoded, so a damaged intensity stream,
 /// which read_e57() refuses, goes unnoticed. Its memory is a block and what the packets hold
 /// of one coordinate field ahead of another (nothing much for files whose writers interleave
 /// the fields packet by packet, as libE57Format does), whatever the file's size.
@@ -104,11 +118,14 @@ class E57Points {
 
   /// Records in all scans (the invalid ones included).
   std::uint64_t records() const noexcept;
+  /// Whether every scan has colors (as read_e57() gives them only then).
+  bool has_colors() const noexcept;
   /// Decodes the next `n` records (at most those left) and puts the positions of the valid ones
-  /// into `out` (its rows replaced), non-finite ones included; `located[i]` is the physical byte
-  /// offset of row i's non-finite coordinate when it was decoded as one (not when a pose made
-  /// it overflow). Throws InputError for a damaged packet.
-  void read(std::uint64_t n, Points& out, std::vector<std::optional<std::uint64_t>>& located);
+  /// into `out` (its rows replaced), non-finite ones included, and their colors into `colors`
+  /// when given and has_colors(); `located[i]` is the physical byte offset of row i's
+  /// non-finite coordinate when it was decoded as one (not when a pose made it overflow).
+  /// Throws InputError for a damaged packet.
+  void read(std::uint64_t n, Points& out, std::vector<std::optional<std::uint64_t>>& located, Colors* colors = nullptr);
   /// The file's byte ranges [begin, end) that no read before rewind() touches again, those not
   /// handed out by an earlier call.
   std::vector<std::pair<std::uint64_t, std::uint64_t>> finished_bytes();

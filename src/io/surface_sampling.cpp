@@ -50,6 +50,7 @@ PointCloud sample_surface(const TriangleMesh& mesh, const SurfaceSamplingOptions
 
   PointCloud cloud;
   cloud.origin = mesh.origin;
+  cloud.up = mesh.up;
   cloud.positions.resize(static_cast<Eigen::Index>(n), 3);
   cloud.normals.resize(static_cast<Eigen::Index>(n), 3);
   const bool colored = mesh.colors.rows() == vertex_count && vertex_count > 0;

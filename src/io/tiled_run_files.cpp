@@ -20,9 +20,11 @@ namespace clustersurf::detail {
 
 namespace {
 
-constexpr std::string_view kPlanMagic = "clustersurf-tiles 1";
+constexpr std::string_view kPlanMagic = "clustersurf-tiles 2";
 constexpr std::string_view kRunMagic = "clustersurf-run 1";
-constexpr char kTileMagic[8] = {'C', 'S', 'T', 'I', 'L', 'E', '1', '\n'};
+constexpr char kTileMagic[8] = {'C', 'S', 'T', 'I', 'L', 'E', '2', '\n'};
+/// The flags of a tile's header.
+constexpr std::int64_t kTileColors = 1, kTileZUp = 2;
 
 /// Reads whitespace-separated fields of a text file, line by line, with the line in errors.
 class Lines {
@@ -157,7 +159,8 @@ void write_text(const std::filesystem::path& file, std::string_view text) {
 void write_partition(const std::filesystem::path& file, const PartitionRecord& r) {
   std::ostringstream out = text_stream();
   out << kPlanMagic << "\n";
-  out << "input " << r.input_size << " " << r.input_mtime << " " << r.input_points << " " << (r.normals ? 1 : 0) << "\n";
+  out << "input " << r.input_size << " " << r.input_mtime << " " << r.input_points << " " << (r.normals ? 1 : 0) << " "
+      << (r.colors ? 1 : 0) << " " << (r.up == UpAxis::Z ? "z" : "y") << "\n";
   out << "regions-options " << r.max_points << " " << r.halo_spacings << "\n";
   out << "origin " << r.origin.x() << " " << r.origin.y() << " " << r.origin.z() << "\n";
   out << "spacing " << r.plan.point_spacing << " " << r.plan.halo << "\n";
@@ -180,10 +183,14 @@ PartitionRecord read_partition(const std::filesystem::path& file) {
     f >> word >> version;
     if (word + " " + version != kPlanMagic) lines.fail("not a clustersurf tile plan (expected \"" + std::string(kPlanMagic) + "\")");
   }
-  int normals = 0;
+  int normals = 0, colors = 0;
+  std::string up;
   auto f = lines.next("input", "the input line");
-  lines.read(f, "input line", r.input_size, r.input_mtime, r.input_points, normals);
+  lines.read(f, "input line", r.input_size, r.input_mtime, r.input_points, normals, colors, up);
+  if (up != "y" && up != "z") lines.fail("the up axis must be y or z");
   r.normals = normals != 0;
+  r.colors = colors != 0;
+  r.up = up == "z" ? UpAxis::Z : UpAxis::Y;
   f = lines.next("regions-options", "the region options");
   lines.read(f, "region options", r.max_points, r.halo_spacings);
   f = lines.next("origin", "the origin");
@@ -325,14 +332,17 @@ void write_tile(const std::filesystem::path& file, const MeshTile& tile) {
   const TriangleMesh& m = tile.mesh;
   io::AtomicFile out(file);
   out.write(kTileMagic, sizeof kTileMagic);
-  const std::int64_t header[5] = {tile.region, static_cast<std::int64_t>(m.vertices.rows()), static_cast<std::int64_t>(m.triangles.rows()),
-                                  static_cast<std::int64_t>(tile.grid.surface_cells), static_cast<std::int64_t>(tile.grid.evaluated_corners)};
+  const bool colors = m.colors.rows() == m.vertices.rows() && m.vertices.rows() > 0;
+  const std::int64_t header[6] = {tile.region, static_cast<std::int64_t>(m.vertices.rows()), static_cast<std::int64_t>(m.triangles.rows()),
+                                  static_cast<std::int64_t>(tile.grid.surface_cells), static_cast<std::int64_t>(tile.grid.evaluated_corners),
+                                  (colors ? kTileColors : 0) | (m.up == UpAxis::Z ? kTileZUp : 0)};
   out.write(header, sizeof header);
   out.write(&tile.grid.voxel_size, sizeof(double));
   out.write(m.origin.data(), 3 * sizeof(double));
   out.write(m.vertices.data(), static_cast<std::size_t>(m.vertices.size()) * sizeof(double));
   out.write(m.normals.data(), static_cast<std::size_t>(m.normals.size()) * sizeof(double));
   out.write(m.attributes.at(0).values.data(), static_cast<std::size_t>(m.vertices.rows()) * sizeof(float));
+  if (colors) out.write(m.colors.data(), static_cast<std::size_t>(m.colors.size()));
   out.write(m.triangles.data(), static_cast<std::size_t>(m.triangles.size()) * sizeof(std::int32_t));
   out.commit();
 }
@@ -349,12 +359,14 @@ MeshTile read_tile(const std::filesystem::path& file) {
   char magic[sizeof kTileMagic];
   take(magic, sizeof magic, "the signature");
   if (std::memcmp(magic, kTileMagic, sizeof magic) != 0) throw InputError(file, FileLocation{std::nullopt, 0}, "not a clustersurf mesh tile");
-  std::int64_t header[5];
+  std::int64_t header[6];
   take(header, sizeof header, "the header");
   const std::int64_t nv = header[1], nt = header[2];
   const std::uint64_t per_vertex = 6 * sizeof(double) + sizeof(float), per_triangle = 3 * sizeof(std::int32_t);
   if (header[0] < 0 || header[0] > std::numeric_limits<std::int32_t>::max() || header[3] < 0 || header[4] < 0)
     throw InputError(file, FileLocation{std::nullopt, sizeof kTileMagic}, "region or cell counts out of range");
+  if ((header[5] & ~(kTileColors | kTileZUp)) != 0)
+    throw InputError(file, FileLocation{std::nullopt, sizeof kTileMagic + 5 * sizeof(std::int64_t)}, "unknown tile flags");
   if (nv < 0 || nt < 0 || static_cast<std::uint64_t>(nv) > bytes.size() / per_vertex || static_cast<std::uint64_t>(nt) > bytes.size() / per_triangle)
     throw InputError(file, FileLocation{std::nullopt, sizeof kTileMagic + 8}, "vertex or triangle count out of range for the file's size");
   MeshTile tile;
@@ -376,6 +388,11 @@ MeshTile read_tile(const std::filesystem::path& file) {
   take(m.vertices.data(), static_cast<std::size_t>(nv) * 3 * sizeof(double), "the vertices");
   take(m.normals.data(), static_cast<std::size_t>(nv) * 3 * sizeof(double), "the normals");
   take(votes.data(), static_cast<std::size_t>(nv) * sizeof(float), "the votes");
+  if ((header[5] & kTileColors) != 0) {
+    m.colors.resize(nv, 3);
+    take(m.colors.data(), static_cast<std::size_t>(nv) * 3, "the colors");
+  }
+  m.up = (header[5] & kTileZUp) != 0 ? UpAxis::Z : UpAxis::Y;
   const std::size_t triangles_at = at;
   take(m.triangles.data(), static_cast<std::size_t>(nt) * 3 * sizeof(std::int32_t), "the triangles");
   if (at != bytes.size()) throw InputError(file, FileLocation{std::nullopt, at}, "unexpected bytes after the triangles");

@@ -20,10 +20,24 @@ struct PartitionRecord {
   double halo_spacings = 0;
   std::uint64_t input_points = 0;
   bool normals = false;
+  bool colors = false;  ///< the region files hold each point's red, green and blue after its normal
+  UpAxis up = UpAxis::Y;
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   RegionPlan plan;
   std::vector<std::uint64_t> own, halo;  ///< points in each region's files
 };
+
+/// Doubles per point in a region file: the position, the normal when the input has normals, and
+/// the color (pack_color()) when it has colors.
+inline std::size_t region_record_values(const PartitionRecord& r) { return 3 + (r.normals ? 3 : 0) + (r.colors ? 1 : 0); }
+
+/// An 8-bit RGB color as one double, exactly: red * 65536 + green * 256 + blue.
+inline double pack_color(const Eigen::Matrix<std::uint8_t, 1, 3>& c) { return c(0) * 65536.0 + c(1) * 256.0 + c(2); }
+/// The color pack_color() packed (values outside its range clamped to it).
+inline Eigen::Matrix<std::uint8_t, 1, 3> unpack_color(double packed) {
+  const auto v = static_cast<std::uint32_t>(std::clamp(packed, 0.0, 16777215.0));
+  return {static_cast<std::uint8_t>(v >> 16), static_cast<std::uint8_t>((v >> 8) & 0xFF), static_cast<std::uint8_t>(v & 0xFF)};
+}
 
 /// "dir/name-000012.ext": a region's file.
 std::filesystem::path region_file(const std::filesystem::path& dir, std::string_view name, std::int32_t region,
@@ -47,7 +61,8 @@ void write_merge(const std::filesystem::path& file, const RegionMerge& merge);
 /// InputError (file, line) when the file is not a record written by write_merge().
 RegionMerge read_merge(const std::filesystem::path& file);
 
-/// A mesh tile in binary: vertices, normals and votes exactly as computed (doubles, floats).
+/// A mesh tile in binary: vertices, normals and votes exactly as computed (doubles, floats),
+/// its colors when it has them, and its up axis.
 void write_tile(const std::filesystem::path& file, const MeshTile& tile);
 /// InputError (file, byte) when the file is not a whole tile written by write_tile().
 MeshTile read_tile(const std::filesystem::path& file);

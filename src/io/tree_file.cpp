@@ -26,6 +26,7 @@ constexpr std::uint32_t kEndianTag = 0x01020304u;
 
 /// The option flags of the header (version 2; the reserved 0 of version 1).
 constexpr std::uint32_t kFlagCreases = 1;
+constexpr std::uint32_t kFlagZUp = 2;  ///< ClusterTree::up is z
 
 /// Number of doubles that encode each proxy kind (indexed by ProxyKind).
 constexpr std::size_t kProxyDoubles[kProxyKinds] = {3, 6, 18, 14, 13};
@@ -225,7 +226,7 @@ void write_tree(Writer& w, const ClusterTree& tree) {
   w.put(p.min_points), w.put(p.max_depth);
   w.put(p.alpha);
   w.put(p.kstep), w.put(p.lloyd_restarts), w.put(p.proxy_lloyd_iterations);
-  w.put(p.creases ? kFlagCreases : std::uint32_t{0});
+  w.put((p.creases ? kFlagCreases : std::uint32_t{0}) | (tree.up == UpAxis::Z ? kFlagZUp : std::uint32_t{0}));
   w.put(p.support_factor);
   w.put(p.seed);
   w.put(tree.noise_sigma), w.put(tree.error_threshold);
@@ -299,9 +300,10 @@ ClusterTree parse_tree(std::string_view bytes, const std::filesystem::path& file
   p.proxy_lloyd_iterations = r.get<std::uint32_t>("proxy lloyd iterations");
   const std::size_t flags_at = r.pos();
   const auto flags = r.get<std::uint32_t>("flags");
-  if ((flags & ~kFlagCreases) != 0 || (version < 2 && flags != 0))
+  if ((flags & ~(kFlagCreases | kFlagZUp)) != 0 || (version < 2 && flags != 0))
     r.fail_at(flags_at, "unknown option flags " + std::to_string(flags));
   p.creases = (flags & kFlagCreases) != 0;
+  tree.up = (flags & kFlagZUp) != 0 ? UpAxis::Z : UpAxis::Y;
   p.support_factor = r.finite("support factor");
   p.seed = r.get<std::uint64_t>("seed");
   tree.noise_sigma = r.finite("noise sigma");

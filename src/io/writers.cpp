@@ -22,7 +22,7 @@ double at_origin(double x, double origin) { return origin == 0 ? x : x + origin;
 
 static_assert(std::endian::native == std::endian::little, "binary writers assume a little-endian host");
 
-void write_ply_impl(const std::filesystem::path& file, const Points& v, const Eigen::Vector3d& origin, const Points& n,
+void write_ply_impl(const std::filesystem::path& file, const Points& v, const Eigen::Vector3d& origin, UpAxis up, const Points& n,
                     const Colors& c, const std::vector<PointAttribute>& attributes, const Triangles* tris, PlyWriteOptions o) {
   const Eigen::Index nv = v.rows();
   o.double_precision = o.double_precision || !origin.isZero();
@@ -36,7 +36,7 @@ void write_ply_impl(const std::filesystem::path& file, const Points& v, const Ei
       names.push_back(a.name);
     }
   const std::string h = io::ply_header(static_cast<std::uint64_t>(nv), tris != nullptr ? std::optional(static_cast<std::uint64_t>(tris->rows())) : std::nullopt,
-                                       o.binary, o.double_precision, has_n, has_c, names);
+                                       o.binary, o.double_precision, has_n, has_c, names, up);
 
   io::AtomicFile out(file);
   out.write(h);
@@ -102,11 +102,12 @@ void write_ply_impl(const std::filesystem::path& file, const Points& v, const Ei
 }  // namespace
 
 std::string io::ply_header(std::uint64_t vertices, std::optional<std::uint64_t> faces, bool binary, bool double_precision,
-                           bool normals, bool colors, const std::vector<std::string>& attributes) {
+                           bool normals, bool colors, const std::vector<std::string>& attributes, UpAxis up) {
   const char* real = double_precision ? "double" : "float";
   std::string h = "ply\n";
   h += binary ? "format binary_little_endian 1.0\n" : "format ascii 1.0\n";
   h += "comment written by clustersurf\n";
+  if (up == UpAxis::Z) h += "comment up z\n";
   h += fmt::format("element vertex {}\nproperty {} x\nproperty {} y\nproperty {} z\n", vertices, real, real, real);
   if (normals) h += fmt::format("property {} nx\nproperty {} ny\nproperty {} nz\n", real, real, real);
   if (colors) h += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
@@ -117,11 +118,11 @@ std::string io::ply_header(std::uint64_t vertices, std::optional<std::uint64_t> 
 }
 
 void write_ply(const std::filesystem::path& file, const PointCloud& cloud, const PlyWriteOptions& options) {
-  write_ply_impl(file, cloud.positions, cloud.origin, cloud.normals, cloud.colors, cloud.attributes, nullptr, options);
+  write_ply_impl(file, cloud.positions, cloud.origin, cloud.up, cloud.normals, cloud.colors, cloud.attributes, nullptr, options);
 }
 
 void write_ply(const std::filesystem::path& file, const TriangleMesh& mesh, const PlyWriteOptions& options) {
-  write_ply_impl(file, mesh.vertices, mesh.origin, mesh.normals, mesh.colors, mesh.attributes, &mesh.triangles, options);
+  write_ply_impl(file, mesh.vertices, mesh.origin, mesh.up, mesh.normals, mesh.colors, mesh.attributes, &mesh.triangles, options);
 }
 
 void write_xyz(const std::filesystem::path& file, const PointCloud& cloud) {

@@ -1,12 +1,58 @@
+#include <clustersurf/errors.hpp>
 #include <clustersurf/kd_tree.hpp>
 #include <clustersurf/mesh_colors.hpp>
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <utility>
 
 namespace clustersurf {
+
+namespace {
+
+/// The weighted median of `values` (pairs of value and weight, reordered): the smallest value at
+/// which the cumulated weight reaches half the total.
+std::uint8_t weighted_median(std::vector<std::pair<std::uint8_t, double>>& values, double total) {
+  std::sort(values.begin(), values.end());
+  double sum = 0;
+  for (const auto& [value, weight] : values)
+    if ((sum += weight) >= 0.5 * total) return value;
+  return values.back().first;
+}
+
+}  // namespace
+
+Colors colors_from_points(const TriangleMesh& mesh, const KdTree& points, const Colors& colors, std::size_t neighbors) {
+  if (colors.rows() != static_cast<Eigen::Index>(points.size()))
+    throw OptionError("the points' colors must have one row per point");
+  Colors c(mesh.vertices.rows(), 3);
+  if (points.size() == 0) {
+    c.setConstant(128);
+    return c;
+  }
+  neighbors = std::max<std::size_t>(neighbors, 1);
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, mesh.vertices.rows(), 512), [&](const auto& r) {
+    std::vector<Neighbor> nb;
+    std::vector<double> weight;
+    std::vector<std::pair<std::uint8_t, double>> channel;
+    for (Eigen::Index v = r.begin(); v != r.end(); ++v) {
+      points.knn(mesh.vertices.row(v).transpose(), neighbors, nb);
+      const double reach = nb.back().distance_squared;
+      weight.clear();
+      double total = 0;
+      for (const Neighbor& n : nb) total += weight.emplace_back(reach > 0 ? std::exp(-n.distance_squared / reach) : 1.0);
+      for (int k = 0; k < 3; ++k) {
+        channel.clear();
+        for (std::size_t i = 0; i < nb.size(); ++i) channel.emplace_back(colors(nb[i].index, k), weight[i]);
+        c(v, k) = weighted_median(channel, total);
+      }
+    }
+  });
+  return c;
+}
 
 Colors colors_by_node(const TriangleMesh& mesh, const ImplicitSurface& surface) {
   Colors c(mesh.vertices.rows(), 3);

@@ -17,6 +17,7 @@ TriangleMesh compact(const TriangleMesh& mesh, const Triangles& triangles) {
     if (remap[static_cast<std::size_t>(v)] == 0) remap[static_cast<std::size_t>(v)] = static_cast<std::int32_t>(rows.size()), rows.push_back(v);
   TriangleMesh out;
   out.origin = mesh.origin;
+  out.up = mesh.up;
   out.vertices = mesh.vertices(rows, Eigen::all);
   if (mesh.normals.rows() == nv) out.normals = mesh.normals(rows, Eigen::all);
   if (mesh.colors.rows() == nv) out.colors = mesh.colors(rows, Eigen::all);

@@ -20,14 +20,15 @@ const char* to_string(MeshColoring coloring) {
     case MeshColoring::None: return "none";
     case MeshColoring::ByNode: return "leaf";
     case MeshColoring::ByDistance: return "distance";
+    case MeshColoring::FromInput: return "input";
   }
   return "unknown";
 }
 
 MeshColoring parse_mesh_coloring(std::string_view text) {
-  for (MeshColoring c : {MeshColoring::None, MeshColoring::ByNode, MeshColoring::ByDistance})
+  for (MeshColoring c : {MeshColoring::None, MeshColoring::ByNode, MeshColoring::ByDistance, MeshColoring::FromInput})
     if (text == to_string(c)) return c;
-  throw OptionError("color must be none, leaf or distance, not \"" + std::string(text) + "\"");
+  throw OptionError("color must be none, leaf, distance or input, not \"" + std::string(text) + "\"");
 }
 
 namespace {
@@ -63,6 +64,15 @@ TriangleMesh closed_mesh(const ImplicitSurface& surface, const SurfaceMeshOption
   untangled.remaining.pairs.resize(std::min(untangled.remaining.pairs.size(), MeshCheckOptions{}.max_pairs));
   out.closing.check = check_mesh(mesh, std::move(untangled.remaining));
   return mesh;
+}
+
+/// colors_from_points() of the rows the tree clusters (its outliers' colors left out).
+Colors input_colors(const TriangleMesh& mesh, const ClusterTree& tree, const CloudIndex& input) {
+  const CloudIndex::Subset data = input.clustered(tree);
+  const Colors& all = input.cloud().colors;
+  if (data.positions.rows() == all.rows()) return colors_from_points(mesh, data.index, all);
+  const std::vector<std::uint32_t> rows = clustered_rows(tree);
+  return colors_from_points(mesh, data.index, all(rows, Eigen::all));
 }
 
 }  // namespace
@@ -101,7 +111,10 @@ SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options
   if (options.coloring == MeshColoring::ByNode) out.mesh.colors = colors_by_node(out.mesh, surface);
   if (options.coloring == MeshColoring::ByDistance)
     out.mesh.colors = colors_by_distance(out.mesh, input->points(), options.distance_scale * tree.bbox.diagonal());
+  if (options.coloring == MeshColoring::FromInput && input != nullptr && input->cloud().has_colors())
+    out.mesh.colors = input_colors(out.mesh, tree, *input);
   out.mesh.origin = tree.origin;
+  out.mesh.up = tree.up;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

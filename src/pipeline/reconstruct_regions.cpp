@@ -125,7 +125,7 @@ Reconstruction reconstruct_regions(const RegionPlan& plan, const RegionSource& s
     report("meshing tiles", r);
     RegionCloud region = source.load(r);
     if (options.build.remove_outliers) mark_outliers(region, scale, options.build.outliers);
-    tiles.push_back(mesh_tile(surface, plan, r, region, grid, meshing.trim));
+    tiles.push_back(mesh_tile(surface, plan, r, region, grid, meshing.trim, meshing.coloring == MeshColoring::FromInput));
     mesh.grid.voxel_size = tiles.back().grid.voxel_size;
     mesh.grid.evaluated_corners += tiles.back().grid.evaluated_corners;
     mesh.grid.surface_cells += tiles.back().grid.surface_cells;
@@ -135,6 +135,7 @@ Reconstruction reconstruct_regions(const RegionPlan& plan, const RegionSource& s
   if (meshing.decimation.enabled()) mesh.mesh = decimate(mesh.mesh, meshing.decimation, &mesh.decimation);
   if (meshing.coloring == MeshColoring::ByNode) mesh.mesh.colors = colors_by_node(mesh.mesh, surface);
   mesh.mesh.origin = out.tree.origin;
+  mesh.mesh.up = out.tree.up;
   mesh.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - mesh_start).count();
   out.mesh = std::move(mesh);
   return out;

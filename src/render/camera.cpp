@@ -27,9 +27,10 @@ Ray Camera::ray(double x, double y) const {
 Camera make_camera(const BoundingBox& box, const CameraOptions& options, int width, int height) {
   if (width <= 0 || height <= 0) throw OptionError("picture size must be positive");
   if (!(options.fov > 0 && options.fov < 180)) throw OptionError("field of view must be in (0, 180) degrees");
-  if (!(options.up.norm() > 0) || !options.up.allFinite()) throw OptionError("the up vector must be nonzero");
+  const Eigen::Vector3d given_up = options.up.value_or(Eigen::Vector3d::UnitY());
+  if (!(given_up.norm() > 0) || !given_up.allFinite()) throw OptionError("the up vector must be nonzero");
   if (options.distance && !(*options.distance > 0)) throw OptionError("camera distance must be positive");
-  const Eigen::Vector3d up = options.up.normalized();
+  const Eigen::Vector3d up = given_up.normalized();
   const Eigen::Vector3d center = box.empty() ? Eigen::Vector3d::Zero() : Eigen::Vector3d(0.5 * (box.min + box.max));
   const double radius = box.empty() || box.diagonal() == 0 ? 1.0 : 0.5 * box.diagonal();
   const Eigen::Vector3d target = options.target.value_or(center);

@@ -59,7 +59,7 @@ class Splatter {
 Image render_mesh(const TriangleMesh& mesh, const RenderOptions& options, RenderStats* stats, const ProgressCallback& progress) {
   render::check_common_options(options);
   if (mesh.triangles.rows() == 0) throw OptionError("cannot render a mesh without triangles");
-  const Camera camera = render::scene_camera(options, bounding_box(mesh.vertices), mesh.origin);
+  const Camera camera = render::scene_camera(options, bounding_box(mesh.vertices), mesh.origin, mesh.up);
   EmbreeScene scene;
   scene.commit_triangles(mesh);
   const bool smooth = mesh.normals.rows() == mesh.vertices.rows();
@@ -85,7 +85,7 @@ Image render_mesh(const TriangleMesh& mesh, const RenderOptions& options, Render
 Image render_points(const PointCloud& cloud, const RenderOptions& options, RenderStats* stats, const ProgressCallback& progress) {
   render::check_common_options(options);
   if (cloud.empty()) throw OptionError("cannot render an empty point cloud");
-  const Camera camera = render::scene_camera(options, bounding_box(cloud.positions), cloud.origin);
+  const Camera camera = render::scene_camera(options, bounding_box(cloud.positions), cloud.origin, cloud.up);
   double radius = options.point_radius;
   if (radius == 0) {
     const CloudStats st = compute_stats(cloud, 20000);

@@ -28,7 +28,7 @@ void check_common_options(const RenderOptions& options);
 /// The camera of a scene stored relative to `origin` (its box `own` in those coordinates):
 /// options.framing, camera.eye and camera.target are in the files' coordinates, so several
 /// scenes far from zero, each with its own origin, share one camera.
-Camera scene_camera(const RenderOptions& options, const BoundingBox& own, const Eigen::Vector3d& origin);
+Camera scene_camera(const RenderOptions& options, const BoundingBox& own, const Eigen::Vector3d& origin, UpAxis up);
 
 /// Traces options.samples rays per pixel of `camera`. `make_tracer(x0, y0, x1, y1)` is called
 /// once per tile (pixels [x0, x1) × [y0, y1)) and returns a callable (const Ray&, std::uint64_t seed) → SampleResult owning its scratch

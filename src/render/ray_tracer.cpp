@@ -207,7 +207,7 @@ Image render_tree(const ClusterTree& tree, const RenderOptions& options, RenderS
   if (options.show == ShowMode::Error && (options.reference_points == nullptr || options.reference_points->rows() == 0))
     throw OptionError("the error view needs the input points (--points FILE)");
 
-  const Camera camera = render::scene_camera(options, tree.bbox, tree.origin);
+  const Camera camera = render::scene_camera(options, tree.bbox, tree.origin, tree.up);
   Scene scene{tree, options, render::SupportIndex(tree, options.lod),
               options.mode == IntersectMode::BruteForce ? render::SupportSearch::BruteForce : render::SupportSearch::Hierarchy,
               {}, render::camera_lighting(camera), {}, {}, {}, {}};

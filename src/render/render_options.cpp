@@ -64,12 +64,13 @@ void check_common_options(const RenderOptions& options) {
   if (!(options.point_radius >= 0) || !std::isfinite(options.point_radius)) throw OptionError("point radius must be >= 0");
 }
 
-Camera scene_camera(const RenderOptions& options, const BoundingBox& own, const Eigen::Vector3d& origin) {
+Camera scene_camera(const RenderOptions& options, const BoundingBox& own, const Eigen::Vector3d& origin, UpAxis up) {
   BoundingBox box = own;
   if (options.framing && !options.framing->empty()) box = BoundingBox{options.framing->min - origin, options.framing->max - origin};
   CameraOptions camera = options.camera;
   if (camera.eye) *camera.eye -= origin;
   if (camera.target) *camera.target -= origin;
+  if (!camera.up) camera.up = up_vector(up);
   return make_camera(box, camera, options.width, options.height);
 }
 

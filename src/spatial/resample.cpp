@@ -73,6 +73,7 @@ PointCloud voxel_downsample(const PointCloud& cloud, double voxel_size) {
   if (cloud.has_normals()) out.normals = Eigen::Map<Points>(nrm.data(), m, 3);
   if (cloud.has_colors()) out.colors = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(col.data(), m, 3).cast<std::uint8_t>();
   out.origin = cloud.origin;
+  out.up = cloud.up;
   for (std::size_t k = 0; k < attr.size(); ++k)
     out.attributes.push_back({cloud.attributes[k].name, Eigen::Map<Eigen::VectorXf>(attr[k].data(), m)});
   return out;

@@ -2,6 +2,7 @@
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/kd_tree.hpp>
+#include <clustersurf/mesh_colors.hpp>
 #include <clustersurf/tiling.hpp>
 
 #include "mesh/clipped_extraction.hpp"
@@ -16,7 +17,7 @@
 namespace clustersurf {
 
 MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::int32_t region_index,
-                   const RegionCloud& region, const MeshOptions& grid, const TrimOptions& trim,
+                   const RegionCloud& region, const MeshOptions& grid, const TrimOptions& trim, bool input_colors,
                    const ProgressCallback& progress) {
   if (region_index < 0 || static_cast<std::size_t>(region_index) >= plan.regions())
     throw OptionError("region " + std::to_string(region_index) + " is not in the plan");
@@ -97,8 +98,11 @@ MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::
   for (Eigen::Index t = 0; t < kept.rows(); ++t)
     for (int k = 0; k < 3; ++k)
       tile.mesh.triangles(t, k) = static_cast<std::int32_t>(remap[static_cast<std::size_t>(kept(t, k))]);
+  if (input_colors && region.points.has_colors())
+    tile.mesh.colors = colors_from_points(tile.mesh, index, region.points.colors(rows, Eigen::all));
   tile.mesh.attributes.push_back({"votes", votes(keep_rows)});
   tile.mesh.origin = surface.tree().origin;
+  tile.mesh.up = surface.tree().up;
   return tile;
 }
 

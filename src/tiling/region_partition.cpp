@@ -147,6 +147,8 @@ TiledRun TiledRun::partition(const std::filesystem::path& input, const std::file
   if (count == 0) throw InputError(input, {}, "the file holds no points");
   r.input_points = count;
   r.normals = stream.has_normals();
+  r.colors = stream.has_colors();
+  r.up = stream.up();
   r.origin = origin_shift(box);
   Points sample(static_cast<Eigen::Index>(sampled.size()), 3);
   for (std::size_t i = 0; i < sampled.size(); ++i) sample.row(static_cast<Eigen::Index>(i)) = (sampled[i] - r.origin).transpose();
@@ -159,7 +161,7 @@ TiledRun TiledRun::partition(const std::filesystem::path& input, const std::file
   const std::size_t n = r.plan.regions();
   run.regions = n;
   detail::write_run_record(dir, run);  // before the files it names
-  const std::size_t record = r.normals ? 6 : 3;
+  const std::size_t record = detail::region_record_values(r);
   const std::size_t capacity = std::max<std::size_t>(record * 1024, options.buffer_bytes / sizeof(double) / (2 * n));
   std::vector<RegionWriter> own, halo;
   for (std::size_t k = 0; k < n; ++k) {
@@ -171,7 +173,7 @@ TiledRun TiledRun::partition(const std::filesystem::path& input, const std::file
   stream.rewind();
   seen = 0;
   std::vector<std::int32_t> near;
-  double values[6];
+  double values[7];
   while (stream.read(options.block_points, block)) {
     report("partitioning input", static_cast<double>(seen));
     for (Eigen::Index i = 0; i < block.size(); ++i) {
@@ -179,6 +181,7 @@ TiledRun TiledRun::partition(const std::filesystem::path& input, const std::file
       for (int c = 0; c < 3; ++c) values[c] = x(c);
       if (r.normals)
         for (int c = 0; c < 3; ++c) values[3 + c] = block.normals(i, c);
+      if (r.colors) values[r.normals ? 6 : 3] = detail::pack_color(block.colors.row(i));
       const auto k = static_cast<std::size_t>(r.plan.region_of(x));
       own[k].add(values, record);
       ++r.own[k];

@@ -25,9 +25,11 @@ TriangleMesh join_tiles(std::span<const MeshTile> tiles, const TrimOptions& trim
   }
   std::stable_sort(order.begin(), order.end(), [](const MeshTile* a, const MeshTile* b) { return a->region < b->region; });
   TriangleMesh mesh;
-  if (!order.empty()) mesh.origin = order.front()->mesh.origin;
+  if (!order.empty()) mesh.origin = order.front()->mesh.origin, mesh.up = order.front()->mesh.up;
   mesh.vertices.resize(vertices, 3);
   mesh.normals.resize(vertices, 3);
+  const bool colors = std::any_of(order.begin(), order.end(), [](const MeshTile* t) { return t->mesh.colors.rows() > 0; });
+  if (colors) mesh.colors.setConstant(vertices, 3, 128);  // grey for a tile without colors
   mesh.triangles.resize(triangles, 3);
   Eigen::VectorXf votes(vertices);
   Eigen::Index v0 = 0, t0 = 0;
@@ -36,6 +38,7 @@ TriangleMesh join_tiles(std::span<const MeshTile> tiles, const TrimOptions& trim
     if (m.origin != mesh.origin) throw OptionError("the mesh tiles are not of one tree (their origins differ)");
     mesh.vertices.middleRows(v0, m.vertices.rows()) = m.vertices;
     mesh.normals.middleRows(v0, m.vertices.rows()) = m.normals;
+    if (colors && m.colors.rows() == m.vertices.rows()) mesh.colors.middleRows(v0, m.vertices.rows()) = m.colors;
     votes.segment(v0, m.vertices.rows()) = m.attributes[0].values;
     mesh.triangles.middleRows(t0, m.triangles.rows()) = m.triangles.array() + static_cast<std::int32_t>(v0);
     v0 += m.vertices.rows();

@@ -88,9 +88,12 @@ JoinedMesh join_tiles_to_ply(const std::function<MeshTile(std::int32_t)>& tile_o
     return a;
   };
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  UpAxis up = UpAxis::Y;
+  bool tile_colors = false;  // a tile carries its points' colors
   for (std::int32_t k = 0; k < n; ++k) {
     const MeshTile t = get(k);
-    if (k == 0) origin = t.mesh.origin;
+    if (k == 0) origin = t.mesh.origin, up = t.mesh.up;
+    tile_colors = tile_colors || t.mesh.colors.rows() > 0;
     if (t.mesh.origin != origin) throw OptionError("the mesh tiles are not of one tree (their origins differ)");
     numbering.number(t, id, created);
     parent.resize(numbering.count());
@@ -145,8 +148,8 @@ JoinedMesh join_tiles_to_ply(const std::function<MeshTile(std::int32_t)>& tile_o
   support = {};
 
   // Passes 3 and 4: the used vertices as they are created, then the kept triangles.
-  const bool with_colors = colors != nullptr;
-  io::PlyMeshStream ply(file, out.vertices, out.triangles, true, with_colors, origin);
+  const bool with_colors = colors != nullptr || tile_colors;
+  io::PlyMeshStream ply(file, out.vertices, out.triangles, true, with_colors, origin, up);
   numbering.restart();
   for (std::int32_t k = 0; k < n; ++k) {
     const MeshTile t = get(k);
@@ -157,7 +160,9 @@ JoinedMesh join_tiles_to_ply(const std::function<MeshTile(std::int32_t)>& tile_o
     TriangleMesh part;
     part.vertices = t.mesh.vertices(rows, Eigen::all);
     part.normals = t.mesh.normals(rows, Eigen::all);
-    if (with_colors) part.colors = colors_by_node(part, *colors);
+    if (colors != nullptr) part.colors = colors_by_node(part, *colors);
+    else if (with_colors && t.mesh.colors.rows() == t.mesh.vertices.rows()) part.colors = t.mesh.colors(rows, Eigen::all);
+    else if (with_colors) part.colors.setConstant(part.vertices.rows(), 3, 128);  // a tile without colors
     ply.add_vertices(part.vertices, part.normals, part.colors);
   }
   numbering.restart();

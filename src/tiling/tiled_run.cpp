@@ -63,14 +63,16 @@ const Eigen::Vector3d& TiledRun::origin() const noexcept { return impl_->record.
 RegionCloud TiledRun::load(std::int32_t region) const {
   impl_->check(region);
   const detail::PartitionRecord& r = impl_->record;
-  const std::size_t record = r.normals ? 6 : 3;
+  const std::size_t record = detail::region_record_values(r);
   const auto k = static_cast<std::size_t>(region);
   RegionCloud out;
   out.own = r.own[k];
   const auto rows = static_cast<Eigen::Index>(r.own[k] + r.halo[k]);
   out.points.positions.resize(rows, 3);
   if (r.normals) out.points.normals.resize(rows, 3);
+  if (r.colors) out.points.colors.resize(rows, 3);
   out.points.origin = r.origin;
+  out.points.up = r.up;
   Eigen::Index row = 0;
   for (const char* part : {"own", "halo"}) {
     const std::filesystem::path f = impl_->need(impl_->file("region", region, part), "the partition");
@@ -95,6 +97,7 @@ RegionCloud TiledRun::load(std::int32_t region) const {
         const double* v = chunk.data() + static_cast<std::size_t>(i) * record;
         out.points.positions.row(row) << v[0], v[1], v[2];
         if (r.normals) out.points.normals.row(row) << v[3], v[4], v[5];
+        if (r.colors) out.points.colors.row(row) = detail::unpack_color(v[r.normals ? 6 : 3]);
       }
       done += m;
     }
@@ -229,7 +232,8 @@ void TiledRun::mesh(std::int32_t region, const ReconstructOptions& options) cons
   tile.region = region;
   if (std::any_of(trees.begin(), trees.end(), [](const ClusterTree& t) { return !t.nodes.empty(); })) {
     const ClusterTree tree = tile_tree(plan(), std::move(trees), merge);
-    tile = mesh_tile(ImplicitSurface(tree), plan(), region, points, grid, options.meshing.trim);
+    tile = mesh_tile(ImplicitSurface(tree), plan(), region, points, grid, options.meshing.trim,
+                     options.meshing.coloring == MeshColoring::FromInput);
   }
   detail::write_tile(impl_->file("tile", region, "bin"), tile);
 }

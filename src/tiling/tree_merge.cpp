@@ -233,7 +233,7 @@ Assembly assemble(const RegionPlan& plan, std::vector<ClusterTree>& regions) {
     nodes += t.nodes.size();
     if (t.nodes.empty()) continue;
     if (first == nullptr) first = &t;
-    if (!(t.parameters == first->parameters) || t.error_threshold != first->error_threshold || t.origin != first->origin)
+    if (!(t.parameters == first->parameters) || t.error_threshold != first->error_threshold || t.origin != first->origin || t.up != first->up)
       throw OptionError("the region trees were not built with the same options and scale");
   }
   if (first == nullptr) throw OptionError("every region is empty: there is no surface");
@@ -244,6 +244,7 @@ Assembly assemble(const RegionPlan& plan, std::vector<ClusterTree>& regions) {
   out.error_threshold = first->error_threshold;
   out.point_spacing = first->point_spacing;
   out.origin = first->origin;
+  out.up = first->up;
   out.nodes.reserve(nodes + plan.cells.size());  // no reallocation: the regions' nodes are freed as they move
   bool point_leaves = true;
   for (const ClusterTree& t : regions) {

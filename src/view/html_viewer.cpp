@@ -345,6 +345,7 @@ ViewerStats write_page(const std::filesystem::path& file, const ClusterTree& tre
                                {"title", options.title},
                                {"origin", {tree.origin.x(), tree.origin.y(), tree.origin.z()}},
                                {"center", {center.x(), center.y(), center.z()}},
+                               {"up", tree.up == UpAxis::Z ? "z" : "y"},
                                {"diagonal", tree.bbox.diagonal()},
                                {"nodes", n},
                                {"leaves", leaf_count},

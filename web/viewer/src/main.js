@@ -57,8 +57,16 @@ function start() {
   const scene = new THREE.Scene();
   const camera = new THREE.PerspectiveCamera(35, 1, diagonal / 1000, diagonal * 20);
   const distance = diagonal / 2 / Math.sin(THREE.MathUtils.degToRad(35 / 2));
+  // The render command's default view: azimuth 30 degrees from the front axis (+z when +y is up,
+  // +x when +z is, as georeferenced surveys are) toward the side axis, 20 degrees up.
   const az = THREE.MathUtils.degToRad(30), el = THREE.MathUtils.degToRad(20);
-  camera.position.set(Math.sin(az) * Math.cos(el), Math.sin(el), Math.cos(az) * Math.cos(el)).multiplyScalar(distance);
+  const zUp = meta.up === 'z';
+  if (zUp) {
+    camera.up.set(0, 0, 1);
+    camera.position.set(Math.cos(az) * Math.cos(el), Math.sin(az) * Math.cos(el), Math.sin(el)).multiplyScalar(distance);
+  } else {
+    camera.position.set(Math.sin(az) * Math.cos(el), Math.sin(el), Math.cos(az) * Math.cos(el)).multiplyScalar(distance);
+  }
   scene.add(camera);
   scene.add(new THREE.HemisphereLight(0xffffff, 0x606060, 1.6));
   const headlight = new THREE.DirectionalLight(0xffffff, 1.8);
@@ -133,7 +141,7 @@ function start() {
     requestRender();
   };
   /// Parses a .glb (ArrayBuffer or Uint8Array) and shows it as the mesh; `source` names it.
-  const loadGlb = async (data, source) => setMesh(await glbMesh(data, origin, center), source);
+  const loadGlb = async (data, source) => setMesh(await glbMesh(data, origin, center, meta.up === 'z'), source);
   if (meta.mesh && meta.mesh.format !== 'glb') setMesh(arraysMesh(blobs.mesh_vertices, blobs.mesh_triangles), 'embedded');
   if (!meta.mesh) {
     meshBox.checked = false;

@@ -37,16 +37,25 @@ export function arraysMesh(vertices, triangles) {
 
 /// Parses a glTF binary (ArrayBuffer or Uint8Array) into an Object3D in page coordinates. The
 /// root nodes are moved by -(origin + center): a node translated by the tree's origin (as the
-/// clustersurf CLI writes it) gets exactly -center, with no float cancellation. Materials are
-/// replaced by meshMaterial() so that every mesh looks the same.
-export async function glbMesh(data, origin, center) {
+/// clustersurf CLI writes it) gets exactly -center, with no float cancellation. With `zUp` (a
+/// tree of a z-up survey), a root node turned from z-up to glTF's y-up as the CLI writes it is
+/// turned back first, its translation exactly. Materials are replaced by meshMaterial() so that
+/// every mesh looks the same.
+export async function glbMesh(data, origin, center, zUp = false) {
   const buffer = data instanceof ArrayBuffer ? data : data.buffer.slice(data.byteOffset, data.byteOffset + data.byteLength);
   const magic = new Uint8Array(buffer, 0, Math.min(4, buffer.byteLength));
   if (String.fromCharCode(...magic) !== 'glTF') throw new Error('not a glTF binary (.glb) file');
   const gltf = await new GLTFLoader().parseAsync(buffer, '');
   const scene = gltf.scene;
   const o = new THREE.Vector3(...origin), c = new THREE.Vector3(...center);
-  for (const child of scene.children) child.position.sub(o).sub(c);
+  const toYUp = new THREE.Quaternion(-Math.SQRT1_2, 0, 0, Math.SQRT1_2);
+  for (const child of scene.children) {
+    if (zUp && child.quaternion.angleTo(toYUp) < 1e-6) {
+      child.quaternion.identity();
+      child.position.set(child.position.x, -child.position.z, child.position.y);  // (x, z, -y) back to (x, y, z)
+    }
+    child.position.sub(o).sub(c);
+  }
   scene.traverse((node) => {
     if (!node.isMesh) return;
     const geometry = node.geometry;
