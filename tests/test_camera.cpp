@@ -63,6 +63,23 @@ TEST(Camera, AutomaticFramingShowsTheWholeBox) {
     }
 }
 
+// A z-up scene (a survey) is looked at from above by default: the eye above the target, the
+// picture's up toward +z; the azimuth turns from the front axis +x toward +y.
+TEST(Camera, ZUpSceneIsSeenFromAbove) {
+  BoundingBox terrain;
+  terrain.extend({0, 0, 0});
+  terrain.extend({100, 60, 4});  // flat in z
+  CameraOptions o;
+  o.up = Eigen::Vector3d::UnitZ();
+  o.azimuth = 0;
+  const Camera c = make_camera(terrain, o, 320, 240);
+  const Eigen::Vector3d center(50, 30, 2);
+  EXPECT_GT(c.eye.z(), center.z() + 0.3 * (c.eye - center).norm());  // 20 degrees up: sin 20 > 0.3
+  EXPECT_GT(c.up.z(), 0.9);
+  EXPECT_NEAR(c.eye.y(), center.y(), 1e-9);  // azimuth 0: in the x-z plane
+  EXPECT_GT(c.eye.x(), center.x());
+}
+
 TEST(Camera, RejectsBadOptions) {
   BoundingBox box;
   box.extend({0, 0, 0});

@@ -221,3 +221,25 @@ TEST(RayTracer, MeshAndCloudMatchTheTreeSilhouette) {
   bare.normals.resize(0, 3);
   EXPECT_NEAR(static_cast<double>(covered(render_points(bare, o))), expected, 0.06 * expected);
 }
+
+// A tree, mesh or cloud of a z-up input is pictured z-up unless the camera says otherwise: the
+// same picture as the y-up scene with the up vector given.
+TEST(RayTracer, TheScenesUpAxisIsTheDefaultUp) {
+  PointCloud cloud = test::sample_torus(6000);
+  cloud.up = UpAxis::Z;
+  const ClusterTree tree = build_cluster_tree(cloud);
+  RenderOptions o;
+  o.width = 96;
+  o.height = 72;
+  const Image z_default = render_tree(tree, o);
+  ClusterTree y_tree = tree;
+  y_tree.up = UpAxis::Y;
+  RenderOptions explicit_up = o;
+  explicit_up.camera.up = Eigen::Vector3d::UnitZ();
+  EXPECT_EQ(z_default.pixels, render_tree(y_tree, explicit_up).pixels);
+  EXPECT_NE(z_default.pixels, render_tree(y_tree, o).pixels);
+  const Image cloud_z = render_points(cloud, o);
+  PointCloud y_cloud = cloud;
+  y_cloud.up = UpAxis::Y;
+  EXPECT_EQ(cloud_z.pixels, render_points(y_cloud, explicit_up).pixels);
+}

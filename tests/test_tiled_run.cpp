@@ -2,7 +2,9 @@
 // result as the tiled pipeline in memory; interrupted runs resume, damaged files are refused.
 
 #include <clustersurf/errors.hpp>
+#include <clustersurf/kd_tree.hpp>
 #include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/reconstruct.hpp>
 #include <clustersurf/tiled_run.hpp>
 #include <clustersurf/tree_file.hpp>
 
@@ -175,6 +177,52 @@ TEST(TiledRun, MeshJoinedIntoTheFileTileByTileIsTheJoinedMeshWritten) {
   const WrittenMesh obj = run.write_mesh(torus.dir / "mesh.obj", options.meshing);
   EXPECT_FALSE(obj.streamed);
   EXPECT_EQ(obj.triangles, streamed.triangles);
+}
+
+// A scan's colors and up axis go through the region files and the tiles: the run's mesh is the
+// tiled pipeline's in memory, colors and all, the streamed PLY is the joined mesh's bytes, and
+// the colors agree with the mesh of the whole cloud in core.
+TEST(TiledRun, ColorsAndTheUpAxisGoThroughTheRun) {
+  const test::TempDir dir;
+  PointCloud torus = test::sample_torus(15000);
+  torus.colors.resize(torus.size(), 3);
+  for (Eigen::Index i = 0; i < torus.size(); ++i)
+    torus.colors.row(i) = torus.positions(i, 0) > 0.2 ? Eigen::Matrix<std::uint8_t, 1, 3>(200, 40, 10) : Eigen::Matrix<std::uint8_t, 1, 3>(30, 90, 160);
+  torus.up = UpAxis::Z;
+  PlyWriteOptions ply;
+  ply.double_precision = true;
+  write_ply(dir / "torus.ply", torus, ply);
+  const PointCloud cloud = read_point_cloud(dir / "torus.ply");
+  const TiledRun run = TiledRun::partition(dir / "torus.ply", dir / "work", small_regions(4000));
+  ASSERT_GE(run.regions(), 3u);
+  const ReconstructOptions options;
+  const SurfaceMesh mesh = run_all(run, options);
+  ASSERT_EQ(mesh.mesh.colors.rows(), mesh.mesh.vertices.rows());
+  EXPECT_EQ(mesh.mesh.up, UpAxis::Z);
+  EXPECT_EQ(run.merge().up, UpAxis::Z);
+
+  RegionOptions regions;
+  regions.max_points = 4000;
+  ReconstructOptions in_memory = options;
+  in_memory.build.keep_point_leaves = false;
+  const Reconstruction tiled = reconstruct_tiled(cloud, regions, in_memory);
+  EXPECT_TRUE(same_mesh(mesh.mesh, tiled.mesh->mesh));
+  EXPECT_EQ(mesh.mesh.colors, tiled.mesh->mesh.colors);
+
+  write_ply(dir / "joined.ply", mesh.mesh);
+  EXPECT_TRUE(run.write_mesh(dir / "streamed.ply", options.meshing).streamed);
+  EXPECT_EQ(test::read_file(dir / "streamed.ply"), test::read_file(dir / "joined.ply"));
+
+  // In core: the same colors wherever the meshes share a vertex's neighbourhood.
+  const Reconstruction whole = reconstruct(cloud);
+  const KdTree core(whole.mesh->mesh.vertices);
+  std::size_t differ = 0;
+  std::vector<Neighbor> nb;
+  for (Eigen::Index v = 0; v < mesh.mesh.vertices.rows(); ++v) {
+    core.knn(mesh.mesh.vertices.row(v).transpose(), 1, nb);
+    differ += mesh.mesh.colors.row(v) != whole.mesh->mesh.colors.row(nb[0].index);
+  }
+  EXPECT_LT(static_cast<double>(differ), 0.02 * static_cast<double>(mesh.mesh.vertices.rows()));
 }
 
 TEST(TiledRun, RefusesOtherOptionsInTheSameDirectory) {

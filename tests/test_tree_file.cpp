@@ -134,6 +134,21 @@ TEST(TreeFile, StoresTheInputsOriginAndReadsVersion2) {
   EXPECT_EQ(old.nodes.size(), t.nodes.size());
 }
 
+// The input's up axis (a survey's z) is kept, as a header flag: a tree of a z-up cloud loads
+// z-up, and flipping the flag changes only that.
+TEST(TreeFile, StoresTheInputsUpAxis) {
+  PointCloud cloud = test::sample_torus(2000);
+  const std::string y_up = serialize_tree(build_cluster_tree(cloud));
+  cloud.up = UpAxis::Z;
+  const ClusterTree built = build_cluster_tree(cloud);
+  EXPECT_EQ(built.up, UpAxis::Z);
+  const std::string z_up = serialize_tree(built);
+  EXPECT_EQ(deserialize_tree(z_up).up, UpAxis::Z);
+  EXPECT_EQ(deserialize_tree(y_up).up, UpAxis::Y);
+  EXPECT_EQ(serialize_tree(deserialize_tree(z_up)), z_up);
+  EXPECT_EQ(y_up.size(), z_up.size());
+}
+
 // A file written by version 1 (tests/data/bunny400_v1.cstree, from tests/data/bunny400.ply)
 // still loads: no spacing (0), extents from the support radii, and today's build of the same
 // points with version 1's algorithm gives the same tree.

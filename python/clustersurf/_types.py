@@ -50,6 +50,12 @@ def _world(relative: np.ndarray, origin: np.ndarray) -> np.ndarray:
     return np.asarray(relative, dtype=np.float64) + origin
 
 
+def _up(value: Any) -> str:
+    if value not in ("y", "z"):
+        raise ValueError(f'up must be "y" or "z", not {value!r}')
+    return str(value)
+
+
 @dataclass
 class PointCloud:
     """Points with optional per-point normals, colors, attributes and scanners.
@@ -60,7 +66,9 @@ class PointCloud:
     name -> (n,) float32 array, e.g. "intensity" and "classification" of a LAS file (assigning
     a dict converts and checks it); scanner_positions: (k, 3) float64 in the frame of
     ``positions``, where each of k scans stood, and scanner_of_point: (n,) uint32, the scan that
-    saw each point; both None when the file does not say.
+    saw each point; both None when the file does not say; up: "y" or "z", the axis that points
+    up in the file's convention ("z" for LAS, E57 and PTX surveys), which meshes and pictures
+    of it follow.
     Pass it to reconstruct() directly (its normals are used) or take its arrays.
     """
 
@@ -71,12 +79,15 @@ class PointCloud:
     attributes: Dict[str, np.ndarray] = field(default_factory=dict)
     scanner_positions: Optional[np.ndarray] = None
     scanner_of_point: Optional[np.ndarray] = None
+    up: str = "y"
 
     def __setattr__(self, name: str, value: Any) -> None:
         if name == "origin":
             value = _origin(value)
         elif name == "attributes":
             value = _attributes(value, len(self.positions))
+        elif name == "up":
+            value = _up(value)
         object.__setattr__(self, name, value)
 
     def __len__(self) -> int:
@@ -106,7 +117,8 @@ class Mesh:
     any (x, y, z)): a vertex is at vertices[i] + origin in the file's coordinates
     (``world_vertices``). Meshes of trees built from positions near zero have a zero origin.
     attributes: dict name -> (n,) float32, one value per vertex (``"filled"``: 1 where a
-    watertight mesh was filled in, not fitted).
+    watertight mesh was filled in, not fitted). up: "y" or "z", the up axis of the input it was
+    made from (PLY files record "z"; GLB files turn such a mesh to glTF's +y up).
     """
 
     vertices: np.ndarray
@@ -115,12 +127,15 @@ class Mesh:
     colors: Optional[np.ndarray] = None
     origin: np.ndarray = field(default_factory=lambda: np.zeros(3))
     attributes: Dict[str, np.ndarray] = field(default_factory=dict)
+    up: str = "y"
 
     def __setattr__(self, name: str, value: Any) -> None:
         if name == "origin":
             value = _origin(value)
         elif name == "attributes":
             value = _attributes(value, len(self.vertices))
+        elif name == "up":
+            value = _up(value)
         object.__setattr__(self, name, value)
 
     @property
@@ -144,7 +159,7 @@ class Mesh:
 
 def _surface_parts(obj: Any) -> Tuple[Any, Any, Any, Any, Any, Any, Any]:
     """What the bindings take from a mesh or cloud object, None for what it lacks:
-    (vertices, faces, normals, colors, origin, scanner_positions, scanner_of_point).
+    (vertices, faces, normals, colors, origin, scanner_positions, scanner_of_point, up).
 
     clustersurf's Mesh and PointCloud give all they have, and so do Open3D point clouds and
     meshes (through from_open3d()). Any other object gives its ``.vertices`` (or
@@ -158,9 +173,9 @@ def _surface_parts(obj: Any) -> Tuple[Any, Any, Any, Any, Any, Any, Any]:
         obj = from_open3d(obj)
     if isinstance(obj, PointCloud):
         return (obj.positions, None, obj.normals, obj.colors, obj.origin, obj.scanner_positions,
-                obj.scanner_of_point)
+                obj.scanner_of_point, obj.up)
     if isinstance(obj, Mesh):
-        return obj.vertices, obj.faces, obj.normals, obj.colors, obj.origin, None, None
+        return obj.vertices, obj.faces, obj.normals, obj.colors, obj.origin, None, None, obj.up
     vertices = getattr(obj, "vertices", None)
     if vertices is None:
         vertices = getattr(obj, "positions", None)
@@ -171,4 +186,4 @@ def _surface_parts(obj: Any) -> Tuple[Any, Any, Any, Any, Any, Any, Any]:
         faces = getattr(obj, "triangles", None)
     origin = getattr(obj, "origin", None)
     return (None if vertices is None else np.asarray(vertices), None if faces is None else np.asarray(faces), None,
-            None, origin, None, None)
+            None, origin, None, None, None)

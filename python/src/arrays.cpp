@@ -151,7 +151,7 @@ py::object cloud_object(PointCloud&& cloud) {
       "colors"_a = to_array_or_none(std::move(cloud.colors)), "origin"_a = vector_array(cloud.origin),
       "attributes"_a = attributes,
       "scanner_positions"_a = cloud.has_scanners() ? py::object(to_array(std::move(cloud.scanner_positions))) : py::none(),
-      "scanner_of_point"_a = scanner_of_point);
+      "scanner_of_point"_a = scanner_of_point, "up"_a = cloud.up == UpAxis::Z ? "z" : "y");
 }
 
 py::object mesh_object(TriangleMesh&& mesh) {
@@ -161,7 +161,8 @@ py::object mesh_object(TriangleMesh&& mesh) {
   return types_module().attr("Mesh")(to_array(std::move(mesh.vertices)), to_array(std::move(mesh.triangles)),
                                      "normals"_a = to_array_or_none(std::move(mesh.normals)),
                                      "colors"_a = to_array_or_none(std::move(mesh.colors)),
-                                     "origin"_a = vector_array(mesh.origin), "attributes"_a = attributes);
+                                     "origin"_a = vector_array(mesh.origin), "attributes"_a = attributes,
+                                     "up"_a = mesh.up == UpAxis::Z ? "z" : "y");
 }
 
 Eigen::Vector3d to_vector3(const py::handle& value, const char* name) {
@@ -189,6 +190,12 @@ py::tuple surface_parts(const py::handle& object) {
 
 py::handle either(py::handle given, py::handle own) { return given.is_none() ? own : given; }
 
+/// The up axis of a parts tuple (its eighth entry, "y" or "z"; absent or None: y).
+UpAxis up_of(const py::tuple& parts) {
+  if (parts.size() < 8 || parts[7].is_none()) return UpAxis::Y;
+  return parts[7].cast<std::string>() == "z" ? UpAxis::Z : UpAxis::Y;
+}
+
 }  // namespace
 
 TriangleMesh mesh_argument(const py::handle& object, const py::handle& faces, const py::handle& normals,
@@ -204,6 +211,7 @@ TriangleMesh mesh_argument(const py::handle& object, const py::handle& faces, co
   const py::handle c = either(colors, parts[3]);
   if (!c.is_none()) mesh.colors = to_colors(c, (prefix + "colors").c_str());
   mesh.origin = to_vector3(either(origin, parts[4]), (prefix + "origin").c_str());
+  mesh.up = up_of(parts);
   if (mesh.normals.rows() != 0 && mesh.normals.rows() != mesh.vertices.rows())
     throw OptionError(prefix + "normals must have one row per vertex");
   if (mesh.colors.rows() != 0 && mesh.colors.rows() != mesh.vertices.rows())
@@ -223,6 +231,7 @@ PointCloud cloud_argument(const py::handle& object, const py::handle& normals, c
   const py::handle c = either(colors, parts[3]);
   if (!c.is_none()) cloud.colors = to_colors(c, "colors");
   cloud.origin = to_vector3(either(origin, parts[4]), "origin");
+  cloud.up = up_of(parts);
   if (cloud.normals.rows() != 0 && cloud.normals.rows() != cloud.size())
     throw OptionError("normals must have one row per point");
   if (cloud.colors.rows() != 0 && cloud.colors.rows() != cloud.size()) throw OptionError("colors must have one row per point");

@@ -153,3 +153,32 @@ def test_real_scan_equals_the_cli(tmp_path, cli, shared_data):
     run(cli, "reconstruct", scan, "-o", out)
     tree = clustersurf.reconstruct(clustersurf.read_points(scan))
     assert tree.to_bytes() == out.read_bytes()
+
+
+def test_one_call_mesh_equals_the_cli(tmp_path, cli, shared_data):
+    # The real bunny scans: reconstruct_mesh(cloud) and reconstruct(cloud).mesh() are
+    # `reconstruct --mesh`'s mesh, byte for byte (trimmed to the points the tree keeps).
+    scans = shared_data("bunny/bunny_scans_aligned.ply")
+    run(cli, "reconstruct", scans, "-o", tmp_path / "b.cstree", "--mesh", tmp_path / "cli.ply")
+    cloud = clustersurf.read_points(scans)
+    clustersurf.write_mesh(tmp_path / "one_call.ply", clustersurf.reconstruct_mesh(cloud))
+    assert (tmp_path / "one_call.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
+    tree = clustersurf.reconstruct(cloud)
+    clustersurf.write_mesh(tmp_path / "tree.ply", tree.mesh())
+    assert (tmp_path / "tree.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
+    # A loaded tree does not hold its points: untrimmed, as `clustersurf mesh` without --points.
+    assert len(clustersurf.load(tmp_path / "b.cstree").mesh().faces) > len(tree.mesh().faces)
+
+
+def test_scan_colors_equal_the_cli(tmp_path, cli, shared_data):
+    # The aerial LAS tile's RGB on the mesh, the same from both front ends, in PLY and GLB.
+    tile = shared_data("formats/las/autzen_trim.las")
+    run(cli, "reconstruct", tile, "--mesh", tmp_path / "cli.ply")
+    run(cli, "reconstruct", tile, "--mesh", tmp_path / "cli.glb")
+    mesh = clustersurf.reconstruct_mesh(clustersurf.read_points(tile))
+    assert mesh.colors is not None and mesh.colors.shape == mesh.vertices.shape
+    clustersurf.write_mesh(tmp_path / "py.ply", mesh)
+    assert (tmp_path / "py.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
+    clustersurf.write_mesh(tmp_path / "py.glb", mesh)
+    assert (tmp_path / "py.glb").read_bytes() == (tmp_path / "cli.glb").read_bytes()
+    assert clustersurf.reconstruct_mesh(clustersurf.read_points(tile), color="none").colors is None

@@ -137,6 +137,21 @@ def test_open3d_objects_are_mesh_arguments_and_tensor_geometry_converts():
         clustersurf.from_open3d(o3d.geometry.LineSet())
 
 
+@needs_open3d
+def test_an_open3d_cloud_goes_straight_into_the_pipeline():
+    # An Open3D point cloud (normals and colors) is taken as from_open3d() gives it.
+    points, normals = sphere_points(3000)
+    cloud = clustersurf.PointCloud(points, normals, np.where(points[:, 2:] > 0, [200, 30, 30], [20, 40, 200]).astype(np.uint8))
+    o3d_cloud = cloud.to_open3d()
+    mesh = clustersurf.reconstruct_mesh(o3d_cloud)
+    expected = clustersurf.reconstruct_mesh(clustersurf.from_open3d(o3d_cloud))
+    np.testing.assert_array_equal(mesh.vertices, expected.vertices)
+    np.testing.assert_array_equal(mesh.faces, expected.faces)
+    assert mesh.colors is not None
+    np.testing.assert_array_equal(mesh.colors, expected.colors)
+    assert clustersurf.reconstruct(o3d_cloud).to_bytes() == clustersurf.reconstruct(cloud).to_bytes()
+
+
 def test_missing_open3d_names_the_debian_package(monkeypatch):
     real_import = builtins.__import__
 

@@ -1,0 +1,126 @@
+// Colors on a mesh: a scan's colors carried from its points (colors_from_points(), the pipeline's
+// default), sharp where the colors change and blind to a stray point; and on the real aerial LAS
+// tile, each vertex's color close to the points' around it, through PLY and GLB.
+
+#include <clustersurf/errors.hpp>
+#include <clustersurf/kd_tree.hpp>
+#include <clustersurf/mesh_colors.hpp>
+#include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/reconstruct.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "test_support.hpp"
+
+using namespace clustersurf;
+
+namespace {
+
+using Rgb = Eigen::Matrix<std::uint8_t, 1, 3>;
+const Rgb kRed(220, 30, 30), kBlue(20, 40, 200);
+
+/// A sphere of radius 1 whose points are red above z = 0 and blue below.
+PointCloud two_color_sphere(int n) {
+  PointCloud cloud = test::sample_sphere(n);
+  cloud.colors.resize(cloud.size(), 3);
+  for (Eigen::Index i = 0; i < cloud.size(); ++i) cloud.colors.row(i) = cloud.positions(i, 2) > 0 ? kRed : kBlue;
+  return cloud;
+}
+
+}  // namespace
+
+// The pipeline colors a mesh from its input by default: every vertex farther than two point
+// spacings from the border between the colors has its side's color exactly, and the vertices
+// of neither color lie within a spacing of the border.
+TEST(MeshColors, TwoColorSphereHasASharpBorder) {
+  const PointCloud cloud = two_color_sphere(20000);
+  const Reconstruction r = reconstruct(cloud);
+  ASSERT_TRUE(r.mesh.has_value());
+  const TriangleMesh& mesh = r.mesh->mesh;
+  ASSERT_EQ(mesh.colors.rows(), mesh.vertices.rows());
+  const double spacing = r.tree.point_spacing;
+  std::size_t far = 0, wrong = 0, mixed = 0;
+  double widest_mix = 0;
+  for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v) {
+    const double z = mesh.vertices(v, 2);
+    const Rgb c = mesh.colors.row(v);
+    if (std::abs(z) > 2 * spacing) {
+      ++far;
+      wrong += c != (z > 0 ? kRed : kBlue);
+    }
+    if (c != kRed && c != kBlue) ++mixed, widest_mix = std::max(widest_mix, std::abs(z));
+  }
+  EXPECT_GT(far, static_cast<std::size_t>(0.9 * static_cast<double>(mesh.vertices.rows())));
+  EXPECT_EQ(wrong, 0u);
+  EXPECT_LE(widest_mix, spacing) << mixed << " vertices of neither color";
+}
+
+// One point of another color among a patch's points changes no vertex: a median, not a mean.
+TEST(MeshColors, AStrayPointChangesNothing) {
+  PointCloud cloud = test::sample_plane(40, 40);
+  cloud.colors = Colors::Constant(cloud.size(), 3, 90);
+  cloud.colors.row(820) << 255, 255, 0;
+  TriangleMesh mesh;
+  mesh.vertices = cloud.positions;
+  mesh.vertices.col(2).array() += 0.002;  // just off the plane, every vertex right at a point
+  const KdTree index(cloud.positions);
+  const Colors c = colors_from_points(mesh, index, cloud.colors);
+  EXPECT_EQ(c, Colors::Constant(cloud.size(), 3, 90));
+  EXPECT_THROW(colors_from_points(mesh, index, cloud.colors.topRows(10)), OptionError);
+}
+
+// Without colors in the input, or without the input, the mesh has none; "none" turns them off.
+TEST(MeshColors, OnlyWhenTheInputHasThem) {
+  PointCloud cloud = two_color_sphere(4000);
+  ReconstructOptions options;
+  options.meshing.coloring = MeshColoring::None;
+  EXPECT_EQ(reconstruct(cloud, options).mesh->mesh.colors.rows(), 0);
+  const Reconstruction colored = reconstruct(cloud);
+  EXPECT_EQ(mesh_tree(colored.tree).mesh.colors.rows(), 0);  // no input given
+  cloud.colors.resize(0, 3);
+  EXPECT_EQ(reconstruct(cloud).mesh->mesh.colors.rows(), 0);
+  EXPECT_EQ(parse_mesh_coloring("input"), MeshColoring::FromInput);
+  EXPECT_EQ(SurfaceMeshOptions{}.coloring, MeshColoring::FromInput);
+}
+
+// The real aerial tile (110 k points with RGB): the mesh is colored, each vertex within a
+// small distance of the colors of the points nearest it, and PLY and GLB keep the colors.
+TEST(MeshColors, TheLasTileCarriesItsColors) {
+  const auto file = test::shared_data("formats/las/autzen_trim.las");
+  if (!file) GTEST_SKIP() << "the shared LAS sample formats/las/autzen_trim.las is not here";
+  const PointCloud cloud = read_point_cloud(*file);
+  ASSERT_TRUE(cloud.has_colors());
+  const Reconstruction r = reconstruct(cloud);
+  const TriangleMesh& mesh = r.mesh->mesh;
+  ASSERT_EQ(mesh.colors.rows(), mesh.vertices.rows());
+  EXPECT_EQ(mesh.up, UpAxis::Z);
+  // Against the nearest point's color: the mean channel difference is well under the spread of
+  // the colors among neighbouring points, and nearly every vertex is close.
+  const KdTree index(cloud.positions);
+  std::vector<double> gaps;
+  std::vector<Neighbor> nb;
+  for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v) {
+    index.knn(mesh.vertices.row(v).transpose(), 1, nb);
+    const Eigen::Vector3i d = mesh.colors.row(v).cast<int>() - cloud.colors.row(nb[0].index).cast<int>();
+    gaps.push_back(d.cwiseAbs().cast<double>().mean());
+  }
+  std::sort(gaps.begin(), gaps.end());
+  double mean = 0;
+  for (const double g : gaps) mean += g / static_cast<double>(gaps.size());
+  EXPECT_LT(mean, 12.0);
+  EXPECT_LT(gaps[gaps.size() * 9 / 10], 30.0);
+
+  const test::TempDir dir;
+  write_triangle_mesh(dir / "tile.ply", mesh);
+  const TriangleMesh back = read_triangle_mesh(dir / "tile.ply");
+  EXPECT_EQ(back.colors, mesh.colors);
+  EXPECT_EQ(back.up, UpAxis::Z);
+  write_triangle_mesh(dir / "tile.glb", mesh);
+  const std::string glb = test::read_file(dir / "tile.glb");
+  EXPECT_NE(glb.find("\"COLOR_0\""), std::string::npos);
+  EXPECT_NE(glb.find("\"rotation\":[-0.7071067811865476,0,0,0.7071067811865476]"), std::string::npos);  // to +y up
+}
