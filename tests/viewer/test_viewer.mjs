@@ -80,7 +80,20 @@ const view = (name, ...args) => {
     return null;
   }
 };
+// A z-up survey: the far bunny as a PLY that says so ("comment up z", as the CLI writes meshes
+// of LAS, E57 and PTX inputs). Its .glb is turned to glTF's +y up; the page looks at it z-up.
+const zup = join(artifacts, 'bunny-zup.ply'), zupTree = join(artifacts, 'bunny-zup.cstree'), zupGlb = join(artifacts, 'bunny-zup.glb');
+writeFileSync(zup, ['ply', 'format ascii 1.0', 'comment up z', `element vertex ${vertexCount}`, 'property double x',
+                    'property double y', 'property double z', 'end_header',
+                    ...readFileSync(far, 'latin1').trim().split('\n')].join('\n') + '\n');
+run('--quiet', 'reconstruct', zup, '-o', zupTree, '--resolution', '128');
+run('--quiet', 'mesh', zupTree, '-o', zupGlb, '--points', zup, '--resolution', '128');
+const zupInfo = JSON.parse(run('--json', 'info', zupTree));
+check('the z-up .glb is turned to +y up', JSON.stringify(glbJson(zupGlb).nodes[0].rotation) === JSON.stringify([-Math.SQRT1_2, 0, 0, Math.SQRT1_2]),
+      JSON.stringify(glbJson(zupGlb).nodes[0]));
 const noPointsPage = join(artifacts, 'bunny-nopoints.html'), farPage = join(artifacts, 'bunny-far-glb.html');
+const zupPage = join(artifacts, 'bunny-zup.html');
+const zupWritten = view('view embeds a z-up .glb mesh', zupTree, '-o', zupPage, '--mesh', zupGlb);
 view('view writes a page without points', tree, '-o', noPointsPage);
 const farWritten = view('view embeds a .glb mesh', farTree, '-o', farPage, '--mesh', farGlb);
 if (farWritten) check('view counts the .glb\'s triangles', farWritten.triangles === farMesh.triangles, `${farWritten.triangles} vs ${farMesh.triangles}`);
@@ -254,6 +267,22 @@ try {
     check('the dropped .glb draws the same picture', fractionChanged(image, after) < 0.01,
           `${(100 * fractionChanged(image, after)).toFixed(2)} % of pixels changed`);
     check('no page errors (embedded and dropped .glb)', v.errors.length === 0, v.errors.join('; '));
+    await v.tab.close();
+  });
+
+  // --- a z-up survey: the camera's up is +z, above the target; its .glb lands on the tree -----
+  if (zupWritten) await guarded('page of a z-up tree', async () => {
+    const v = await openViewer(zupPage);
+    check('z-up page is ready without errors', !v.state.error && v.errors.length === 0, v.state.error ?? v.errors.join('; '));
+    const shown = await v.tab.evaluate(() => ({ up: window.clustersurfViewer.up, camera: window.clustersurfViewer.camera(),
+                                                mesh: window.clustersurfViewer.mesh() }));
+    check('a z-up tree is viewed z-up, from above', shown.up === 'z' && shown.camera.up[2] === 1 && shown.camera.position[2] > 0,
+          JSON.stringify(shown.camera));
+    check('the z-up .glb lies on the tree', shown.mesh && onTree(shown.mesh, zupInfo), JSON.stringify([shown.mesh?.min, shown.mesh?.max]));
+    await v.tab.uncheck('#cs-show-proxies');
+    await v.tab.uncheck('#cs-show-spheres');
+    const image = await v.shoot('viewer-zup-glb.png');
+    check('the z-up .glb is drawn', fractionNot(image, [255, 255, 255]) > 0.05);
     await v.tab.close();
   });
 } finally {

@@ -363,6 +363,9 @@ function start() {
     /// Parses a .glb (ArrayBuffer / Uint8Array) and shows it as the mesh, like an opened file.
     loadGlb: (data, name = 'script') => loadGlb(data, name).then(() => meshInfo),
     origin, center,
+    up: zUp ? 'z' : 'y',
+    /// The camera's up vector and where it stands relative to the target (page frame).
+    camera: () => ({ up: camera.up.toArray(), position: camera.position.toArray() }),
     node: (i) => ({ index: i, depth: nodes.depth[i], point_count: nodes.count[i], proxy: PROXY_NAMES[nodes.kind[i]],
                     rms_error: nodes.rms(i), max_error: nodes.max(i), parent: nodes.parent[i], left: nodes.left[i], right: nodes.right[i] }),
   };
