@@ -121,3 +121,21 @@ def test_cmake_install_gives_an_importable_package(tmp_path):
     result = subprocess.run([sys.executable, "-c", "import clustersurf; print(clustersurf.__file__)"], env=env,
                             cwd=tmp_path, capture_output=True, text=True, check=True)
     assert result.stdout.startswith(str(tmp_path / "prefix"))
+
+
+def test_the_installed_package_is_the_one_tested():
+    # scripts/test-python-package installs the package with pip into a fresh virtual environment
+    # and says where: then the tests import that copy, with its stubs, its marker and its tool.
+    prefix = os.environ.get("CLUSTERSURF_EXPECT_INSTALLED")
+    if not prefix:
+        pytest.skip("not a run against a pip-installed package (scripts/test-python-package)")
+    package = pathlib.Path(clustersurf.__file__).resolve().parent
+    assert str(package).startswith(str(pathlib.Path(prefix).resolve())), package
+    for typed in ("py.typed", "__init__.pyi", "_clustersurf.pyi"):
+        assert (package / typed).exists(), typed
+    tool = pathlib.Path(prefix) / "bin" / "clustersurf"
+    result = subprocess.run([str(tool), "--version"], capture_output=True, text=True, check=True)
+    assert result.stdout.strip() == f"clustersurf {clustersurf.__version__}"
+    result = subprocess.run([sys.executable, "-m", "clustersurf.distributed", "--help"], capture_output=True, text=True,
+                            check=True, cwd=pathlib.Path(prefix))
+    assert "--scheduler" in result.stdout
