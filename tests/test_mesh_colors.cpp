@@ -124,3 +124,32 @@ TEST(MeshColors, TheLasTileCarriesItsColors) {
   EXPECT_NE(glb.find("\"COLOR_0\""), std::string::npos);
   EXPECT_NE(glb.find("\"rotation\":[-0.7071067811865476,0,0,0.7071067811865476]"), std::string::npos);  // to +y up
 }
+
+// On request, the scanner's intensity as grey: robust to a few saturated returns, and carried
+// onto the mesh like colors (equal channels, white where the intensity is high).
+TEST(MeshColors, IntensityBecomesGreyOnRequest) {
+  Eigen::VectorXf intensity(200);
+  for (int i = 0; i < 200; ++i) intensity(i) = static_cast<float>(i);
+  intensity(7) = 1e9f;  // a saturated return
+  const Colors grey = intensity_grey(intensity);
+  EXPECT_EQ(grey(0, 0), 0);
+  EXPECT_EQ(grey(199, 0), 255);
+  EXPECT_NEAR(grey(100, 0), 128, 2);  // the outlier does not squeeze the range
+  EXPECT_EQ(grey(100, 0), grey(100, 2));
+
+  PointCloud cloud = test::sample_sphere(8000);
+  Eigen::VectorXf values(cloud.size());
+  for (Eigen::Index i = 0; i < cloud.size(); ++i) values(i) = cloud.positions(i, 2) > 0 ? 3000.0f : 40.0f;
+  cloud.attributes.push_back({"intensity", values});
+  EXPECT_EQ(reconstruct(cloud).mesh->mesh.colors.rows(), 0);  // no RGB: no colors by default
+  ReconstructOptions options;
+  options.meshing.coloring = parse_mesh_coloring("intensity");
+  const TriangleMesh mesh = reconstruct(cloud, options).mesh->mesh;
+  ASSERT_EQ(mesh.colors.rows(), mesh.vertices.rows());
+  for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v) {
+    EXPECT_EQ(mesh.colors(v, 0), mesh.colors(v, 1));
+    if (std::abs(mesh.vertices(v, 2)) > 0.1) {
+      EXPECT_EQ(mesh.colors(v, 0), mesh.vertices(v, 2) > 0 ? 255 : 0);
+    }
+  }
+}

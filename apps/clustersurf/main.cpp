@@ -53,8 +53,9 @@ void add_mesh_options(CLI::App& cmd, clustersurf::cli::MeshArgs& m) {
       ->check(CLI::NonNegativeNumber);
   cmd.add_option("--color", m.color,
                  "Vertex colors: input (the input points' own colors, when they have them: a scan's RGB), none, "
-                 "leaf (per blended node) or distance (to the input points)")
-      ->check(CLI::IsMember({"input", "none", "leaf", "distance"}))
+                 "leaf (per blended node), distance (to the input points) or intensity (the scanner's intensity "
+                 "as grey; in core only)")
+      ->check(CLI::IsMember({"input", "none", "leaf", "distance", "intensity"}))
       ->capture_default_str();
   cmd.add_option("--trim", o.trim.spread_factor,
                  "Drop triangles farther from the input points than this x the nearest point's spread "

@@ -20,6 +20,11 @@ inline constexpr std::size_t kColorNeighbors = 8;
 Colors colors_from_points(const TriangleMesh& mesh, const KdTree& points, const Colors& colors,
                           std::size_t neighbors = kColorNeighbors);
 
+/// Scanner intensities as grey: black at their 1st percentile, white at their 99th, linear in
+/// between and clamped (so a few saturated returns do not darken the rest); mid grey when they
+/// are all equal. Non-finite values are black.
+Colors intensity_grey(const Eigen::VectorXf& intensity);
+
 /// A color per blended node (hashed from its index: neighbours almost always differ),
 /// given to each vertex by the node of largest weight there.
 Colors colors_by_node(const TriangleMesh& mesh, const ImplicitSurface& surface);

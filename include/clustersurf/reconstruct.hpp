@@ -26,9 +26,12 @@ enum class MeshColoring : std::uint8_t {
   /// colors_from_points() of the clustered input points when they have colors (a scan's RGB);
   /// no colors when the input has none or is not given.
   FromInput = 3,
+  /// The same from the input's "intensity" attribute as grey (intensity_grey()); no colors when
+  /// it has none or is not given.
+  FromIntensity = 4,
 };
 
-/// "none", "leaf", "distance" or "input" (the words the front ends take).
+/// "none", "leaf", "distance", "input" or "intensity" (the words the front ends take).
 const char* to_string(MeshColoring coloring);
 /// The coloring named by to_string(). Throws OptionError otherwise.
 MeshColoring parse_mesh_coloring(std::string_view text);

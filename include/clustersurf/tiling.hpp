@@ -220,8 +220,8 @@ JoinedMesh join_tiles_to_ply(const std::function<MeshTile(std::int32_t)>& tile, 
                              const TrimOptions& trim, const std::filesystem::path& file,
                              const ImplicitSurface* colors = nullptr);
 
-/// Throws OptionError for what a tiled mesh cannot do: levels of detail, closing, distance
-/// colors, closing pinholes.
+/// Throws OptionError for what a tiled mesh cannot do: levels of detail, closing, distance and
+/// intensity colors, closing pinholes.
 void require_tiled_meshing(const SurfaceMeshOptions& options);
 
 /// The lattice cell of a tiled mesh of `tree`: options.grid's voxel size, else the tree's

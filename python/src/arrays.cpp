@@ -250,6 +250,14 @@ PointCloud cloud_argument(const py::handle& object, const py::handle& normals, c
       cloud.scanner_of_point.push_back(static_cast<std::uint32_t>(s));
     }
   }
+  // A PointCloud's attributes (intensity, classification) come along: "intensity" colors.
+  if (is_surface_object(object) && py::hasattr(object, "attributes") && py::isinstance<py::dict>(object.attr("attributes"))) {
+    for (const auto& [key, value] : object.attr("attributes").cast<py::dict>()) {
+      const auto values = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(value);
+      if (!values || values.ndim() != 1 || values.shape(0) != cloud.size()) continue;
+      cloud.attributes.push_back({py::str(key), Eigen::Map<const Eigen::VectorXf>(values.data(), cloud.size())});
+    }
+  }
   return cloud;
 }
 

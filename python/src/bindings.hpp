@@ -99,8 +99,8 @@ auto run_released(const py::object& progress, Work&& work) {
 }
 
 /// What a Python `Tree` holds: an immutable cluster tree shared with its `Node` views, and
-/// for a tree built in Python the positions and colors of its input, so that mesh() trims and
-/// colors as `clustersurf reconstruct --mesh` does without being given the points again.
+/// for a tree built in Python the positions, colors and attributes of its input, so that mesh()
+/// trims and colors as `clustersurf reconstruct --mesh` does without being given the points again.
 struct TreeRef {
   explicit TreeRef(std::shared_ptr<const ClusterTree> built, std::shared_ptr<const PointCloud> points = nullptr)
       : tree(std::move(built)), input(std::move(points)) {}
@@ -108,7 +108,7 @@ struct TreeRef {
   std::shared_ptr<const PointCloud> input;
 };
 
-/// The part of a tree's input cloud that TreeRef keeps: its positions and colors.
+/// The part of a tree's input cloud that TreeRef keeps: its positions, colors and attributes.
 std::shared_ptr<const PointCloud> tree_input(PointCloud cloud);
 
 /// What a Python `Node` holds: one node of a tree, by index; keeps the tree alive.

@@ -82,6 +82,7 @@ std::shared_ptr<const PointCloud> tree_input(PointCloud cloud) {
   auto kept = std::make_shared<PointCloud>();
   kept->positions = std::move(cloud.positions);
   kept->colors = std::move(cloud.colors);
+  kept->attributes = std::move(cloud.attributes);
   return kept;
 }
 
@@ -321,6 +322,7 @@ coarser cut of the tree, as in evaluate() and mesh().)doc")
               PointCloud cloud = cloud_argument(points, py::none(), py::none(), py::none(), "points");
               given.positions = std::move(cloud.positions);
               given.colors = std::move(cloud.colors);
+              given.attributes = std::move(cloud.attributes);
             }
             const PointCloud* input = points.is_none() ? t.input.get() : &given;
             SurfaceMesh mesh = run_released(progress, [&](const ProgressCallback& callback) {
@@ -354,7 +356,8 @@ from it than ``trim`` x the local spread (up to 1.5 times that over a gap the po
 than ``min_component_points`` input points lie nearest (0: keep all), and to close the pinholes
 the points cover (``close_pinholes``), as ``clustersurf reconstruct --mesh`` does; ``color``:
 "input" (the default: the colors of ``points``, when they have them), "none", "leaf" (per
-blended node) or "distance" (to ``points``); ``watertight`` (default
+blended node), "distance" (to ``points``) or "intensity" (their "intensity" attribute as grey);
+``watertight`` (default
 False): a closed, manifold mesh whatever holes the data has (``--watertight``), the filled-in
 vertices marked 1 in ``attributes["filled"]``; ``fill_holes`` (default 0: every hole): with
 ``watertight``, fill only holes up to this size (input units); ``decimate`` (default 0: keep

@@ -54,6 +54,31 @@ Colors colors_from_points(const TriangleMesh& mesh, const KdTree& points, const 
   return c;
 }
 
+Colors intensity_grey(const Eigen::VectorXf& intensity) {
+  std::vector<float> sorted;
+  sorted.reserve(static_cast<std::size_t>(intensity.size()));
+  for (const float v : intensity)
+    if (std::isfinite(v)) sorted.push_back(v);
+  Colors c(intensity.size(), 3);
+  if (sorted.empty()) {
+    c.setZero();
+    return c;
+  }
+  const auto at = [&](double q) {
+    const auto k = static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1));
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(k), sorted.end());
+    return static_cast<double>(sorted[k]);
+  };
+  const double lo = at(0.01), hi = at(0.99);
+  for (Eigen::Index i = 0; i < intensity.size(); ++i) {
+    const double v = intensity(i);
+    const double t = hi > lo ? (v - lo) / (hi - lo) : 0.5;
+    const auto grey = static_cast<std::uint8_t>(std::isfinite(v) ? std::lround(255.0 * std::clamp(t, 0.0, 1.0)) : 0);
+    c.row(i).setConstant(grey);
+  }
+  return c;
+}
+
 Colors colors_by_node(const TriangleMesh& mesh, const ImplicitSurface& surface) {
   Colors c(mesh.vertices.rows(), 3);
   tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, mesh.vertices.rows(), 512), [&](const auto& r) {

@@ -21,14 +21,16 @@ const char* to_string(MeshColoring coloring) {
     case MeshColoring::ByNode: return "leaf";
     case MeshColoring::ByDistance: return "distance";
     case MeshColoring::FromInput: return "input";
+    case MeshColoring::FromIntensity: return "intensity";
   }
   return "unknown";
 }
 
 MeshColoring parse_mesh_coloring(std::string_view text) {
-  for (MeshColoring c : {MeshColoring::None, MeshColoring::ByNode, MeshColoring::ByDistance, MeshColoring::FromInput})
+  for (MeshColoring c : {MeshColoring::None, MeshColoring::ByNode, MeshColoring::ByDistance, MeshColoring::FromInput,
+                         MeshColoring::FromIntensity})
     if (text == to_string(c)) return c;
-  throw OptionError("color must be none, leaf, distance or input, not \"" + std::string(text) + "\"");
+  throw OptionError("color must be none, leaf, distance, input or intensity, not \"" + std::string(text) + "\"");
 }
 
 namespace {
@@ -66,13 +68,20 @@ TriangleMesh closed_mesh(const ImplicitSurface& surface, const SurfaceMeshOption
   return mesh;
 }
 
-/// colors_from_points() of the rows the tree clusters (its outliers' colors left out).
-Colors input_colors(const TriangleMesh& mesh, const ClusterTree& tree, const CloudIndex& input) {
+/// colors_from_points() of `colors` (one per input point) over the rows the tree clusters (its
+/// outliers' colors left out).
+Colors input_colors(const TriangleMesh& mesh, const ClusterTree& tree, const CloudIndex& input, const Colors& colors) {
   const CloudIndex::Subset data = input.clustered(tree);
-  const Colors& all = input.cloud().colors;
-  if (data.positions.rows() == all.rows()) return colors_from_points(mesh, data.index, all);
+  if (data.positions.rows() == colors.rows()) return colors_from_points(mesh, data.index, colors);
   const std::vector<std::uint32_t> rows = clustered_rows(tree);
-  return colors_from_points(mesh, data.index, all(rows, Eigen::all));
+  return colors_from_points(mesh, data.index, colors(rows, Eigen::all));
+}
+
+/// The input's "intensity" attribute, or null.
+const PointAttribute* intensity_of(const PointCloud& cloud) {
+  for (const PointAttribute& a : cloud.attributes)
+    if (a.name == "intensity" && a.values.size() == cloud.size()) return &a;
+  return nullptr;
 }
 
 }  // namespace
@@ -112,7 +121,10 @@ SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options
   if (options.coloring == MeshColoring::ByDistance)
     out.mesh.colors = colors_by_distance(out.mesh, input->points(), options.distance_scale * tree.bbox.diagonal());
   if (options.coloring == MeshColoring::FromInput && input != nullptr && input->cloud().has_colors())
-    out.mesh.colors = input_colors(out.mesh, tree, *input);
+    out.mesh.colors = input_colors(out.mesh, tree, *input, input->cloud().colors);
+  if (options.coloring == MeshColoring::FromIntensity && input != nullptr)
+    if (const PointAttribute* intensity = intensity_of(input->cloud()))
+      out.mesh.colors = input_colors(out.mesh, tree, *input, intensity_grey(intensity->values));
   out.mesh.origin = tree.origin;
   out.mesh.up = tree.up;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

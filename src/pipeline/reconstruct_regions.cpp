@@ -55,6 +55,8 @@ void require_tiled_meshing(const SurfaceMeshOptions& meshing) {
   if (meshing.lod_depth || meshing.lod_error) throw OptionError("a tiled mesh is of the leaves: levels of detail are not available");
   if (meshing.closing.enabled) throw OptionError("a tiled mesh cannot be closed (watertight) yet");
   if (meshing.coloring == MeshColoring::ByDistance) throw OptionError("a tiled mesh cannot be colored by distance");
+  if (meshing.coloring == MeshColoring::FromIntensity)
+    throw OptionError("a tiled mesh cannot be colored by intensity yet (the scan's colors can)");
   if (meshing.trim.close_pinholes) throw OptionError("a tiled mesh cannot close pinholes");
 }
 

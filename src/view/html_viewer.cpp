@@ -331,6 +331,8 @@ ViewerStats write_page(const std::filesystem::path& file, const ClusterTree& tre
       for (int c = 0; c < 3; ++c) triangles[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(c)] = static_cast<std::uint32_t>(mesh->triangles(t, c));
     blobs.push_back(make_blob("mesh_vertices", vertices));
     blobs.push_back(make_blob("mesh_triangles", triangles));
+    if (mesh->colors.rows() == mesh->vertices.rows() && mesh->vertices.rows() > 0)  // a scan's colors, or the leaves'
+      blobs.push_back(make_blob("mesh_colors", std::vector<std::uint8_t>(mesh->colors.data(), mesh->colors.data() + mesh->colors.size())));
     mesh_info = {{"format", "arrays"}, {"vertices", mesh->vertices.rows()}, {"triangles", mesh->triangles.rows()}};
     stats.triangles = static_cast<std::size_t>(mesh->triangles.rows());
   } else if (glb != nullptr) {

@@ -142,7 +142,7 @@ function start() {
   };
   /// Parses a .glb (ArrayBuffer or Uint8Array) and shows it as the mesh; `source` names it.
   const loadGlb = async (data, source) => setMesh(await glbMesh(data, origin, center, meta.up === 'z'), source);
-  if (meta.mesh && meta.mesh.format !== 'glb') setMesh(arraysMesh(blobs.mesh_vertices, blobs.mesh_triangles), 'embedded');
+  if (meta.mesh && meta.mesh.format !== 'glb') setMesh(arraysMesh(blobs.mesh_vertices, blobs.mesh_triangles, blobs.mesh_colors), 'embedded');
   if (!meta.mesh) {
     meshBox.checked = false;
     meshBox.disabled = true;

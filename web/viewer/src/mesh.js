@@ -26,13 +26,15 @@ export function meshCounts(object) {
   return { vertices, triangles };
 }
 
-/// The embedded arrays (float32 positions already in page coordinates, uint32 triangles).
-export function arraysMesh(vertices, triangles) {
+/// The embedded arrays (float32 positions already in page coordinates, uint32 triangles, and
+/// uint8 RGB colors when the mesh has them).
+export function arraysMesh(vertices, triangles, colors = undefined) {
   const g = new THREE.BufferGeometry();
   g.setAttribute('position', new THREE.BufferAttribute(vertices, 3));
   g.setIndex(new THREE.BufferAttribute(triangles, 1));
+  if (colors) g.setAttribute('color', new THREE.BufferAttribute(colors, 3, true));
   g.computeVertexNormals();
-  return new THREE.Mesh(g, meshMaterial(false));
+  return new THREE.Mesh(g, meshMaterial(Boolean(colors)));
 }
 
 /// Parses a glTF binary (ArrayBuffer or Uint8Array) into an Object3D in page coordinates. The
