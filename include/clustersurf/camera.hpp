@@ -13,7 +13,8 @@ namespace clustersurf {
 
 /// How the camera is placed. Angles in degrees. Unset fields are derived from the framed box.
 struct CameraOptions {
-  double azimuth = 30;    ///< turn around `up`, from the front axis (+z for +y up, +x for +z up) toward the side axis up × front
+  /// Turn around `up`, from the front axis (+z for +y up, +x for +z up) toward up × front.
+  double azimuth = 30;
   double elevation = 20;  ///< above the horizontal plane through the target
   std::optional<double> distance;  ///< eye–target distance; default: the nearest with the whole box in view
   double fov = 35;        ///< vertical field of view
