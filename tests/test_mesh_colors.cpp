@@ -1,6 +1,7 @@
 // Colors on a mesh: a scan's colors carried from its points (colors_from_points(), the pipeline's
-// default), sharp where the colors change and blind to a stray point; and on the real aerial LAS
-// tile, each vertex's color close to the points' around it, through PLY and GLB.
+// default), sharp where the colors change and blind to a stray point; on the real aerial LAS
+// tile, each vertex's color close to the points' around it, through PLY and GLB; E57 and PTX
+// scans' colors; the scanner's intensity as grey on request.
 
 #include <clustersurf/errors.hpp>
 #include <clustersurf/kd_tree.hpp>
@@ -14,6 +15,7 @@
 #include <cmath>
 #include <vector>
 
+#include "e57_writer.hpp"
 #include "test_support.hpp"
 
 using namespace clustersurf;
@@ -152,4 +154,55 @@ TEST(MeshColors, IntensityBecomesGreyOnRequest) {
       EXPECT_EQ(mesh.colors(v, 0), mesh.vertices(v, 2) > 0 ? 255 : 0);
     }
   }
+}
+
+// A terrestrial scanner's files: an E57 scan with colorRed/Green/Blue and the shared PTX sample
+// with RGB give colored meshes, z-up, each vertex's color one of its points' neighbourhood's.
+TEST(MeshColors, E57AndPtxScansCarryTheirColors) {
+  using namespace clustersurf::test;
+  const PointCloud sphere = two_color_sphere(6000);
+  std::vector<double> x, y, z;
+  std::vector<std::int64_t> r, g, b;
+  for (Eigen::Index i = 0; i < sphere.size(); ++i) {
+    x.push_back(sphere.positions(i, 0)), y.push_back(sphere.positions(i, 1)), z.push_back(sphere.positions(i, 2));
+    r.push_back(sphere.colors(i, 0)), g.push_back(sphere.colors(i, 1)), b.push_back(sphere.colors(i, 2));
+  }
+  const TestScan scan{{float_field("cartesianX", x), float_field("cartesianY", y), float_field("cartesianZ", z),
+                       int_field("colorRed", 0, 255, r), int_field("colorGreen", 0, 255, g), int_field("colorBlue", 0, 255, b)}};
+  const TempDir dir;
+  write_file(dir / "sphere.e57", write_e57({scan}).bytes);
+  const PointCloud e57 = read_point_cloud(dir / "sphere.e57");
+  ASSERT_TRUE(e57.has_colors());
+  EXPECT_EQ(e57.up, UpAxis::Z);
+  const TriangleMesh mesh = reconstruct(e57).mesh->mesh;
+  ASSERT_EQ(mesh.colors.rows(), mesh.vertices.rows());
+  EXPECT_EQ(mesh.up, UpAxis::Z);
+  std::size_t wrong = 0;
+  for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v)
+    if (std::abs(mesh.vertices(v, 2)) > 0.1) {
+      wrong += Rgb(mesh.colors.row(v)) != (mesh.vertices(v, 2) > 0 ? kRed : kBlue);
+    }
+  EXPECT_EQ(wrong, 0u);
+
+  const auto ptx = shared_data("formats/ptx/1.2-with-color.ptx");
+  if (!ptx) GTEST_SKIP() << "the shared PTX sample formats/ptx/1.2-with-color.ptx is not here";
+  const PointCloud cloud = read_point_cloud(*ptx);
+  ASSERT_TRUE(cloud.has_colors());
+  const TriangleMesh scanned = reconstruct(cloud).mesh->mesh;
+  ASSERT_EQ(scanned.colors.rows(), scanned.vertices.rows());
+  EXPECT_EQ(scanned.up, UpAxis::Z);
+  // Each channel of a vertex lies within the range of its 8 nearest points' (a median's; the
+  // clustered points it was taken from are these but the few outliers).
+  const KdTree index(cloud.positions);
+  std::vector<Neighbor> nb;
+  std::size_t outside = 0;
+  for (Eigen::Index v = 0; v < scanned.vertices.rows(); ++v) {
+    index.knn(scanned.vertices.row(v).transpose(), kColorNeighbors, nb);
+    for (int k = 0; k < 3; ++k) {
+      int lo = 255, hi = 0;
+      for (const Neighbor& n : nb) lo = std::min<int>(lo, cloud.colors(n.index, k)), hi = std::max<int>(hi, cloud.colors(n.index, k));
+      outside += scanned.colors(v, k) < lo || scanned.colors(v, k) > hi;
+    }
+  }
+  EXPECT_LE(static_cast<double>(outside), 0.01 * 3 * static_cast<double>(scanned.vertices.rows()));
 }

@@ -39,7 +39,9 @@ def torus_points(n: int, seed: int = 3):
 def cloud_file(tmp_path_factory):
     path = tmp_path_factory.mktemp("distributed") / "torus.ply"
     points, normals = torus_points(30000)
-    clustersurf.write_points(path, points, normals)
+    # Colored in two halves, as a scan's RGB: the colors go through the tasks too.
+    colors = np.where(points[:, :1] > 0, [200, 60, 20], [20, 90, 180]).astype(np.uint8)
+    clustersurf.write_points(path, points, normals, colors)
     return path
 
 
@@ -75,6 +77,8 @@ def test_cluster_gives_the_serial_runs_mesh(cloud_file, serial_mesh, client, tmp
     report = cd.reconstruct_distributed(cloud_file, client=client, work_dir=tmp_path / "run", mesh=tmp_path / "mesh.ply",
                                         tree=tmp_path / "tree.cstree", max_region_points=REGION_POINTS)
     assert (tmp_path / "mesh.ply").read_bytes() == serial_mesh
+    colors = clustersurf.read_mesh(tmp_path / "mesh.ply").colors
+    assert colors is not None and set(map(tuple, colors)) >= {(200, 60, 20), (20, 90, 180)}
     assert report["tasks"] == {"survey": report["regions"], "build": report["regions"], "mesh": report["regions"]}
     assert clustersurf.load(tmp_path / "tree.cstree").info()["leaves"] == report["leaves"]
     assert not (tmp_path / "run").exists()  # the run's files are removed at the end, and the folder it made

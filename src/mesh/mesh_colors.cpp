@@ -15,7 +15,7 @@ namespace {
 
 /// The weighted median of `values` (pairs of value and weight, reordered): the smallest value at
 /// which the cumulated weight reaches half the total.
-std::uint8_t weighted_median(std::vector<std::pair<std::uint8_t, double>>& values, double total) {
+std::uint8_t weighted_channel_median(std::vector<std::pair<std::uint8_t, double>>& values, double total) {
   std::sort(values.begin(), values.end());
   double sum = 0;
   for (const auto& [value, weight] : values)
@@ -47,7 +47,7 @@ Colors colors_from_points(const TriangleMesh& mesh, const KdTree& points, const 
       for (int k = 0; k < 3; ++k) {
         channel.clear();
         for (std::size_t i = 0; i < nb.size(); ++i) channel.emplace_back(colors(nb[i].index, k), weight[i]);
-        c(v, k) = weighted_median(channel, total);
+        c(v, k) = weighted_channel_median(channel, total);
       }
     }
   });

@@ -70,7 +70,7 @@ TriangleMesh closed_mesh(const ImplicitSurface& surface, const SurfaceMeshOption
 
 /// colors_from_points() of `colors` (one per input point) over the rows the tree clusters (its
 /// outliers' colors left out).
-Colors input_colors(const TriangleMesh& mesh, const ClusterTree& tree, const CloudIndex& input, const Colors& colors) {
+Colors clustered_colors(const TriangleMesh& mesh, const ClusterTree& tree, const CloudIndex& input, const Colors& colors) {
   const CloudIndex::Subset data = input.clustered(tree);
   if (data.positions.rows() == colors.rows()) return colors_from_points(mesh, data.index, colors);
   const std::vector<std::uint32_t> rows = clustered_rows(tree);
@@ -121,10 +121,10 @@ SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options
   if (options.coloring == MeshColoring::ByDistance)
     out.mesh.colors = colors_by_distance(out.mesh, input->points(), options.distance_scale * tree.bbox.diagonal());
   if (options.coloring == MeshColoring::FromInput && input != nullptr && input->cloud().has_colors())
-    out.mesh.colors = input_colors(out.mesh, tree, *input, input->cloud().colors);
+    out.mesh.colors = clustered_colors(out.mesh, tree, *input, input->cloud().colors);
   if (options.coloring == MeshColoring::FromIntensity && input != nullptr)
     if (const PointAttribute* intensity = intensity_of(input->cloud()))
-      out.mesh.colors = input_colors(out.mesh, tree, *input, intensity_grey(intensity->values));
+      out.mesh.colors = clustered_colors(out.mesh, tree, *input, intensity_grey(intensity->values));
   out.mesh.origin = tree.origin;
   out.mesh.up = tree.up;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
