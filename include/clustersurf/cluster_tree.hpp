@@ -1,6 +1,6 @@
 #pragma once
 // The cluster tree: a binary tree of point clusters, each with a fitted proxy and support
-// sphere (thesis ch. 3, METHOD.md "Cluster tree").
+// sphere (thesis ch. 3).
 
 #include <clustersurf/cloud_index.hpp>
 #include <clustersurf/noise.hpp>

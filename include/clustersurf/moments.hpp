@@ -1,6 +1,6 @@
 #pragma once
 // Running moment sums that make plane and polynomial fits O(1) when points are added to or
-// removed from a cluster (split-plane sweeps, METHOD.md "Cluster tree").
+// removed from a cluster (the split-plane sweeps, thesis 3.2.3).
 
 #include <clustersurf/proxy.hpp>
 

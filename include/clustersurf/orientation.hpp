@@ -1,6 +1,6 @@
 #pragma once
 // Consistent orientation of the proxies: every node's Q is positive outside the surface
-// (METHOD.md "Support spheres and blending").
+// by propagation between touching clusters, or by the input normals or scanner positions.
 
 #include <clustersurf/cluster_tree.hpp>
 

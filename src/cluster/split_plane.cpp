@@ -1,4 +1,4 @@
-// Split-plane clustering (thesis 3.2.3, METHOD.md): direction from 2-means, sort along it,
+// Split-plane clustering (thesis 3.2.3): direction from 2-means, sort along it,
 // sweep the split index with O(1) moment fits.
 
 #include "cluster/splitters.hpp"
