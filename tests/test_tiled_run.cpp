@@ -273,6 +273,12 @@ TEST(TiledRun, DamagedFilesAreClearErrors) {
 }
 
 TEST(TiledRun, MemorySizes) {
+  EXPECT_EQ(format_memory_size(std::uint64_t{4} << 30), "4G");
+  EXPECT_EQ(format_memory_size(std::uint64_t{3} << 29), "1536M");
+  EXPECT_EQ(format_memory_size(1000), "1000");
+  for (const std::uint64_t bytes : {std::uint64_t{1}, std::uint64_t{1} << 20, (std::uint64_t{5} << 40) + 1024, std::uint64_t{123456789}})
+    EXPECT_EQ(parse_memory_size(format_memory_size(bytes)), bytes) << bytes;
+  EXPECT_EQ(default_work_directory("out/mesh.ply"), std::filesystem::path("out/mesh.ply.work"));
   EXPECT_EQ(parse_memory_size("4G"), std::uint64_t{4} << 30);
   EXPECT_EQ(parse_memory_size("512M"), std::uint64_t{512} << 20);
   EXPECT_EQ(parse_memory_size("1.5GiB"), std::uint64_t{3} << 29);

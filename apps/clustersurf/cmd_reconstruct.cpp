@@ -49,7 +49,8 @@ int run_out_of_core(Console& console, const ReconstructArgs& args, const Reconst
   OutOfCoreOptions out_of_core;
   out_of_core.memory_limit = parse_memory_size(args.memory_limit);
   out_of_core.work_directory =
-      !args.work_dir.empty() ? args.work_dir : (args.mesh_output.empty() ? args.tree_output : args.mesh_output) + ".work";
+      !args.work_dir.empty() ? std::filesystem::path(args.work_dir)
+                             : default_work_directory(args.mesh_output.empty() ? args.tree_output : args.mesh_output);
   out_of_core.remove_work_directory = !args.keep_work_dir;
   out_of_core.read = read_options(console, args.input);
   out_of_core.mesh_output = args.mesh_output;

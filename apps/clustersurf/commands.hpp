@@ -4,6 +4,7 @@
 
 #include "console.hpp"
 
+#include <clustersurf/html_viewer.hpp>
 #include <clustersurf/point_cloud_io.hpp>
 #include <clustersurf/range_scan.hpp>
 #include <clustersurf/reconstruct.hpp>
@@ -150,7 +151,7 @@ struct ViewArgs {
   std::string output;            // .html
   std::string points;            // the tree's input cloud (optional: without it, no points are shown)
   std::string mesh;              // .ply/.obj (optional)
-  std::size_t max_points = 2000000;  // 0: all
+  std::size_t max_points = ViewerOptions{}.max_points;  // 0: all
 };
 int run_view(Console& console, const ViewArgs& args);
 

@@ -284,7 +284,7 @@ int main(int argc, char** argv) {
   vw->add_option("--mesh", view.mesh, "A mesh to show as well (.ply, .obj or .glb)");
   vw->add_option("--max-points", view.max_points, "Embed at most this many points, evenly spread over the input (0: all)")
       ->check(CLI::NonNegativeNumber)
-      ->default_val(2000000);
+      ->capture_default_str();
 
   try {
     app.parse(argc, argv);

@@ -38,6 +38,13 @@ inline constexpr std::uint64_t kProcessBytes = std::uint64_t{64} << 20;
 /// A size in bytes from text: a number with an optional suffix K, M, G or T (powers of 1024),
 /// e.g. "4G" or "512M". Throws OptionError otherwise.
 std::uint64_t parse_memory_size(std::string_view text);
+/// `bytes` as parse_memory_size() reads it back exactly: with the largest suffix that divides it
+/// ("4G", "512M"), else in bytes.
+std::string format_memory_size(std::uint64_t bytes);
+
+/// Where an out-of-core run writing `output` (its mesh, else its tree) keeps its files when
+/// OutOfCoreOptions::work_directory is not given: the output's name + ".work".
+std::filesystem::path default_work_directory(const std::filesystem::path& output);
 
 /// A mesh a tiled run wrote to a file, and what made it.
 struct WrittenMesh {

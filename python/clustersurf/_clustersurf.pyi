@@ -2,6 +2,7 @@
 # python/tests/test_stubs.py fails when a binding, a keyword name or a default differs from them.
 
 import os
+import pathlib
 from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -134,6 +135,9 @@ def reconstruct_file(
     **kwargs: Any,
 ) -> Tuple[Tree, Optional[Dict[str, Any]]]: ...
 def region_points_for_memory(memory_limit: str) -> int: ...
+def default_work_directory(output: _Path) -> pathlib.Path: ...
+
+DEFAULT_MEMORY_LIMIT: str
 
 class TiledRun:
     """The work directory of a tiled reconstruction (TiledRun(directory) opens one); its tasks are

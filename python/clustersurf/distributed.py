@@ -142,11 +142,11 @@ def main(argv: Optional[list] = None) -> int:
     try:
         if args.mesh is None and args.tree is None:
             raise _cs.OptionError("nothing to write: give --mesh MESH and/or -o TREE.cstree")
-        work_dir = args.work_dir or (args.mesh or args.tree) + ".work"
+        work_dir = args.work_dir or str(_cs.default_work_directory(args.mesh or args.tree))
         if args.max_region_points is not None:
             max_points = args.max_region_points
         else:
-            max_points = _cs.region_points_for_memory(args.memory_limit or "4G")
+            max_points = _cs.region_points_for_memory(args.memory_limit or _cs.DEFAULT_MEMORY_LIMIT)
         from distributed import Client, LocalCluster
 
         if args.scheduler:

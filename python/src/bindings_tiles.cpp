@@ -46,7 +46,7 @@ void bind_tiles(py::module_& m) {
         py::object tree = py::cast(TreeRef{std::make_shared<const ClusterTree>(std::move(r.tree))});
         return py::make_tuple(tree, r.mesh ? written_mesh_dict(*r.mesh) : py::object(py::none()));
       },
-      py::arg("input"), py::kw_only(), py::arg("mesh") = py::none(), py::arg("memory_limit") = "4G", py::arg("work_dir"),
+      py::arg("input"), py::kw_only(), py::arg("mesh") = py::none(), py::arg("memory_limit") = format_memory_size(OutOfCoreOptions{}.memory_limit), py::arg("work_dir"),
       py::arg("keep_work_dir") = false, py::arg("progress") = py::none(), R"doc(
 Reconstructs the point file ``input`` out of core, as ``clustersurf reconstruct IN --mesh MESH
 --memory-limit SIZE --work-dir DIR`` does: split into regions on disk (under ``work_dir``),
@@ -59,6 +59,10 @@ removed at the end unless ``keep_work_dir``. Other keyword options are reconstru
 Tree.mesh()'s (tolerance, min_points, ..., resolution, voxel_size, trim, color, decimate);
 levels of detail, watertight and distance colors are not available out of core.
 ``progress`` as in reconstruct(); the GIL is released.)doc");
+
+  m.def("default_work_directory", &default_work_directory, py::arg("output"),
+        "Where a run writing ``output`` keeps its files when no work directory is given: its name + \".work\".");
+  m.attr("DEFAULT_MEMORY_LIMIT") = format_memory_size(OutOfCoreOptions{}.memory_limit);
 
   m.def(
       "region_points_for_memory",

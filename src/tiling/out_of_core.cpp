@@ -41,6 +41,18 @@ std::uint64_t parse_memory_size(std::string_view text) {
   return static_cast<std::uint64_t>(bytes);
 }
 
+std::string format_memory_size(std::uint64_t bytes) {
+  for (const auto& [suffix, shift] : {std::pair{"T", 40}, std::pair{"G", 30}, std::pair{"M", 20}, std::pair{"K", 10}})
+    if (bytes > 0 && bytes % (std::uint64_t{1} << shift) == 0) return std::to_string(bytes >> shift) + suffix;
+  return std::to_string(bytes);
+}
+
+std::filesystem::path default_work_directory(const std::filesystem::path& output) {
+  std::filesystem::path work = output;
+  work += ".work";
+  return work;
+}
+
 OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& input, const ReconstructOptions& options,
                                                 const OutOfCoreOptions& out_of_core, const ProgressCallback& progress) {
   if (out_of_core.work_directory.empty()) throw OptionError("an out-of-core run needs a work directory");
