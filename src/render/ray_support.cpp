@@ -172,6 +172,46 @@ void SupportIndex::collect_from(const Ray& ray, double t_min, double t_max, std:
   sort_spans(out);
 }
 
+void SupportIndex::gather(std::span<const std::int32_t> nodes, SupportSet& out) const {
+  out.nodes.assign(nodes.begin(), nodes.end());
+  out.x.resize(nodes.size()), out.y.resize(nodes.size()), out.z.resize(nodes.size()), out.r2.resize(nodes.size());
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    const Eigen::Vector4d& sp = supports_[static_cast<std::size_t>(nodes[k])];
+    out.x[k] = sp.x(), out.y[k] = sp.y(), out.z[k] = sp.z(), out.r2[k] = sp.w();
+  }
+}
+
+void SupportIndex::collect_from(const Ray& ray, double t_min, double t_max, const SupportSet& set,
+                                std::vector<SupportSpan>& out) const {
+  out.clear();
+  const double ox = ray.origin.x(), oy = ray.origin.y(), oz = ray.origin.z();
+  const double dx = ray.direction.x(), dy = ray.direction.y(), dz = ray.direction.z();
+  const std::size_t n = set.nodes.size();
+  set.b.resize(n), set.disc.resize(n);
+  double* bs = set.b.data();
+  double* discs = set.disc.data();
+  // First every discriminant, in a loop without branches (vectorized), then the spans of the
+  // supports crossed. ray_sphere()'s arithmetic in its order: oc = origin − center, b = oc · d,
+  // c = |oc|² − r².
+  for (std::size_t k = 0; k < n; ++k) {
+    const double cx = ox - set.x[k], cy = oy - set.y[k], cz = oz - set.z[k];
+    const double b = cx * dx + cy * dy + cz * dz;
+    bs[k] = b;
+    discs[k] = b * b - ((cx * cx + cy * cy + cz * cz) - set.r2[k]);
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    const double disc = discs[k], b = bs[k];
+    if (!(disc > 0)) continue;
+    const double root = std::sqrt(disc);
+    const double t0 = -b - root, t1 = -b + root;
+    if (t1 > t_min && t0 < t_max) {
+      const std::int32_t i = set.nodes[k];
+      out.push_back(make_span(tree().nodes[static_cast<std::size_t>(i)], i, ray, std::max(t0, t_min), std::min(t1, t_max)));
+    }
+  }
+  sort_spans(out);
+}
+
 void SupportIndex::collect(const Ray& ray, double t_min, double t_max, SupportSearch search,
                            std::vector<SupportSpan>& out) const {
   out.clear();

@@ -41,6 +41,14 @@ enum class SupportSearch {
 /// The parameter interval where a ray (unit direction) is inside a sphere, if it meets it.
 std::optional<std::pair<double, double>> ray_sphere(const Ray& ray, const Sphere& sphere);
 
+/// Supports to test rays against, copied side by side (centers' coordinates and squared radii
+/// each in their own array) so that testing many of them is one tight loop.
+struct SupportSet {
+  std::vector<std::int32_t> nodes;
+  std::vector<double> x, y, z, r2;
+  mutable std::vector<double> b, disc;  // collect_from()'s scratch: one set per thread
+};
+
 /// The blended nodes (a cut of the tree) and how to find the supports along a ray.
 class SupportIndex {
  public:
@@ -59,6 +67,10 @@ class SupportIndex {
   /// the list is the whole cut: the brute-force search).
   void collect_from(const Ray& ray, double t_min, double t_max, std::span<const std::int32_t> nodes,
                     std::vector<SupportSpan>& out) const;
+  /// The supports of `nodes`, for collect_from() of many rays.
+  void gather(std::span<const std::int32_t> nodes, SupportSet& out) const;
+  /// collect_from() of the set's nodes (the same spans, the same order).
+  void collect_from(const Ray& ray, double t_min, double t_max, const SupportSet& set, std::vector<SupportSpan>& out) const;
 
   const ClusterTree& tree() const { return surface_.tree(); }
   const std::vector<std::int32_t>& cut() const { return surface_.cut(); }

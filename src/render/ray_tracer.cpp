@@ -85,11 +85,12 @@ class TreeTracer {
     for (const auto& [x, y] : {std::pair{x0, y0}, std::pair{x1, y0}, std::pair{x0, y1}, std::pair{x1, y1}})
       half_angle = std::max(half_angle, std::acos(std::clamp(camera.ray(x, y).direction.dot(axis), -1.0, 1.0)));
     s_.index.collect_in_cone(camera.eye, axis, half_angle, tile_nodes_);
+    s_.index.gather(tile_nodes_, tile_supports_);
   }
 
   SampleResult operator()(const Ray& ray, std::uint64_t seed) {
     if (s_.search == render::SupportSearch::BruteForce) s_.index.collect_from(ray, 0, kInfinity, s_.index.cut(), spans_);
-    else s_.index.collect_from(ray, 0, kInfinity, tile_nodes_, spans_);
+    else s_.index.collect_from(ray, 0, kInfinity, tile_supports_, spans_);
     switch (s_.options.show) {
       case ShowMode::Spheres: return spheres(ray);
       case ShowMode::Proxies: return proxies(ray);
@@ -178,6 +179,7 @@ class TreeTracer {
 
   const Scene& s_;
   std::vector<std::int32_t> tile_nodes_;
+  render::SupportSet tile_supports_;  // their supports, side by side
   std::vector<SupportSpan> spans_;
   std::vector<SupportSpan> ao_spans_;
 };
