@@ -4,7 +4,8 @@
 // panel shows the clicked node's figures. Then: a page without points shows the proxies and
 // spheres; a .glb mesh written by the CLI is shown when embedded (`view --mesh M.glb`, for a
 // cloud far from zero: the mesh must land on the tree), opened with the file input or dropped
-// on the view. Screenshots go to ARTIFACT_DIR.
+// on the view; a z-up tree is viewed z-up, and a scan's colors show on its mesh. Screenshots go to
+// ARTIFACT_DIR.
 //
 // Usage: node test_viewer.mjs CLI DEFAULT_DATA_DIR ARTIFACT_DIR
 // Exits 77 (skipped, saying why) when chromium, playwright-core or the bunny is missing.
@@ -93,6 +94,15 @@ check('the z-up .glb is turned to +y up', JSON.stringify(glbJson(zupGlb).nodes[0
       JSON.stringify(glbJson(zupGlb).nodes[0]));
 const noPointsPage = join(artifacts, 'bunny-nopoints.html'), farPage = join(artifacts, 'bunny-far-glb.html');
 const zupPage = join(artifacts, 'bunny-zup.html');
+// A scan with colors: the bunny's left half red, its right half blue; its mesh carries them.
+const colored = join(artifacts, 'bunny-colored.ply'), coloredTree = join(artifacts, 'bunny-colored.cstree');
+const coloredMesh = join(artifacts, 'bunny-colored-mesh.ply'), coloredPage = join(artifacts, 'bunny-colored.html');
+const bunnyPoints = plyLines.slice(firstVertex, firstVertex + vertexCount).map((l) => l.trim().split(/\s+/).slice(0, 3));
+writeFileSync(colored, ['ply', 'format ascii 1.0', `element vertex ${vertexCount}`, 'property float x', 'property float y',
+                        'property float z', 'property uchar red', 'property uchar green', 'property uchar blue', 'end_header',
+                        ...bunnyPoints.map((p) => `${p.join(' ')} ${Number(p[0]) < -0.02 ? '220 30 30' : '30 40 220'}`)].join('\n') + '\n');
+run('--quiet', 'reconstruct', colored, '-o', coloredTree, '--mesh', coloredMesh, '--mesh-samples', '0');
+const coloredWritten = view('view embeds a colored mesh', coloredTree, '-o', coloredPage, '--mesh', coloredMesh);
 const zupWritten = view('view embeds a z-up .glb mesh', zupTree, '-o', zupPage, '--mesh', zupGlb);
 view('view writes a page without points', tree, '-o', noPointsPage);
 const farWritten = view('view embeds a .glb mesh', farTree, '-o', farPage, '--mesh', farGlb);
@@ -267,6 +277,25 @@ try {
     check('the dropped .glb draws the same picture', fractionChanged(image, after) < 0.01,
           `${(100 * fractionChanged(image, after)).toFixed(2)} % of pixels changed`);
     check('no page errors (embedded and dropped .glb)', v.errors.length === 0, v.errors.join('; '));
+    await v.tab.close();
+  });
+
+  // --- a scan's colors on the embedded mesh: red and blue pixels both -------------------------
+  if (coloredWritten) await guarded('page of a colored mesh', async () => {
+    const v = await openViewer(coloredPage);
+    check('colored-mesh page is ready without errors', !v.state.error && v.errors.length === 0, v.state.error ?? v.errors.join('; '));
+    await v.tab.uncheck('#cs-show-proxies');
+    await v.tab.uncheck('#cs-show-spheres');
+    const image = await v.shoot('viewer-colored-mesh.png');
+    let red = 0, blue = 0;
+    for (let i = 0; i < image.width * image.height; ++i) {
+      const [r, g, b] = [image.data[4 * i], image.data[4 * i + 1], image.data[4 * i + 2]];
+      if (r > 2 * b && r > 2 * g && r > 60) ++red;
+      if (b > 2 * r && b > 2 * g && b > 60) ++blue;
+    }
+    const n = image.width * image.height;
+    check('the mesh is drawn in the scan\'s colors', red > 0.03 * n && blue > 0.03 * n,
+          `${(100 * red / n).toFixed(1)} % red, ${(100 * blue / n).toFixed(1)} % blue pixels`);
     await v.tab.close();
   });
 
