@@ -212,6 +212,12 @@ TEST(TiledRun, ColorsAndTheUpAxisGoThroughTheRun) {
   write_ply(dir / "joined.ply", mesh.mesh);
   EXPECT_TRUE(run.write_mesh(dir / "streamed.ply", options.meshing).streamed);
   EXPECT_EQ(test::read_file(dir / "streamed.ply"), test::read_file(dir / "joined.ply"));
+  // A join asked for no colors drops the tiles' own, in memory and streamed alike.
+  SurfaceMeshOptions plain = options.meshing;
+  plain.coloring = MeshColoring::None;
+  EXPECT_EQ(run.join(plain).mesh.colors.rows(), 0);
+  run.write_mesh(dir / "plain.ply", plain);
+  EXPECT_FALSE(read_triangle_mesh(dir / "plain.ply").colors.rows() > 0);
 
   // In core: the same colors wherever the meshes share a vertex's neighbourhood.
   const Reconstruction whole = reconstruct(cloud);

@@ -51,10 +51,8 @@ RecordLayout layout_of(unsigned format) {
 
 }  // namespace
 
-bool LasPoints::has_colors() const noexcept { return layout_of(format).rgb.has_value(); }
-
 std::array<std::uint16_t, 3> LasPoints::color(std::string_view bytes, std::uint64_t i) const {
-  const std::uint64_t at = first + i * record + *layout_of(format).rgb;
+  const std::uint64_t at = first + i * record + *rgb;
   return {field<std::uint16_t>(bytes, at), field<std::uint16_t>(bytes, at + 2), field<std::uint16_t>(bytes, at + 4)};
 }
 
@@ -153,7 +151,7 @@ LasPoints las_points(const std::filesystem::path& file, std::string_view bytes) 
                         " bytes from byte " + std::to_string(point_offset) + ", but the file ends at byte " +
                         std::to_string(size));
 
-  return {count, point_offset, record_length, format, scale, offset};
+  return {count, point_offset, record_length, format, scale, offset, layout.rgb};
 }
 
 ParsedFile read_las(const std::filesystem::path& file, std::string_view bytes) {

@@ -74,6 +74,11 @@ CompressedData compressed_data(const std::filesystem::path& file, std::string_vi
 /// The value of element `bytes` (little-endian) of a field of `type` and `size`.
 double decode(const char* bytes, char type, unsigned size);
 
+/// A red, green or blue field's value (decode()'s) as 16 bits: clamped to 0..65535, NaN 0.
+inline std::uint16_t wide_channel(double value) {
+  return value > 0 ? static_cast<std::uint16_t>(value < 65535.0 ? value : 65535.0) : std::uint16_t{0};
+}
+
 /// The red, green and blue packed as 0x00RRGGBB in `value` (decode()'s) of field `f`: the bytes
 /// of a 4-byte float, or an unsigned integer.
 std::array<std::uint8_t, 3> packed_color(double value, const Field& f);

@@ -30,8 +30,6 @@ float to_float(double x) {
   return std::isnan(x) ? std::numeric_limits<float>::quiet_NaN() : static_cast<float>(std::clamp(x, -kMax, kMax));
 }
 
-/// `x` rounded into [0, hi] (NaN: 0).
-std::uint32_t to_unsigned(double x, double hi) { return std::isnan(x) ? 0u : static_cast<std::uint32_t>(std::clamp(x, 0.0, hi)); }
 
 /// Collects the points; `value(f)` gives the first element of field f of the current point.
 class PointSink {
@@ -57,7 +55,7 @@ class PointSink {
         wide_rgb_.insert(wide_rgb_.end(), rgb.begin(), rgb.end());
       } else {
         for (int k = 0; k < 3; ++k)
-          wide_rgb_.push_back(static_cast<std::uint16_t>(to_unsigned(value(roles_.rgb[k]), 65535.0)));
+          wide_rgb_.push_back(pcd::wide_channel(value(roles_.rgb[k])));
       }
     }
     if (roles_.intensity >= 0) intensity_.push_back(to_float(value(roles_.intensity)));
@@ -70,9 +68,9 @@ class PointSink {
     if (has_normals_) cloud.normals = Eigen::Map<Points>(nrm_.data(), n, 3);
     if (has_rgb_ && n > 0) {
       // 16-bit red/green/blue fields (PDAL writes them) are scaled unless they hold 8-bit values.
-      const auto wide = Eigen::Map<Eigen::Matrix<std::uint16_t, Eigen::Dynamic, 3, Eigen::RowMajor>>(wide_rgb_.data(), n, 3);
-      cloud.colors = wide.maxCoeff() <= 255 ? Colors(wide.cast<std::uint8_t>())
-                                            : Colors((wide.cast<double>().array() / 257.0).round().cast<std::uint8_t>());
+      const bool eight_bit = *std::max_element(wide_rgb_.begin(), wide_rgb_.end()) <= 255;
+      cloud.colors.resize(n, 3);
+      for (Eigen::Index i = 0; i < 3 * n; ++i) cloud.colors.data()[i] = wide_color_byte(wide_rgb_[static_cast<std::size_t>(i)], eight_bit);
     }
     if (roles_.intensity >= 0) cloud.attributes.push_back({"intensity", Eigen::Map<Eigen::VectorXf>(intensity_.data(), n)});
     if (roles_.classification >= 0)

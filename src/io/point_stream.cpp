@@ -107,7 +107,7 @@ struct PointStream::Impl {
   /// and blue fields, a look at every point's color says whether they are 8-bit (`eight_bit`).
   bool find_colors();
   /// PCD: the largest red, green or blue value (0..65535) of the points that are points.
-  double pcd_color_maximum();
+  std::uint16_t pcd_color_maximum();
   /// The next `n` PTX points into `block` (positions only).
   void read_ptx(Eigen::Index n, PointCloud& block);
   /// Gives back the file's pages read so far (up to byte `offset`).
@@ -173,16 +173,13 @@ bool PointStream::Impl::find_colors() {
   return xyz ? false : whole.has_colors();
 }
 
-double PointStream::Impl::pcd_color_maximum() {
+std::uint16_t PointStream::Impl::pcd_color_maximum() {
   const io::pcd::Roles& r = pcd_layout->roles;
-  double top = 0;
+  std::uint16_t top = 0;
   while (pcd->next()) {
     if (std::isnan(pcd->value(r.position[0])) || std::isnan(pcd->value(r.position[1])) || std::isnan(pcd->value(r.position[2])))
       continue;  // no point
-    for (int k = 0; k < 3; ++k) {
-      const double v = pcd->value(r.rgb[k]);
-      if (v > top) top = std::min(v, 65535.0);
-    }
+    for (int k = 0; k < 3; ++k) top = std::max(top, io::pcd::wide_channel(pcd->value(r.rgb[k])));
   }
   pcd->rewind();
   mapped->release(0, mapped->view().size());
@@ -306,11 +303,7 @@ void PointStream::Impl::read_pcd(Eigen::Index n, PointCloud& block) {
       const auto rgb = io::pcd::packed_color(pcd->value(roles.packed_rgb), pcd_layout->fields[static_cast<std::size_t>(roles.packed_rgb)]);
       for (int k = 0; k < 3; ++k) block.colors(kept, k) = rgb[static_cast<std::size_t>(k)];
     } else if (colors) {
-      for (int k = 0; k < 3; ++k) {
-        const double v = pcd->value(roles.rgb[k]);
-        const auto wide = std::isnan(v) ? std::uint16_t{0} : static_cast<std::uint16_t>(std::clamp(v, 0.0, 65535.0));
-        block.colors(kept, k) = io::wide_color_byte(wide, eight_bit);
-      }
+      for (int k = 0; k < 3; ++k) block.colors(kept, k) = io::wide_color_byte(io::pcd::wide_channel(pcd->value(roles.rgb[k])), eight_bit);
     }
     ++kept;
   }

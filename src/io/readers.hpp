@@ -79,12 +79,13 @@ struct LasPoints {
   unsigned format = 0;       ///< point data record format, 0-10
   Eigen::Vector3d scale = Eigen::Vector3d::Ones();
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+  std::optional<std::uint16_t> rgb;  ///< offset of red, green, blue in a record, if the format has them
 
   /// The position of record `i` (< count) in the file's coordinates: integers times the
   /// scale plus the offset, in double precision.
   Eigen::Vector3d position(std::string_view bytes, std::uint64_t i) const;
   /// Whether the point format has red, green and blue.
-  bool has_colors() const noexcept;
+  bool has_colors() const noexcept { return rgb.has_value(); }
   /// The 16-bit red, green and blue of record `i` (< count; has_colors() required).
   std::array<std::uint16_t, 3> color(std::string_view bytes, std::uint64_t i) const;
   /// Whether every record's color is at most 255: 8-bit values stored in the 16-bit fields, read

@@ -20,7 +20,7 @@ struct PartitionRecord {
   double halo_spacings = 0;
   std::uint64_t input_points = 0;
   bool normals = false;
-  bool colors = false;  ///< the region files hold each point's red, green and blue after its normal
+  bool colors = false;  ///< the region files hold each point's color (pack_color()) after its normal
   UpAxis up = UpAxis::Y;
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   RegionPlan plan;

@@ -39,8 +39,14 @@ std::string describe(const ReconstructOptions& o) {
   const SurfaceMeshOptions& m = o.meshing;
   out << "mesh " << m.grid.resolution << " " << (m.grid.voxel_size ? *m.grid.voxel_size : 0.0) << " " << m.grid.newton_steps << " "
       << m.grid.min_weight << " " << m.grid.fill_cells << " " << m.auto_resolution << "\ntrim " << m.trim.spread_factor << " "
-      << m.trim.neighbors << " " << m.trim.min_component_points << "\n";
+      << m.trim.neighbors << " " << m.trim.min_component_points << "\ncolors " << (m.coloring == MeshColoring::FromInput) << "\n";
   return out.str();
+}
+
+/// A tile's own colors (its points', made by the mesh task) go only into a mesh that asks for
+/// them: a join with other colors, or none, drops them.
+void keep_tile_colors(MeshTile& tile, const SurfaceMeshOptions& options) {
+  if (options.coloring != MeshColoring::FromInput) tile.mesh.colors.resize(0, 3);
 }
 
 }  // namespace
@@ -249,6 +255,7 @@ SurfaceMesh TiledRun::join(const SurfaceMeshOptions& options) const {
     out.grid.evaluated_corners += tiles.back().grid.evaluated_corners;
     out.grid.surface_cells += tiles.back().grid.surface_cells;
   }
+  for (MeshTile& t : tiles) keep_tile_colors(t, options);
   out.mesh = join_tiles(tiles, options.trim);
   tiles.clear();
   out.blended_nodes = impl_->merge_record().leaves;
@@ -290,6 +297,7 @@ WrittenMesh TiledRun::write_mesh(const std::filesystem::path& file, const Surfac
   std::vector<std::uint8_t> counted(regions(), 0);  // the join reads every tile several times
   const auto tile = [&](std::int32_t k) {
     MeshTile t = detail::read_tile(impl_->need(impl_->file("tile", k, "bin"), "every region's mesh"));
+    keep_tile_colors(t, options);
     if (!counted[static_cast<std::size_t>(k)]++) {
       out.grid.voxel_size = t.grid.voxel_size;
       out.grid.evaluated_corners += t.grid.evaluated_corners;
