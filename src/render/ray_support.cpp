@@ -154,24 +154,6 @@ void SupportIndex::collect_in_cone(const Eigen::Vector3d& eye, const Eigen::Vect
                 });
 }
 
-void SupportIndex::collect_from(const Ray& ray, double t_min, double t_max, std::span<const std::int32_t> nodes,
-                                std::vector<SupportSpan>& out) const {
-  out.clear();
-  for (std::int32_t i : nodes) {
-    // ray_sphere() on the compact copy of the support (same arithmetic, same result).
-    const Eigen::Vector4d& sp = supports_[static_cast<std::size_t>(i)];
-    const Eigen::Vector3d oc = ray.origin - sp.head<3>();
-    const double b = oc.dot(ray.direction);
-    const double disc = b * b - (oc.squaredNorm() - sp.w());
-    if (!(disc > 0)) continue;
-    const double root = std::sqrt(disc);
-    const double t0 = -b - root, t1 = -b + root;
-    if (t1 > t_min && t0 < t_max)
-      out.push_back(make_span(tree().nodes[static_cast<std::size_t>(i)], i, ray, std::max(t0, t_min), std::min(t1, t_max)));
-  }
-  sort_spans(out);
-}
-
 void SupportIndex::gather(std::span<const std::int32_t> nodes, SupportSet& out) const {
   out.nodes.assign(nodes.begin(), nodes.end());
   out.x.resize(nodes.size()), out.y.resize(nodes.size()), out.z.resize(nodes.size()), out.r2.resize(nodes.size());

@@ -63,13 +63,10 @@ class SupportIndex {
   /// and half-angle `half_angle` (radians): a conservative superset, in pre-order.
   void collect_in_cone(const Eigen::Vector3d& eye, const Eigen::Vector3d& axis, double half_angle,
                        std::vector<std::int32_t>& out) const;
-  /// As collect(), testing only the support of each node of `nodes` (every blended node when
-  /// the list is the whole cut: the brute-force search).
-  void collect_from(const Ray& ray, double t_min, double t_max, std::span<const std::int32_t> nodes,
-                    std::vector<SupportSpan>& out) const;
   /// The supports of `nodes`, for collect_from() of many rays.
   void gather(std::span<const std::int32_t> nodes, SupportSet& out) const;
-  /// collect_from() of the set's nodes (the same spans, the same order).
+  /// As collect(), testing only the supports of the set (every blended node when it holds the
+  /// whole cut: the brute-force search).
   void collect_from(const Ray& ray, double t_min, double t_max, const SupportSet& set, std::vector<SupportSpan>& out) const;
 
   const ClusterTree& tree() const { return surface_.tree(); }

@@ -79,7 +79,10 @@ class TreeTracer {
   /// The tracer of the pixels [x0, x1) × [y0, y1): the supports its rays may cross are found
   /// once, through the hierarchy, from the cone of the tile's rays (brute force: all of them).
   TreeTracer(const Scene& scene, const Camera& camera, int x0, int y0, int x1, int y1) : s_(scene) {
-    if (s_.search == render::SupportSearch::BruteForce) return;
+    if (s_.search == render::SupportSearch::BruteForce) {
+      s_.index.gather(s_.index.cut(), tile_supports_);
+      return;
+    }
     const Eigen::Vector3d axis = camera.ray(0.5 * (x0 + x1), 0.5 * (y0 + y1)).direction;
     double half_angle = 0;
     for (const auto& [x, y] : {std::pair{x0, y0}, std::pair{x1, y0}, std::pair{x0, y1}, std::pair{x1, y1}})
@@ -89,8 +92,7 @@ class TreeTracer {
   }
 
   SampleResult operator()(const Ray& ray, std::uint64_t seed) {
-    if (s_.search == render::SupportSearch::BruteForce) s_.index.collect_from(ray, 0, kInfinity, s_.index.cut(), spans_);
-    else s_.index.collect_from(ray, 0, kInfinity, tile_supports_, spans_);
+    s_.index.collect_from(ray, 0, kInfinity, tile_supports_, spans_);
     switch (s_.options.show) {
       case ShowMode::Spheres: return spheres(ray);
       case ShowMode::Proxies: return proxies(ray);
