@@ -265,17 +265,17 @@ TEST(ClusterTree, RawScanDoesNotShatter) {
   EXPECT_LT(static_cast<double>(s.leaves_over_threshold), 0.1 * static_cast<double>(s.leaves));
 }
 
-TEST(ClusterTree, LeafMinPointsFollowsTheNoiseAgainstTheTolerance) {
-  EXPECT_EQ(leaf_min_points(0, 1e-4), 15u);      // clean
-  EXPECT_EQ(leaf_min_points(1e-4, 1e-4), 15u);   // 6 σ²/τ² = 6, below the clean floor
-  EXPECT_EQ(leaf_min_points(1.8e-4, 1e-4), 20u); // 6 × 3.24 = 19.4
-  EXPECT_EQ(leaf_min_points(1.7e-4, 1e-4), 18u); // 6 × 2.89 = 17.3
-  EXPECT_EQ(leaf_min_points(1e-2, 1e-4), 20u);   // noisy: capped
+TEST(ClusterTree, LeafMinPointsFollowsTheNoiseAgainstTheSpacing) {
+  EXPECT_EQ(leaf_min_points(0, 1e-3), 12u);       // clean
+  EXPECT_EQ(leaf_min_points(1e-4, 1e-3), 12u);    // 6 (4σ/h)² = 0.96: sparse, the floor
+  EXPECT_EQ(leaf_min_points(3.7e-4, 1e-3), 14u);  // 6 × 2.19 = 13.1
+  EXPECT_EQ(leaf_min_points(4e-4, 1e-3), 16u);    // 6 × 2.56 = 15.4
+  EXPECT_EQ(leaf_min_points(1e-3, 1e-3), 20u);    // noise of a spacing: capped
   EXPECT_EQ(leaf_min_points(1e-3, 0), 20u);
   // The tree records the value it used.
   PointCloud c = test::sample_sphere(5000);
-  EXPECT_EQ(build_cluster_tree(c, {}).parameters.min_points, leaf_min_points(build_cluster_tree(c, {}).noise_sigma,
-                                                                             0.00005 * 2 * std::sqrt(3.0)));
+  const ClusterTree tree = build_cluster_tree(c, {});
+  EXPECT_EQ(tree.parameters.min_points, leaf_min_points(tree.noise_sigma, tree.point_spacing));
   BuildOptions fixed;
   fixed.min_points = 7;
   EXPECT_EQ(build_cluster_tree(c, fixed).parameters.min_points, 7u);

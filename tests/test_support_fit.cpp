@@ -70,7 +70,8 @@ TEST(SupportFit, ExactNormalsOnNoisyPositionsBringTheSurfaceCloser) {
 
 TEST(SupportFit, CleanDataKeepThePositionsFits) {
   // Without noise the normals add less than a tenth of the positions' information: the same
-  // tree with and without them in the fit.
+  // tree with and without them in the fit, but for the few supports they stop short of the
+  // tube's far side, which refit there.
   const PointCloud cloud = noisy_torus(8000, 0, 8);
   ReconstructOptions options;
   options.mesh = false;
@@ -78,12 +79,56 @@ TEST(SupportFit, CleanDataKeepThePositionsFits) {
   options.build.fit_normals = false;
   const ClusterTree without = reconstruct(cloud, options).tree;
   ASSERT_EQ(with.nodes.size(), without.nodes.size());
+  std::size_t leaves = 0, same = 0;
   for (std::size_t k = 0; k < with.nodes.size(); ++k) {
     const auto* a = std::get_if<PolyProxy>(&with.nodes[k].proxy.variant());
     const auto* b = std::get_if<PolyProxy>(&without.nodes[k].proxy.variant());
     ASSERT_EQ(a == nullptr, b == nullptr) << "node " << k;
+    if (!with.nodes[k].is_leaf()) continue;
+    ++leaves;
+    if (with.nodes[k].support.radius != without.nodes[k].support.radius) continue;
+    ++same;
     if (a != nullptr) {
       EXPECT_EQ(a->coeffs, b->coeffs) << "node " << k;
     }
   }
+  EXPECT_GT(same, leaves * 9 / 10);
+}
+
+TEST(SupportFit, ASparselySampledThinTubeStaysThin) {
+  // A ring of a thin tube (radius 0.06 around a circle of radius 1) with 2,000 points, about 11
+  // around the tube, their exact normals and 0.1 % noise: the legs of a sparse scan of an
+  // animal. A leaf's support that reaches the far side of the tube blends in a proxy that
+  // points the other way there, and a leaf of 15-20 points wraps half around it: both inflate
+  // the tube (before: mean distance 0.0055, the tube swollen by 0.0039, 6.5 % of its radius;
+  // now 0.0019 and 0.0010).
+  constexpr double kRadius = 0.06;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0, 2 * M_PI);
+  std::normal_distribution<double> g(0, 0.001);
+  PointCloud c;
+  const int n = 2000;
+  c.positions.resize(n, 3);
+  c.normals.resize(n, 3);
+  for (int i = 0; i < n; ++i) {
+    const double a = u(rng), b = u(rng);
+    const Eigen::Vector3d ring(std::cos(a), std::sin(a), 0);
+    const Eigen::Vector3d normal = std::cos(b) * ring + std::sin(b) * Eigen::Vector3d::UnitZ();
+    c.normals.row(i) = normal.transpose();
+    c.positions.row(i) = (ring + (kRadius + g(rng)) * normal).transpose();
+  }
+  const Reconstruction r = reconstruct(c);
+  ASSERT_TRUE(r.mesh.has_value());
+  const TriangleMesh& mesh = r.mesh->mesh;
+  double sum = 0, outward = 0;
+  for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v) {
+    const Eigen::Vector3d p = mesh.vertices.row(v).transpose();
+    const double d = std::hypot(std::hypot(p.x(), p.y()) - 1, p.z()) - kRadius;
+    sum += std::abs(d);
+    outward += d;
+  }
+  const double rows = static_cast<double>(mesh.vertices.rows());
+  std::cout << "thin tube: mean distance " << sum / rows << ", mean offset " << outward / rows << "\n";
+  EXPECT_LT(sum / rows, 0.003);
+  EXPECT_LT(std::abs(outward / rows), 0.002);
 }

@@ -145,8 +145,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"rms", "max"}))
       ->capture_default_str();
   r->add_option("--min-points", rec.min_points,
-                 "No cluster below this many points, or \"auto\": from the estimated noise and the tolerance (15 for "
-                 "clean data up to 20 for noisy), and two thirds of that where relief finer than the clusters needs it")
+                 "No cluster below this many points, or \"auto\": from the estimated noise against the point spacing (12 "
+                 "for clean or sparse data up to 20 for noise of half a spacing or more), and two thirds of that where relief "
+                 "finer than the clusters needs it")
       ->check(CLI::Range(1, 1 << 30) | CLI::IsMember({"auto"}))
       ->capture_default_str();
   auto& b = rec.build;

@@ -56,7 +56,7 @@ struct BuildOptions {
   /// stored as Relative, with no estimate).
   double noise_factor = 1.0;
   /// No child below this many points (but strays cut off across a gap, and the sheets of a
-  /// would-be leaf on two sheets); 0: leaf_min_points() of the noise and the tolerance, and a
+  /// would-be leaf on two sheets); 0: leaf_min_points() of the noise and the point spacing, and a
   /// leaf of that size whose quadratic misses the threshold is split into halves of two thirds
   /// of it when they resolve the misfit (relief finer than the clusters).
   std::uint32_t min_points = 0;
@@ -91,7 +91,9 @@ struct BuildOptions {
   /// the input normals (either sign), weighted by how much surer they are than the positions
   /// (exact normals on noisy positions: noise averages out faster), and only where they add at
   /// least about a tenth of the positions' information. Clean data and a scanner's normals,
-  /// computed from the same positions, are mostly left to the positions.
+  /// computed from the same positions, are mostly left to the positions. The normals also mark
+  /// where another sheet begins: the support stops short of it (the far side of a thin part, a
+  /// fold's other wall).
   bool fit_normals = true;
   /// A cluster on the two faces of a sharp edge, which no smooth proxy fits within the
   /// threshold, becomes a leaf whose proxy is the crease of two planes (CreaseProxy) when that
@@ -184,12 +186,16 @@ struct ClusterTree {
 /// that noise alone does not split a cluster. Equals tree.error_threshold without noise.
 double cluster_error_threshold(const ClusterTree& tree, double points);
 
-/// The smallest cluster a leaf may have when BuildOptions::min_points is 0: enough points that
-/// the noise a bivariate quadratic's six coefficients pick up from them, σ √(6/n), stays within
-/// the tolerance τ (n ≥ 6 σ²/τ²), between 15 (clean data: fewer lets a single stray point bend
-/// a leaf) and 20 (noisy data: its support fit averages over more). Both in the input's units;
-/// noise 0 gives 15.
-std::uint32_t leaf_min_points(double noise, double tolerance);
+/// The smallest cluster a leaf may have when BuildOptions::min_points is 0, from the noise σ
+/// against the point spacing h (both in the input's units): enough points that the noise a
+/// bivariate quadratic's six coefficients pick up from them, σ √(6/n), stays within a quarter
+/// of the spacing (n ≥ 6 (4σ/h)²), between 12 and 20. Where the noise is well under the
+/// spacing (clean or sparse data), leaves of 12 points follow thin parts and fine relief that
+/// leaves of 15–20 wrap around, their supports' 30 points still average the noise, and a stray
+/// point just off the surface still leaves most of a leaf's points to fit; noise of half a
+/// spacing or more takes 20 (its support fit averages over more). Noise 0 gives 12, a spacing
+/// of 0 gives 20.
+std::uint32_t leaf_min_points(double noise, double spacing);
 
 /// Builds the tree. Deterministic: the same cloud and options give the same tree for any
 /// thread count. Throws OptionError for invalid options, Cancelled when `progress` says stop.

@@ -135,8 +135,8 @@ Options mirror the CLI's (same names with ``_`` for ``-``, same defaults): ``pro
 may keep beyond the estimated noise, a fraction of the bounding-box diagonal or "auto" (0.00005;
 ``max_error`` is its old name); ``noise_factor`` (the noise counted; 0 ignores it);
 ``absolute_tolerance`` in input units, noise included (overrides tolerance; old name
-``absolute_error``); ``error`` "rms" or "max"; ``min_points`` ("auto": from the noise and the
-tolerance, 15 to 20, and two thirds of that where finer relief needs it); ``max_depth``; ``alpha`` (support radius = alpha x cluster bbox
+``absolute_error``); ``error`` "rms" or "max"; ``min_points`` ("auto": from the noise against
+the point spacing, 12 to 20, and two thirds of that where finer relief needs it); ``max_depth``; ``alpha`` (support radius = alpha x cluster bbox
 diagonal); ``kstep``; ``lloyd_restarts``; ``proxy_lloyd``; ``support_factor``; ``seed``;
 ``ignore_normals``; ``no_point_leaves``; ``keep_outliers`` (isolated points are left out of
 every cluster unless set; their ``point_leaf`` is -1); ``creases`` (False: no crease leaves,

@@ -67,12 +67,14 @@ std::uint32_t parse_min_points(std::string_view text) {
   return static_cast<std::uint32_t>(*value);
 }
 
-std::uint32_t leaf_min_points(double noise, double tolerance) {
+std::uint32_t leaf_min_points(double noise, double spacing) {
   constexpr double kCoefficients = 6;
-  constexpr double kClean = 15, kNoisy = 20;
-  if (!(noise > 0)) return static_cast<std::uint32_t>(kClean);
-  const double n = tolerance > 0 ? kCoefficients * (noise / tolerance) * (noise / tolerance) : kNoisy;
-  return static_cast<std::uint32_t>(std::clamp(std::ceil(n), kClean, kNoisy));
+  constexpr double kSparse = 12, kNoisy = 20;
+  if (!(noise > 0)) return static_cast<std::uint32_t>(kSparse);
+  if (!(spacing > 0)) return static_cast<std::uint32_t>(kNoisy);
+  const double ratio = 4 * noise / spacing;  // the noise against a quarter of the spacing
+  const double n = kCoefficients * ratio * ratio;
+  return static_cast<std::uint32_t>(std::clamp(std::ceil(n), kSparse, kNoisy));
 }
 
 double cluster_error_threshold(const ClusterTree& tree, double points) {

@@ -46,9 +46,12 @@ std::size_t split_at_gap(const Points& points, std::span<std::uint32_t> range, c
 /// Splits a cluster whose points lie on two sheets facing apart (normals.row(ids[row]) falls
 /// into two groups by 2-means whose means are more than 90 degrees apart: both sides of a thin
 /// part, the faces of a deep fold): the rows of each group become one child, each with at least
-/// `min_side` points. Returns k as the other splitters, or 0 when the normals form one group.
-/// One proxy fitted across two such sheets describes neither and points the wrong way on one.
-std::size_t split_two_sheets(const Points& normals, std::span<const std::uint32_t> ids, std::span<std::uint32_t> range,
+/// `min_side` points, when the groups' mean heights along the axis between their normals
+/// differ by more than three standard errors (`points`, rows as `range`) or the smaller holds
+/// a third of the points. Returns k as the other splitters, or 0 when the normals form one
+/// group or the few turned ones lie among the others (a scanner's orientation errors). One
+/// proxy fitted across two such sheets describes neither and points the wrong way on one.
+std::size_t split_two_sheets(const Points& points, const Points& normals, std::span<const std::uint32_t> ids, std::span<std::uint32_t> range,
                              std::size_t min_side);
 
 }  // namespace clustersurf::detail

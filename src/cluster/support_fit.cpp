@@ -6,6 +6,7 @@
 #include "proxy/crease_fit.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace clustersurf::detail {
@@ -20,6 +21,12 @@ constexpr std::size_t kSupportPointsPerClusterPoint = 8;
 constexpr double kSupportFitReach = 3;
 /// Fewer support points than this keep the cluster's own fit.
 constexpr std::size_t kMinSupportFitPoints = 12;
+/// A cluster's fit is refitted without a stray only when at least this many points remain: a
+/// quadratic's six coefficients and one to spare (the refit picks the support points with it,
+/// the support fit then rests on them all).
+constexpr std::size_t kMinUnbentPoints = 7;
+/// Larger clusters are split instead (one point bends a fit of many little).
+constexpr std::size_t kMaxUnbentPoints = 40;
 /// Rounds of the trimmed support fit: points farther than kSupportFitReach times the fit's
 /// weighted RMS (or the threshold) from it are left out and the rest refitted, as long as they
 /// are isolated strays: at most kMaxTrimmedShare of the points (or one; more is a second sheet
@@ -40,6 +47,13 @@ constexpr double kMaxSupportGrowth = 4;
 /// computed from the same noisy positions, count the noise twice (virtual scans lost 1–5 %
 /// with every normal in). λ is capped at 100 r², where the positions only set the height.
 constexpr double kMinNormalWeight = 0.3 * 0.3;
+/// A support point beyond the support fit's reach whose normal faces more than 135° away from
+/// the leaf's own sheet (cosine below minus this) lies on another sheet: the far side of a thin
+/// part, the opposite wall of a fold.
+constexpr double kOtherSheetCos = 0.7071067811865476;
+/// A support stops at the kOtherSheetPoints-th nearest point of another sheet: a stray or two
+/// of the noise do not make one.
+constexpr std::size_t kOtherSheetPoints = 3;
 constexpr double kMaxNormalWeight = 100;
 
 }  // namespace
@@ -103,6 +117,54 @@ std::optional<SupportFit::SupportCrease> SupportFit::crease(const ClusterNode& n
   return SupportCrease{fit->proxy, weighted_error(fit->proxy, node.support, inside)};
 }
 
+double SupportFit::other_sheet_distance(const ClusterNode& node, std::span<const std::uint32_t> range) const {
+  const double radius = node.support.radius;
+  if (normals_ == nullptr || !(radius > 0)) return radius;
+  thread_local std::vector<Neighbor> inside;
+  sampler_.inside(node.support.center, radius, kSupportPointsPerClusterPoint * node.point_count, kSupportSample, inside);
+  const double threshold = allowed_error(tolerance_, noise_, static_cast<double>(range.size()));
+  const double reach = kSupportFitReach * std::max(threshold, node.rms_error);
+  // The way the leaf's own sheet faces: the mean input normal of the support points its proxy
+  // fits.
+  Eigen::Vector3d facing = Eigen::Vector3d::Zero();
+  for (const auto& nb : inside)
+    if (std::abs(node.proxy.value(input_.row(nb.index).transpose())) <= reach) facing += normals_->row(nb.index).transpose();
+  if (!(facing.squaredNorm() > 0)) return radius;
+  facing.normalize();
+  // The kOtherSheetPoints nearest points off the proxy that face the other way, nearest first:
+  // one or two may be strays.
+  std::array<double, kOtherSheetPoints> nearest2;
+  nearest2.fill(radius * radius);
+  for (const auto& nb : inside) {
+    if (!(nb.distance_squared < nearest2.back())) continue;
+    if (!(facing.dot(normals_->row(nb.index).transpose()) < -kOtherSheetCos)) continue;
+    if (!(std::abs(node.proxy.value(input_.row(nb.index).transpose())) > reach)) continue;
+    auto at = std::upper_bound(nearest2.begin(), nearest2.end(), nb.distance_squared);
+    std::move_backward(at, nearest2.end() - 1, nearest2.end());
+    *at = nb.distance_squared;
+  }
+  return std::sqrt(nearest2.back());
+}
+
+Proxy SupportFit::unbent(const ClusterNode& node, std::span<const std::uint32_t> range, double threshold) const {
+  if (!(node.rms_error > threshold) || range.size() < kMinUnbentPoints + 1 || range.size() > kMaxUnbentPoints) return node.proxy;
+  const Frame& frame = std::get<PolyProxy>(node.proxy.variant()).frame;
+  // The fit of the points but one that leaves the least error: the stray is the one left out.
+  thread_local std::vector<std::uint32_t> others;
+  std::optional<Proxy> best;
+  double best_rms = threshold;
+  std::size_t left_out = 0;
+  for (std::size_t j = 0; j < range.size(); ++j) {
+    others.assign(range.begin(), range.end());
+    others.erase(others.begin() + static_cast<std::ptrdiff_t>(j));
+    Proxy fit(fit_poly_in_frame(frame, points_, others));
+    const double rms = proxy_error(fit, points_, others).rms;
+    if (rms <= best_rms) best_rms = rms, best = std::move(fit), left_out = j;
+  }
+  if (!best || !(std::abs(best->value(points_.row(range[left_out]).transpose())) > kSupportFitReach * threshold)) return node.proxy;
+  return *best;
+}
+
 /// Refits a polynomial proxy, in its cluster's frame, to the support points weighted by the
 /// blending weight (as in MPU): the proxy is then accurate wherever the blend uses it, and
 /// averages the noise over its whole support. Points beyond kSupportFitReach times the
@@ -115,13 +177,17 @@ void SupportFit::refit(ClusterNode& node, std::span<const std::uint32_t> range, 
   const PolyProxy& cluster_fit = std::get<PolyProxy>(node.proxy.variant());
   const double r2 = node.support.radius * node.support.radius;
   const double threshold = allowed_error(tolerance_, noise_, static_cast<double>(range.size()));
-  const double reach = kSupportFitReach * std::max(threshold, node.rms_error);
+  // The support points are picked by a fit of the cluster's points; one that misses the
+  // threshold because a stray bent it picks them by the fit of the other points, when those
+  // meet the threshold without it.
+  const Proxy picker = unbent(node, range, threshold);
+  const double reach = kSupportFitReach * std::max(threshold, proxy_error(picker, points_, range).rms);
   thread_local std::vector<std::uint32_t> ids;
   thread_local std::vector<double> weights;
   ids.clear();
   weights.clear();
   for (const auto& nb : inside) {
-    if (!(std::abs(node.proxy.value(input_.row(nb.index).transpose())) <= reach)) continue;
+    if (!(std::abs(picker.value(input_.row(nb.index).transpose())) <= reach)) continue;
     ids.push_back(nb.index);
     weights.push_back(blend_weight(nb.distance_squared / r2));
   }

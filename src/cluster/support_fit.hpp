@@ -48,9 +48,20 @@ class SupportFit {
   };
   std::optional<SupportCrease> crease(const ClusterNode& node, const Frame& frame) const;
 
+  /// How far the node's support may reach before another sheet: the distance from its centre to
+  /// the kOtherSheetPoints-th nearest input point inside it that lies off the proxy (beyond the
+  /// support fit's reach) with its normal facing away from the leaf's own sheet (the mean normal
+  /// of the support points the proxy fits): the far side of a thin part, a fold's other wall.
+  /// The support's radius when there is none or no normals are known.
+  double other_sheet_distance(const ClusterNode& node, std::span<const std::uint32_t> range) const;
+
  private:
   /// The weighted RMS of |Q| of `proxy` over the support points `inside` of `support`.
   SupportError weighted_error(const Proxy& proxy, const Sphere& support, std::span<const Neighbor> inside) const;
+  /// The node's proxy, or, where its cluster's fit misses `threshold` because of one stray point
+  /// (the fit of the others meets it, and the stray lies beyond kSupportFitReach thresholds of
+  /// that fit), the others' fit.
+  Proxy unbent(const ClusterNode& node, std::span<const std::uint32_t> range, double threshold) const;
   void refit(ClusterNode& node, std::span<const std::uint32_t> range, std::span<const Neighbor> inside) const;
   bool accept(ClusterNode& node, std::span<const std::uint32_t> range, double threshold, double cut, Proxy fit) const;
 

@@ -40,6 +40,12 @@ constexpr int kSupportShrinkSteps = 10;
 /// points (a plane's worth): a sheet's few points are real surface, and a leaf's proxy rests
 /// on its support fit (at least MPU's N_min points) rather than on its own points alone.
 constexpr std::size_t kMinSheetPoints = 3;
+/// A split below min_points leaves at least this many points on each side: a quadratic's six
+/// coefficients and two to spare, so that its residual can tell relief from a stray point.
+constexpr std::size_t kMinDetailPoints = 8;
+/// A leaf's support stopped short of another sheet keeps at least this many times its
+/// cluster's extent (its own points lie within about half the extent of its centre).
+constexpr double kMinSheetReach = 0.5;
 
 class Builder {
  public:
@@ -121,7 +127,7 @@ class Builder {
     // deep fold) becomes one leaf per sheet, below min_points if need be.
     // A crease leaf is one already: its two faces are the two planes it holds.
     if ((k == 0 || k >= range.size()) && normals_ != nullptr && depth < options_.max_depth && !smooth)
-      k = detail::split_two_sheets(*normals_, work_.ids, range, kMinSheetPoints);
+      k = detail::split_two_sheets(points_, *normals_, work_.ids, range, kMinSheetPoints);
     if (k == 0 || k >= range.size()) {
       // A leaf that cannot be split (too few points, or no split helps) but whose proxy is off
       // over its support — typically a cluster of two small patches far apart — keeps only the
@@ -147,6 +153,15 @@ class Builder {
           }
         }
         if (cover < 0) cover = support_->coverage_radius(node.support.center, options_.alpha * node.extent);
+        // A support reaching another sheet (the far side of a thin part, the opposite wall of
+        // a fold) stops short of it: its proxy, pointing the other way there, would push that
+        // sheet's surface out. It keeps at least half the cluster's extent.
+        const double sheet = std::max(kMinSheetReach * node.extent, support_->other_sheet_distance(node, range));
+        if (sheet < node.support.radius) {
+          node.support.radius = sheet;
+          cover = std::min(cover, sheet);
+          support = support_->check(node, range);
+        }
         // A leaf held at min_points may miss the threshold on its own points too; measure its
         // support against what it achieves there.
         const double own = std::sqrt(std::max(0.0, e * e - noise_ * noise_));
@@ -224,15 +239,14 @@ class Builder {
   /// A leaf held at min_points whose proxy misses the threshold (`support` null; relief finer
   /// than the cluster: a lip, an eyelid, a fold) or fails over its support (`support`: that
   /// check's error) is split below min_points when that resolves it: into two halves of at
-  /// least two thirds of min_points (10 for clean data: a quadratic's 6 coefficients and 4
-  /// points to spare) whose proxies each meet the threshold or explain() the cluster's misfit
-  /// `error`, and, for a support failure, whose support checks each pass or explain the
+  /// least two thirds of min_points and kMinDetailPoints (8 for clean data) whose proxies each
+  /// meet the threshold or explain() the cluster's misfit `error`, and, for a support failure, whose support checks each pass or explain the
   /// cluster's. A stray point that bends a proxy leaves its half's misfit about as large as
   /// the cluster's, so no split is made for it; nor for a misfit the halves cannot resolve.
   /// Only when min_points is "auto". Returns the split position (`range` reordered), or 0.
   std::size_t detail_split(std::span<std::uint32_t> range, const Frame& frame, double error,
                            const detail::SupportError* support) const {
-    const std::size_t smallest = (2 * std::size_t{options_.min_points} + 2) / 3;
+    const std::size_t smallest = std::max<std::size_t>(kMinDetailPoints, (2 * std::size_t{options_.min_points} + 2) / 3);
     if (range.size() < 2 * smallest) return 0;
     BuildOptions halves = options_;
     halves.min_points = static_cast<std::uint32_t>(smallest);
@@ -371,7 +385,7 @@ ClusterTree detail::build_tree(const PointCloud& cloud, std::vector<std::uint32_
   tree.error_threshold = std::hypot(tolerance, noise);
 
   BuildOptions resolved = options;  // the options with min_points decided
-  if (resolved.min_points == 0) resolved.min_points = leaf_min_points(noise, tolerance);
+  if (resolved.min_points == 0) resolved.min_points = leaf_min_points(noise, scale.point_spacing);
   p.min_points = resolved.min_points;
 
   const auto n = ids.size();

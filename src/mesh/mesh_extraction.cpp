@@ -85,6 +85,9 @@ Blocks group_by_block(std::size_t n, Cell&& cell) {
 constexpr int kFaceCorners[6][4] = {{0, 2, 4, 6}, {1, 3, 5, 7}, {0, 1, 4, 5}, {2, 3, 6, 7}, {0, 1, 2, 3}, {4, 5, 6, 7}};
 constexpr int kFaceStep[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
 
+/// Newton steps of a vertex's second projection, where its first one did not settle.
+constexpr int kRetrySteps = 8;
+
 /// Newton steps x ← x − f ∇f / |∇f|² towards f = 0 of `s`, its supports found through `near`
 /// (null: from the root); returns false if f is undefined or the point wanders farther than
 /// `max_move`.
@@ -335,7 +338,10 @@ TriangleMesh placed_vertices(const detail::CellPolygons& polygons, const Field& 
         // F's cells put it: projecting it onto f = 0 would leave F's zero set.
         const bool filled = closed != nullptr && closed->filled(x);
         if (options.newton_steps > 0 && !filled) {
-          if (project(surface, &near, y, options.newton_steps, h, 1e-6 * h)) {
+          // Through the block's walk; where those steps do not settle (beside a crease, where
+          // the blended gradient leans between the faces), with more steps from the root.
+          if (project(surface, &near, y, options.newton_steps, h, 1e-6 * h) ||
+              project(surface, nullptr, y = x, std::max(options.newton_steps, kRetrySteps), h, 1e-6 * h)) {
             if (closed == nullptr || !closed->filled(y)) x = y;  // onto f = 0, unless F is not f there
           } else if (field.fill && project(field.wide, &wide_walk(), y = x, options.newton_steps, h, 1e-6 * h)) {
             x = y;

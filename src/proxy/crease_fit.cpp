@@ -17,7 +17,10 @@ namespace clustersurf::detail {
 namespace {
 
 constexpr int kMaxRounds = 12;
-constexpr std::size_t kMinFacePoints = 3;
+/// Each face holds at least this many points: a plane and two to spare, so that its residual
+/// tells a face from any three points (a leaf of 8 points splits into two triples that two
+/// planes fit exactly, however they lie).
+constexpr std::size_t kMinFacePoints = 5;
 /// k-planes runs on at most this many of the cluster's points (an even stride); the error is
 /// measured on all of them. A crease is two planes: a sample this size fixes them as well as
 /// all points do, and a large cluster costs one pass instead of a pass per round.
