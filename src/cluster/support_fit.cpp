@@ -146,8 +146,9 @@ double SupportFit::other_sheet_distance(const ClusterNode& node, std::span<const
   return std::sqrt(nearest2.back());
 }
 
-Proxy SupportFit::unbent(const ClusterNode& node, std::span<const std::uint32_t> range, double threshold) const {
-  if (!(node.rms_error > threshold) || range.size() < kMinUnbentPoints + 1 || range.size() > kMaxUnbentPoints) return node.proxy;
+std::optional<Proxy> SupportFit::unbent(const ClusterNode& node, std::span<const std::uint32_t> range, double threshold,
+                                        double& rms) const {
+  if (!(node.rms_error > threshold) || range.size() < kMinUnbentPoints + 1 || range.size() > kMaxUnbentPoints) return std::nullopt;
   const Frame& frame = std::get<PolyProxy>(node.proxy.variant()).frame;
   // The fit of the points but one that leaves the least error: the stray is the one left out.
   thread_local std::vector<std::uint32_t> others;
@@ -161,8 +162,9 @@ Proxy SupportFit::unbent(const ClusterNode& node, std::span<const std::uint32_t>
     const double rms = proxy_error(fit, points_, others).rms;
     if (rms <= best_rms) best_rms = rms, best = std::move(fit), left_out = j;
   }
-  if (!best || !(std::abs(best->value(points_.row(range[left_out]).transpose())) > kSupportFitReach * threshold)) return node.proxy;
-  return *best;
+  if (!best || !(std::abs(best->value(points_.row(range[left_out]).transpose())) > kSupportFitReach * threshold)) return std::nullopt;
+  rms = proxy_error(*best, points_, range).rms;  // over all the points, as the cluster fit's own RMS
+  return best;
 }
 
 /// Refits a polynomial proxy, in its cluster's frame, to the support points weighted by the
@@ -180,8 +182,10 @@ void SupportFit::refit(ClusterNode& node, std::span<const std::uint32_t> range, 
   // The support points are picked by a fit of the cluster's points; one that misses the
   // threshold because a stray bent it picks them by the fit of the other points, when those
   // meet the threshold without it.
-  const Proxy picker = unbent(node, range, threshold);
-  const double reach = kSupportFitReach * std::max(threshold, proxy_error(picker, points_, range).rms);
+  double picker_rms = node.rms_error;
+  const std::optional<Proxy> others_fit = unbent(node, range, threshold, picker_rms);
+  const Proxy& picker = others_fit ? *others_fit : node.proxy;
+  const double reach = kSupportFitReach * std::max(threshold, picker_rms);
   thread_local std::vector<std::uint32_t> ids;
   thread_local std::vector<double> weights;
   ids.clear();

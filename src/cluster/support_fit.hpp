@@ -58,10 +58,11 @@ class SupportFit {
  private:
   /// The weighted RMS of |Q| of `proxy` over the support points `inside` of `support`.
   SupportError weighted_error(const Proxy& proxy, const Sphere& support, std::span<const Neighbor> inside) const;
-  /// The node's proxy, or, where its cluster's fit misses `threshold` because of one stray point
-  /// (the fit of the others meets it, and the stray lies beyond kSupportFitReach thresholds of
-  /// that fit), the others' fit.
-  Proxy unbent(const ClusterNode& node, std::span<const std::uint32_t> range, double threshold) const;
+  /// Where the node's cluster fit misses `threshold` because of one stray point (the fit of the
+  /// others meets it, and the stray lies beyond kSupportFitReach thresholds of that fit), the
+  /// others' fit, with its RMS over all of `range` in `rms`; nullopt otherwise (`rms` untouched).
+  std::optional<Proxy> unbent(const ClusterNode& node, std::span<const std::uint32_t> range, double threshold,
+                              double& rms) const;
   void refit(ClusterNode& node, std::span<const std::uint32_t> range, std::span<const Neighbor> inside) const;
   bool accept(ClusterNode& node, std::span<const std::uint32_t> range, double threshold, double cut, Proxy fit) const;
 
