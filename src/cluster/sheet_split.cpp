@@ -30,8 +30,9 @@ Eigen::Vector3d mean_normal(const Points& normals, std::span<const std::uint32_t
 
 /// Whether the two groups (`side`) lie apart along `axis`, the direction between their mean
 /// normals: their mean heights differ by more than kApartErrors standard errors of that
-/// difference (from their pooled variance). Two sheets are a thickness or a fold apart; normals flipped by a scanner's
-/// orientation errors lie on the same sheet as their neighbours, within the noise.
+/// difference (from their pooled variance). Two sheets are a thickness or a fold apart;
+/// normals flipped by a scanner's orientation errors lie on the same sheet as their
+/// neighbours, within the noise.
 bool apart(const Points& points, std::span<const std::uint32_t> range, std::span<const std::uint8_t> side,
            const Eigen::Vector3d& axis) {
   double sum[2] = {0, 0}, sum2[2] = {0, 0}, count[2] = {0, 0};

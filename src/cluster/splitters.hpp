@@ -51,7 +51,7 @@ std::size_t split_at_gap(const Points& points, std::span<std::uint32_t> range, c
 /// a third of the points. Returns k as the other splitters, or 0 when the normals form one
 /// group or the few turned ones lie among the others (a scanner's orientation errors). One
 /// proxy fitted across two such sheets describes neither and points the wrong way on one.
-std::size_t split_two_sheets(const Points& points, const Points& normals, std::span<const std::uint32_t> ids, std::span<std::uint32_t> range,
-                             std::size_t min_side);
+std::size_t split_two_sheets(const Points& points, const Points& normals, std::span<const std::uint32_t> ids,
+                             std::span<std::uint32_t> range, std::size_t min_side);
 
 }  // namespace clustersurf::detail

@@ -1,6 +1,7 @@
 // The support check and the support fit of a would-be leaf (MPU's local fit).
 
 #include <clustersurf/implicit_surface.hpp>
+#include <clustersurf/moments.hpp>
 
 #include "cluster/support_fit.hpp"
 #include "proxy/crease_fit.hpp"
@@ -8,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 
 namespace clustersurf::detail {
 
@@ -47,14 +49,14 @@ constexpr double kMaxSupportGrowth = 4;
 /// computed from the same noisy positions, count the noise twice (virtual scans lost 1–5 %
 /// with every normal in). λ is capped at 100 r², where the positions only set the height.
 constexpr double kMinNormalWeight = 0.3 * 0.3;
+constexpr double kMaxNormalWeight = 100;
 /// A support point beyond the support fit's reach whose normal faces more than 135° away from
 /// the leaf's own sheet (cosine below minus this) lies on another sheet: the far side of a thin
 /// part, the opposite wall of a fold.
-constexpr double kOtherSheetCos = 0.7071067811865476;
+constexpr double kOtherSheetCos = std::numbers::sqrt2 / 2;
 /// A support stops at the kOtherSheetPoints-th nearest point of another sheet: a stray or two
 /// of the noise do not make one.
 constexpr std::size_t kOtherSheetPoints = 3;
-constexpr double kMaxNormalWeight = 100;
 
 }  // namespace
 
@@ -150,21 +152,26 @@ std::optional<Proxy> SupportFit::unbent(const ClusterNode& node, std::span<const
                                         double& rms) const {
   if (!(node.rms_error > threshold) || range.size() < kMinUnbentPoints + 1 || range.size() > kMaxUnbentPoints) return std::nullopt;
   const Frame& frame = std::get<PolyProxy>(node.proxy.variant()).frame;
-  // The fit of the points but one that leaves the least error: the stray is the one left out.
-  thread_local std::vector<std::uint32_t> others;
-  std::optional<Proxy> best;
+  // The point whose removal leaves the others' fit the least error (their moments less its
+  // own, an O(1) refit each): the stray, when the others then meet the threshold.
+  PolyMoments moments(frame, node.extent);
+  for (auto i : range) moments.add(points_.row(i).transpose());
   double best_rms = threshold;
-  std::size_t left_out = 0;
+  std::optional<std::size_t> stray;
   for (std::size_t j = 0; j < range.size(); ++j) {
-    others.assign(range.begin(), range.end());
-    others.erase(others.begin() + static_cast<std::ptrdiff_t>(j));
-    Proxy fit(fit_poly_in_frame(frame, points_, others));
-    const double rms = proxy_error(fit, points_, others).rms;
-    if (rms <= best_rms) best_rms = rms, best = std::move(fit), left_out = j;
+    const Eigen::Vector3d p = points_.row(range[j]).transpose();
+    PolyMoments others = moments;
+    others.remove(p);
+    if (const double e = others.rms_error(); e <= best_rms) best_rms = e, stray = j;
   }
-  if (!best || !(std::abs(best->value(points_.row(range[left_out]).transpose())) > kSupportFitReach * threshold)) return std::nullopt;
-  rms = proxy_error(*best, points_, range).rms;  // over all the points, as the cluster fit's own RMS
-  return best;
+  if (!stray) return std::nullopt;
+  thread_local std::vector<std::uint32_t> others;
+  others.assign(range.begin(), range.end());
+  others.erase(others.begin() + static_cast<std::ptrdiff_t>(*stray));
+  Proxy fit(fit_poly_in_frame(frame, points_, others));
+  if (!(std::abs(fit.value(points_.row(range[*stray]).transpose())) > kSupportFitReach * threshold)) return std::nullopt;
+  rms = proxy_error(fit, points_, range).rms;  // over all the points, as the cluster fit's own RMS
+  return fit;
 }
 
 /// Refits a polynomial proxy, in its cluster's frame, to the support points weighted by the

@@ -338,10 +338,10 @@ TriangleMesh placed_vertices(const detail::CellPolygons& polygons, const Field& 
         // F's cells put it: projecting it onto f = 0 would leave F's zero set.
         const bool filled = closed != nullptr && closed->filled(x);
         if (options.newton_steps > 0 && !filled) {
-          // Through the block's walk; where those steps do not settle (beside a crease, where
-          // the blended gradient leans between the faces), with more steps from the root.
+          // Where those steps do not settle (beside a crease, where the blended gradient leans
+          // between the faces), again with more; the block's walk covers a move of a cell.
           if (project(surface, &near, y, options.newton_steps, h, 1e-6 * h) ||
-              project(surface, nullptr, y = x, std::max(options.newton_steps, kRetrySteps), h, 1e-6 * h)) {
+              project(surface, &near, y = x, std::max(options.newton_steps, kRetrySteps), h, 1e-6 * h)) {
             if (closed == nullptr || !closed->filled(y)) x = y;  // onto f = 0, unless F is not f there
           } else if (field.fill && project(field.wide, &wide_walk(), y = x, options.newton_steps, h, 1e-6 * h)) {
             x = y;
