@@ -15,7 +15,7 @@
 //
 //   bench_io [--benchmark_filter=...] [--points=N]
 
-#include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
 
 #ifdef CLUSTERSURF_BENCH_E57
 #include "e57_writer.hpp"

@@ -1,11 +1,11 @@
 // build_tree IN OUT.cstree: the cluster tree of a point cloud, saved as `clustersurf reconstruct
 // IN -o OUT.cstree` saves it. Links clustersurf::tree only (no OpenVDB, no Embree).
 
-#include <clustersurf/cluster_tree.hpp>
-#include <clustersurf/errors.hpp>
-#include <clustersurf/orientation.hpp>
-#include <clustersurf/point_cloud_io.hpp>
-#include <clustersurf/tree_file.hpp>
+#include <clustersurf/cluster/cluster_tree.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/surface/orientation.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
 
 #include <iostream>
 

@@ -2,9 +2,9 @@
 // Properties every successful parse must have, checked by the fuzz targets (a violation aborts,
 // which libFuzzer reports as a crash with the input that caused it).
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/point_cloud.hpp>
-#include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/core/point_cloud.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
 
 #include <cstddef>
 #include <cstdint>

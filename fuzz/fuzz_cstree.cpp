@@ -4,8 +4,8 @@
 
 #include "fuzz_checks.hpp"
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/tree_file.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
 
 #include <zlib.h>
 

@@ -5,8 +5,8 @@
 
 #include "fuzz_checks.hpp"
 
-#include <clustersurf/point_cloud_io.hpp>
-#include <clustersurf/point_stream.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/io/point_stream.hpp>
 
 #include <cstring>
 #include <fstream>

@@ -4,7 +4,7 @@
 
 #include "fuzz_checks.hpp"
 
-#include "io/tiled_run_files.hpp"
+#include "tiling/tiled_run_files.hpp"
 
 #include <fstream>
 #include <optional>

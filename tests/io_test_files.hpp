@@ -4,7 +4,7 @@
 
 #include "test_support.hpp"
 
-#include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
 
 #include <gtest/gtest.h>
 

@@ -4,9 +4,9 @@
 // refused with InputError naming the file and carrying that message, quickly (nothing large is
 // allocated, no long loop runs). The CLI gives the same messages (tests/cli/test_cli.sh).
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/point_cloud_io.hpp>
-#include <clustersurf/tree_file.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
 
 #include <gtest/gtest.h>
 

@@ -2,9 +2,9 @@
 // order and with the same weights, as the walk from the root, so values and samples are the
 // same to the bit; inside and on the box, outside it, and on the bounding spheres it cuts.
 
-#include <clustersurf/box_walk.hpp>
-#include <clustersurf/errors.hpp>
-#include <clustersurf/orientation.hpp>
+#include <clustersurf/surface/box_walk.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/surface/orientation.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // Camera: rays through the image, automatic framing keeps the whole box in view, explicit eye.
 
-#include <clustersurf/camera.hpp>
-#include <clustersurf/errors.hpp>
-#include <clustersurf/image.hpp>
+#include <clustersurf/render/camera.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/render/image.hpp>
 
 #include <gtest/gtest.h>
 

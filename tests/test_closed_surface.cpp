@@ -3,12 +3,12 @@
 // surface unchanged where the leaves define it, inside(x), the real bunny scans and a machined
 // part.
 
-#include <clustersurf/closed_surface.hpp>
-#include <clustersurf/errors.hpp>
-#include <clustersurf/mesh_check.hpp>
-#include <clustersurf/point_cloud_io.hpp>
-#include <clustersurf/reconstruct.hpp>
-#include <clustersurf/surface_sampling.hpp>
+#include <clustersurf/surface/closed_surface.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/mesh/mesh_check.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
+#include <clustersurf/io/surface_sampling.hpp>
 
 #include <gtest/gtest.h>
 

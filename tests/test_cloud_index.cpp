@@ -1,12 +1,12 @@
 // CloudIndex: one k-d tree, one spacing and one clustered subset per cloud, the same answers
 // as computing each alone, and a tree built through it is the tree built from the cloud.
 
-#include <clustersurf/cloud_index.hpp>
-#include <clustersurf/cloud_stats.hpp>
-#include <clustersurf/cluster_tree.hpp>
-#include <clustersurf/errors.hpp>
-#include <clustersurf/outliers.hpp>
-#include <clustersurf/tree_file.hpp>
+#include <clustersurf/spatial/cloud_index.hpp>
+#include <clustersurf/spatial/cloud_stats.hpp>
+#include <clustersurf/cluster/cluster_tree.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/spatial/outliers.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
 
 #include <gtest/gtest.h>
 
@@ -72,11 +72,11 @@ TEST(CloudIndex, ClusteredRowsAreTheTreesRows) {
   const PointCloud c = torus_with_strays();
   const CloudIndex index(c);
   const ClusterTree tree = build_cluster_tree(index);
-  const CloudIndex::Subset rows = index.clustered(tree);
+  const CloudIndex::Subset rows = clustered_subset(index, tree);
   EXPECT_EQ(rows.positions, clustered_points(tree, c.positions));
   EXPECT_EQ(rows.index.size(), static_cast<std::size_t>(c.size()) - tree.outliers());
   // The builder's subset is the one kept: asking again builds nothing new.
-  EXPECT_EQ(&index.clustered(tree).index, &rows.index);
+  EXPECT_EQ(&clustered_subset(index, tree).index, &rows.index);
 }
 
 TEST(CloudIndex, AnotherCloudIsRefused) {
@@ -85,7 +85,7 @@ TEST(CloudIndex, AnotherCloudIsRefused) {
   const PointCloud other = test::sample_sphere(500);
   const CloudIndex index(other);
   try {
-    index.clustered(tree);
+    clustered_subset(index, tree);
     ADD_FAILURE() << "accepted";
   } catch (const OptionError& e) {
     EXPECT_NE(std::string(e.what()).find("are not the tree's input"), std::string::npos) << e.what();

@@ -4,8 +4,8 @@
 // the principal frame, bit for bit; without normals, a cluster as thick as it is wide (noise
 // above the point spacing) has no determined frame and is not split into smaller blobs.
 
-#include <clustersurf/reconstruct.hpp>
-#include <clustersurf/tree_file.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
 
 #include <gtest/gtest.h>
 

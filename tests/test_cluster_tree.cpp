@@ -1,12 +1,12 @@
 // Cluster tree: stop rules, partition invariants, determinism across thread counts, noise.
 
-#include <clustersurf/cluster_tree.hpp>
-#include <clustersurf/errors.hpp>
-#include <clustersurf/implicit_surface.hpp>
-#include <clustersurf/noise.hpp>
-#include <clustersurf/point_cloud_io.hpp>
-#include <clustersurf/orientation.hpp>
-#include <clustersurf/tree_file.hpp>
+#include <clustersurf/cluster/cluster_tree.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
+#include <clustersurf/cluster/noise.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/surface/orientation.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
 
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>

@@ -2,7 +2,7 @@
 // and refuses what is not one; a sampled cube reconstructed with crease leaves keeps its edges
 // within a small bound of the true ones, where smooth leaves round them off.
 
-#include <clustersurf/reconstruct.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
 
 #include <gtest/gtest.h>
 

@@ -5,11 +5,11 @@
 
 #include "test_support.hpp"
 
-#include <clustersurf/cluster_tree.hpp>
-#include <clustersurf/errors.hpp>
-#include <clustersurf/implicit_surface.hpp>
-#include <clustersurf/mesh_extraction.hpp>
-#include <clustersurf/orientation.hpp>
+#include <clustersurf/cluster/cluster_tree.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
+#include <clustersurf/mesh/mesh_extraction.hpp>
+#include <clustersurf/surface/orientation.hpp>
 
 #include <gtest/gtest.h>
 

@@ -6,8 +6,8 @@
 #include "e57_writer.hpp"
 #include "io_test_files.hpp"
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>

@@ -2,10 +2,10 @@
 // it costs (estimate_mesh) and the automatic cell of a tree (auto_cell_size): clumped points
 // do not make a grid finer than the points can resolve.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/mesh_extraction.hpp>
-#include <clustersurf/orientation.hpp>
-#include <clustersurf/reconstruct.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/mesh/mesh_extraction.hpp>
+#include <clustersurf/surface/orientation.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
 
 #include <gtest/gtest.h>
 

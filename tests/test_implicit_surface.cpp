@@ -1,8 +1,8 @@
 // Implicit surface: zero set near the data, gradient = finite differences, undefined outside
 // the supports, hierarchy traversal = brute force, level of detail.
 
-#include <clustersurf/implicit_surface.hpp>
-#include <clustersurf/orientation.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
+#include <clustersurf/surface/orientation.hpp>
 
 #include <gtest/gtest.h>
 

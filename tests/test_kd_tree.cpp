@@ -3,7 +3,7 @@
 
 #include "test_support.hpp"
 
-#include <clustersurf/kd_tree.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 
 #include <gtest/gtest.h>
 #include <tbb/parallel_for.h>

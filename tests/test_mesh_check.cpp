@@ -2,9 +2,9 @@
 // self-intersection test (shared corners and edges, folds, flat regions, duplicates), against a
 // brute-force count and across thread counts.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/mesh_check.hpp>
-#include <clustersurf/reconstruct.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/mesh/mesh_check.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>

@@ -3,11 +3,11 @@
 // tile, each vertex's color close to the points' around it, through PLY and GLB; E57 and PTX
 // scans' colors; the scanner's intensity as grey on request.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/kd_tree.hpp>
-#include <clustersurf/mesh_colors.hpp>
-#include <clustersurf/point_cloud_io.hpp>
-#include <clustersurf/reconstruct.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
+#include <clustersurf/mesh/mesh_colors.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
 // decimate(): a triangle budget and a distance bound on a meshed sphere, rims kept in place on
 // an open hemisphere, attributes carried, the same result every time.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/mesh_decimation.hpp>
-#include <clustersurf/mesh_extraction.hpp>
-#include <clustersurf/reconstruct.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/mesh/mesh_decimation.hpp>
+#include <clustersurf/mesh/mesh_extraction.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
 
 #include <gtest/gtest.h>
 

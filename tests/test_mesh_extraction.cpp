@@ -1,10 +1,10 @@
 // Mesh extraction: accuracy against the true surface, manifoldness, watertightness, Euler
 // characteristic, outward orientation, holes where data is missing.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/implicit_surface.hpp>
-#include <clustersurf/mesh_extraction.hpp>
-#include <clustersurf/orientation.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
+#include <clustersurf/mesh/mesh_extraction.hpp>
+#include <clustersurf/surface/orientation.hpp>
 
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>

@@ -1,10 +1,10 @@
 // Trimming a mesh to its input points: the part beyond the data goes, the rest stays as it was.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/implicit_surface.hpp>
-#include <clustersurf/mesh_extraction.hpp>
-#include <clustersurf/mesh_trim.hpp>
-#include <clustersurf/orientation.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
+#include <clustersurf/mesh/mesh_extraction.hpp>
+#include <clustersurf/mesh/mesh_trim.hpp>
+#include <clustersurf/surface/orientation.hpp>
 
 #include <gtest/gtest.h>
 

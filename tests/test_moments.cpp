@@ -1,6 +1,6 @@
 // Moment sums: fits from incrementally added/removed moments equal direct fits.
 
-#include <clustersurf/moments.hpp>
+#include <clustersurf/proxy/moments.hpp>
 
 #include <Eigen/Geometry>
 

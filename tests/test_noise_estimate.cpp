@@ -1,11 +1,11 @@
 // The noise estimate: Gaussian noise recovered, dense sampling, and a model's detail not read
 // as noise.
 
-#include <clustersurf/point_cloud_io.hpp>
-#include <clustersurf/errors.hpp>
-#include <clustersurf/kd_tree.hpp>
-#include <clustersurf/noise.hpp>
-#include <clustersurf/surface_sampling.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
+#include <clustersurf/cluster/noise.hpp>
+#include <clustersurf/io/surface_sampling.hpp>
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // close to the true normal on a noisy sphere, zero where the neighbours span no plane, and the
 // same whatever the thread count.
 
-#include <clustersurf/normal_estimation.hpp>
+#include <clustersurf/spatial/normal_estimation.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
 // The option words, parsed once in the library for the CLI and Python alike: each round-trips
 // its to_string(), and each refusal names the option, what it accepts and what it got.
 
-#include <clustersurf/cluster_tree.hpp>
-#include <clustersurf/errors.hpp>
-#include <clustersurf/mesh_extraction.hpp>
-#include <clustersurf/reconstruct.hpp>
+#include <clustersurf/cluster/cluster_tree.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/mesh/mesh_extraction.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
 
 #include <gtest/gtest.h>
 

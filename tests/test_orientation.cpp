@@ -1,7 +1,7 @@
 // Orientation: by normals, and by propagation on the bunny with its normals stripped.
 
-#include <clustersurf/orientation.hpp>
-#include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/surface/orientation.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>

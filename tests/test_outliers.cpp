@@ -1,13 +1,13 @@
 // The outlier test: isolated points are found, surface samples (synthetic and scanned) are kept,
 // and a tree built from a cloud with outliers meshes as if they were not there.
 
-#include <clustersurf/cluster_tree.hpp>
-#include <clustersurf/implicit_surface.hpp>
-#include <clustersurf/mesh_extraction.hpp>
-#include <clustersurf/orientation.hpp>
-#include <clustersurf/outliers.hpp>
-#include <clustersurf/point_cloud_io.hpp>
-#include <clustersurf/tree_file.hpp>
+#include <clustersurf/cluster/cluster_tree.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
+#include <clustersurf/mesh/mesh_extraction.hpp>
+#include <clustersurf/surface/orientation.hpp>
+#include <clustersurf/spatial/outliers.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
 
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>

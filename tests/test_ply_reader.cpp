@@ -4,8 +4,8 @@
 
 #include "io_test_files.hpp"
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
 
 #include <algorithm>
 #include <cmath>

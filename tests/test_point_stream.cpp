@@ -2,9 +2,9 @@
 // block at a time give the reader's points; other files are read whole; damaged files are
 // refused with the byte offset or line, and nothing is read past a refused point until a rewind.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/point_cloud_io.hpp>
-#include <clustersurf/point_stream.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/io/point_stream.hpp>
 
 #include <gtest/gtest.h>
 #include <lzf.h>

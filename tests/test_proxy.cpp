@@ -1,7 +1,7 @@
 // Proxies: fits recover known surfaces, Q is a signed distance near the surface, gradients
 // match finite differences, ray hits lie on the surface, degenerate fits stay finite.
 
-#include <clustersurf/proxy.hpp>
+#include <clustersurf/proxy/proxy.hpp>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>

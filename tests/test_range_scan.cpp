@@ -1,8 +1,8 @@
 // The virtual range scanner: points on the surface, seen from outside, with the noise and the
 // misregistration asked for, the same on every run and for any thread count.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/range_scan.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/evaluation/range_scan.hpp>
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>

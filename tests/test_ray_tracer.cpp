@@ -2,10 +2,10 @@
 // implicit and brute force give the same picture, every view draws something where expected,
 // results do not depend on the thread count, meshes and clouds render with the same camera.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/mesh_extraction.hpp>
-#include <clustersurf/orientation.hpp>
-#include <clustersurf/render.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/mesh/mesh_extraction.hpp>
+#include <clustersurf/surface/orientation.hpp>
+#include <clustersurf/render/render.hpp>
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>

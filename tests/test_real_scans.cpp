@@ -3,10 +3,10 @@
 
 #include "io_test_files.hpp"
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
 
-#include <clustersurf/cloud_stats.hpp>
+#include <clustersurf/spatial/cloud_stats.hpp>
 
 #include <gtest/gtest.h>
 

@@ -3,8 +3,8 @@
 
 #include "test_support.hpp"
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/resample.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/spatial/resample.hpp>
 
 #include <gtest/gtest.h>
 

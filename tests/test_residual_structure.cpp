@@ -2,9 +2,9 @@
 // neighbours (src/cluster/residual_structure.cpp), so fine relief survives noise while a flat,
 // equally noisy region still ends in large leaves that average the noise away.
 
-#include <clustersurf/cluster_tree.hpp>
-#include <clustersurf/implicit_surface.hpp>
-#include <clustersurf/orientation.hpp>
+#include <clustersurf/cluster/cluster_tree.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
+#include <clustersurf/surface/orientation.hpp>
 
 #include <gtest/gtest.h>
 

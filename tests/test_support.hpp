@@ -1,7 +1,7 @@
 #pragma once
 // Helpers shared by the unit tests: temporary folders, data locations, synthetic samples.
 
-#include <clustersurf/point_cloud.hpp>
+#include <clustersurf/core/point_cloud.hpp>
 
 #include <filesystem>
 #include <optional>

@@ -2,7 +2,7 @@
 // positions (exact normals on noisy positions), the fit follows their slopes and the surface
 // lands closer to the truth; where they add little (clean data), the tree is the positions'.
 
-#include <clustersurf/reconstruct.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // Point-to-mesh distance and the reconstruction scores, against cases with known answers.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/surface_comparison.hpp>
-#include <clustersurf/mesh_distance.hpp>
-#include <clustersurf/surface_sampling.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/evaluation/surface_comparison.hpp>
+#include <clustersurf/evaluation/mesh_distance.hpp>
+#include <clustersurf/io/surface_sampling.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Area-uniform sampling of meshes: placement, uniformity, noise level, outliers, determinism.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/surface_sampling.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/io/surface_sampling.hpp>
 
 #include <gtest/gtest.h>
 

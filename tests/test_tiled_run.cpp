@@ -1,12 +1,12 @@
 // A tiled run on disk: the partition, each stage a task that reads and writes files, the same
 // result as the tiled pipeline in memory; interrupted runs resume, damaged files are refused.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/kd_tree.hpp>
-#include <clustersurf/point_cloud_io.hpp>
-#include <clustersurf/reconstruct.hpp>
-#include <clustersurf/tiled_run.hpp>
-#include <clustersurf/tree_file.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
+#include <clustersurf/tiling/tiled_run.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
 
 #include <gtest/gtest.h>
 

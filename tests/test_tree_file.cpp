@@ -1,10 +1,10 @@
 // Tree files: bit-exact round trips, reproducible bytes, and a table of corruptions that must
 // each be rejected with a clear error.
 
-#include <clustersurf/cloud_stats.hpp>
-#include <clustersurf/errors.hpp>
-#include <clustersurf/point_cloud_io.hpp>
-#include <clustersurf/tree_file.hpp>
+#include <clustersurf/spatial/cloud_stats.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
 
 #include <gtest/gtest.h>
 #include <zlib.h>

@@ -3,9 +3,9 @@
 // are removed, and the directories it created when that leaves them empty; paths that cannot
 // be a work directory are refused before any work.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/point_cloud_io.hpp>
-#include <clustersurf/tiled_run.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/tiling/tiled_run.hpp>
 
 #include <gtest/gtest.h>
 

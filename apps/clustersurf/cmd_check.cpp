@@ -1,9 +1,9 @@
 #include "commands.hpp"
 #include "mesh_check_report.hpp"
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/mesh_check.hpp>
-#include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/mesh/mesh_check.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
 
 #include <fmt/format.h>
 

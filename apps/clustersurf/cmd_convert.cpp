@@ -1,7 +1,7 @@
 #include "commands.hpp"
 #include "input.hpp"
 
-#include <clustersurf/resample.hpp>
+#include <clustersurf/spatial/resample.hpp>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>

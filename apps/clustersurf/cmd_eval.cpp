@@ -1,7 +1,7 @@
 #include "commands.hpp"
 
-#include <clustersurf/surface_comparison.hpp>
-#include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/evaluation/surface_comparison.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>

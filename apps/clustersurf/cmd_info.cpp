@@ -1,7 +1,7 @@
 #include "commands.hpp"
 #include "tree_report.hpp"
 
-#include <clustersurf/tree_file.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
 
 #include <iostream>
 

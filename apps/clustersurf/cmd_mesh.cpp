@@ -2,7 +2,7 @@
 #include "input.hpp"
 #include "mesh_stage.hpp"
 
-#include <clustersurf/tree_file.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
 
 #include <iostream>
 

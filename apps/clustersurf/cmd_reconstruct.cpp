@@ -3,9 +3,9 @@
 #include "mesh_stage.hpp"
 #include "tree_report.hpp"
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/tiled_run.hpp>
-#include <clustersurf/tree_file.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/tiling/tiled_run.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
 
 #include <fmt/format.h>
 

@@ -1,9 +1,9 @@
 #include "commands.hpp"
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/point_cloud_io.hpp>
-#include <clustersurf/range_scan.hpp>
-#include <clustersurf/surface_sampling.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/evaluation/range_scan.hpp>
+#include <clustersurf/io/surface_sampling.hpp>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>

@@ -1,7 +1,7 @@
 #include "commands.hpp"
 #include "input.hpp"
 
-#include <clustersurf/cloud_stats.hpp>
+#include <clustersurf/spatial/cloud_stats.hpp>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>

@@ -1,9 +1,9 @@
 #include "commands.hpp"
 #include "input.hpp"
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/html_viewer.hpp>
-#include <clustersurf/tree_file.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/view/html_viewer.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>

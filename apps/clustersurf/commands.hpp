@@ -4,13 +4,13 @@
 
 #include "console.hpp"
 
-#include <clustersurf/html_viewer.hpp>
-#include <clustersurf/point_cloud_io.hpp>
-#include <clustersurf/range_scan.hpp>
-#include <clustersurf/reconstruct.hpp>
-#include <clustersurf/render.hpp>
-#include <clustersurf/surface_comparison.hpp>
-#include <clustersurf/surface_sampling.hpp>
+#include <clustersurf/view/html_viewer.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/evaluation/range_scan.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
+#include <clustersurf/render/render.hpp>
+#include <clustersurf/evaluation/surface_comparison.hpp>
+#include <clustersurf/io/surface_sampling.hpp>
 
 #include <cstdint>
 #include <optional>

@@ -2,7 +2,7 @@
 // Terminal output of the CLI: human text on stdout, JSON on stdout with --json, warnings and a
 // progress bar on stderr (the bar only when stderr is a terminal and neither --quiet nor --json).
 
-#include <clustersurf/progress.hpp>
+#include <clustersurf/core/progress.hpp>
 
 #include <chrono>
 #include <mutex>

@@ -3,7 +3,7 @@
 
 #include "commands.hpp"
 
-#include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
 
 namespace clustersurf::cli {
 

@@ -4,8 +4,8 @@
 #include "commands.hpp"
 #include "interrupt.hpp"
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/mesh_extraction.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/mesh/mesh_extraction.hpp>
 #include <clustersurf/version.hpp>
 
 #include <CLI/CLI.hpp>

@@ -2,7 +2,7 @@
 // The print-readiness report of a mesh (check_mesh()) shared by `check` and the mesh stage:
 // text lines and JSON.
 
-#include <clustersurf/mesh_check.hpp>
+#include <clustersurf/mesh/mesh_check.hpp>
 
 #include <nlohmann/json.hpp>
 

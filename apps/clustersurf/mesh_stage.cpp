@@ -2,7 +2,7 @@
 
 #include "mesh_check_report.hpp"
 
-#include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
 
 #include <fmt/format.h>
 

@@ -4,7 +4,7 @@
 
 #include "commands.hpp"
 
-#include <clustersurf/reconstruct.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
 
 #include <nlohmann/json.hpp>
 

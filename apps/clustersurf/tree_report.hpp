@@ -1,7 +1,7 @@
 #pragma once
 // The description of a cluster tree shared by `info` and `reconstruct`: text lines and JSON.
 
-#include <clustersurf/cluster_tree.hpp>
+#include <clustersurf/cluster/cluster_tree.hpp>
 
 #include <nlohmann/json.hpp>
 

@@ -1,53 +1,57 @@
 #pragma once
-// Every public header of clustersurf. Link clustersurf::clustersurf for all of it, or only the
-// part a program uses (docs/architecture.md, "Using the library"): clustersurf::tree builds and
-// saves trees without OpenVDB or Embree.
+// Every public header of clustersurf, by library part: a folder per part (src/ and
+// include/clustersurf/ alike), each part including only the parts below it. Link
+// clustersurf::clustersurf for all of it, or only the part a program uses (docs/architecture.md,
+// "Using the library"): clustersurf::tree builds and saves trees without OpenVDB or Embree.
 
 #include <clustersurf/version.hpp>
 
-// io and errors (clustersurf::io)
-#include <clustersurf/errors.hpp>
-#include <clustersurf/point_cloud.hpp>
-#include <clustersurf/point_cloud_io.hpp>
-#include <clustersurf/progress.hpp>
-#include <clustersurf/point_stream.hpp>
-#include <clustersurf/tiled_run.hpp>
-#include <clustersurf/tiling.hpp>
-#include <clustersurf/tree_file.hpp>
+// the readers and writers (clustersurf::io)
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/core/point_cloud.hpp>
+#include <clustersurf/core/progress.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/io/point_stream.hpp>
+#include <clustersurf/io/surface_sampling.hpp>
 
-// points, proxies, the tree and its implicit surface (clustersurf::tree)
-#include <clustersurf/cloud_stats.hpp>
-#include <clustersurf/normal_estimation.hpp>
-#include <clustersurf/cluster_tree.hpp>
-#include <clustersurf/implicit_surface.hpp>
-#include <clustersurf/closed_surface.hpp>
-#include <clustersurf/kd_tree.hpp>
-#include <clustersurf/moments.hpp>
-#include <clustersurf/noise.hpp>
-#include <clustersurf/orientation.hpp>
-#include <clustersurf/outliers.hpp>
-#include <clustersurf/palette.hpp>
-#include <clustersurf/proxy.hpp>
-#include <clustersurf/resample.hpp>
+// points, proxies, the tree, its implicit surface and its regions (clustersurf::tree)
+#include <clustersurf/spatial/cloud_index.hpp>
+#include <clustersurf/spatial/cloud_stats.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
+#include <clustersurf/spatial/normal_estimation.hpp>
+#include <clustersurf/spatial/outliers.hpp>
+#include <clustersurf/spatial/resample.hpp>
+#include <clustersurf/proxy/moments.hpp>
+#include <clustersurf/proxy/proxy.hpp>
+#include <clustersurf/cluster/cluster_tree.hpp>
+#include <clustersurf/cluster/noise.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
+#include <clustersurf/surface/box_walk.hpp>
+#include <clustersurf/surface/closed_surface.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
+#include <clustersurf/surface/orientation.hpp>
+#include <clustersurf/surface/palette.hpp>
+#include <clustersurf/regions/regions.hpp>
 
-// meshing and the pipeline (clustersurf::mesh)
-#include <clustersurf/mesh_colors.hpp>
-#include <clustersurf/mesh_extraction.hpp>
-#include <clustersurf/mesh_trim.hpp>
-#include <clustersurf/mesh_decimation.hpp>
-#include <clustersurf/reconstruct.hpp>
+// meshing, the pipeline and its tiled runs (clustersurf::mesh)
+#include <clustersurf/mesh/mesh_check.hpp>
+#include <clustersurf/mesh/mesh_colors.hpp>
+#include <clustersurf/mesh/mesh_decimation.hpp>
+#include <clustersurf/mesh/mesh_extraction.hpp>
+#include <clustersurf/mesh/mesh_trim.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
+#include <clustersurf/tiling/tiled_run.hpp>
+#include <clustersurf/tiling/tiling.hpp>
 
 // pictures (clustersurf::render)
-#include <clustersurf/camera.hpp>
-#include <clustersurf/image.hpp>
-#include <clustersurf/render.hpp>
+#include <clustersurf/render/camera.hpp>
+#include <clustersurf/render/image.hpp>
+#include <clustersurf/render/render.hpp>
 
 // benchmark inputs and scores (clustersurf::evaluation)
-#include <clustersurf/mesh_distance.hpp>
-#include <clustersurf/mesh_check.hpp>
-#include <clustersurf/range_scan.hpp>
-#include <clustersurf/surface_comparison.hpp>
-#include <clustersurf/surface_sampling.hpp>
+#include <clustersurf/evaluation/mesh_distance.hpp>
+#include <clustersurf/evaluation/range_scan.hpp>
+#include <clustersurf/evaluation/surface_comparison.hpp>
 
 // the HTML viewer (clustersurf::viewer)
-#include <clustersurf/html_viewer.hpp>
+#include <clustersurf/view/html_viewer.hpp>

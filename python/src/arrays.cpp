@@ -2,7 +2,7 @@
 
 #include "bindings.hpp"
 
-#include <clustersurf/errors.hpp>
+#include <clustersurf/core/errors.hpp>
 
 #include <limits>
 #include <mutex>

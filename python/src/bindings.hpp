@@ -3,10 +3,10 @@
 // progress callbacks that check for Ctrl-C, and the functions that add each group of bindings
 // to the module.
 
-#include <clustersurf/cluster_tree.hpp>
-#include <clustersurf/point_cloud.hpp>
-#include <clustersurf/progress.hpp>
-#include <clustersurf/reconstruct.hpp>
+#include <clustersurf/cluster/cluster_tree.hpp>
+#include <clustersurf/core/point_cloud.hpp>
+#include <clustersurf/core/progress.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>

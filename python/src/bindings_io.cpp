@@ -2,12 +2,12 @@
 
 #include "bindings.hpp"
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/mesh_check.hpp>
-#include <clustersurf/surface_comparison.hpp>
-#include <clustersurf/point_cloud_io.hpp>
-#include <clustersurf/range_scan.hpp>
-#include <clustersurf/surface_sampling.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/mesh/mesh_check.hpp>
+#include <clustersurf/evaluation/surface_comparison.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/evaluation/range_scan.hpp>
+#include <clustersurf/io/surface_sampling.hpp>
 
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>

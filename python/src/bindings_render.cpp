@@ -2,8 +2,8 @@
 
 #include "bindings.hpp"
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/render.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/render/render.hpp>
 
 #include <pybind11/stl.h>
 

@@ -3,7 +3,7 @@
 
 #include "bindings.hpp"
 
-#include <clustersurf/tiled_run.hpp>
+#include <clustersurf/tiling/tiled_run.hpp>
 
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>

@@ -2,13 +2,13 @@
 
 #include "bindings.hpp"
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/implicit_surface.hpp>
-#include <clustersurf/closed_surface.hpp>
-#include <clustersurf/reconstruct.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
+#include <clustersurf/surface/closed_surface.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
 
 #include <tbb/parallel_for.h>
-#include <clustersurf/tree_file.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
 
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>

@@ -3,7 +3,7 @@
 
 #include "bindings.hpp"
 
-#include <clustersurf/errors.hpp>
+#include <clustersurf/core/errors.hpp>
 #include <clustersurf/version.hpp>
 
 #include <new>

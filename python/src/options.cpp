@@ -2,8 +2,8 @@
 
 #include "bindings.hpp"
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/mesh_extraction.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/mesh/mesh_extraction.hpp>
 
 #include <cmath>
 

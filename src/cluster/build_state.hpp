@@ -2,7 +2,7 @@
 // What the tree builder's passes share: the working copy of the points in cluster order, the
 // nodes under construction, and the error a test over n points allows.
 
-#include <clustersurf/cluster_tree.hpp>
+#include <clustersurf/cluster/cluster_tree.hpp>
 
 #include <cmath>
 #include <cstdint>

@@ -2,7 +2,7 @@
 // A cluster's local frame: its tangent plane, from its positions or its input normals,
 // whichever is more certain.
 
-#include <clustersurf/proxy.hpp>
+#include <clustersurf/proxy/proxy.hpp>
 
 #include "cluster/estimated_normals.hpp"
 

@@ -1,7 +1,7 @@
 // ClusterTree's members, the option names and their parsers, and the thresholds a tree implies.
 
-#include <clustersurf/cluster_tree.hpp>
-#include <clustersurf/errors.hpp>
+#include <clustersurf/cluster/cluster_tree.hpp>
+#include <clustersurf/core/errors.hpp>
 
 #include "cluster/build_state.hpp"
 

@@ -1,7 +1,7 @@
 // The input points a tree clusters (its input without the outliers).
 
-#include <clustersurf/cluster_tree.hpp>
-#include <clustersurf/errors.hpp>
+#include <clustersurf/cluster/cluster_tree.hpp>
+#include <clustersurf/core/errors.hpp>
 
 #include <numeric>
 #include <string>
@@ -31,6 +31,11 @@ Points clustered_points(const ClusterTree& tree, const Points& input) {
   require_tree_input(tree, input);
   if (tree.outliers() == 0 || tree.point_leaf.empty()) return input;
   return input(clustered_rows(tree), Eigen::all);
+}
+
+CloudIndex::Subset clustered_subset(const CloudIndex& cloud, const ClusterTree& tree) {
+  require_tree_input(tree, cloud.cloud().positions);
+  return cloud.rows(clustered_rows(tree));
 }
 
 }  // namespace clustersurf

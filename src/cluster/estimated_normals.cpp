@@ -1,6 +1,6 @@
 #include "cluster/estimated_normals.hpp"
 
-#include <clustersurf/normal_estimation.hpp>
+#include <clustersurf/spatial/normal_estimation.hpp>
 
 namespace clustersurf::detail {
 

@@ -2,7 +2,7 @@
 // Normals estimated from the positions, on demand, for the frames of clusters whose own
 // principal frame the noise chooses.
 
-#include <clustersurf/kd_tree.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 
 #include <cstdint>
 #include <vector>

@@ -2,7 +2,7 @@
 
 #include "cluster/local_fit.hpp"
 
-#include <clustersurf/proxy.hpp>
+#include <clustersurf/proxy/proxy.hpp>
 
 #include <cmath>
 #include <limits>

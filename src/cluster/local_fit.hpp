@@ -2,7 +2,7 @@
 // The noise estimate's local fit (a quadratic height field over a point's neighbourhood), and
 // how much of the noise such a fit follows.
 
-#include <clustersurf/point_cloud.hpp>
+#include <clustersurf/core/point_cloud.hpp>
 
 #include <cstddef>
 #include <cstdint>

@@ -1,7 +1,7 @@
-#include <clustersurf/errors.hpp>
-#include <clustersurf/kd_tree.hpp>
-#include <clustersurf/noise.hpp>
-#include <clustersurf/proxy.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
+#include <clustersurf/cluster/noise.hpp>
+#include <clustersurf/proxy/proxy.hpp>
 
 #include "cluster/local_fit.hpp"
 #include "core/splitmix.hpp"

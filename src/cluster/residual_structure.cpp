@@ -2,7 +2,7 @@
 
 #include "cluster/residual_structure.hpp"
 
-#include <clustersurf/kd_tree.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 
 #include <algorithm>
 #include <cmath>

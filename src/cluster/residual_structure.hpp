@@ -1,8 +1,8 @@
 #pragma once
 // Telling a proxy's systematic misfit from noise by the structure of its residuals.
 
-#include <clustersurf/point_cloud.hpp>
-#include <clustersurf/proxy.hpp>
+#include <clustersurf/core/point_cloud.hpp>
+#include <clustersurf/proxy/proxy.hpp>
 
 #include <cstdint>
 #include <span>

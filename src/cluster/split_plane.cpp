@@ -3,7 +3,7 @@
 
 #include "cluster/splitters.hpp"
 
-#include <clustersurf/moments.hpp>
+#include <clustersurf/proxy/moments.hpp>
 
 #include "cluster/key_sort.hpp"
 

@@ -3,7 +3,7 @@
 // so that the first k indices form one child and return k, or 0 when no split leaves both
 // children with at least options.min_points points.
 
-#include <clustersurf/cluster_tree.hpp>
+#include <clustersurf/cluster/cluster_tree.hpp>
 
 #include <span>
 

@@ -1,7 +1,6 @@
 // The support check and the support fit of a would-be leaf (MPU's local fit).
 
-#include <clustersurf/implicit_surface.hpp>
-#include <clustersurf/moments.hpp>
+#include <clustersurf/proxy/moments.hpp>
 
 #include "cluster/support_fit.hpp"
 #include "proxy/crease_fit.hpp"

@@ -1,7 +1,7 @@
 #pragma once
 // Sampling the input points inside a support sphere at a bounded cost, for the support check.
 
-#include <clustersurf/kd_tree.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 
 #include <vector>
 

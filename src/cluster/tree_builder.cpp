@@ -1,10 +1,10 @@
 // Recursive construction of the cluster tree (thesis ch. 3), subtrees in parallel.
 
-#include <clustersurf/cloud_stats.hpp>
-#include <clustersurf/cluster_tree.hpp>
-#include <clustersurf/errors.hpp>
-#include <clustersurf/kd_tree.hpp>
-#include <clustersurf/noise.hpp>
+#include <clustersurf/spatial/cloud_stats.hpp>
+#include <clustersurf/cluster/cluster_tree.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
+#include <clustersurf/cluster/noise.hpp>
 
 #include "cluster/build_state.hpp"
 #include "cluster/cluster_frame.hpp"

@@ -1,4 +1,4 @@
-#include <clustersurf/cluster_tree.hpp>
+#include <clustersurf/cluster/cluster_tree.hpp>
 
 #include <algorithm>
 

@@ -1,9 +1,8 @@
 #pragma once
 // One Embree device and scene for ray casting (rendering meshes and clouds, scanning meshes).
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/point_cloud.hpp>
-#include <clustersurf/proxy.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/core/point_cloud.hpp>
 
 #include <embree3/rtcore.h>
 

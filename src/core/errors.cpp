@@ -1,4 +1,4 @@
-#include <clustersurf/errors.hpp>
+#include <clustersurf/core/errors.hpp>
 
 #include <fmt/format.h>
 

@@ -1,6 +1,6 @@
 // Whole-cloud operations on the value types of point_cloud.hpp.
 
-#include <clustersurf/point_cloud.hpp>
+#include <clustersurf/core/point_cloud.hpp>
 
 #include <cmath>
 

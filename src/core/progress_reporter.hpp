@@ -2,8 +2,8 @@
 // Thread-safe bridge between parallel work and a user's ProgressCallback: counts work done,
 // calls the callback at most ~1000 times, serialized, and turns a "stop" answer into Cancelled.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/progress.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/core/progress.hpp>
 
 #include <atomic>
 #include <algorithm>

@@ -1,5 +1,5 @@
-#include <clustersurf/errors.hpp>
-#include <clustersurf/mesh_distance.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/evaluation/mesh_distance.hpp>
 
 #include <Eigen/Geometry>
 #include <embree3/rtcore.h>

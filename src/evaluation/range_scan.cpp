@@ -1,7 +1,7 @@
 // The virtual range scanner (see range_scan.hpp): Embree casts each scan's grid of rays.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/range_scan.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/evaluation/range_scan.hpp>
 
 #include "core/embree_scene.hpp"
 #include "core/portable_random.hpp"

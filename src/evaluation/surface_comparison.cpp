@@ -1,10 +1,10 @@
-#include <clustersurf/errors.hpp>
-#include <clustersurf/surface_comparison.hpp>
-#include <clustersurf/cloud_stats.hpp>
-#include <clustersurf/kd_tree.hpp>
-#include <clustersurf/mesh_distance.hpp>
-#include <clustersurf/resample.hpp>
-#include <clustersurf/surface_sampling.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/evaluation/surface_comparison.hpp>
+#include <clustersurf/spatial/cloud_stats.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
+#include <clustersurf/evaluation/mesh_distance.hpp>
+#include <clustersurf/spatial/resample.hpp>
+#include <clustersurf/io/surface_sampling.hpp>
 
 #include <tbb/parallel_for.h>
 

@@ -1,6 +1,6 @@
 #include "io/atomic_file.hpp"
 
-#include <clustersurf/errors.hpp>
+#include <clustersurf/core/errors.hpp>
 
 #include <cerrno>
 #include <cstdlib>

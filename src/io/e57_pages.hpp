@@ -3,7 +3,7 @@
 // which every page ends with a CRC-32C of the rest of it. Offsets stored in an E57 file are
 // physical (CRC bytes included); content is read through logical offsets (CRC bytes removed).
 
-#include <clustersurf/errors.hpp>
+#include <clustersurf/core/errors.hpp>
 
 #include <cstdint>
 #include <filesystem>

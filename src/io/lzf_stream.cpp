@@ -5,7 +5,7 @@
 
 #include "io/lzf_stream.hpp"
 
-#include <clustersurf/errors.hpp>
+#include <clustersurf/core/errors.hpp>
 
 #include <algorithm>
 #include <cstring>

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include <clustersurf/errors.hpp>
+#include <clustersurf/core/errors.hpp>
 
 #include <cerrno>
 #include <cstring>

@@ -2,8 +2,8 @@
 
 #include "io/atomic_file.hpp"
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
 
 #include <fmt/format.h>
 

@@ -3,7 +3,7 @@
 // file's size, and the ascii, binary and binary_compressed records read one at a time
 // (pcd_header.cpp), which PointStream also reads a block at a time.
 
-#include <clustersurf/errors.hpp>
+#include <clustersurf/core/errors.hpp>
 
 #include "io/lzf_stream.hpp"
 #include "io/text_parse.hpp"

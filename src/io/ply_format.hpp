@@ -6,7 +6,7 @@
 
 #include "io/readers.hpp"
 
-#include <clustersurf/errors.hpp>
+#include <clustersurf/core/errors.hpp>
 
 #include <array>
 #include <bit>

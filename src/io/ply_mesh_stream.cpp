@@ -2,7 +2,7 @@
 
 #include "io/ply_mesh_stream.hpp"
 
-#include <clustersurf/errors.hpp>
+#include <clustersurf/core/errors.hpp>
 
 namespace clustersurf::io {
 

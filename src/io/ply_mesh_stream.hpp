@@ -4,7 +4,7 @@
 
 #include "io/atomic_file.hpp"
 
-#include <clustersurf/point_cloud.hpp>
+#include <clustersurf/core/point_cloud.hpp>
 
 #include <cstdint>
 #include <optional>

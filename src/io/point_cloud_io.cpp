@@ -3,9 +3,9 @@
 #include "io/mapped_file.hpp"
 #include "io/readers.hpp"
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/point_cloud_io.hpp>
-#include <clustersurf/surface_sampling.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/io/surface_sampling.hpp>
 
 #include <Eigen/Geometry>
 #include <fmt/format.h>

@@ -1,8 +1,8 @@
 // Point files read a block at a time: binary PLY points, LAS, E57, PCD (ascii, binary and
 // binary_compressed), PTX and XYZ text in place, anything else whole.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/point_stream.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/io/point_stream.hpp>
 
 #include "io/mapped_file.hpp"
 #include "io/pcd_format.hpp"

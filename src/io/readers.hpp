@@ -1,9 +1,9 @@
 #pragma once
 // Format-specific readers behind read_point_cloud() and read_triangle_mesh().
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/point_cloud.hpp>
-#include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/core/point_cloud.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
 
 #include "io/text_parse.hpp"
 

@@ -1,5 +1,5 @@
-#include <clustersurf/errors.hpp>
-#include <clustersurf/surface_sampling.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/io/surface_sampling.hpp>
 
 #include "core/portable_random.hpp"
 

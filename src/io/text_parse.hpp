@@ -1,7 +1,7 @@
 #pragma once
 // Small helpers for the text readers: number parsing and a line-counting token cursor.
 
-#include <clustersurf/errors.hpp>
+#include <clustersurf/core/errors.hpp>
 
 #include <algorithm>
 #include <charconv>

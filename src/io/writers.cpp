@@ -4,8 +4,8 @@
 #include "io/atomic_file.hpp"
 #include "io/ply_mesh_stream.hpp"
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/point_cloud_io.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
 
 #include <fmt/format.h>
 

@@ -6,7 +6,7 @@
 #include "io/readers.hpp"
 #include "io/text_parse.hpp"
 
-#include <clustersurf/errors.hpp>
+#include <clustersurf/core/errors.hpp>
 
 #include <algorithm>
 #include <array>

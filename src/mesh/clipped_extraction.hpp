@@ -1,7 +1,7 @@
 #pragma once
 // Mesh extraction over part of the lattice: the tiles of a tiled mesh.
 
-#include <clustersurf/mesh_extraction.hpp>
+#include <clustersurf/mesh/mesh_extraction.hpp>
 
 namespace clustersurf::detail {
 

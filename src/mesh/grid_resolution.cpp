@@ -1,8 +1,8 @@
 // The mesh grid matched to the sampling density of the input points, and what a walk of it costs.
 
-#include <clustersurf/cloud_stats.hpp>
-#include <clustersurf/errors.hpp>
-#include <clustersurf/mesh_extraction.hpp>
+#include <clustersurf/spatial/cloud_stats.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/mesh/mesh_extraction.hpp>
 
 #include "mesh/clipped_extraction.hpp"
 

@@ -1,4 +1,4 @@
-#include <clustersurf/mesh_check.hpp>
+#include <clustersurf/mesh/mesh_check.hpp>
 
 #include <limits>
 

@@ -1,6 +1,6 @@
-#include <clustersurf/errors.hpp>
-#include <clustersurf/kd_tree.hpp>
-#include <clustersurf/mesh_colors.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
+#include <clustersurf/mesh/mesh_colors.hpp>
 
 #include <tbb/parallel_for.h>
 

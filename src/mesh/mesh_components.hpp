@@ -1,7 +1,7 @@
 #pragma once
 // Connected components of a triangle mesh's vertices.
 
-#include <clustersurf/point_cloud.hpp>
+#include <clustersurf/core/point_cloud.hpp>
 
 #include <cstdint>
 #include <vector>

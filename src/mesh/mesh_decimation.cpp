@@ -1,8 +1,8 @@
 // decimate(): meshoptimizer's simplifier on float positions, then the surviving vertices
 // gathered in their original order with their attributes.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/mesh_decimation.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/mesh/mesh_decimation.hpp>
 
 #include "mesh/mesh_subset.hpp"
 

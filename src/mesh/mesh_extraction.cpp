@@ -1,9 +1,9 @@
 // Surface-following sparse grid walk (its state in walk_grid: OpenVDB), then polygonization
 // (cell_polygonizer: OpenVDB) and projection of the vertices onto f = 0.
 
-#include <clustersurf/box_walk.hpp>
-#include <clustersurf/errors.hpp>
-#include <clustersurf/mesh_extraction.hpp>
+#include <clustersurf/surface/box_walk.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/mesh/mesh_extraction.hpp>
 
 #include "core/progress_reporter.hpp"
 #include "core/system_memory.hpp"

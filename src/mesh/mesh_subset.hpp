@@ -1,7 +1,7 @@
 #pragma once
 // Sub-meshes: some of a mesh's triangles, with only the vertices they use.
 
-#include <clustersurf/point_cloud.hpp>
+#include <clustersurf/core/point_cloud.hpp>
 
 #include <cstdint>
 #include <vector>

@@ -1,5 +1,5 @@
-#include <clustersurf/errors.hpp>
-#include <clustersurf/mesh_extraction.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/mesh/mesh_extraction.hpp>
 
 #include "mesh/mesh_components.hpp"
 

@@ -1,9 +1,9 @@
 // Dropping the triangles that reach beyond the input points, and the fragments they do not support.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/kd_tree.hpp>
-#include <clustersurf/mesh_trim.hpp>
-#include <clustersurf/moments.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
+#include <clustersurf/mesh/mesh_trim.hpp>
+#include <clustersurf/proxy/moments.hpp>
 
 #include "mesh/data_reach.hpp"
 #include "mesh/mesh_components.hpp"

@@ -1,7 +1,7 @@
 #pragma once
 // Vertices at the same position, as one.
 
-#include <clustersurf/point_cloud.hpp>
+#include <clustersurf/core/point_cloud.hpp>
 
 #include <cstdint>
 #include <vector>

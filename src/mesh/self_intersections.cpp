@@ -14,8 +14,8 @@
 // the other; sharing an edge, two triangles in different planes meet only on that edge, in
 // the same plane they overlap exactly when both lie on the same side of it (folded flat).
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/mesh_check.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/mesh/mesh_check.hpp>
 
 #include "mesh/position_ids.hpp"
 

@@ -1,9 +1,9 @@
 // The mesh step of the pipeline: grid, mesher, trim and colors for a tree.
 
-#include <clustersurf/cloud_stats.hpp>
-#include <clustersurf/errors.hpp>
-#include <clustersurf/mesh_colors.hpp>
-#include <clustersurf/reconstruct.hpp>
+#include <clustersurf/spatial/cloud_stats.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/mesh/mesh_colors.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
 
 #include "mesh/mesh_closing.hpp"
 #include "mesh/mesh_untangle.hpp"
@@ -71,7 +71,7 @@ TriangleMesh closed_mesh(const ImplicitSurface& surface, const SurfaceMeshOption
 /// colors_from_points() of `colors` (one per input point) over the rows the tree clusters (its
 /// outliers' colors left out).
 Colors clustered_colors(const TriangleMesh& mesh, const ClusterTree& tree, const CloudIndex& input, const Colors& colors) {
-  const CloudIndex::Subset data = input.clustered(tree);
+  const CloudIndex::Subset data = clustered_subset(input, tree);
   if (data.positions.rows() == colors.rows()) return colors_from_points(mesh, data.index, colors);
   const std::vector<std::uint32_t> rows = clustered_rows(tree);
   return colors_from_points(mesh, data.index, colors(rows, Eigen::all));
@@ -107,11 +107,11 @@ SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options
   SurfaceMesh out;
   out.blended_nodes = surface.cut().size();
   if (options.closing.enabled) {
-    out.mesh = closed_mesh(surface, options, grid, input == nullptr ? nullptr : &input->clustered(tree).index, out, progress);
+    out.mesh = closed_mesh(surface, options, grid, input == nullptr ? nullptr : &clustered_subset(*input, tree).index, out, progress);
   } else {
     out.mesh = extract_mesh(surface, grid, &out.grid, progress);
     // Trimmed to the clustered points: an outlier next to an extrapolated flap must not keep it.
-    if (input != nullptr) out.mesh = trim_to_points(out.mesh, input->clustered(tree).index, options.trim, &out.trim);
+    if (input != nullptr) out.mesh = trim_to_points(out.mesh, clustered_subset(*input, tree).index, options.trim, &out.trim);
   }
   if (options.decimation.enabled()) {
     out.mesh = decimate(out.mesh, options.decimation, &out.decimation);

@@ -1,7 +1,7 @@
 // The pipeline: a point cloud to an oriented cluster tree and, on request, its mesh.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/reconstruct.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
 
 #include <Eigen/Eigenvalues>
 

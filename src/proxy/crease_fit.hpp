@@ -2,7 +2,7 @@
 // A leaf on a sharp edge: two planes meeting along a crease inside the cluster (MPU's edge
 // function), for clusters whose points lie on two faces.
 
-#include <clustersurf/proxy.hpp>
+#include <clustersurf/proxy/proxy.hpp>
 
 #include <optional>
 #include <span>

@@ -1,6 +1,6 @@
 // Running moment sums for O(1) plane and polynomial fits.
 
-#include <clustersurf/moments.hpp>
+#include <clustersurf/proxy/moments.hpp>
 
 #include "proxy/linear_algebra.hpp"
 

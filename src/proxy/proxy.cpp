@@ -1,7 +1,7 @@
 // Evaluation of the proxies: value, gradient, ray intersection, flipping.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/proxy.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/proxy/proxy.hpp>
 
 #include "core/overloaded.hpp"
 #include "proxy/linear_algebra.hpp"

@@ -1,7 +1,7 @@
 // Least-squares fits of the proxies to a cluster's points (thesis ch. 4).
 
-#include <clustersurf/moments.hpp>
-#include <clustersurf/proxy.hpp>
+#include <clustersurf/proxy/moments.hpp>
+#include <clustersurf/proxy/proxy.hpp>
 
 #include "proxy/crease_fit.hpp"
 #include "proxy/linear_algebra.hpp"

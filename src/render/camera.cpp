@@ -1,7 +1,7 @@
 // Pinhole camera and automatic framing.
 
-#include <clustersurf/camera.hpp>
-#include <clustersurf/errors.hpp>
+#include <clustersurf/render/camera.hpp>
+#include <clustersurf/core/errors.hpp>
 
 #include <Eigen/Geometry>
 

@@ -2,7 +2,7 @@
 
 #include "render/color_legend.hpp"
 
-#include <clustersurf/palette.hpp>
+#include <clustersurf/surface/palette.hpp>
 
 #include <algorithm>
 #include <cstdio>

@@ -1,7 +1,7 @@
 #pragma once
 // The color bar of the error view: the distance ramp from 0 to its full-red value, labelled.
 
-#include <clustersurf/image.hpp>
+#include <clustersurf/render/image.hpp>
 
 #include <string>
 

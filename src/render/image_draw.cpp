@@ -1,7 +1,7 @@
 // Rectangles and text on images. Text uses stb_easy_font (Debian's libstb-dev), which turns a
 // string into axis-aligned quads; they are filled as rectangles, scaled by an integer factor.
 
-#include <clustersurf/image.hpp>
+#include <clustersurf/render/image.hpp>
 
 #include <algorithm>
 #include <string>

@@ -1,7 +1,7 @@
 // Several pictures side by side, each labelled underneath.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/image.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/render/image.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -1,8 +1,8 @@
 // PNG encoding through stb_image_write, with zlib (already a dependency) as its compressor:
 // smaller files than stb's built-in deflate, and no use of stb's global settings.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/image.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/render/image.hpp>
 
 #include "io/atomic_file.hpp"
 

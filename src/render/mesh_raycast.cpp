@@ -2,9 +2,9 @@
 // the same camera as a tree. Ray casting uses Embree (Debian's libembree-dev): its BVHs are
 // the well-kept choice for triangles, and its oriented-disc and sphere points draw splats.
 
-#include <clustersurf/cloud_stats.hpp>
-#include <clustersurf/errors.hpp>
-#include <clustersurf/render.hpp>
+#include <clustersurf/spatial/cloud_stats.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/render/render.hpp>
 
 #include "core/embree_scene.hpp"
 #include "render/pixel_loop.hpp"

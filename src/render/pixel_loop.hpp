@@ -2,8 +2,8 @@
 // The tiled, parallel pixel loop shared by every renderer: deterministic sub-pixel jitter
 // seeded by the pixel index, compositing over the background, progress and cancellation.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/render.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/render/render.hpp>
 
 #include "core/progress_reporter.hpp"
 #include "render/shading.hpp"

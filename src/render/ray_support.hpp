@@ -2,8 +2,8 @@
 // The supports a ray crosses, each with its blending weight and proxy written as functions of
 // the ray parameter t, so that f along the ray costs a few multiply-adds per support.
 
-#include <clustersurf/cluster_tree.hpp>
-#include <clustersurf/implicit_surface.hpp>
+#include <clustersurf/cluster/cluster_tree.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
 
 #include <optional>
 #include <span>

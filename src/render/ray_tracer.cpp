@@ -1,10 +1,10 @@
 // Pictures of a cluster tree: the surface and the views of its clusters, supports, proxies and
 // error, traced through the hierarchy of support spheres.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/kd_tree.hpp>
-#include <clustersurf/palette.hpp>
-#include <clustersurf/render.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
+#include <clustersurf/surface/palette.hpp>
+#include <clustersurf/render/render.hpp>
 
 #include "render/color_legend.hpp"
 #include "render/pixel_loop.hpp"

@@ -1,7 +1,7 @@
 // Names and validation of the render options.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/render.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/render/render.hpp>
 
 #include "render/pixel_loop.hpp"
 

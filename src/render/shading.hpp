@@ -2,8 +2,8 @@
 // Shading of hits: camera-fixed key and fill lights, two-sided Lambert, color ramps, and the
 // deterministic per-pixel random numbers of anti-aliasing and ambient occlusion.
 
-#include <clustersurf/camera.hpp>
-#include <clustersurf/image.hpp>
+#include <clustersurf/render/camera.hpp>
+#include <clustersurf/render/image.hpp>
 
 #include "core/splitmix.hpp"
 

@@ -1,8 +1,7 @@
 // One index of a cloud for every stage of the pipeline.
 
-#include <clustersurf/cloud_index.hpp>
-#include <clustersurf/cloud_stats.hpp>
-#include <clustersurf/cluster_tree.hpp>
+#include <clustersurf/spatial/cloud_index.hpp>
+#include <clustersurf/spatial/cloud_stats.hpp>
 
 #include <algorithm>
 #include <mutex>
@@ -56,9 +55,5 @@ CloudIndex::Subset CloudIndex::rows(std::span<const std::uint32_t> kept) const {
   return {*impl_->subset_positions, *impl_->subset_index};
 }
 
-CloudIndex::Subset CloudIndex::clustered(const ClusterTree& tree) const {
-  require_tree_input(tree, impl_->cloud.positions);
-  return rows(clustered_rows(tree));
-}
 
 }  // namespace clustersurf

@@ -1,5 +1,5 @@
-#include <clustersurf/cloud_stats.hpp>
-#include <clustersurf/kd_tree.hpp>
+#include <clustersurf/spatial/cloud_stats.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 
 #include "spatial/spatial_order.hpp"
 

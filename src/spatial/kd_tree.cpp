@@ -1,4 +1,4 @@
-#include <clustersurf/kd_tree.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 
 #include <nanoflann.hpp>
 

@@ -1,7 +1,7 @@
 #pragma once
 // The mean and covariance of a point's neighbours: their plane, and how flat it is.
 
-#include <clustersurf/kd_tree.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 
 #include <span>
 

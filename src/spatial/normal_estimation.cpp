@@ -1,4 +1,4 @@
-#include <clustersurf/normal_estimation.hpp>
+#include <clustersurf/spatial/normal_estimation.hpp>
 
 #include "spatial/neighborhood_shape.hpp"
 

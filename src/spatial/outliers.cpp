@@ -1,7 +1,7 @@
 // Isolated points by their k-nearest-neighbour spread, against their neighbours' and the cloud's.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/outliers.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/spatial/outliers.hpp>
 
 #include "spatial/neighborhood_shape.hpp"
 #include "spatial/spatial_order.hpp"

@@ -1,5 +1,5 @@
-#include <clustersurf/errors.hpp>
-#include <clustersurf/resample.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/spatial/resample.hpp>
 
 #include <algorithm>
 #include <cmath>

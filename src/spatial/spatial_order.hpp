@@ -2,7 +2,7 @@
 
 #pragma once
 
-#include <clustersurf/point_cloud.hpp>
+#include <clustersurf/core/point_cloud.hpp>
 
 #include <cstdint>
 #include <span>

@@ -1,6 +1,6 @@
 // The walk of the implicit surface's tree for every point of one box, done once.
 
-#include <clustersurf/box_walk.hpp>
+#include <clustersurf/surface/box_walk.hpp>
 
 #include <algorithm>
 #include <cstdint>

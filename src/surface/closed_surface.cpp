@@ -1,8 +1,8 @@
 // The harmonic fill of ClosedSurface: f sampled on a coarse grid, Laplace's equation solved at
 // the nodes where f is undefined (fill_solver.cpp), and F, f faded into the fill.
 
-#include <clustersurf/closed_surface.hpp>
-#include <clustersurf/errors.hpp>
+#include <clustersurf/surface/closed_surface.hpp>
+#include <clustersurf/core/errors.hpp>
 
 #include "core/progress_reporter.hpp"
 #include "surface/fill_solver.hpp"

@@ -1,8 +1,8 @@
 // Partition-of-unity blending of the proxies of a tree cut.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/box_walk.hpp>
-#include <clustersurf/implicit_surface.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/surface/box_walk.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
 
 #include <tbb/parallel_for.h>
 

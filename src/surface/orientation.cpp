@@ -1,8 +1,8 @@
 // Orientation of the proxies: by input normals, by the scanners' positions, or by
 // minimum-spanning-tree propagation.
 
-#include <clustersurf/kd_tree.hpp>
-#include <clustersurf/orientation.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
+#include <clustersurf/surface/orientation.hpp>
 
 #include "spatial/spatial_order.hpp"
 

@@ -1,6 +1,6 @@
 // The colors that tell nodes and distances apart, shared by the meshes and the pictures.
 
-#include <clustersurf/palette.hpp>
+#include <clustersurf/surface/palette.hpp>
 
 #include <algorithm>
 #include <cmath>

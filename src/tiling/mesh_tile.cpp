@@ -1,9 +1,9 @@
 // One tile of a tiled mesh: the lattice around a region, meshed, trimmed and cut to the region.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/kd_tree.hpp>
-#include <clustersurf/mesh_colors.hpp>
-#include <clustersurf/tiling.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
+#include <clustersurf/mesh/mesh_colors.hpp>
+#include <clustersurf/tiling/tiling.hpp>
 
 #include "mesh/clipped_extraction.hpp"
 #include "mesh/mesh_subset.hpp"
@@ -104,6 +104,41 @@ MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::
   tile.mesh.origin = surface.tree().origin;
   tile.mesh.up = surface.tree().up;
   return tile;
+}
+
+std::vector<std::int32_t> tile_regions(const RegionPlan& plan, const RegionMerge& merge, std::int32_t region_index,
+                                       const MeshOptions& grid) {
+  if (region_index < 0 || static_cast<std::size_t>(region_index) >= plan.regions())
+    throw OptionError("region " + std::to_string(region_index) + " is not in the plan");
+  if (merge.reach.size() != plan.regions()) throw OptionError("the merge record does not match the plan");
+  if (!grid.voxel_size || !(*grid.voxel_size > 0)) throw OptionError("a tile needs the lattice's cell size (a positive voxel size)");
+  const double h = *grid.voxel_size;
+  // Every leaf's support centre lies in its region's cell (the centroid of its own points), so
+  // its support, grown by the fill band, lies in the cell grown by the region's reach and band.
+  const auto influence = [&](std::size_t r) {
+    BoundingBox b = plan.region_box(static_cast<std::int32_t>(r));
+    b.min.array() -= merge.reach[r] + std::max(grid.fill_cells, 0.0) * h;
+    b.max.array() += merge.reach[r] + std::max(grid.fill_cells, 0.0) * h;
+    return b;
+  };
+  const auto meets = [](const BoundingBox& a, const BoundingBox& b) {
+    return (a.min.array() <= b.max.array()).all() && (b.min.array() <= a.max.array()).all();
+  };
+  // The tile's cells, their far corners and a vertex's projection (a cell more); then the
+  // supports that seed the walk, whose seeds are projected within about their radius.
+  BoundingBox cells = plan.region_box(region_index);
+  cells.min.array() -= (kTileMarginCells + 2) * h;
+  cells.max.array() += (kTileMarginCells + 2) * h;
+  double seed_reach = 0;
+  for (std::size_t r = 0; r < plan.regions(); ++r)
+    if (merge.reach[r] > 0 && meets(influence(r), cells)) seed_reach = std::max(seed_reach, merge.reach[r]);
+  BoundingBox evaluated = cells;
+  evaluated.min.array() -= 3 * seed_reach;
+  evaluated.max.array() += 3 * seed_reach;
+  std::vector<std::int32_t> out;
+  for (std::size_t r = 0; r < plan.regions(); ++r)
+    if (merge.reach[r] > 0 && meets(influence(r), evaluated)) out.push_back(static_cast<std::int32_t>(r));
+  return out;
 }
 
 }  // namespace clustersurf

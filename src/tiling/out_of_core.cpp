@@ -1,9 +1,9 @@
 // The whole pipeline out of core: a tiled run's tasks one after another within a memory limit.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/tiled_run.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/tiling/tiled_run.hpp>
 
-#include "io/tiled_run_files.hpp"
+#include "tiling/tiled_run_files.hpp"
 
 #include <algorithm>
 #include <chrono>

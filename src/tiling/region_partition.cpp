@@ -1,10 +1,10 @@
 // TiledRun::partition(): the input streamed twice into region files on disk.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/point_stream.hpp>
-#include <clustersurf/tiled_run.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/io/point_stream.hpp>
+#include <clustersurf/tiling/tiled_run.hpp>
 
-#include "io/tiled_run_files.hpp"
+#include "tiling/tiled_run_files.hpp"
 #include "tiling/tiled_run_impl.hpp"
 
 #include <algorithm>

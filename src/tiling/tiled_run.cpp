@@ -1,12 +1,12 @@
 // A tiled reconstruction's work directory: each stage's task per region, reading and writing
 // files only (the partition: region_partition.cpp).
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/mesh_colors.hpp>
-#include <clustersurf/tiled_run.hpp>
-#include <clustersurf/tree_file.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/mesh/mesh_colors.hpp>
+#include <clustersurf/tiling/tiled_run.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
 
-#include "io/tiled_run_files.hpp"
+#include "tiling/tiled_run_files.hpp"
 #include "tiling/tiled_run_impl.hpp"
 
 #include <algorithm>

@@ -1,11 +1,11 @@
 #pragma once
 // What a TiledRun holds: its directory and partition, and the paths of its files.
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/tiled_run.hpp>
-#include <clustersurf/tree_file.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/tiling/tiled_run.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
 
-#include "io/tiled_run_files.hpp"
+#include "tiling/tiled_run_files.hpp"
 
 #include <filesystem>
 #include <string>

@@ -1,8 +1,8 @@
 #include "io/atomic_file.hpp"
 #include "view/viewer_template.hpp"
 
-#include <clustersurf/errors.hpp>
-#include <clustersurf/html_viewer.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/view/html_viewer.hpp>
 
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>

@@ -2,6 +2,8 @@
 // index.html, giving the page template the clustersurf CLI embeds: the CLI replaces the
 // <!--CLUSTERSURF_DATA--> marker with the data blocks. Run by the CMake build:
 //   node web/viewer/build.mjs OUTPUT.html
+// The page is also checked in (web/viewer/dist/viewer.html), so that building the library needs
+// no Node.js: scripts/bundle-viewer regenerates it, and the build tests that it is current.
 import { build } from 'esbuild';
 import { readFile, writeFile, mkdir } from 'node:fs/promises';
 import { dirname, join } from 'node:path';
@@ -20,7 +22,7 @@ const result = await build({
   format: 'iife',
   minify: true,
   target: ['chrome100', 'firefox100', 'safari15'],
-  legalComments: 'none',
+  legalComments: 'eof',  // three.js's licence notice stays with its code
   write: false,
   logLevel: 'warning',
   absWorkingDir: join(here, '..', '..'),

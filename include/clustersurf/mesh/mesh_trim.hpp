@@ -1,0 +1,56 @@
+#pragma once
+// Trimming a mesh to the reach of its input points: where the data stops (a scan's open border,
+// an unscanned hole), the blended proxies extrapolate; the mesh stops with the data instead. And
+// a loose fragment that hardly any input point lies nearest to (a sliver of extrapolated surface,
+// a small inner shell between two scan layers) is debris, not surface: it goes too. On request,
+// a small hole the data covers (the mesher's, not the scan's) is closed.
+
+#include <clustersurf/spatial/kd_tree.hpp>
+#include <clustersurf/core/point_cloud.hpp>
+
+#include <cstddef>
+
+namespace clustersurf {
+
+/// Options of trim_to_points().
+struct TrimOptions {
+  /// A triangle is dropped when a vertex lies farther from the nearest input point than this
+  /// many times that point's spread (mean distance to its `neighbors` nearest points): about
+  /// 3 sample spacings by default. A vertex within 1.5 times that reach is kept when its 16
+  /// nearest points lie on one sheet, it lies within a spread of their plane, and they lie all
+  /// around it: a gap between random samples (or a hole or slit as narrow), not the data's
+  /// edge. 0 keeps every triangle.
+  double spread_factor = 2.0;
+  std::size_t neighbors = 8;
+  /// A connected component is kept only when at least this many input points have their
+  /// nearest mesh vertex on it (MPU's N_min: no proxy rests on fewer points); 0 keeps every
+  /// component. A real part as small as one cluster of the tree is kept.
+  std::size_t min_component_points = 30;
+  /// Close the mesh's pinholes: a boundary loop whose centroid lies within the trim's reach of
+  /// the data (spread_factor spreads, 2 with the trim off) is closed by a fan, facing like its
+  /// surroundings. The data is there, so the hole is the mesher's (a few grid cells where the
+  /// blend was undefined), not the scan's; holes with no data inside stay open. Off by default:
+  /// the flat fans cost 0–7 % of Chamfer distance on the benchmark (docs/benchmarks.md).
+  bool close_pinholes = false;
+};
+
+/// What trim_to_points() removed.
+struct TrimReport {
+  std::size_t removed_triangles = 0;
+  std::size_t removed_vertices = 0;
+  std::size_t removed_components = 0;  ///< components without the data's support (see TrimOptions)
+  std::size_t closed_pinholes = 0;     ///< boundary loops closed (TrimOptions::close_pinholes)
+};
+
+/// `mesh` without the triangles that reach beyond the data, without the components the data does
+/// not support, with its pinholes closed (see TrimOptions), and without the vertices no
+/// triangle uses; vertex order, normals and colors are kept for the rest (a closed pinhole's
+/// centroid and fan come last).
+/// Deterministic and independent of the thread count.
+TriangleMesh trim_to_points(const TriangleMesh& mesh, const Points& points, const TrimOptions& options = {},
+                            TrimReport* report = nullptr);
+/// The same with the points' k-d tree given (`data`, over the points: CloudIndex::clustered()).
+TriangleMesh trim_to_points(const TriangleMesh& mesh, const KdTree& data, const TrimOptions& options = {},
+                            TrimReport* report = nullptr);
+
+}  // namespace clustersurf

@@ -1,0 +1,113 @@
+#pragma once
+// The regions of a cloud (regions.hpp) meshed as tiles of one lattice: tiles cut from one global
+// grid evaluate the same f, so they meet without seams (docs/architecture.md, "Regions and
+// tiles"); and the whole pipeline run region by region in memory.
+
+#include <clustersurf/mesh/mesh_extraction.hpp>
+#include <clustersurf/mesh/mesh_trim.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
+#include <clustersurf/regions/regions.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <span>
+#include <vector>
+
+namespace clustersurf {
+
+/// The regions whose leaves mesh_tile() of region `region_index` may meet, on the lattice of
+/// grid.voxel_size (required) with its fill band: those whose cell, grown by their reach and
+/// the band, meets the tile's cells or the supports that seed its walk. Ascending.
+std::vector<std::int32_t> tile_regions(const RegionPlan& plan, const RegionMerge& merge, std::int32_t region_index,
+                                       const MeshOptions& grid);
+
+/// One tile of a tiled mesh: the triangles of the global lattice's f = 0 whose centroid lies in
+/// the tile's region, trimmed to the region's points, with the votes of the region's own points
+/// for their nearest vertex (the trim's fragment test is decided by join_tiles() on the whole
+/// mesh). Vertices are exactly those of the neighbouring tiles where they meet.
+struct MeshTile {
+  std::int32_t region = -1;
+  TriangleMesh mesh;  ///< its "votes" attribute: own points nearest to each vertex
+  MeshReport grid;
+};
+
+/// The tile of region `region_index` of `surface` (of a merged tree) on the lattice of cell
+/// size grid.voxel_size (required) anchored at the tree's box: the lattice is meshed over the
+/// region's cell and a margin of cells around it, seeded on the blended proxies and on the
+/// region's points, and trimmed with `trim` to the region's points but its outliers (without the
+/// fragment test, which join_tiles() decides, and without closing pinholes); with
+/// `input_colors`, colored from those points (colors_from_points()) when they have colors.
+/// Deterministic. Throws OptionError for invalid options.
+MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::int32_t region_index,
+                   const RegionCloud& region, const MeshOptions& grid, const TrimOptions& trim = {},
+                   bool input_colors = true, const ProgressCallback& progress = {});
+
+/// Cells of lattice a tile meshes beyond its region (mesh_tile()): a triangle whose centroid
+/// lies in the region comes from cells within two of it (a quad spans the two cells on each side
+/// of its edge, and the projection moves a vertex at most one cell), whose corner values every
+/// tile that visits them computes alike.
+inline constexpr double kTileMarginCells = 4;
+
+/// The tiles as one mesh: vertices at the same position welded, then components on which fewer
+/// than trim.min_component_points votes fall dropped (the best-supported always stays), as
+/// trim_to_points() does. The result does not depend on the order of the tiles.
+TriangleMesh join_tiles(std::span<const MeshTile> tiles, const TrimOptions& trim = {});
+
+/// Where a tiled reconstruction reads its regions: from a cloud in memory
+/// (reconstruct_tiled()) or from region files on disk (the out-of-core path).
+class RegionSource {
+ public:
+  virtual ~RegionSource() = default;
+  /// The points of region r of the plan, own first, then its halo. Called once per pass.
+  virtual RegionCloud load(std::int32_t region) const = 0;
+};
+
+/// The pipeline over regions: every region surveyed (survey_region(), combine_surveys()),
+/// its outliers marked and its subtree built (build_region_tree()), the subtrees merged
+/// (merge_region_trees()) and, on request, meshed tile by tile (mesh_tile(), join_tiles()),
+/// decimated and colored as mesh_tree() does. Holds one region's points at a time. Throws
+/// OptionError for what tiles cannot do: levels of detail, closing, distance colors.
+Reconstruction reconstruct_regions(const RegionPlan& plan, const RegionSource& source,
+                                   const ReconstructOptions& options = {}, const ProgressCallback& progress = {});
+
+/// What join_tiles_to_ply() wrote.
+struct JoinedMesh {
+  std::size_t vertices = 0;
+  std::size_t triangles = 0;
+  std::size_t removed_components = 0;  ///< components the votes did not support
+};
+
+/// join_tiles() of the tiles tile(0), ..., tile(count − 1) (tile(k): region k's), written to
+/// a binary PLY file tile by tile, with colors by node from `colors` when given, else the
+/// tiles' own colors when they have them: the bytes write_ply() writes of join_tiles()'s mesh,
+/// never the whole mesh in memory. Each tile is asked for four times; memory holds one tile, 13
+/// bytes per vertex and the vertices near region borders (welded by position). Atomic. Throws OptionError for tiles that do not match the plan.
+JoinedMesh join_tiles_to_ply(const std::function<MeshTile(std::int32_t)>& tile, const RegionPlan& plan,
+                             const TrimOptions& trim, const std::filesystem::path& file,
+                             const ImplicitSurface* colors = nullptr);
+
+/// Throws OptionError for what a tiled mesh cannot do: levels of detail, closing, distance and
+/// intensity colors, closing pinholes.
+void require_tiled_meshing(const SurfaceMeshOptions& options);
+
+/// The lattice cell of a tiled mesh of `tree`: options.grid's voxel size, else the tree's
+/// (auto resolution, auto_cell_size() of its leaves), else its resolution along the longest side.
+double tiled_cell_size(const ClusterTree& tree, const SurfaceMeshOptions& options);
+/// The same from the merge record (its box and spacing), without the tree: the spacing's cell
+/// (cell_size_for_spacing()), not coarsened for clumps.
+double tiled_cell_size(const RegionMerge& merge, const SurfaceMeshOptions& options);
+
+/// reconstruct_regions() of a cloud in memory, split by plan_regions() of an even sample of
+/// it (the halo measured in the sample's spacing, scaled to the cloud's density). The same
+/// surface as reconstruct() within the difference of the leaves along region borders; one
+/// region gives reconstruct()'s tree. Its tree's point-leaf table follows the cloud's rows.
+Reconstruction reconstruct_tiled(const PointCloud& cloud, const RegionOptions& regions,
+                                 const ReconstructOptions& options = {}, const ProgressCallback& progress = {});
+
+/// An estimate of a cloud's median spacing from an even sample of it: the sample's spacing
+/// times √(sample / total) (a surface sampled k times more sparsely has √k times wider spacing).
+double spacing_from_sample(const Points& sample, std::uint64_t total_points);
+
+}  // namespace clustersurf

@@ -1,0 +1,438 @@
+// The .cstree binary format (docs/file-format.md): little-endian, versioned, CRC-32 protected,
+// every field validated on load.
+
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
+
+#include "io/atomic_file.hpp"
+#include "io/mapped_file.hpp"
+
+#include <zlib.h>
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <type_traits>
+
+namespace clustersurf {
+
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the tree file codec assumes a little-endian host");
+
+constexpr char kMagic[8] = {'\x89', 'C', 'S', 'T', 'R', 'E', 'E', '\n'};
+constexpr std::uint32_t kEndianTag = 0x01020304u;
+
+/// The option flags of the header (version 2; the reserved 0 of version 1).
+constexpr std::uint32_t kFlagCreases = 1;
+constexpr std::uint32_t kFlagZUp = 2;  ///< ClusterTree::up is z
+
+/// Number of doubles that encode each proxy kind (indexed by ProxyKind).
+constexpr std::size_t kProxyDoubles[kProxyKinds] = {3, 6, 18, 14, 13};
+
+/// CRC-32 of `bytes` continuing `crc`, in chunks (zlib counts lengths in 32 bits). With a
+/// mapped file, the pages already counted are released as it goes.
+std::uint32_t crc_of(std::string_view bytes, std::uint32_t crc, const io::MappedFile* mapped = nullptr) {
+  constexpr std::size_t kChunk = std::size_t{16} << 20;
+  uLong c = crc;
+  for (std::size_t at = 0; at < bytes.size(); at += kChunk) {
+    const std::size_t n = std::min(kChunk, bytes.size() - at);
+    c = crc32(c, reinterpret_cast<const Bytef*>(bytes.data() + at), static_cast<uInt>(n));
+    if (mapped != nullptr) mapped->release(0, at + n);
+  }
+  return static_cast<std::uint32_t>(c);
+}
+
+/// Appends a tree file's bytes to a string, or, with a sink, passes them on a few MiB at a
+/// time (a large tree is never held twice), keeping the CRC-32 of all bytes so far.
+class Writer {
+ public:
+  explicit Writer(io::AtomicFile* sink = nullptr) : sink_(sink) {}
+  template <class T>
+  void put(T v) {
+    static_assert(std::is_arithmetic_v<T>);
+    raw(reinterpret_cast<const char*>(&v), sizeof(T));
+  }
+  void put_vec(const Eigen::Vector3d& v) { put(v.x()), put(v.y()), put(v.z()); }
+  void raw(const char* p, std::size_t n) {
+    out_.append(p, n);
+    if (sink_ != nullptr && out_.size() >= kFlushBytes) flush();
+  }
+  /// The CRC-32 of every byte written so far.
+  std::uint32_t crc() {
+    settle();
+    return crc_;
+  }
+  /// Hands the buffered bytes to the sink (with one).
+  void flush() {
+    settle();
+    if (sink_ == nullptr) return;
+    sink_->write(out_.data(), out_.size());
+    out_.clear();
+    counted_ = 0;
+  }
+  std::string& bytes() { return out_; }
+
+ private:
+  static constexpr std::size_t kFlushBytes = std::size_t{4} << 20;
+  void settle() {
+    crc_ = crc_of(std::string_view(out_).substr(counted_), crc_);
+    counted_ = out_.size();
+  }
+  io::AtomicFile* sink_;
+  std::string out_;
+  std::size_t counted_ = 0;  // bytes of out_ already in crc_
+  std::uint32_t crc_ = 0;
+};
+
+class Reader {
+ public:
+  Reader(std::string_view bytes, const std::filesystem::path& file) : bytes_(bytes), file_(file) {}
+
+  template <class T>
+  T get(const char* what) {
+    if (sizeof(T) > bytes_.size() - pos_) fail("file is truncated: expected " + std::string(what));
+    T v;
+    std::memcpy(&v, bytes_.data() + pos_, sizeof(T));
+    pos_ += sizeof(T);
+    return v;
+  }
+  double finite(const char* what) {
+    const std::size_t at = pos_;
+    const double v = get<double>(what);
+    if (!std::isfinite(v)) fail_at(at, std::string(what) + " is not a finite number");
+    return v;
+  }
+  Eigen::Vector3d vec(const char* what) {
+    Eigen::Vector3d v;
+    for (int k = 0; k < 3; ++k) v(k) = finite(what);
+    return v;
+  }
+  std::size_t pos() const { return pos_; }
+  std::size_t remaining() const { return bytes_.size() - pos_; }
+  [[noreturn]] void fail(const std::string& msg) const { fail_at(pos_, msg); }
+  [[noreturn]] void fail_at(std::size_t at, const std::string& msg) const {
+    throw InputError(file_, FileLocation{std::nullopt, at}, msg);
+  }
+
+ private:
+  std::string_view bytes_;
+  const std::filesystem::path& file_;
+  std::size_t pos_ = 0;
+};
+
+void put_proxy(Writer& w, const Proxy& proxy) {
+  std::visit(
+      [&](const auto& p) {
+        using T = std::decay_t<decltype(p)>;
+        if constexpr (std::is_same_v<T, PointProxy>) {
+          w.put_vec(p.center);
+        } else if constexpr (std::is_same_v<T, PlaneProxy>) {
+          w.put_vec(p.point), w.put_vec(p.normal);
+        } else if constexpr (std::is_same_v<T, PolyProxy>) {
+          w.put_vec(p.frame.origin);
+          for (int c = 0; c < 3; ++c) w.put_vec(p.frame.axes.col(c));
+          for (double x : p.coeffs) w.put(x);
+        } else if constexpr (std::is_same_v<T, CreaseProxy>) {
+          w.put_vec(p.a.point), w.put_vec(p.a.normal), w.put_vec(p.b.point), w.put_vec(p.b.normal);
+          w.put(p.convex ? 1.0 : 0.0);
+        } else {
+          w.put_vec(p.center), w.put(p.scale);
+          for (double x : p.coeffs) w.put(x);
+        }
+      },
+      proxy.variant());
+}
+
+PlaneProxy get_plane(Reader& r) {
+  PlaneProxy p;
+  p.point = r.vec("plane point");
+  const std::size_t at = r.pos();
+  p.normal = r.vec("plane normal");
+  if (std::abs(p.normal.norm() - 1) > 1e-6) r.fail_at(at, "plane normal is not a unit vector");
+  return p;
+}
+
+Proxy get_proxy(Reader& r, ProxyKind kind) {
+  switch (kind) {
+    case ProxyKind::Point: return PointProxy{r.vec("point proxy center")};
+    case ProxyKind::Plane: return get_plane(r);
+    case ProxyKind::Crease: {
+      CreaseProxy p;
+      p.a = get_plane(r);
+      p.b = get_plane(r);
+      const std::size_t at = r.pos();
+      const double convex = r.finite("crease side");
+      if (convex != 0 && convex != 1) r.fail_at(at, "crease side must be 0 (concave) or 1 (convex)");
+      p.convex = convex == 1;
+      return p;
+    }
+    case ProxyKind::Poly: {
+      PolyProxy p;
+      p.frame.origin = r.vec("polynomial frame origin");
+      const std::size_t at = r.pos();
+      for (int c = 0; c < 3; ++c) p.frame.axes.col(c) = r.vec("polynomial frame axis");
+      if (!(p.frame.axes.transpose() * p.frame.axes).isIdentity(1e-6))
+        r.fail_at(at, "polynomial frame axes are not orthonormal");
+      for (double& x : p.coeffs) x = r.finite("polynomial coefficient");
+      return p;
+    }
+    case ProxyKind::Quadric: {
+      QuadricProxy p;
+      p.center = r.vec("quadric center");
+      const std::size_t at = r.pos();
+      p.scale = r.finite("quadric scale");
+      if (!(p.scale > 0)) r.fail_at(at, "quadric scale must be positive");
+      for (double& x : p.coeffs) x = r.finite("quadric coefficient");
+      return p;
+    }
+  }
+  return {};
+}
+
+Sphere get_sphere(Reader& r, const char* what) {
+  Sphere s;
+  s.center = r.vec(what);
+  const std::size_t at = r.pos();
+  s.radius = r.finite(what);
+  if (s.radius < 0) r.fail_at(at, std::string(what) + " has a negative radius");
+  return s;
+}
+
+template <class E>
+E get_enum(Reader& r, std::uint8_t count, const char* what) {
+  const std::size_t at = r.pos();
+  const auto v = r.get<std::uint8_t>(what);
+  if (v >= count) r.fail_at(at, "unknown " + std::string(what) + " " + std::to_string(v));
+  return static_cast<E>(v);
+}
+
+/// Bytes of one node record for a proxy kind (for the "absurd count" check: the smallest).
+constexpr std::size_t kNodeFixedBytes = 4 + 4 + 4 + 4 + 2 * 8 + 2 * 4 * 8;
+
+}  // namespace
+
+namespace {
+
+void write_tree(Writer& w, const ClusterTree& tree) {
+  w.raw(kMagic, sizeof kMagic);
+  w.put(kTreeFileVersion);
+  w.put(kEndianTag);
+  const TreeParameters& p = tree.parameters;
+  w.put(static_cast<std::uint8_t>(p.proxy)), w.put(static_cast<std::uint8_t>(p.splitter));
+  w.put(static_cast<std::uint8_t>(p.metric)), w.put(static_cast<std::uint8_t>(p.threshold_mode));
+  w.put(p.tolerance), w.put(p.noise_factor);
+  w.put(p.min_points), w.put(p.max_depth);
+  w.put(p.alpha);
+  w.put(p.kstep), w.put(p.lloyd_restarts), w.put(p.proxy_lloyd_iterations);
+  w.put((p.creases ? kFlagCreases : std::uint32_t{0}) | (tree.up == UpAxis::Z ? kFlagZUp : std::uint32_t{0}));
+  w.put(p.support_factor);
+  w.put(p.seed);
+  w.put(tree.noise_sigma), w.put(tree.error_threshold);
+  w.put_vec(tree.bbox.min), w.put_vec(tree.bbox.max);
+  w.put(tree.input_points);
+  w.put(tree.point_spacing);
+  w.put_vec(tree.origin);
+  w.put(static_cast<std::uint64_t>(tree.nodes.size()));
+  for (const ClusterNode& n : tree.nodes) {
+    w.put(n.left), w.put(n.right), w.put(n.point_count);
+    w.put(static_cast<std::uint8_t>(n.proxy.kind())), w.put(std::uint8_t{0}), w.put(std::uint16_t{0});
+    w.put(n.rms_error), w.put(n.max_error), w.put(n.extent);
+    w.put_vec(n.support.center), w.put(n.support.radius);
+    w.put_vec(n.bound.center), w.put(n.bound.radius);
+    put_proxy(w, n.proxy);
+  }
+  w.put(static_cast<std::uint64_t>(tree.point_leaf.size()));
+  for (std::int32_t leaf : tree.point_leaf) w.put(leaf);
+  w.put(w.crc());
+}
+
+
+/// The tree in `bytes` (of `file`); with its mapping, the pages read are released as it goes.
+ClusterTree parse_tree(std::string_view bytes, const std::filesystem::path& file, const io::MappedFile* mapped);
+
+}  // namespace
+
+std::string serialize_tree(const ClusterTree& tree) {
+  Writer w;
+  write_tree(w, tree);
+  return std::move(w.bytes());
+}
+
+ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path& file) { return parse_tree(bytes, file, nullptr); }
+
+namespace {
+
+ClusterTree parse_tree(std::string_view bytes, const std::filesystem::path& file, const io::MappedFile* mapped) {
+  Reader r(bytes, file);
+  if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+    r.fail_at(0, "not a clustersurf tree file (bad magic number)");
+  for (std::size_t k = 0; k < sizeof kMagic; ++k) r.get<char>("magic");
+  const std::size_t version_at = r.pos();
+  const auto version = r.get<std::uint32_t>("format version");
+  if (version < 1 || version > kTreeFileVersion)
+    r.fail_at(version_at, "unsupported tree file version " + std::to_string(version) + " (this build reads versions 1 to " +
+                              std::to_string(kTreeFileVersion) + ")");
+  const std::size_t endian_at = r.pos();
+  if (r.get<std::uint32_t>("endianness tag") != kEndianTag)
+    r.fail_at(endian_at, "endianness tag mismatch (file written on an incompatible machine or corrupted)");
+  if (bytes.size() < r.pos() + 4) r.fail("file is truncated");
+  std::uint32_t stored_crc;
+  std::memcpy(&stored_crc, bytes.data() + bytes.size() - 4, 4);
+  const std::uint32_t crc = crc_of(bytes.substr(0, bytes.size() - 4), 0, mapped);
+  if (crc != stored_crc)
+    r.fail_at(bytes.size() - 4, "checksum mismatch: the file is corrupted or truncated");
+
+  ClusterTree tree;
+  TreeParameters& p = tree.parameters;
+  p.proxy = get_enum<ProxyKind>(r, 4, "proxy kind");
+  p.splitter = get_enum<SplitterKind>(r, 2, "splitter");
+  p.metric = get_enum<ErrorMetric>(r, 2, "error metric");
+  p.threshold_mode = get_enum<ThresholdMode>(r, 3, "threshold mode");
+  p.tolerance = r.finite("tolerance");
+  p.noise_factor = r.finite("noise factor");
+  p.min_points = r.get<std::uint32_t>("min points");
+  p.max_depth = r.get<std::uint32_t>("max depth");
+  p.alpha = r.finite("alpha");
+  p.kstep = r.get<std::uint32_t>("kstep");
+  p.lloyd_restarts = r.get<std::uint32_t>("lloyd restarts");
+  p.proxy_lloyd_iterations = r.get<std::uint32_t>("proxy lloyd iterations");
+  const std::size_t flags_at = r.pos();
+  const auto flags = r.get<std::uint32_t>("flags");
+  if ((flags & ~(kFlagCreases | kFlagZUp)) != 0 || (version < 2 && flags != 0))
+    r.fail_at(flags_at, "unknown option flags " + std::to_string(flags));
+  p.creases = (flags & kFlagCreases) != 0;
+  tree.up = (flags & kFlagZUp) != 0 ? UpAxis::Z : UpAxis::Y;
+  p.support_factor = r.finite("support factor");
+  p.seed = r.get<std::uint64_t>("seed");
+  tree.noise_sigma = r.finite("noise sigma");
+  tree.error_threshold = r.finite("error threshold");
+  tree.bbox.min = r.vec("bounding box");
+  tree.bbox.max = r.vec("bounding box");
+  tree.input_points = r.get<std::uint64_t>("input point count");
+  if (version >= 2) {
+    const std::size_t at = r.pos();
+    tree.point_spacing = r.finite("point spacing");
+    if (tree.point_spacing < 0) r.fail_at(at, "point spacing is negative");
+  }
+  if (version >= 3) tree.origin = r.vec("origin");
+
+  const std::size_t count_at = r.pos();
+  const auto node_count = r.get<std::uint64_t>("node count");
+  if (node_count == 0) r.fail_at(count_at, "tree has no nodes");
+  if (node_count > r.remaining() / (kNodeFixedBytes + (version >= 2 ? 8 : 0) + 3 * 8))
+    r.fail_at(count_at, "node count " + std::to_string(node_count) + " is larger than the file can hold");
+  tree.nodes.resize(node_count);
+  const auto nodes = static_cast<std::int64_t>(node_count);
+  std::vector<std::size_t> node_at(node_count);
+  for (std::int64_t i = 0; i < nodes; ++i) {
+    ClusterNode& n = tree.nodes[static_cast<std::size_t>(i)];
+    if (mapped != nullptr && (i & 0xffff) == 0) mapped->release(0, r.pos());
+    node_at[static_cast<std::size_t>(i)] = r.pos();
+    n.left = r.get<std::int32_t>("node child");
+    n.right = r.get<std::int32_t>("node child");
+    if ((n.left < 0) != (n.right < 0) || (n.left >= 0 && (n.left != i + 1 || n.right <= n.left || n.right >= nodes)) ||
+        n.left < -1 || n.right < -1)
+      r.fail_at(node_at[static_cast<std::size_t>(i)],
+                "node " + std::to_string(i) + " has invalid children " + std::to_string(n.left) + ", " + std::to_string(n.right));
+    n.point_count = r.get<std::uint32_t>("node point count");
+    const ProxyKind kind = get_enum<ProxyKind>(r, version >= 2 ? kProxyKinds : 4, "proxy kind");
+    r.get<std::uint8_t>("padding"), r.get<std::uint16_t>("padding");
+    n.rms_error = r.finite("node error");
+    n.max_error = r.finite("node error");
+    if (version >= 2) {
+      const std::size_t at = r.pos();
+      n.extent = r.finite("cluster extent");
+      if (n.extent < 0) r.fail_at(at, "cluster extent is negative");
+    }
+    n.support = get_sphere(r, "support sphere");
+    // Version 1 stored no extent: the support radius was alpha × extent but where it grew to
+    // cover enough points or shrank where the proxy failed.
+    if (version < 2) n.extent = p.alpha > 0 ? n.support.radius / p.alpha : 0.0;
+    n.bound = get_sphere(r, "bounding sphere");
+    if (kProxyDoubles[static_cast<std::size_t>(kind)] * 8 > r.remaining()) r.fail("file is truncated inside a proxy");
+    n.proxy = get_proxy(r, kind);
+  }
+  // Topology: every node but the root is the child of exactly one node; parents and depths
+  // follow; counts add up.
+  std::vector<std::uint8_t> referenced(node_count, 0);
+  for (std::int64_t i = 0; i < nodes; ++i) {
+    ClusterNode& n = tree.nodes[static_cast<std::size_t>(i)];
+    if (n.is_leaf()) {
+      if (n.point_count == 0) r.fail_at(node_at[static_cast<std::size_t>(i)], "leaf " + std::to_string(i) + " has no points");
+      continue;
+    }
+    for (std::int32_t c : {n.left, n.right}) {
+      auto& child = tree.nodes[static_cast<std::size_t>(c)];
+      if (referenced[static_cast<std::size_t>(c)]++ != 0)
+        r.fail_at(node_at[static_cast<std::size_t>(i)], "node " + std::to_string(c) + " has two parents");
+      child.parent = static_cast<std::int32_t>(i);
+      child.depth = n.depth + 1;
+    }
+  }
+  for (std::int64_t i = 1; i < nodes; ++i)
+    if (referenced[static_cast<std::size_t>(i)] == 0)
+      r.fail_at(node_at[static_cast<std::size_t>(i)], "node " + std::to_string(i) + " is not reachable from the root");
+  // Pre-order: children come after parents, so sums can be checked in reverse.
+  for (std::int64_t i = nodes - 1; i >= 0; --i) {
+    const ClusterNode& n = tree.nodes[static_cast<std::size_t>(i)];
+    if (n.is_leaf()) continue;
+    const std::uint64_t sum = std::uint64_t{tree.nodes[static_cast<std::size_t>(n.left)].point_count} +
+                              tree.nodes[static_cast<std::size_t>(n.right)].point_count;
+    if (sum != n.point_count)
+      r.fail_at(node_at[static_cast<std::size_t>(i)], "node " + std::to_string(i) + " counts " +
+                                                         std::to_string(n.point_count) + " points but its children " +
+                                                         std::to_string(sum));
+  }
+  if (tree.nodes[0].point_count > tree.input_points)
+    r.fail_at(node_at[0], "root counts " + std::to_string(tree.nodes[0].point_count) + " points but the header says " +
+                              std::to_string(tree.input_points) + " input points");
+
+  const std::size_t leaf_at = r.pos();
+  const auto leaf_count = r.get<std::uint64_t>("point-leaf count");
+  if (leaf_count != 0 && leaf_count != tree.input_points)
+    r.fail_at(leaf_at, "point-leaf table has " + std::to_string(leaf_count) + " entries for " +
+                           std::to_string(tree.input_points) + " points");
+  if (leaf_count > (r.remaining() - 4) / 4) r.fail_at(leaf_at, "file is truncated inside the point-leaf table");
+  tree.point_leaf.resize(leaf_count);
+  std::vector<std::uint32_t> per_leaf(leaf_count != 0 ? node_count : 0, 0);
+  std::uint64_t outliers = 0;  // entries -1: input points in no cluster
+  for (auto& leaf : tree.point_leaf) {
+    const std::size_t at = r.pos();
+    leaf = r.get<std::int32_t>("point leaf");
+    if (leaf == -1) {
+      ++outliers;
+      continue;
+    }
+    if (leaf < 0 || leaf >= nodes || !tree.nodes[static_cast<std::size_t>(leaf)].is_leaf())
+      r.fail_at(at, "point-leaf entry " + std::to_string(leaf) + " is neither a leaf nor -1 (outlier)");
+    ++per_leaf[static_cast<std::size_t>(leaf)];
+  }
+  if (leaf_count != 0 && outliers != tree.input_points - tree.nodes[0].point_count)
+    r.fail_at(leaf_at, "point-leaf table marks " + std::to_string(outliers) + " outliers but the root leaves out " +
+                           std::to_string(tree.input_points - tree.nodes[0].point_count) + " input points");
+  for (std::size_t i = 0; i < per_leaf.size(); ++i)
+    if (tree.nodes[i].is_leaf() && per_leaf[i] != tree.nodes[i].point_count)
+      r.fail_at(leaf_at, "leaf " + std::to_string(i) + " has " + std::to_string(tree.nodes[i].point_count) +
+                             " points but the point-leaf table gives it " + std::to_string(per_leaf[i]));
+  if (r.remaining() != 4) r.fail(std::to_string(r.remaining() - 4) + " unexpected bytes before the checksum");
+  return tree;
+}
+
+}  // namespace
+
+void save_tree(const std::filesystem::path& file, const ClusterTree& tree) {
+  io::AtomicFile out(file);
+  Writer w(&out);
+  write_tree(w, tree);
+  w.flush();
+  out.commit();
+}
+
+ClusterTree load_tree(const std::filesystem::path& file) {
+  const io::MappedFile mapped(file);
+  return parse_tree(mapped.view(), file, &mapped);
+}
+
+}  // namespace clustersurf
