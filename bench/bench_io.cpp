@@ -131,9 +131,10 @@ std::string las_file(const PointCloud& c, bool v14) {
 /// binary_compressed (LZF of the fields one after another, with the two sizes before it).
 std::string pcd_file(const PointCloud& c, const std::string& data) {
   const auto n = static_cast<std::size_t>(c.size());
-  std::string s = "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z normal_x normal_y normal_z\n"
-                  "SIZE 4 4 4 4 4 4\nTYPE F F F F F F\nCOUNT 1 1 1 1 1 1\nWIDTH " +
-                  std::to_string(n) + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + std::to_string(n) + "\nDATA " + data + "\n";
+  std::string s =
+      "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z normal_x normal_y normal_z\n"
+      "SIZE 4 4 4 4 4 4\nTYPE F F F F F F\nCOUNT 1 1 1 1 1 1\nWIDTH " +
+      std::to_string(n) + "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + std::to_string(n) + "\nDATA " + data + "\n";
   const auto value = [&](std::size_t i, int f) {
     const auto row = static_cast<Eigen::Index>(i);
     return static_cast<float>(f < 3 ? c.positions(row, f) : c.normals(row, f - 3));
@@ -146,7 +147,8 @@ std::string pcd_file(const PointCloud& c, const std::string& data) {
   std::vector<float> raw(6 * n);
   const bool field_major = data == "binary_compressed";
   for (std::size_t i = 0; i < n; ++i)
-    for (int f = 0; f < 6; ++f) raw[field_major ? static_cast<std::size_t>(f) * n + i : 6 * i + static_cast<std::size_t>(f)] = value(i, f);
+    for (int f = 0; f < 6; ++f)
+      raw[field_major ? static_cast<std::size_t>(f) * n + i : 6 * i + static_cast<std::size_t>(f)] = value(i, f);
   const auto raw_bytes = static_cast<unsigned>(raw.size() * sizeof(float));
   if (!field_major) return s.append(reinterpret_cast<const char*>(raw.data()), raw_bytes);
   std::string packed(raw_bytes + raw_bytes / 16 + 64, '\0');
@@ -184,8 +186,8 @@ std::string e57_file(const PointCloud& c) {
     intensity.push_back(intensity_of(c, i));
   }
   using namespace clustersurf::test;
-  const TestScan scan{{float_field("cartesianX", xyz[0]), float_field("cartesianY", xyz[1]), float_field("cartesianZ", xyz[2]),
-                       float_field("intensity", intensity, true)},
+  const TestScan scan{{float_field("cartesianX", xyz[0]), float_field("cartesianY", xyz[1]),
+                       float_field("cartesianZ", xyz[2]), float_field("intensity", intensity, true)},
                       "<intensityLimits type=\"Structure\"><intensityMinimum type=\"Float\">0</intensityMinimum>"
                       "<intensityMaximum type=\"Float\">1</intensityMaximum></intensityLimits>"};
   WriteOptions o;
@@ -265,7 +267,9 @@ struct Files {
     std::error_code ec;
     fs::remove_all(dir, ec);
   }
-  std::vector<Input*> inputs() { return {&binary_ply, &ascii_ply, &las12, &las14, &pcd_binary, &pcd_compressed, &pcd_ascii, &ptx, &e57}; }
+  std::vector<Input*> inputs() {
+    return {&binary_ply, &ascii_ply, &las12, &las14, &pcd_binary, &pcd_compressed, &pcd_ascii, &ptx, &e57};
+  }
 };
 
 Files* files = nullptr;
@@ -338,8 +342,10 @@ int main(int argc, char** argv) {
   int kept = 1;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if (arg.rfind("--points=", 0) == 0) n = std::stol(arg.substr(9));
-    else argv[kept++] = argv[i];
+    if (arg.rfind("--points=", 0) == 0)
+      n = std::stol(arg.substr(9));
+    else
+      argv[kept++] = argv[i];
   }
   argc = kept;
   benchmark::Initialize(&argc, argv);
@@ -348,10 +354,15 @@ int main(int argc, char** argv) {
   files = &f;
   benchmark::AddCustomContext("points", std::to_string(n));
   benchmark::AddCustomContext("mesh_triangles", std::to_string(f.mesh.triangles.rows()));
-  const std::pair<const char*, const Input*> sizes[] = {
-      {"binary_ply_bytes", &f.binary_ply}, {"ascii_ply_bytes", &f.ascii_ply}, {"las_1.2_bytes", &f.las12},
-      {"las_1.4_bytes", &f.las14},         {"pcd_binary_bytes", &f.pcd_binary}, {"pcd_compressed_bytes", &f.pcd_compressed},
-      {"pcd_ascii_bytes", &f.pcd_ascii},   {"ptx_bytes", &f.ptx},               {"e57_bytes", &f.e57}};
+  const std::pair<const char*, const Input*> sizes[] = {{"binary_ply_bytes", &f.binary_ply},
+                                                        {"ascii_ply_bytes", &f.ascii_ply},
+                                                        {"las_1.2_bytes", &f.las12},
+                                                        {"las_1.4_bytes", &f.las14},
+                                                        {"pcd_binary_bytes", &f.pcd_binary},
+                                                        {"pcd_compressed_bytes", &f.pcd_compressed},
+                                                        {"pcd_ascii_bytes", &f.pcd_ascii},
+                                                        {"ptx_bytes", &f.ptx},
+                                                        {"e57_bytes", &f.e57}};
   for (const auto& [name, in] : sizes)
     if (in->bytes > 0) benchmark::AddCustomContext(name, std::to_string(in->bytes));
   benchmark::RunSpecifiedBenchmarks();

@@ -2,10 +2,10 @@
 // IN -o OUT.cstree` saves it. Links clustersurf::tree only (no OpenVDB, no Embree).
 
 #include <clustersurf/cluster/cluster_tree.hpp>
-#include <clustersurf/core/errors.hpp>
-#include <clustersurf/surface/orientation.hpp>
-#include <clustersurf/io/point_cloud_io.hpp>
 #include <clustersurf/cluster/tree_file.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/surface/orientation.hpp>
 
 #include <iostream>
 

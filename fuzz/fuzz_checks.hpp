@@ -62,19 +62,20 @@ inline void check_mesh(const TriangleMesh& m) {
 /// One fuzz input through the readers of a text or PLY format: as a point cloud, then, dropping
 /// non-finite values, as a triangle mesh (formats with faces) or as a cloud again. Only
 /// InputError may leave a reader, and every successful parse must pass the checks above.
-inline int parse_everything(const std::uint8_t* data, std::size_t size, FileFormat format, const char* name, bool has_faces) {
+inline int parse_everything(const std::uint8_t* data, std::size_t size, FileFormat format, const char* name,
+                            bool has_faces) {
   const std::string_view bytes(reinterpret_cast<const char*>(data), size);
   try {
     check_cloud(parse_point_cloud(bytes, format, name));
-  } catch (const InputError&) {
-  }
+  } catch (const InputError&) {}
   ReadOptions drop;
   drop.drop_non_finite = true;
   try {
-    if (has_faces) check_mesh(parse_triangle_mesh(bytes, format, name, drop));
-    else check_cloud(parse_point_cloud(bytes, format, name, drop));
-  } catch (const InputError&) {
-  }
+    if (has_faces)
+      check_mesh(parse_triangle_mesh(bytes, format, name, drop));
+    else
+      check_cloud(parse_point_cloud(bytes, format, name, drop));
+  } catch (const InputError&) {}
   return 0;
 }
 

@@ -4,8 +4,8 @@
 
 #include "fuzz_checks.hpp"
 
-#include <clustersurf/core/errors.hpp>
 #include <clustersurf/cluster/tree_file.hpp>
+#include <clustersurf/core/errors.hpp>
 
 #include <zlib.h>
 
@@ -35,14 +35,14 @@ void check_tree(const clustersurf::ClusterTree& t) {
       require(child.parent == i && child.depth == node.depth + 1);
     }
   }
-  for (std::int32_t leaf : t.point_leaf) require(leaf >= 0 && leaf < n && t.nodes[static_cast<std::size_t>(leaf)].is_leaf());
+  for (std::int32_t leaf : t.point_leaf)
+    require(leaf >= 0 && leaf < n && t.nodes[static_cast<std::size_t>(leaf)].is_leaf());
 }
 
 void load(std::string_view bytes) {
   try {
     check_tree(clustersurf::deserialize_tree(bytes, "fuzz.cstree"));
-  } catch (const clustersurf::InputError&) {
-  }
+  } catch (const clustersurf::InputError&) {}
 }
 
 }  // namespace

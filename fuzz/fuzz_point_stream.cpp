@@ -1,7 +1,7 @@
 // libFuzzer target: PointStream, which reads a binary PLY of points, a LAS, E57 or PCD file
-// (binary_compressed too) or XYZ and PTX text in place, a block at a time (other files it reads whole through the readers
-// fuzz_ply covers). Every block must hold finite points, and the blocks together the file's points (an
-// E57 file's valid ones: at most its records), the same again after a rewind.
+// (binary_compressed too) or XYZ and PTX text in place, a block at a time (other files it reads whole through the
+// readers fuzz_ply covers). Every block must hold finite points, and the blocks together the file's points (an E57
+// file's valid ones: at most its records), the same again after a rewind.
 
 #include "fuzz_checks.hpp"
 
@@ -20,7 +20,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // whole), as a .xyz and a .ptx (text read in place) and as a .pcd.
   static const std::string stem = (fuzz::scratch_directory() / "stream").string();
   for (const std::string& file : {stem + ".ply", stem + ".xyz", stem + ".ptx", stem + ".pcd"}) {
-    std::ofstream(file, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+    std::ofstream(file, std::ios::binary | std::ios::trunc)
+        .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
     for (const bool drop : {false, true}) {
       try {
         ReadOptions options;
@@ -28,7 +29,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         PointStream stream(file, options);
         PointCloud block;
         // E57 records marked invalid and PCD records without a position hold no point.
-        const auto starts = [&](const char* magic) { return size >= std::strlen(magic) && std::memcmp(data, magic, std::strlen(magic)) == 0; };
+        const auto starts = [&](const char* magic) {
+          return size >= std::strlen(magic) && std::memcmp(data, magic, std::strlen(magic)) == 0;
+        };
         const bool holes = starts("ASTM-E57") || starts("# .PCD") || starts("VERSION ") || file.ends_with(".pcd");
         std::uint64_t total = 0, first = 0;
         for (int pass = 0; pass < 2; ++pass, stream.rewind()) {
@@ -48,11 +51,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         std::optional<PointCloud> whole;
         try {
           whole = read_point_cloud(file, options);
-        } catch (const InputError&) {
-        }
+        } catch (const InputError&) {}
         if (whole) fuzz::require(static_cast<std::uint64_t>(whole->size()) == total);
-      } catch (const InputError&) {
-      }
+      } catch (const InputError&) {}
     }
   }
   return 0;

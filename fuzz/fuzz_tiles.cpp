@@ -15,8 +15,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   using namespace clustersurf;
   if (size == 0) return 0;
   static const std::string file = (fuzz::scratch_directory() / detail::kRunRecordName).string();
-  std::ofstream(file, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data + 1),
-                                                                static_cast<std::streamsize>(size - 1));
+  std::ofstream(file, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(data + 1), static_cast<std::streamsize>(size - 1));
   try {
     switch (data[0] % 6) {
       case 0: {
@@ -25,13 +25,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         fuzz::require(!r.plan.cells.empty() && r.own.size() == r.plan.regions() && r.halo.size() == r.plan.regions());
         for (std::size_t c = 0; c < r.plan.cells.size(); ++c) {
           const RegionPlan::Cell& cell = r.plan.cells[c];
-          fuzz::require(cell.left < 0 ? cell.region >= 0 && static_cast<std::size_t>(cell.region) < r.plan.regions()
-                                      : static_cast<std::size_t>(cell.left) > c && static_cast<std::size_t>(cell.right) > c &&
-                                            static_cast<std::size_t>(cell.right) < r.plan.cells.size());
+          fuzz::require(cell.left < 0
+                            ? cell.region >= 0 && static_cast<std::size_t>(cell.region) < r.plan.regions()
+                            : static_cast<std::size_t>(cell.left) > c && static_cast<std::size_t>(cell.right) > c &&
+                                  static_cast<std::size_t>(cell.right) < r.plan.cells.size());
         }
         break;
       }
-      case 1: detail::read_survey(file); break;
+      case 1:
+        detail::read_survey(file);
+        break;
       case 2: {
         bool empty = false;
         detail::read_orientation(file, empty);
@@ -52,10 +55,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const TriangleMesh& m = tile.mesh;
         fuzz::require(m.normals.rows() == m.vertices.rows() && m.attributes.size() == 1 &&
                       m.attributes[0].values.size() == m.vertices.rows());
-        fuzz::require(m.triangles.size() == 0 || (m.triangles.minCoeff() >= 0 && m.triangles.maxCoeff() < m.vertices.rows()));
+        fuzz::require(m.triangles.size() == 0 ||
+                      (m.triangles.minCoeff() >= 0 && m.triangles.maxCoeff() < m.vertices.rows()));
       }
     }
-  } catch (const InputError&) {
-  }
+  } catch (const InputError&) {}
   return 0;
 }

@@ -35,16 +35,18 @@ void refresh_crcs(std::string& file, std::size_t page) {
 TestField float_field(const std::string& name, const std::vector<double>& v, bool single) {
   TestField f{"<" + name + " type=\"Float\"" + (single ? " precision=\"single\"" : "") + "/>", single ? 32U : 64U, {}};
   f.raw.reserve(v.size());
-  for (double x : v) f.raw.push_back(single ? std::bit_cast<std::uint32_t>(static_cast<float>(x)) : std::bit_cast<std::uint64_t>(x));
+  for (double x : v)
+    f.raw.push_back(single ? std::bit_cast<std::uint32_t>(static_cast<float>(x)) : std::bit_cast<std::uint64_t>(x));
   return f;
 }
 
 TestField int_field(const std::string& name, std::int64_t lo, std::int64_t hi, const std::vector<std::int64_t>& v,
                     const std::string& scale) {
   const std::string type = scale.empty() ? "Integer" : "ScaledInteger";
-  TestField f{"<" + name + " type=\"" + type + "\" minimum=\"" + std::to_string(lo) + "\" maximum=\"" + std::to_string(hi) + "\" " +
-                  scale + "/>",
-              static_cast<unsigned>(std::bit_width(static_cast<std::uint64_t>(hi - lo))), {}};
+  TestField f{"<" + name + " type=\"" + type + "\" minimum=\"" + std::to_string(lo) + "\" maximum=\"" +
+                  std::to_string(hi) + "\" " + scale + "/>",
+              static_cast<unsigned>(std::bit_width(static_cast<std::uint64_t>(hi - lo))),
+              {}};
   f.raw.reserve(v.size());
   for (std::int64_t x : v) f.raw.push_back(static_cast<std::uint64_t>(x - lo));
   return f;
@@ -71,9 +73,11 @@ TestFile write_e57(const std::vector<TestScan>& scans, const WriteOptions& o) {
   const auto phys = [&](std::uint64_t l) { return l / data * o.page + l % data; };
   TestFile out;
   std::string logical(48, '\0');
-  std::string xml = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<e57Root type=\"Structure\" xmlns=\"http://www.astm.org/COMMIT/E57/2010-e57-v1.0\">\n"
-                    "<formatName type=\"String\"><![CDATA[ASTM E57 3D Imaging Data File]]></formatName>\n"
-                    "<data3D type=\"Vector\" allowHeterogeneousChildren=\"1\">\n";
+  std::string xml =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<e57Root type=\"Structure\" "
+      "xmlns=\"http://www.astm.org/COMMIT/E57/2010-e57-v1.0\">\n"
+      "<formatName type=\"String\"><![CDATA[ASTM E57 3D Imaging Data File]]></formatName>\n"
+      "<data3D type=\"Vector\" allowHeterogeneousChildren=\"1\">\n";
   for (const TestScan& scan : scans) {
     const std::size_t begin = logical.size(), records = scan.fields.front().raw.size();
     logical.append(32, '\0');
@@ -83,7 +87,8 @@ TestFile write_e57(const std::vector<TestScan>& scans, const WriteOptions& o) {
     logical.reserve(logical.size() + stream_bytes + stream_bytes / 8 + 4096);
     // A packet holds at most 64 KiB: its header (6 bytes, 2 per buffer length), the buffers and
     // up to 3 bytes of padding.
-    const std::size_t chunk = std::min(o.chunk, (65536 - 6 - 2 * streams.size() - 3) / std::max<std::size_t>(streams.size(), 1));
+    const std::size_t chunk =
+        std::min(o.chunk, (65536 - 6 - 2 * streams.size() - 3) / std::max<std::size_t>(streams.size(), 1));
     std::vector<std::size_t> cursor(streams.size(), 0);
     bool first = true;
     std::string packet;

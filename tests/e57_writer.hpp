@@ -49,10 +49,10 @@ struct TestScan {
 /// How write_e57 lays the file out.
 struct WriteOptions {
   std::size_t page = 1024;
-  std::size_t chunk = 4096;      // bytes of each bytestream per data packet, at most (fewer when
-                                 // a packet would otherwise exceed 64 KiB)
-  bool extra_packets = false;    // an empty and an index packet after the first data packet
-  std::string xml_tail;          // more XML inside <e57Root>
+  std::size_t chunk = 4096;    // bytes of each bytestream per data packet, at most (fewer when
+                               // a packet would otherwise exceed 64 KiB)
+  bool extra_packets = false;  // an empty and an index packet after the first data packet
+  std::string xml_tail;        // more XML inside <e57Root>
 };
 
 /// A written file and where its parts are.

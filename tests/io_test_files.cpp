@@ -48,9 +48,9 @@ PointCloud awkward_cloud(int n, bool normals, bool colors, unsigned seed) {
 }
 
 Bytes& Bytes::put_as(std::string type, double v) {
-  static const std::map<std::string, std::string> alias = {{"int8", "char"},   {"uint8", "uchar"}, {"int16", "short"},
-                                                           {"uint16", "ushort"}, {"int32", "int"},  {"uint32", "uint"},
-                                                           {"float32", "float"}, {"float64", "double"}};
+  static const std::map<std::string, std::string> alias = {
+      {"int8", "char"}, {"uint8", "uchar"}, {"int16", "short"},   {"uint16", "ushort"},
+      {"int32", "int"}, {"uint32", "uint"}, {"float32", "float"}, {"float64", "double"}};
   if (const auto it = alias.find(type); it != alias.end()) type = it->second;
   if (type == "char") return put(static_cast<std::int8_t>(v));
   if (type == "uchar") return put(static_cast<std::uint8_t>(v));

@@ -23,8 +23,10 @@ namespace clustersurf::test {
 template <class A, class B>
 ::testing::AssertionResult mat_eq(const A& a, const B& b) {
   if (a.rows() != b.rows() || a.cols() != b.cols())
-    return ::testing::AssertionFailure() << "size " << a.rows() << "x" << a.cols() << " vs " << b.rows() << "x" << b.cols();
-  if (a != b) return ::testing::AssertionFailure() << "\n" << a.template cast<double>() << "\nvs\n" << b.template cast<double>();
+    return ::testing::AssertionFailure() << "size " << a.rows() << "x" << a.cols() << " vs " << b.rows() << "x"
+                                         << b.cols();
+  if (a != b)
+    return ::testing::AssertionFailure() << "\n" << a.template cast<double>() << "\nvs\n" << b.template cast<double>();
   return ::testing::AssertionSuccess();
 }
 

@@ -4,9 +4,9 @@
 // refused with InputError naming the file and carrying that message, quickly (nothing large is
 // allocated, no long loop runs). The CLI gives the same messages (tests/cli/test_cli.sh).
 
+#include <clustersurf/cluster/tree_file.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/io/point_cloud_io.hpp>
-#include <clustersurf/cluster/tree_file.hpp>
 
 #include <gtest/gtest.h>
 
@@ -71,9 +71,12 @@ TEST_P(HostileFileTest, IsRefusedQuicklyWithItsMessage) {
   ASSERT_TRUE(std::filesystem::exists(file));
   const auto start = std::chrono::steady_clock::now();
   try {
-    if (row.read_as == "tree") (void)load_tree(file);
-    else if (row.read_as == "mesh") (void)read_triangle_mesh(file);
-    else (void)read_point_cloud(file);
+    if (row.read_as == "tree")
+      (void)load_tree(file);
+    else if (row.read_as == "mesh")
+      (void)read_triangle_mesh(file);
+    else
+      (void)read_point_cloud(file);
     FAIL() << row.file << " was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find(row.message), std::string::npos) << e.what();

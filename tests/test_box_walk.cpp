@@ -2,8 +2,8 @@
 // order and with the same weights, as the walk from the root, so values and samples are the
 // same to the bit; inside and on the box, outside it, and on the bounding spheres it cuts.
 
-#include <clustersurf/surface/box_walk.hpp>
 #include <clustersurf/core/errors.hpp>
+#include <clustersurf/surface/box_walk.hpp>
 #include <clustersurf/surface/orientation.hpp>
 
 #include <gtest/gtest.h>
@@ -49,9 +49,12 @@ std::vector<Eigen::Vector3d> probes(const ImplicitSurface& f, const BoundingBox&
   for (int k = 0; k < 300; ++k)
     out.push_back(box.min + (box.max - box.min).cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng))));
   for (int c = 0; c < 8; ++c)
-    out.push_back(Eigen::Vector3d(c & 1 ? box.max.x() : box.min.x(), c & 2 ? box.max.y() : box.min.y(), c & 4 ? box.max.z() : box.min.z()));
+    out.push_back(Eigen::Vector3d(c & 1 ? box.max.x() : box.min.x(), c & 2 ? box.max.y() : box.min.y(),
+                                  c & 4 ? box.max.z() : box.min.z()));
   std::normal_distribution<double> g(0, 1);
-  const auto inside = [&](const Eigen::Vector3d& x) { return (x.array() >= box.min.array()).all() && (x.array() <= box.max.array()).all(); };
+  const auto inside = [&](const Eigen::Vector3d& x) {
+    return (x.array() >= box.min.array()).all() && (x.array() <= box.max.array()).all();
+  };
   for (std::int32_t i = 0; i < static_cast<std::int32_t>(f.tree().nodes.size()); ++i) {
     // Its bounding sphere, and the support of a blended node (the sphere its visit tests).
     std::vector<Sphere> spheres = {f.bound(i)};
@@ -90,7 +93,8 @@ TEST(BoxWalk, VisitsWhatTheWalkFromTheRootVisits) {
                                    ImplicitSurface(t, LevelOfDetail{4, std::nullopt})}) {
     for (const double size : {0.005, 0.03, 0.2, 1.0}) {
       for (int b = 0; b < 6; ++b) {
-        const Eigen::Vector3d center = t.bbox.min + (t.bbox.max - t.bbox.min).cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+        const Eigen::Vector3d center =
+            t.bbox.min + (t.bbox.max - t.bbox.min).cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
         const BoundingBox box = box_of(center, Eigen::Vector3d::Constant(size * diagonal / 2));
         const ImplicitSurface::BoxWalk near(f, box);
         for (const Eigen::Vector3d& x : probes(f, box, rng)) {
@@ -140,8 +144,10 @@ TEST(BoxWalk, BoxesTouchingABoundingSphereFromInsideAndOutside) {
           y(a) = std::nextafter(y(a), toward);
           xs.push_back(y);
         }
-      for (int k = 0; k < 20; ++k) xs.push_back(box.min + (box.max - box.min).cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng))));
-      for (const Eigen::Vector3d& x : xs) ASSERT_EQ(through(near, x), from_root(f, x)) << "node " << i << " at " << x.transpose();
+      for (int k = 0; k < 20; ++k)
+        xs.push_back(box.min + (box.max - box.min).cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng))));
+      for (const Eigen::Vector3d& x : xs)
+        ASSERT_EQ(through(near, x), from_root(f, x)) << "node " << i << " at " << x.transpose();
     }
   }
 }
@@ -154,7 +160,8 @@ TEST(BoxWalk, GivesTheSameValuesAndSamplesToTheBit) {
   const double diagonal = t.bbox.diagonal();
   int defined = 0;
   for (int b = 0; b < 20; ++b) {
-    const Eigen::Vector3d center = t.bbox.min + (t.bbox.max - t.bbox.min).cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    const Eigen::Vector3d center =
+        t.bbox.min + (t.bbox.max - t.bbox.min).cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
     const BoundingBox box = box_of(center, Eigen::Vector3d::Constant(0.02 * diagonal));
     const ImplicitSurface::BoxWalk near(f, box);
     for (int k = 0; k < 200; ++k) {

@@ -1,7 +1,7 @@
 // Camera: rays through the image, automatic framing keeps the whole box in view, explicit eye.
 
-#include <clustersurf/render/camera.hpp>
 #include <clustersurf/core/errors.hpp>
+#include <clustersurf/render/camera.hpp>
 #include <clustersurf/render/image.hpp>
 
 #include <gtest/gtest.h>
@@ -48,7 +48,8 @@ TEST(Camera, AutomaticFramingShowsTheWholeBox) {
       const Camera c = make_camera(box, o, 320, 200);
       double min_x = 1e9, max_x = -1e9, min_y = 1e9, max_y = -1e9;
       for (int k = 0; k < 8; ++k) {
-        const Eigen::Vector3d corner(k & 1 ? box.max.x() : box.min.x(), k & 2 ? box.max.y() : box.min.y(), k & 4 ? box.max.z() : box.min.z());
+        const Eigen::Vector3d corner(k & 1 ? box.max.x() : box.min.x(), k & 2 ? box.max.y() : box.min.y(),
+                                     k & 4 ? box.max.z() : box.min.z());
         const Eigen::Vector2d p = project(c, corner);
         min_x = std::min(min_x, p.x()), max_x = std::max(max_x, p.x());
         min_y = std::min(min_y, p.y()), max_y = std::max(max_y, p.y());

@@ -3,12 +3,12 @@
 // surface unchanged where the leaves define it, inside(x), the real bunny scans and a machined
 // part.
 
-#include <clustersurf/surface/closed_surface.hpp>
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/mesh/mesh_check.hpp>
 #include <clustersurf/io/point_cloud_io.hpp>
-#include <clustersurf/pipeline/reconstruct.hpp>
 #include <clustersurf/io/surface_sampling.hpp>
+#include <clustersurf/mesh/mesh_check.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
+#include <clustersurf/surface/closed_surface.hpp>
 
 #include <gtest/gtest.h>
 
@@ -40,7 +40,8 @@ PointCloud torus_with_two_holes() {
   std::vector<Eigen::Index> keep;
   for (Eigen::Index i = 0; i < full.size(); ++i) {
     const Eigen::Vector3d p = full.positions.row(i);
-    if ((p - Eigen::Vector3d(1.35, 0, 0)).norm() > 0.2 && (p - Eigen::Vector3d(-1, 0, 0.35)).norm() > 0.2) keep.push_back(i);
+    if ((p - Eigen::Vector3d(1.35, 0, 0)).norm() > 0.2 && (p - Eigen::Vector3d(-1, 0, 0.35)).norm() > 0.2)
+      keep.push_back(i);
   }
   return select(full, keep);
 }
@@ -94,7 +95,8 @@ TEST(ClosedSurface, SameSurfaceWhereTheLeavesDefineIt) {
   const PointCloud cloud = cap_cut_sphere();
   const TriangleMesh open = mesh_of(cloud, false).mesh, closed = mesh_of(cloud, true).mesh;
   std::set<std::array<double, 3>> vertices;
-  for (Eigen::Index v = 0; v < closed.vertices.rows(); ++v) vertices.insert({closed.vertices(v, 0), closed.vertices(v, 1), closed.vertices(v, 2)});
+  for (Eigen::Index v = 0; v < closed.vertices.rows(); ++v)
+    vertices.insert({closed.vertices(v, 0), closed.vertices(v, 1), closed.vertices(v, 2)});
   std::size_t compared = 0;
   for (Eigen::Index v = 0; v < open.vertices.rows(); ++v)
     if (open.vertices(v, 2) < 0.3) {
@@ -129,7 +131,8 @@ TEST(ClosedSurface, InsideAndOutsideEverywhere) {
   ClusterTree tree = reconstruct(cap_cut_sphere(), tree_only).tree;
   const ImplicitSurface surface(tree);
   const ClosedSurface closed(surface);
-  for (const Eigen::Vector3d& x : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.3, 0, -0.5), Eigen::Vector3d(0, 0, 0.55)})
+  for (const Eigen::Vector3d& x :
+       {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.3, 0, -0.5), Eigen::Vector3d(0, 0, 0.55)})
     EXPECT_TRUE(closed.inside(x)) << x.transpose();
   for (const Eigen::Vector3d& x : {Eigen::Vector3d(0, 0, 1.2), Eigen::Vector3d(2, 0, 0), Eigen::Vector3d(50, -30, 7)})
     EXPECT_FALSE(closed.inside(x)) << x.transpose();

@@ -1,12 +1,12 @@
 // CloudIndex: one k-d tree, one spacing and one clustered subset per cloud, the same answers
 // as computing each alone, and a tree built through it is the tree built from the cloud.
 
+#include <clustersurf/cluster/cluster_tree.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
+#include <clustersurf/core/errors.hpp>
 #include <clustersurf/spatial/cloud_index.hpp>
 #include <clustersurf/spatial/cloud_stats.hpp>
-#include <clustersurf/cluster/cluster_tree.hpp>
-#include <clustersurf/core/errors.hpp>
 #include <clustersurf/spatial/outliers.hpp>
-#include <clustersurf/cluster/tree_file.hpp>
 
 #include <gtest/gtest.h>
 
@@ -29,7 +29,7 @@ TEST(CloudIndex, SpacingIsComputeStatsMedian) {
   const PointCloud c = test::sample_torus(4000);
   const CloudIndex index(c);
   EXPECT_EQ(index.median_spacing(), compute_stats(c).median_spacing);
-  EXPECT_EQ(&index.points(), &index.points());  // built once
+  EXPECT_EQ(&index.points(), &index.points());        // built once
   EXPECT_EQ(&index.points().points(), &c.positions);  // adapts the cloud, no copy
 }
 

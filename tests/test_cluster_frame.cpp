@@ -4,8 +4,8 @@
 // the principal frame, bit for bit; without normals, a cluster as thick as it is wide (noise
 // above the point spacing) has no determined frame and is not split into smaller blobs.
 
-#include <clustersurf/pipeline/reconstruct.hpp>
 #include <clustersurf/cluster/tree_file.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
 
 #include <gtest/gtest.h>
 
@@ -125,7 +125,8 @@ TEST(ClusterFrame, CleanDataKeepThePrincipalFrame) {
   PointCloud cloud = noisy_cylinder(20000, 0, 5);
   const ClusterTree exact = build_cluster_tree(cloud);
   const Eigen::Matrix3d turn = Eigen::AngleAxisd(20 * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  for (Eigen::Index i = 0; i < cloud.size(); ++i) cloud.normals.row(i) = (turn * cloud.normals.row(i).transpose()).transpose();
+  for (Eigen::Index i = 0; i < cloud.size(); ++i)
+    cloud.normals.row(i) = (turn * cloud.normals.row(i).transpose()).transpose();
   const ClusterTree turned = build_cluster_tree(cloud);
   ASSERT_EQ(exact.nodes.size(), turned.nodes.size());
   for (std::size_t i = 0; i < exact.nodes.size(); ++i)

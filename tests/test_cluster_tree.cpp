@@ -1,12 +1,12 @@
 // Cluster tree: stop rules, partition invariants, determinism across thread counts, noise.
 
 #include <clustersurf/cluster/cluster_tree.hpp>
-#include <clustersurf/core/errors.hpp>
-#include <clustersurf/surface/implicit_surface.hpp>
 #include <clustersurf/cluster/noise.hpp>
-#include <clustersurf/io/point_cloud_io.hpp>
-#include <clustersurf/surface/orientation.hpp>
 #include <clustersurf/cluster/tree_file.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
+#include <clustersurf/surface/orientation.hpp>
 
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
@@ -236,12 +236,13 @@ TEST(ClusterTree, SharedBunnyScansBuildAndLogFigures) {
   expect_valid_partition(t, o);
   expect_leaves_meet_threshold_or_min_points(t);
   const TreeSummary s = summarize(t);
-  std::cout << "bunny_scans_aligned: " << s.leaves << " leaves, depth " << s.depth << ", noise "
-            << t.noise_sigma << ", threshold " << t.error_threshold << "\n  leaf size p0/25/50/75/100: "
-            << s.leaf_size_percentiles[0] << " " << s.leaf_size_percentiles[1] << " " << s.leaf_size_percentiles[2] << " "
-            << s.leaf_size_percentiles[3] << " " << s.leaf_size_percentiles[4] << "\n  leaf rms p0/25/50/75/100: "
-            << s.leaf_rms_percentiles[0] << " " << s.leaf_rms_percentiles[1] << " " << s.leaf_rms_percentiles[2] << " "
-            << s.leaf_rms_percentiles[3] << " " << s.leaf_rms_percentiles[4] << "\n";
+  std::cout << "bunny_scans_aligned: " << s.leaves << " leaves, depth " << s.depth << ", noise " << t.noise_sigma
+            << ", threshold " << t.error_threshold << "\n  leaf size p0/25/50/75/100: " << s.leaf_size_percentiles[0]
+            << " " << s.leaf_size_percentiles[1] << " " << s.leaf_size_percentiles[2] << " "
+            << s.leaf_size_percentiles[3] << " " << s.leaf_size_percentiles[4]
+            << "\n  leaf rms p0/25/50/75/100: " << s.leaf_rms_percentiles[0] << " " << s.leaf_rms_percentiles[1] << " "
+            << s.leaf_rms_percentiles[2] << " " << s.leaf_rms_percentiles[3] << " " << s.leaf_rms_percentiles[4]
+            << "\n";
   RecordProperty("leaves", static_cast<int>(s.leaves));
   EXPECT_GT(s.leaves, 100u);
   EXPECT_LT(s.depth, 64u);
@@ -289,7 +290,9 @@ TEST(ClusterTree, ReliefFinerThanMinPointsIsSplitAndFollowed) {
   // 4 % of the amplitude; 1.5 × that for ripples 12 samples long without the split).
   constexpr int kN = 90;
   constexpr double kWavelength = 14.0 / (kN - 1), kAmplitude = 0.004;
-  const auto height = [&](double x, double y) { return kAmplitude * std::sin(2 * M_PI * x / kWavelength) * std::cos(2 * M_PI * y / kWavelength); };
+  const auto height = [&](double x, double y) {
+    return kAmplitude * std::sin(2 * M_PI * x / kWavelength) * std::cos(2 * M_PI * y / kWavelength);
+  };
   PointCloud c = test::sample_plane(kN, kN);
   for (Eigen::Index i = 0; i < c.size(); ++i) c.positions(i, 2) = height(c.positions(i, 0), c.positions(i, 1));
   c.normals.resize(0, 3);

@@ -7,8 +7,8 @@
 
 #include <clustersurf/cluster/cluster_tree.hpp>
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/surface/implicit_surface.hpp>
 #include <clustersurf/mesh/mesh_extraction.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
 #include <clustersurf/surface/orientation.hpp>
 
 #include <gtest/gtest.h>

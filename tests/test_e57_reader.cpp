@@ -46,8 +46,8 @@ std::optional<PointCloud> sample(const std::string& name) {
   if (!file) return std::nullopt;
   return read_point_cloud(*file);
 }
-#define SAMPLE(var, name)                                                          \
-  const auto var = sample(name);                                                   \
+#define SAMPLE(var, name)        \
+  const auto var = sample(name); \
   if (!var) GTEST_SKIP() << "shared data formats/e57/" name " is absent"
 
 void expect_box(const PointCloud& c, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
@@ -148,12 +148,13 @@ TEST(E57Reader, BitPackedScaledIntegersAcrossPacketsAndPages) {
     state.push_back(i % 10 == 3 ? 2 : i % 10 == 7 ? 1 : 0);
   }
   const std::string scale = "scale=\"0.001\" offset=\"10\"";
-  TestScan scan{{int_field("cartesianX", -4000, 4000, x, scale), int_field("rowIndex", 0, 999, row),
-                 int_field("cartesianY", -4000, 4000, y, scale), int_field("cartesianZ", -4000, 4000, z, scale),
-                 int_field("colorRed", 0, 1023, r), int_field("colorGreen", 0, 1023, g), int_field("colorBlue", 0, 1023, b),
-                 int_field("intensity", 0, 4095, in), int_field("cartesianInvalidState", 0, 2, state)},
-                "<intensityLimits type=\"Structure\"><intensityMinimum type=\"Integer\"/>"
-                "<intensityMaximum type=\"Integer\">4095</intensityMaximum></intensityLimits>"};
+  TestScan scan{
+      {int_field("cartesianX", -4000, 4000, x, scale), int_field("rowIndex", 0, 999, row),
+       int_field("cartesianY", -4000, 4000, y, scale), int_field("cartesianZ", -4000, 4000, z, scale),
+       int_field("colorRed", 0, 1023, r), int_field("colorGreen", 0, 1023, g), int_field("colorBlue", 0, 1023, b),
+       int_field("intensity", 0, 4095, in), int_field("cartesianInvalidState", 0, 2, state)},
+      "<intensityLimits type=\"Structure\"><intensityMinimum type=\"Integer\"/>"
+      "<intensityMaximum type=\"Integer\">4095</intensityMaximum></intensityLimits>"};
   ASSERT_EQ(scan.fields[0].bits, 13U);
   // Small pages and 7-byte buffers: values straddle packets, packets straddle pages.
   WriteOptions o;
@@ -182,7 +183,8 @@ TEST(E57Reader, BitPackedScaledIntegersAcrossPacketsAndPages) {
 }
 
 TEST(E57Reader, ConstantIntegerFieldHasNoBits) {
-  TestScan scan{{float_field("cartesianX", {1, 2, 3}), float_field("cartesianY", {4, 5, 6}), int_field("cartesianZ", 7, 7, {7, 7, 7})}};
+  TestScan scan{{float_field("cartesianX", {1, 2, 3}), float_field("cartesianY", {4, 5, 6}),
+                 int_field("cartesianZ", 7, 7, {7, 7, 7})}};
   ASSERT_EQ(scan.fields[2].bits, 0U);
   const PointCloud c = parse(write_e57({scan}).bytes);
   EXPECT_TRUE(mat_eq(c.positions, rows({{1, 4, 7}, {2, 5, 7}, {3, 6, 7}})));
@@ -191,12 +193,16 @@ TEST(E57Reader, ConstantIntegerFieldHasNoBits) {
 }
 
 TEST(E57Reader, SphericalCoordinatesWithInvalidStates) {
-  const std::vector<double> range = {1, 2, 3, 4}, az = {0, std::numbers::pi / 2, 1.0, 2.0}, el = {0, 0, std::numbers::pi / 2, -0.5};
-  TestScan scan{{float_field("sphericalRange", range), float_field("sphericalAzimuth", az), float_field("sphericalElevation", el),
-                 int_field("sphericalInvalidState", 0, 2, {0, 0, 1, 0})}};
+  const std::vector<double> range = {1, 2, 3, 4}, az = {0, std::numbers::pi / 2, 1.0, 2.0},
+                            el = {0, 0, std::numbers::pi / 2, -0.5};
+  TestScan scan{{float_field("sphericalRange", range), float_field("sphericalAzimuth", az),
+                 float_field("sphericalElevation", el), int_field("sphericalInvalidState", 0, 2, {0, 0, 1, 0})}};
   const PointCloud c = parse(write_e57({scan}).bytes);
   ASSERT_EQ(c.size(), 3);
-  const Points expect = rows({{1, 0, 0}, {0, 2, 0}, {4 * std::cos(-0.5) * std::cos(2.0), 4 * std::cos(-0.5) * std::sin(2.0), 4 * std::sin(-0.5)}});
+  const Points expect =
+      rows({{1, 0, 0},
+            {0, 2, 0},
+            {4 * std::cos(-0.5) * std::cos(2.0), 4 * std::cos(-0.5) * std::sin(2.0), 4 * std::sin(-0.5)}});
   EXPECT_LT((file_positions(c) - expect).cwiseAbs().maxCoeff(), 1e-12);
   // Spherical data is centred on its scanner: the origin of the scan's frame (no pose: 0).
   ASSERT_TRUE(c.has_scanners());
@@ -205,11 +211,12 @@ TEST(E57Reader, SphericalCoordinatesWithInvalidStates) {
 
 std::string pose_xml(const Eigen::Quaterniond& q, const Eigen::Vector3d& t) {
   char s[512];
-  std::snprintf(s, sizeof s,
-                "<pose type=\"Structure\"><rotation type=\"Structure\"><w type=\"Float\">%.17g</w><x type=\"Float\">%.17g</x>"
-                "<y type=\"Float\">%.17g</y><z type=\"Float\">%.17g</z></rotation><translation type=\"Structure\">"
-                "<x type=\"Float\">%.17g</x><y type=\"Float\">%.17g</y><z type=\"Float\">%.17g</z></translation></pose>",
-                q.w(), q.x(), q.y(), q.z(), t.x(), t.y(), t.z());
+  std::snprintf(
+      s, sizeof s,
+      "<pose type=\"Structure\"><rotation type=\"Structure\"><w type=\"Float\">%.17g</w><x type=\"Float\">%.17g</x>"
+      "<y type=\"Float\">%.17g</y><z type=\"Float\">%.17g</z></rotation><translation type=\"Structure\">"
+      "<x type=\"Float\">%.17g</x><y type=\"Float\">%.17g</y><z type=\"Float\">%.17g</z></translation></pose>",
+      q.w(), q.x(), q.y(), q.z(), t.x(), t.y(), t.z());
   return s;
 }
 
@@ -218,12 +225,14 @@ TEST(E57Reader, PosesAreAppliedAndGiveScannerPositions) {
   const Eigen::Quaterniond q1 = Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()));
   const Eigen::Vector3d t1(10, -20, 5), t2(-3, 4, 1.5);
   const auto fields = [&] {
-    return std::vector<TestField>{float_field("cartesianX", xs), float_field("cartesianY", ys), float_field("cartesianZ", zs)};
+    return std::vector<TestField>{float_field("cartesianX", xs), float_field("cartesianY", ys),
+                                  float_field("cartesianZ", zs)};
   };
   const TestScan unposed{fields()};
   const TestScan a{fields(), pose_xml(q1, t1)};
-  const TestScan b{fields(), "<pose type=\"Structure\"><translation type=\"Structure\"><x type=\"Float\">-3</x>"
-                             "<y type=\"Float\">4</y><z type=\"Float\">1.5</z></translation></pose>"};
+  const TestScan b{fields(),
+                   "<pose type=\"Structure\"><translation type=\"Structure\"><x type=\"Float\">-3</x>"
+                   "<y type=\"Float\">4</y><z type=\"Float\">1.5</z></translation></pose>"};
   const PointCloud plain = parse(write_e57({unposed}).bytes);
   const PointCloud c = parse(write_e57({a, b}).bytes);
   ASSERT_EQ(c.size(), 6);
@@ -281,27 +290,40 @@ std::vector<Hostile> hostile_table() {
   t.push_back({"xml length past the end", patched(32, 1ULL << 40, 8), "reaches past the end of the file", 32});
   t.push_back({"section id", patched(ok.sections[0], 7, 1), "section id is 7", ok.sections[0]});
   t.push_back({"section length", patched(ok.sections[0] + 8, 1ULL << 62, 8), "section length", ok.sections[0] + 8});
-  t.push_back({"data offset outside", patched(ok.sections[0] + 16, 2, 8), "dataPhysicalOffset is outside", ok.sections[0] + 16});
-  t.push_back({"packet length past the section", patched(ok.packets[0] + 2, 0xFFFF, 2), "packet of 65536 bytes reaches past",
-               ok.packets[0]});
+  t.push_back({"data offset outside", patched(ok.sections[0] + 16, 2, 8), "dataPhysicalOffset is outside",
+               ok.sections[0] + 16});
+  t.push_back({"packet length past the section", patched(ok.packets[0] + 2, 0xFFFF, 2),
+               "packet of 65536 bytes reaches past", ok.packets[0]});
   t.push_back({"bytestream count", patched(ok.packets[0] + 4, 9, 2), "has 9 bytestreams", ok.packets[0] + 4});
-  t.push_back({"buffer lengths past the packet", patched(ok.packets[0] + 6, 0xFFFF, 2), "do not fit in the", ok.packets[0] + 6});
+  t.push_back({"buffer lengths past the packet", patched(ok.packets[0] + 6, 0xFFFF, 2), "do not fit in the",
+               ok.packets[0] + 6});
   t.push_back({"unknown packet type", patched(ok.packets[0], 9, 1), "unknown packet type 9", ok.packets[0]});
   const auto scan = [](const std::string& extra_field, std::optional<std::string> count = std::nullopt) {
-    TestScan s{{float_field("cartesianX", {1, 2}), float_field("cartesianY", {3, 4}), float_field("cartesianZ", {5, 6})}};
+    TestScan s{
+        {float_field("cartesianX", {1, 2}), float_field("cartesianY", {3, 4}), float_field("cartesianZ", {5, 6})}};
     if (!extra_field.empty()) s.fields.push_back({extra_field, 0, {0, 0}});
     s.record_count = std::move(count);
     return s;
   };
-  t.push_back({"absurd recordCount", write_e57({scan("", "1000000000000")}).bytes, "recordCount 1000000000000 is more than", {}});
+  t.push_back({"absurd recordCount",
+               write_e57({scan("", "1000000000000")}).bytes,
+               "recordCount 1000000000000 is more than",
+               {}});
   t.push_back({"recordCount not a number", write_e57({scan("", "12x")}).bytes, "recordCount=\"12x\"", {}});
   WriteOptions slack;  // the empty and index packets leave room for a third record
   slack.extra_packets = true;
-  t.push_back({"more records than data", write_e57({scan("", "3")}, slack).bytes, "section ends before all 3 records", {}});
-  t.push_back({"unknown field type", write_e57({scan("<colorRed type=\"Blob\"/>")}).bytes, "unsupported type \"Blob\"", {}});
-  t.push_back({"bad precision", write_e57({scan("<intensity type=\"Float\" precision=\"half\"/>")}).bytes, "precision \"half\"", {}});
-  t.push_back({"maximum below minimum", write_e57({scan("<colorRed type=\"Integer\" minimum=\"5\" maximum=\"1\"/>")}).bytes,
-               "maximum below minimum", {}});
+  t.push_back(
+      {"more records than data", write_e57({scan("", "3")}, slack).bytes, "section ends before all 3 records", {}});
+  t.push_back(
+      {"unknown field type", write_e57({scan("<colorRed type=\"Blob\"/>")}).bytes, "unsupported type \"Blob\"", {}});
+  t.push_back({"bad precision",
+               write_e57({scan("<intensity type=\"Float\" precision=\"half\"/>")}).bytes,
+               "precision \"half\"",
+               {}});
+  t.push_back({"maximum below minimum",
+               write_e57({scan("<colorRed type=\"Integer\" minimum=\"5\" maximum=\"1\"/>")}).bytes,
+               "maximum below minimum",
+               {}});
   TestScan no_xyz{{float_field("cartesianX", {1}), float_field("cartesianY", {2})}};
   t.push_back({"no coordinates", write_e57({no_xyz}).bytes, "neither cartesianX/Y/Z nor spherical", {}});
   TestScan zero_q = scan("");
@@ -332,17 +354,17 @@ TEST_P(E57Hostile, RefusedWithByteOffset) {
     }
   }
 }
-INSTANTIATE_TEST_SUITE_P(Table, E57Hostile, ::testing::ValuesIn(hostile_table()),
-                         [](const auto& info) {
-                           std::string s = info.param.name;
-                           for (char& ch : s)
-                             if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-                           return s;
-                         });
+INSTANTIATE_TEST_SUITE_P(Table, E57Hostile, ::testing::ValuesIn(hostile_table()), [](const auto& info) {
+  std::string s = info.param.name;
+  for (char& ch : s)
+    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+  return s;
+});
 
 TEST(E57Reader, NanCoordinateIsRefusedNamingItsByte) {
-  const TestFile f = write_e57({TestScan{{float_field("cartesianX", {1, std::nan(""), 3}), float_field("cartesianY", {4, 5, 6}),
-                                          float_field("cartesianZ", {7, 8, 9})}}});
+  const TestFile f =
+      write_e57({TestScan{{float_field("cartesianX", {1, std::nan(""), 3}), float_field("cartesianY", {4, 5, 6}),
+                           float_field("cartesianZ", {7, 8, 9})}}});
   try {
     parse(f.bytes);
     FAIL() << "accepted";
@@ -363,7 +385,9 @@ TEST(E57Reader, DeeplyNestedXmlIsHarmless) {
   for (int i = 0; i < 100000; ++i) o.xml_tail += "<a>";
   for (int i = 0; i < 100000; ++i) o.xml_tail += "</a>";
   const PointCloud c = parse(write_e57({TestScan{{float_field("cartesianX", {1}), float_field("cartesianY", {2}),
-                                                  float_field("cartesianZ", {3})}}}, o).bytes);
+                                                  float_field("cartesianZ", {3})}}},
+                                       o)
+                                 .bytes);
   EXPECT_EQ(c.size(), 1);
 }
 
@@ -379,8 +403,7 @@ TEST(E57Reader, EveryByteFlipIsAnInputErrorOrAValidCloud) {
     try {
       const PointCloud c = parse(s);
       EXPECT_GT(c.size(), 0);
-    } catch (const InputError&) {
-    }
+    } catch (const InputError&) {}
   }
 }
 

@@ -4,8 +4,8 @@
 
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/mesh/mesh_extraction.hpp>
-#include <clustersurf/surface/orientation.hpp>
 #include <clustersurf/pipeline/reconstruct.hpp>
+#include <clustersurf/surface/orientation.hpp>
 
 #include <gtest/gtest.h>
 
@@ -67,7 +67,8 @@ PointCloud sphere_with_dense_patch(int sparse, int dense, double cap, std::uint6
   std::uniform_real_distribution<double> u(0, 1);
   PointCloud c;
   c.positions.resize(sparse + dense, 3);
-  for (int i = 0; i < sparse; ++i) c.positions.row(i) = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized().transpose();
+  for (int i = 0; i < sparse; ++i)
+    c.positions.row(i) = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized().transpose();
   const double lowest = std::cos(cap);
   for (int i = 0; i < dense; ++i) {
     const double z = lowest + (1 - lowest) * u(rng), a = 2 * M_PI * u(rng), r = std::sqrt(1 - z * z);
@@ -80,7 +81,8 @@ PointCloud sphere_with_dense_patch(int sparse, int dense, double cap, std::uint6
 std::pair<double, double> area_and_distance_to_unit_sphere(const TriangleMesh& m) {
   double area = 0, off = 0;
   for (Eigen::Index t = 0; t < m.triangles.rows(); ++t) {
-    const Eigen::Vector3d a = m.vertices.row(m.triangles(t, 0)), b = m.vertices.row(m.triangles(t, 1)), d = m.vertices.row(m.triangles(t, 2));
+    const Eigen::Vector3d a = m.vertices.row(m.triangles(t, 0)), b = m.vertices.row(m.triangles(t, 1)),
+                          d = m.vertices.row(m.triangles(t, 2));
     area += 0.5 * (b - a).cross(d - a).norm();
   }
   for (Eigen::Index v = 0; v < m.vertices.rows(); ++v) off += std::abs(m.vertices.row(v).norm() - 1);
@@ -121,8 +123,8 @@ TEST(GridResolution, ClumpedPointsDoNotMakeTheGridFinerThanThePointsResolve) {
   MeshReport report;
   const TriangleMesh m = extract_mesh(surface, o, &report);
   const double cells = static_cast<double>(report.surface_cells);
-  std::cout << "clumped sphere: spacing " << tree.point_spacing << ", cell " << h << ", " << cells << " surface cells for "
-            << c.size() << " points\n";
+  std::cout << "clumped sphere: spacing " << tree.point_spacing << ", cell " << h << ", " << cells
+            << " surface cells for " << c.size() << " points\n";
   EXPECT_GT(h, 4 * tree.point_spacing);
   // The estimate reads the patches of clumped leaves small by up to about 3×.
   EXPECT_LE(cells, 3 * kMaxSurfaceCellsPerPoint * static_cast<double>(c.size()));
@@ -144,9 +146,9 @@ TEST(GridResolution, ADensePatchMeshesWithTheRestOnABoundedGrid) {
   ASSERT_TRUE(r.mesh.has_value());
   const double cells = static_cast<double>(r.mesh->grid.surface_cells);
   const auto [area, off] = area_and_distance_to_unit_sphere(r.mesh->mesh);
-  std::cout << "sphere with a dense patch: " << r.tree.outliers() << " outliers, cell " << r.mesh->grid.voxel_size << " ("
-            << r.mesh->grid.voxel_size / r.tree.point_spacing << " spacings), " << cells << " surface cells, area "
-            << area / (4 * M_PI) << " of the sphere's, mean distance " << off << "\n";
+  std::cout << "sphere with a dense patch: " << r.tree.outliers() << " outliers, cell " << r.mesh->grid.voxel_size
+            << " (" << r.mesh->grid.voxel_size / r.tree.point_spacing << " spacings), " << cells
+            << " surface cells, area " << area / (4 * M_PI) << " of the sphere's, mean distance " << off << "\n";
   EXPECT_LT(r.tree.outliers(), 100u);
   EXPECT_LE(cells, 3 * kMaxSurfaceCellsPerPoint * static_cast<double>(c.size()));
   EXPECT_NEAR(area, 4 * M_PI, 0.1 * 4 * M_PI);

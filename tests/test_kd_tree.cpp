@@ -55,12 +55,12 @@ std::vector<Neighbor> brute_radius(const Points& p, const Eigen::Vector3d& q, do
 }
 
 ::testing::AssertionResult same(const std::vector<Neighbor>& got, const std::vector<Neighbor>& want) {
-  if (got.size() != want.size())
-    return ::testing::AssertionFailure() << "size " << got.size() << " vs " << want.size();
+  if (got.size() != want.size()) return ::testing::AssertionFailure() << "size " << got.size() << " vs " << want.size();
   for (std::size_t i = 0; i < got.size(); ++i)
     if (got[i].index != want[i].index || got[i].distance_squared != want[i].distance_squared)
-      return ::testing::AssertionFailure() << "at " << i << ": index " << got[i].index << " d2 " << got[i].distance_squared
-                                           << " vs index " << want[i].index << " d2 " << want[i].distance_squared;
+      return ::testing::AssertionFailure()
+             << "at " << i << ": index " << got[i].index << " d2 " << got[i].distance_squared << " vs index "
+             << want[i].index << " d2 " << want[i].distance_squared;
   return ::testing::AssertionSuccess();
 }
 
@@ -93,8 +93,9 @@ std::vector<Eigen::Vector3d> queries(const Points& p, int extra, unsigned seed, 
   std::vector<Eigen::Vector3d> q;
   for (Eigen::Index i = 0; i < p.rows(); i += 37) q.push_back(p.row(i).transpose());  // at data points
   for (int i = 0; i < extra; ++i)
-    q.push_back(on_grid ? Eigen::Vector3d(cell(rng) / 8.0, cell(rng) / 8.0, cell(rng) / 8.0) + Eigen::Vector3d(0.0625, 0, 0)
-                        : Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    q.push_back(on_grid
+                    ? Eigen::Vector3d(cell(rng) / 8.0, cell(rng) / 8.0, cell(rng) / 8.0) + Eigen::Vector3d(0.0625, 0, 0)
+                    : Eigen::Vector3d(u(rng), u(rng), u(rng)));
   return q;
 }
 
@@ -131,8 +132,7 @@ TEST_P(KdTreeBruteForce, KnnAndRadiusMatch) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Seeds, KdTreeBruteForce,
-                         ::testing::Combine(::testing::Values(1u, 2u, 3u), ::testing::Bool()),
+INSTANTIATE_TEST_SUITE_P(Seeds, KdTreeBruteForce, ::testing::Combine(::testing::Values(1u, 2u, 3u), ::testing::Bool()),
                          [](const auto& info) {
                            return "seed" + std::to_string(std::get<0>(info.param)) +
                                   (std::get<1>(info.param) ? "_ties" : "_random");
@@ -267,7 +267,8 @@ TEST(KdTree, ConcurrentQueriesGiveTheSameAnswers) {
         par_radius[i] = tree.radius(qs[i], 0.125);
         // Deterministic for a given tree: the same traversal order from any thread.
         tree.radius_unsorted(qs[i], 0.125, buf);
-        if (round == 0) unsorted[i] = buf;
+        if (round == 0)
+          unsorted[i] = buf;
         else if (buf.size() != unsorted[i].size() ||
                  !std::equal(buf.begin(), buf.end(), unsorted[i].begin(),
                              [](const Neighbor& a, const Neighbor& b) { return a.index == b.index; }))

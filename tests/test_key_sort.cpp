@@ -40,7 +40,8 @@ void expect_same_order_as_std_sort(std::vector<KeyedIndex> items) {
 }  // namespace
 
 TEST(KeySort, SameOrderAsComparisonSortAtEverySize) {
-  for (const std::size_t n : {0, 1, 2, 100, 2047, 2048, 2049, 5000, 70000}) expect_same_order_as_std_sort(projections(n, n));
+  for (const std::size_t n : {0, 1, 2, 100, 2047, 2048, 2049, 5000, 70000})
+    expect_same_order_as_std_sort(projections(n, n));
 }
 
 TEST(KeySort, EqualKeysGoByIndex) {
@@ -51,13 +52,23 @@ TEST(KeySort, EqualKeysGoByIndex) {
 
 TEST(KeySort, SignsMagnitudesAndZeros) {
   std::mt19937_64 rng(3);
-  const double special[] = {0.0, -0.0, std::numeric_limits<double>::denorm_min(), -std::numeric_limits<double>::denorm_min(),
-                            1e-300, -1e-300, 1e300, -1e300, std::numeric_limits<double>::infinity(),
-                            -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::max(),
+  const double special[] = {0.0,
+                            -0.0,
+                            std::numeric_limits<double>::denorm_min(),
+                            -std::numeric_limits<double>::denorm_min(),
+                            1e-300,
+                            -1e-300,
+                            1e300,
+                            -1e300,
+                            std::numeric_limits<double>::infinity(),
+                            -std::numeric_limits<double>::infinity(),
+                            std::numeric_limits<double>::max(),
                             std::numeric_limits<double>::lowest()};
   std::vector<KeyedIndex> items;
   for (std::uint32_t k = 0; k < 6000; ++k) {
-    const double key = k % 5 == 0 ? special[rng() % std::size(special)] : std::ldexp(static_cast<double>(rng() % 2001) - 1000.0, static_cast<int>(rng() % 200) - 100);
+    const double key =
+        k % 5 == 0 ? special[rng() % std::size(special)]
+                   : std::ldexp(static_cast<double>(rng() % 2001) - 1000.0, static_cast<int>(rng() % 200) - 100);
     items.push_back({key, static_cast<std::uint32_t>(rng())});
   }
   std::vector<KeyedIndex> sorted = items;

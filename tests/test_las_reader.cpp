@@ -152,8 +152,9 @@ TEST(LasReader, PdalSamples) {
   EXPECT_NEAR(autzen.origin.x(), 636590, 600);
   EXPECT_LT(autzen.positions.cwiseAbs().maxCoeff(), 700);
   EXPECT_EQ(read_point_cloud(*dir / "test1_4.las").size(), 1000);
-  for (const char* name : {"permutation_1.0_0.las", "permutation_1.0_1.las", "permutation_1.1_0.las", "permutation_1.1_1.las",
-                           "permutation_1.2_0.las", "permutation_1.2_1.las", "permutation_1.2_2.las", "permutation_1.2_3.las"}) {
+  for (const char* name :
+       {"permutation_1.0_0.las", "permutation_1.0_1.las", "permutation_1.1_0.las", "permutation_1.1_1.las",
+        "permutation_1.2_0.las", "permutation_1.2_1.las", "permutation_1.2_2.las", "permutation_1.2_3.las"}) {
     const PointCloud one = read_point_cloud(*dir / name);
     EXPECT_EQ(one.size(), 1) << name;
     const char format = name[std::strlen(name) - 5];

@@ -57,8 +57,8 @@ std::vector<BadFile> bad_files() {
   t.push_back({"unknown extension", "points.abc", "1 2 3\n", Expect::Input, "unknown file format \".abc\""});
   t.push_back({"directory", "folder.ply", "", Expect::Io, "is a directory", {}, {}, false, Kind::Directory});
   t.push_back({"missing file", "missing.ply", "", Expect::Io, "cannot open", {}, {}, false, Kind::Missing});
-  t.push_back({"zero vertices", "zero.ply", ply_header("ascii", "element vertex 0\n" + kXyzFloat), Expect::Input,
-               "no points"});
+  t.push_back(
+      {"zero vertices", "zero.ply", ply_header("ascii", "element vertex 0\n" + kXyzFloat), Expect::Input, "no points"});
   t.push_back({"xyz of comments only", "c.xyz", "# nothing\n\n", Expect::Input, "no points"});
   // PLY header
   t.push_back({"not ply", "text.ply", "hello\n1 2 3\n", Expect::Input, "not a PLY file", 1});
@@ -68,15 +68,16 @@ std::vector<BadFile> bad_files() {
                "no \"end_header\"", 4});
   t.push_back({"unknown format", "fmt.ply", ply_header("binary_middle_endian", "element vertex 1\n" + kXyzFloat),
                Expect::Input, "unknown PLY format \"binary_middle_endian\"", 2});
-  t.push_back({"format without version", "fmt2.ply", "ply\nformat ascii\nend_header\n", Expect::Input,
-               "expected \"format", 2});
+  t.push_back(
+      {"format without version", "fmt2.ply", "ply\nformat ascii\nend_header\n", Expect::Input, "expected \"format", 2});
   t.push_back({"unsupported version", "ver.ply", "ply\nformat ascii 2.0\nend_header\n", Expect::Input,
                "unsupported PLY version \"2.0\"", 2});
   t.push_back({"no format line", "nofmt.ply", "ply\nelement vertex 1\n" + kXyzFloat + "end_header\n1 2 3\n",
                Expect::Input, "no \"format\" line", 2});
-  t.push_back({"unknown scalar type", "type.ply",
-               ply_header("ascii", "element vertex 1\nproperty float x\nproperty float128 y\nproperty float z\n") + "1 2 3\n",
-               Expect::Input, "unknown scalar type \"float128\"", 5});
+  t.push_back(
+      {"unknown scalar type", "type.ply",
+       ply_header("ascii", "element vertex 1\nproperty float x\nproperty float128 y\nproperty float z\n") + "1 2 3\n",
+       Expect::Input, "unknown scalar type \"float128\"", 5});
   t.push_back({"float list count", "list.ply",
                ply_header("ascii", "element vertex 1\n" + kXyzFloat + "element face 1\nproperty list float int v\n"),
                Expect::Input, "list count type must be an integer", 8});
@@ -92,8 +93,8 @@ std::vector<BadFile> bad_files() {
   t.push_back({"no vertex element", "novert.ply", ply_header("ascii", "element point 1\n" + kXyzFloat) + "1 2 3\n",
                Expect::Input, "no \"vertex\" element", 1});
   // Binary data
-  t.push_back({"truncated binary vertices", "trunc.ply", kBinXyzHeader + std::string(12 * 3 + 6, '\0'),
-               Expect::Input, "file ends inside vertex 3 of 4", std::nullopt, bin_data + 36});
+  t.push_back({"truncated binary vertices", "trunc.ply", kBinXyzHeader + std::string(12 * 3 + 6, '\0'), Expect::Input,
+               "file ends inside vertex 3 of 4", std::nullopt, bin_data + 36});
   {
     Bytes b;
     b.floats({1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12});
@@ -109,9 +110,10 @@ std::vector<BadFile> bad_files() {
                      48 + 11});
     Bytes c;
     c.floats({1, 2, 3}).put<std::uint8_t>(3).put<std::int32_t>(0).put<std::int32_t>(1);  // list cut short
-    const std::string h = ply_header("binary_little_endian", "element vertex 1\nproperty float x\nproperty float y\n"
-                                                             "property float z\nelement face 1\n"
-                                                             "property list uchar int vertex_indices\n");
+    const std::string h = ply_header("binary_little_endian",
+                                     "element vertex 1\nproperty float x\nproperty float y\n"
+                                     "property float z\nelement face 1\n"
+                                     "property list uchar int vertex_indices\n");
     t.push_back({"truncated binary list", "list.ply", h + c.s, Expect::Input, "file ends inside face 0 of 1",
                  std::nullopt, h.size() + 13});
   }
@@ -143,8 +145,9 @@ std::vector<BadFile> bad_files() {
     Bytes b;
     b.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}).put<std::uint8_t>(3).put<std::int32_t>(0).put<std::int32_t>(1);
     b.put<std::int32_t>(2).put<std::uint8_t>(3).put<std::int32_t>(0).put<std::int32_t>(-1).put<std::int32_t>(2);
-    const std::string h = ply_header("binary_little_endian", "element vertex 3\n" + kXyzFloat +
-                                                                 "element face 2\nproperty list uchar int vertex_indices\n");
+    const std::string h =
+        ply_header("binary_little_endian",
+                   "element vertex 3\n" + kXyzFloat + "element face 2\nproperty list uchar int vertex_indices\n");
     t.push_back({"binary face index out of range", "face.ply", h + b.s, Expect::Input,
                  "face refers to vertex -1 but there are 3 vertices", std::nullopt, h.size() + 36 + 13, true});
   }
@@ -160,8 +163,7 @@ std::vector<BadFile> bad_files() {
                "unexpected data \"7\" after the last element", 9});
   t.push_back({"non-numeric token", "nn.ply", kAsciiXyzHeader + "1 2 3\n4 5 six\n", Expect::Input,
                "expected a number for property \"z\" of vertex 1 of 2, found \"six\"", 9});
-  t.push_back({"sign after plus", "pm.ply", kAsciiXyzHeader + "1 2 3\n4 +-5 6\n", Expect::Input,
-               "found \"+-5\"", 9});
+  t.push_back({"sign after plus", "pm.ply", kAsciiXyzHeader + "1 2 3\n4 +-5 6\n", Expect::Input, "found \"+-5\"", 9});
   t.push_back({"non-integer in an integer property", "ni.ply",
                ply_header("ascii", "element vertex 1\n" + kXyzFloat + "property uchar red\n") + "1 2 3 4.5\n",
                Expect::Input, "expected an integer for property \"red\"", 9});
@@ -173,23 +175,27 @@ std::vector<BadFile> bad_files() {
                    "1 2 3 0 0 1\n4 5 6 0 -inf 0\n",
                Expect::Input, "point 1 (0-based) has a non-finite coordinate or normal", 12});
   t.push_back({"ascii face index out of range", "face.ply",
-               ply_header("ascii", "element vertex 3\n" + kXyzFloat + "element face 2\nproperty list uchar int vertex_indices\n") +
+               ply_header("ascii", "element vertex 3\n" + kXyzFloat +
+                                       "element face 2\nproperty list uchar int vertex_indices\n") +
                    "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 3\n",
                Expect::Input, "face refers to vertex 3 but there are 3 vertices", 14, std::nullopt, true});
   for (const char* index : {"1e300", "-1e19"}) {
     t.push_back({std::string("ascii face index ") + index, "hugeface.ply",
-                 ply_header("ascii", "element vertex 3\n" + kXyzFloat + "element face 1\nproperty list uchar int vertex_indices\n") +
+                 ply_header("ascii", "element vertex 3\n" + kXyzFloat +
+                                         "element face 1\nproperty list uchar int vertex_indices\n") +
                      "0 0 0\n1 0 0\n0 1 0\n3 0 1 " + index + "\n",
                  Expect::Input, std::string("face refers to vertex ") + index + " but there are 3 vertices", 13,
                  std::nullopt, true});
   }
   t.push_back({"ascii face index inf", "infface.ply",
-               ply_header("ascii", "element vertex 3\n" + kXyzFloat + "element face 1\nproperty list uchar int vertex_indices\n") +
+               ply_header("ascii", "element vertex 3\n" + kXyzFloat +
+                                       "element face 1\nproperty list uchar int vertex_indices\n") +
                    "0 0 0\n1 0 0\n0 1 0\n3 0 1 inf\n",
                Expect::Input, "expected an integer for property \"vertex_indices\" of face 0 of 1, found \"inf\"", 13,
                std::nullopt, true});
   t.push_back({"non-finite mesh vertex", "nanmesh.ply",
-               ply_header("ascii", "element vertex 3\n" + kXyzFloat + "element face 1\nproperty list uchar int vertex_indices\n") +
+               ply_header("ascii", "element vertex 3\n" + kXyzFloat +
+                                       "element face 1\nproperty list uchar int vertex_indices\n") +
                    "0 0 0\n1 inf 0\n0 1 0\n3 0 1 2\n",
                Expect::Input, "non-finite", 11, std::nullopt, true});
   // XYZ / PTS
@@ -197,12 +203,13 @@ std::vector<BadFile> bad_files() {
                "expected 3 values as on line 2, found 6", 4});
   t.push_back({"xyz five columns", "five.xyz", "\n1 2 3 4 5\n", Expect::Input, "found 5", 2});
   t.push_back({"xyz non-numeric", "nn.xyz", "1 2 3\n4 5 6e\n", Expect::Input, "expected a number in column 3", 2});
-  t.push_back({"xyz Inf", "inf.xyz", "1 2 3\n4 inf 6\n7 8 9\n", Expect::Input,
-               "point 1 (0-based) has a non-finite", 2});
+  t.push_back(
+      {"xyz Inf", "inf.xyz", "1 2 3\n4 inf 6\n7 8 9\n", Expect::Input, "point 1 (0-based) has a non-finite", 2});
   t.push_back({"xyz NaN normal", "nan.xyz", "1 2 3 0 0 1\n4 5 6 nan 0 0\n", Expect::Input, "non-finite", 2});
   t.push_back({"pts count mismatch", "c.pts", "3\n1 2 3 0 1 2 3\n4 5 6 0 1 2 3\n", Expect::Input,
                "the count line says 3 points but the file has 2", 1});
-  t.push_back({"pts bad count line", "b.pts", "many\n1 2 3\n", Expect::Input, "expected \"x y z\" or a point count", 1});
+  t.push_back(
+      {"pts bad count line", "b.pts", "many\n1 2 3\n", Expect::Input, "expected \"x y z\" or a point count", 1});
   t.push_back({"xyz as mesh", "m.xyz", "1 2 3\n", Expect::Input, "cannot read a mesh from a XYZ file", std::nullopt,
                std::nullopt, true});
   // OBJ
@@ -230,8 +237,10 @@ TEST_P(MalformedFile, FailsWithTypeMessageAndLocation) {
   if (f.kind == Kind::File) write_file(file, f.bytes);
   if (f.kind == Kind::Directory) std::filesystem::create_directory(file);
   auto read = [&] {
-    if (f.mesh) (void)read_triangle_mesh(file);
-    else (void)read_point_cloud(file);
+    if (f.mesh)
+      (void)read_triangle_mesh(file);
+    else
+      (void)read_point_cloud(file);
   };
   try {
     read();
@@ -239,7 +248,8 @@ TEST_P(MalformedFile, FailsWithTypeMessageAndLocation) {
   } catch (const InputError& e) {
     ASSERT_EQ(f.type, Expect::Input) << "got InputError: " << e.what();
     EXPECT_NE(std::string(e.what()).find(f.message), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << "message must name the file: " << e.what();
+    EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos)
+        << "message must name the file: " << e.what();
     EXPECT_EQ(e.file(), file);
     EXPECT_EQ(e.where().line, f.line) << e.what();
     EXPECT_EQ(e.where().byte_offset, f.byte) << e.what();
@@ -365,8 +375,9 @@ TEST(NonFinite, DroppedOnRequestWithAWarning) {
     EXPECT_EQ(read_point_cloud(dir / c.name, quiet).size(), c.kept);
   }
   // Kept points keep their attributes in order.
-  write_file(dir / "attr.ply", ply_header("ascii", "element vertex 3\n" + kXyzFloat + "property uchar red\nproperty "
-                                                                                      "uchar green\nproperty uchar blue\n") +
+  write_file(dir / "attr.ply", ply_header("ascii", "element vertex 3\n" + kXyzFloat +
+                                                       "property uchar red\nproperty "
+                                                       "uchar green\nproperty uchar blue\n") +
                                    "1 1 1 10 11 12\nnan 2 2 20 21 22\n3 3 3 30 31 32\n");
   ReadOptions o;
   o.drop_non_finite = true;
@@ -393,11 +404,12 @@ TEST(MalformedFileExtra, RandomCorruptionsOnlyEverThrowInputError) {
                                         "property uchar red\nproperty uchar green\nproperty uchar blue\n"
                                         "element face 2\nproperty list uchar int vertex_indices\n") +
                     "0 0 0 1 2 3\n1 0 0 4 5 6\n1 1 0 7 8 9\n0 1 0 10 11 12\n4 0 1 2 3\n3 3 2 1\n"},
-      {"b.ply", ply_header("binary_little_endian",
-                           "element vertex 4\n" + kXyzFloat + "element face 2\nproperty list uchar int vertex_indices\n") +
+      {"b.ply", ply_header("binary_little_endian", "element vertex 4\n" + kXyzFloat +
+                                                       "element face 2\nproperty list uchar int vertex_indices\n") +
                     bin.s},
       {"c.xyz", "3\n1 2 3 0 0 1\n4 5 6 0 1 0\n7 8 9 1 0 0\n"},
-      {"d.obj", "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nvn 0 0 1\nvn 0 0 1\nvn 0 0 1\nf 1//1 2//2 3//3\nf -1 -2 -3\n"},
+      {"d.obj",
+       "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nvn 0 0 1\nvn 0 0 1\nvn 0 0 1\nf 1//1 2//2 3//3\nf -1 -2 -3\n"},
   };
   const std::string alphabet = "0123456789 -+.\n\r\t#,/eEnaifvxyz\xff\x80";
   std::mt19937_64 rng(2024);
@@ -409,11 +421,21 @@ TEST(MalformedFileExtra, RandomCorruptionsOnlyEverThrowInputError) {
       for (int e = 0; e < edits && !bytes.empty(); ++e) {
         const std::size_t at = rng() % bytes.size();
         switch (rng() % 5) {
-          case 0: bytes[at] = static_cast<char>(rng() % 256); break;
-          case 1: bytes[at] = alphabet[rng() % alphabet.size()]; break;
-          case 2: bytes.resize(at); break;
-          case 3: bytes.insert(at, 1, alphabet[rng() % alphabet.size()]); break;
-          default: bytes.erase(at, 1 + rng() % 4); break;
+          case 0:
+            bytes[at] = static_cast<char>(rng() % 256);
+            break;
+          case 1:
+            bytes[at] = alphabet[rng() % alphabet.size()];
+            break;
+          case 2:
+            bytes.resize(at);
+            break;
+          case 3:
+            bytes.insert(at, 1, alphabet[rng() % alphabet.size()]);
+            break;
+          default:
+            bytes.erase(at, 1 + rng() % 4);
+            break;
         }
       }
       // A new file each time: rewriting one in place (O_TRUNC) makes ext4 flush it on close.

@@ -41,7 +41,8 @@ TriangleMesh uv_sphere(int slices, int stacks, double radius = 1.0, const Vec& c
     for (int j = 0; j < slices; ++j) {
       const double phi = 2 * std::numbers::pi * j / slices;
       m.vertices.row(1 + k * slices + j) =
-          (center + radius * Vec(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta))).transpose();
+          (center + radius * Vec(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)))
+              .transpose();
     }
   }
   const int south = 1 + rings * slices;
@@ -70,7 +71,8 @@ TriangleMesh grid_torus(int n, int m, double R = 1.0, double r = 0.35) {
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < m; ++j) {
       const double u = 2 * std::numbers::pi * i / n, v = 2 * std::numbers::pi * j / m;
-      t.vertices.row(i * m + j) << (R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v);
+      t.vertices.row(i * m + j) << (R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u),
+          r * std::sin(v);
     }
   t.triangles.resize(2 * n * m, 3);
   const auto at = [n, m](int i, int j) { return (i % n) * m + (j % m); };
@@ -85,7 +87,8 @@ TriangleMesh grid_torus(int n, int m, double R = 1.0, double r = 0.35) {
 
 /// The surface of a cube of side n (unit squares, two triangles each), every face flat, turned
 /// by `rotation` and moved by `offset`: a mesh made of flat fans.
-TriangleMesh grid_cube(int n, const Eigen::Matrix3d& rotation = Eigen::Matrix3d::Identity(), const Vec& offset = Vec::Zero()) {
+TriangleMesh grid_cube(int n, const Eigen::Matrix3d& rotation = Eigen::Matrix3d::Identity(),
+                       const Vec& offset = Vec::Zero()) {
   std::map<std::tuple<int, int, int>, int> index;
   std::vector<Vec> vertices;
   std::vector<std::array<int, 3>> triangles;
@@ -121,10 +124,12 @@ TriangleMesh grid_cube(int n, const Eigen::Matrix3d& rotation = Eigen::Matrix3d:
         }
   TriangleMesh m;
   m.vertices.resize(static_cast<Eigen::Index>(vertices.size()), 3);
-  for (std::size_t i = 0; i < vertices.size(); ++i) m.vertices.row(static_cast<Eigen::Index>(i)) = vertices[i].transpose();
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    m.vertices.row(static_cast<Eigen::Index>(i)) = vertices[i].transpose();
   m.triangles.resize(static_cast<Eigen::Index>(triangles.size()), 3);
   for (std::size_t f = 0; f < triangles.size(); ++f)
-    for (int k = 0; k < 3; ++k) m.triangles(static_cast<Eigen::Index>(f), k) = triangles[f][static_cast<std::size_t>(k)];
+    for (int k = 0; k < 3; ++k)
+      m.triangles(static_cast<Eigen::Index>(f), k) = triangles[f][static_cast<std::size_t>(k)];
   return m;
 }
 
@@ -320,11 +325,11 @@ TEST(MeshCheck, TrianglesFoldedFlatOntoTheirEdge) {
 TEST(MeshCheck, TrianglesSharingAVertex) {
   const Vec v(0, 0, 0);
   const std::array<Vec, 3> a{v, Vec(1, 0, 0), Vec(0, 1, 0)};
-  EXPECT_FALSE(triangles_intersect(a, {v, Vec(-1, 0, 0), Vec(0, -1, 0)}));    // the opposite quadrant, flat
-  EXPECT_FALSE(triangles_intersect(a, {v, Vec(-1, 0, 1), Vec(0, -1, 1)}));    // bent away
+  EXPECT_FALSE(triangles_intersect(a, {v, Vec(-1, 0, 0), Vec(0, -1, 0)}));       // the opposite quadrant, flat
+  EXPECT_FALSE(triangles_intersect(a, {v, Vec(-1, 0, 1), Vec(0, -1, 1)}));       // bent away
   EXPECT_TRUE(triangles_intersect(a, {v, Vec(0.5, 0.2, 0), Vec(0.2, 0.5, 0)}));  // inside it, flat
-  EXPECT_TRUE(triangles_intersect(a, {v, Vec(1, 1, 1), Vec(1, 1, -1)}));     // through it
-  EXPECT_FALSE(triangles_intersect(a, {v, Vec(1, 1, 1), Vec(-1, 1, 1)}));    // touching at v only
+  EXPECT_TRUE(triangles_intersect(a, {v, Vec(1, 1, 1), Vec(1, 1, -1)}));         // through it
+  EXPECT_FALSE(triangles_intersect(a, {v, Vec(1, 1, 1), Vec(-1, 1, 1)}));        // touching at v only
 }
 
 TEST(MeshCheck, DuplicatedFaceCounts) {
@@ -363,8 +368,9 @@ TEST(MeshCheck, FlatFacesOfATurnedCubeDoNotIntersect) {
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> angle(0, 2 * std::numbers::pi), coordinate(-1, 1);
   for (int k = 0; k < 12; ++k) {
-    const Eigen::Matrix3d r = Eigen::AngleAxisd(angle(rng), Vec(coordinate(rng), coordinate(rng), coordinate(rng)).normalized())
-                                  .toRotationMatrix();
+    const Eigen::Matrix3d r =
+        Eigen::AngleAxisd(angle(rng), Vec(coordinate(rng), coordinate(rng), coordinate(rng)).normalized())
+            .toRotationMatrix();
     TriangleMesh turned = grid_cube(10, 0.01 * r, 100.0 * Vec(coordinate(rng), coordinate(rng), coordinate(rng)));
     if (k % 2 == 1) turned.vertices = turned.vertices.cast<float>().cast<double>().eval();
     const MeshCheck t = check_mesh(turned);
@@ -411,7 +417,8 @@ TEST(MeshCheck, SameCountAsEveryPairTested) {
       for (int& c : k) c = corner(rng);
     } while (k[0] == k[1] || k[1] == k[2] || k[0] == k[2]);
     for (int c = 0; c < 3; ++c)
-      b.triangles(f, c) = (x + (k[static_cast<std::size_t>(c)] & 1)) + n * (y + ((k[static_cast<std::size_t>(c)] >> 1) & 1)) +
+      b.triangles(f, c) = (x + (k[static_cast<std::size_t>(c)] & 1)) +
+                          n * (y + ((k[static_cast<std::size_t>(c)] >> 1) & 1)) +
                           n * n * (z + (k[static_cast<std::size_t>(c)] >> 2));
   }
   const SelfIntersections sb = find_self_intersections(b);

@@ -4,10 +4,10 @@
 // scans' colors; the scanner's intensity as grey on request.
 
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/spatial/kd_tree.hpp>
-#include <clustersurf/mesh/mesh_colors.hpp>
 #include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/mesh/mesh_colors.hpp>
 #include <clustersurf/pipeline/reconstruct.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 
 #include <gtest/gtest.h>
 
@@ -168,7 +168,8 @@ TEST(MeshColors, E57AndPtxScansCarryTheirColors) {
     r.push_back(sphere.colors(i, 0)), g.push_back(sphere.colors(i, 1)), b.push_back(sphere.colors(i, 2));
   }
   const TestScan scan{{float_field("cartesianX", x), float_field("cartesianY", y), float_field("cartesianZ", z),
-                       int_field("colorRed", 0, 255, r), int_field("colorGreen", 0, 255, g), int_field("colorBlue", 0, 255, b)}};
+                       int_field("colorRed", 0, 255, r), int_field("colorGreen", 0, 255, g),
+                       int_field("colorBlue", 0, 255, b)}};
   const TempDir dir;
   write_file(dir / "sphere.e57", write_e57({scan}).bytes);
   const PointCloud e57 = read_point_cloud(dir / "sphere.e57");
@@ -200,7 +201,8 @@ TEST(MeshColors, E57AndPtxScansCarryTheirColors) {
     index.knn(scanned.vertices.row(v).transpose(), kColorNeighbors, nb);
     for (int k = 0; k < 3; ++k) {
       int lo = 255, hi = 0;
-      for (const Neighbor& n : nb) lo = std::min<int>(lo, cloud.colors(n.index, k)), hi = std::max<int>(hi, cloud.colors(n.index, k));
+      for (const Neighbor& n : nb)
+        lo = std::min<int>(lo, cloud.colors(n.index, k)), hi = std::max<int>(hi, cloud.colors(n.index, k));
       outside += scanned.colors(v, k) < lo || scanned.colors(v, k) > hi;
     }
   }

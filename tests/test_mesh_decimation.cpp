@@ -59,8 +59,10 @@ TEST(MeshDecimation, TriangleBudgetKeepsVerticesInPlaceAndTheMeshClosed) {
   // Every vertex is one of the input's, with its normal.
   ASSERT_EQ(d.normals.rows(), d.vertices.rows());
   std::set<std::array<double, 3>> input;
-  for (Eigen::Index v = 0; v < m.vertices.rows(); ++v) input.insert({m.vertices(v, 0), m.vertices(v, 1), m.vertices(v, 2)});
-  for (Eigen::Index v = 0; v < d.vertices.rows(); ++v) EXPECT_TRUE(input.count({d.vertices(v, 0), d.vertices(v, 1), d.vertices(v, 2)}));
+  for (Eigen::Index v = 0; v < m.vertices.rows(); ++v)
+    input.insert({m.vertices(v, 0), m.vertices(v, 1), m.vertices(v, 2)});
+  for (Eigen::Index v = 0; v < d.vertices.rows(); ++v)
+    EXPECT_TRUE(input.count({d.vertices(v, 0), d.vertices(v, 1), d.vertices(v, 2)}));
   const MeshTopology topo = mesh_topology(d);
   EXPECT_EQ(topo.boundary_edges, 0u);
   EXPECT_EQ(topo.euler_characteristic, 2);
@@ -88,7 +90,8 @@ TEST(MeshDecimation, DistanceBoundHoldsAndRimsStay) {
   TriangleMesh half;
   std::vector<Eigen::Index> keep;
   for (Eigen::Index f = 0; f < m.triangles.rows(); ++f)
-    if (m.vertices(m.triangles(f, 0), 2) > 0 && m.vertices(m.triangles(f, 1), 2) > 0 && m.vertices(m.triangles(f, 2), 2) > 0)
+    if (m.vertices(m.triangles(f, 0), 2) > 0 && m.vertices(m.triangles(f, 1), 2) > 0 &&
+        m.vertices(m.triangles(f, 2), 2) > 0)
       keep.push_back(f);
   half.vertices = m.vertices;
   half.triangles = m.triangles(keep, Eigen::all);

@@ -2,8 +2,8 @@
 // characteristic, outward orientation, holes where data is missing.
 
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/surface/implicit_surface.hpp>
 #include <clustersurf/mesh/mesh_extraction.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
 #include <clustersurf/surface/orientation.hpp>
 
 #include <gtest/gtest.h>
@@ -38,7 +38,8 @@ TEST(MeshExtraction, SphereIsAccurateWatertightGenusZeroAndOutward) {
   ASSERT_GT(m.triangles.rows(), 1000);
   const double tol = 0.002 * diagonal(c);
   double worst = 0;
-  for (Eigen::Index v = 0; v < m.vertices.rows(); ++v) worst = std::max(worst, std::abs(m.vertices.row(v).norm() - 1.0));
+  for (Eigen::Index v = 0; v < m.vertices.rows(); ++v)
+    worst = std::max(worst, std::abs(m.vertices.row(v).norm() - 1.0));
   EXPECT_LT(worst, tol);
   const MeshTopology t = mesh_topology(m);
   EXPECT_EQ(t.non_manifold_edges, 0u);
@@ -155,7 +156,8 @@ TEST(MeshExtraction, FineLeavesMeshWithoutPinholes) {
   EXPECT_TRUE(is_watertight(t2)) << t2.boundary_edges << " boundary edges";
   EXPECT_EQ(t2.euler_characteristic, 2);
   double worst = 0;
-  for (Eigen::Index v = 0; v < m.vertices.rows(); ++v) worst = std::max(worst, std::abs(m.vertices.row(v).norm() - 1.0));
+  for (Eigen::Index v = 0; v < m.vertices.rows(); ++v)
+    worst = std::max(worst, std::abs(m.vertices.row(v).norm() - 1.0));
   EXPECT_LT(worst, 0.002 * diagonal(c));
 }
 

@@ -1,9 +1,9 @@
 // Trimming a mesh to its input points: the part beyond the data goes, the rest stays as it was.
 
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/surface/implicit_surface.hpp>
 #include <clustersurf/mesh/mesh_extraction.hpp>
 #include <clustersurf/mesh/mesh_trim.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
 #include <clustersurf/surface/orientation.hpp>
 
 #include <gtest/gtest.h>
@@ -197,7 +197,8 @@ std::size_t triangles_near_pole(const TriangleMesh& mesh, double radius) {
   std::size_t n = 0;
   for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
     bool near = false;
-    for (int k = 0; k < 3; ++k) near = near || (mesh.vertices.row(mesh.triangles(t, k)) - Eigen::RowVector3d(0, 0, 1)).norm() < radius;
+    for (int k = 0; k < 3; ++k)
+      near = near || (mesh.vertices.row(mesh.triangles(t, k)) - Eigen::RowVector3d(0, 0, 1)).norm() < radius;
     n += near;
   }
   return n;

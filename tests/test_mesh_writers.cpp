@@ -92,8 +92,9 @@ TEST(MeshWriters, GlbHoldsPositionsNormalsColorsIndicesAndTheOrigin) {
   EXPECT_EQ(positions["max"], (std::vector<float>{1, 1, 1}));
   for (Eigen::Index v = 0; v < 4; ++v)
     for (int k = 0; k < 3; ++k)
-      EXPECT_EQ(at<float>(b, view_offset(positions) + 12 * static_cast<std::size_t>(v) + 4 * static_cast<std::size_t>(k)),
-                static_cast<float>(m.vertices(v, k)));
+      EXPECT_EQ(
+          at<float>(b, view_offset(positions) + 12 * static_cast<std::size_t>(v) + 4 * static_cast<std::size_t>(k)),
+          static_cast<float>(m.vertices(v, k)));
   const auto colors = accessor("COLOR_0");
   EXPECT_EQ(colors["type"], "VEC4");
   EXPECT_EQ(static_cast<unsigned char>(b[view_offset(colors) + 12 + 1]), 20);
@@ -103,7 +104,8 @@ TEST(MeshWriters, GlbHoldsPositionsNormalsColorsIndicesAndTheOrigin) {
   EXPECT_EQ(indices["count"], 12);
   for (Eigen::Index f = 0; f < 4; ++f)
     for (int k = 0; k < 3; ++k)
-      EXPECT_EQ(at<std::uint32_t>(b, view_offset(indices) + 12 * static_cast<std::size_t>(f) + 4 * static_cast<std::size_t>(k)),
+      EXPECT_EQ(at<std::uint32_t>(
+                    b, view_offset(indices) + 12 * static_cast<std::size_t>(f) + 4 * static_cast<std::size_t>(k)),
                 static_cast<std::uint32_t>(m.triangles(f, k)));
 }
 
@@ -138,7 +140,8 @@ TEST(MeshWriters, OffAndEveryTextWriterPutPointsBackAtTheirOrigin) {
   c.origin = origin;
   write_point_cloud(dir / "c.ply", c);
   const PointCloud back = read_point_cloud(dir / "c.ply");
-  EXPECT_TRUE(same_bits(Points(back.positions.rowwise() + back.origin.transpose()), Points(c.positions.rowwise() + origin.transpose())));
+  EXPECT_TRUE(same_bits(Points(back.positions.rowwise() + back.origin.transpose()),
+                        Points(c.positions.rowwise() + origin.transpose())));
   EXPECT_THROW(write_point_cloud(dir / "c.stl", c), OptionError);
   write_triangle_mesh(dir / "t.stl", m);
   EXPECT_THROW(read_point_cloud(dir / "t.stl"), InputError);

@@ -105,7 +105,8 @@ TEST(Moments, SpreadsOfAThinFlatClusterMatchPca) {
   Points p(400, 3);
   const Eigen::Vector3d normal = Eigen::Vector3d(1, 2, 3).normalized();
   const Eigen::Vector3d t1 = normal.unitOrthogonal(), t2 = normal.cross(t1);
-  for (int i = 0; i < 400; ++i) p.row(i) = (Eigen::Vector3d(5, 1, -2) + u(rng) * t1 + u(rng) * t2 + g(rng) * normal).transpose();
+  for (int i = 0; i < 400; ++i)
+    p.row(i) = (Eigen::Vector3d(5, 1, -2) + u(rng) * t1 + u(rng) * t2 + g(rng) * normal).transpose();
   PlaneMoments m(Eigen::Vector3d(5.1, 0.9, -2));
   for (int i = 0; i < 400; ++i) m.add(p.row(i).transpose());
   std::vector<std::uint32_t> all(400);

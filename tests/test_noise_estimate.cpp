@@ -1,11 +1,11 @@
 // The noise estimate: Gaussian noise recovered, dense sampling, and a model's detail not read
 // as noise.
 
-#include <clustersurf/io/point_cloud_io.hpp>
-#include <clustersurf/core/errors.hpp>
-#include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/cluster/noise.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
 #include <clustersurf/io/surface_sampling.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 
 #include <gtest/gtest.h>
 
@@ -33,7 +33,8 @@ PointCloud rippled_sphere(int count, double amplitude, double frequency) {
   PointCloud c = test::sample_sphere(count, 1.0);
   for (Eigen::Index i = 0; i < c.size(); ++i) {
     const Eigen::Vector3d p = c.positions.row(i).transpose();
-    const double r = 1 + amplitude * std::sin(frequency * p.x()) * std::sin(frequency * p.y()) * std::sin(frequency * p.z());
+    const double r =
+        1 + amplitude * std::sin(frequency * p.x()) * std::sin(frequency * p.y()) * std::sin(frequency * p.z());
     c.positions.row(i) = (r * p).transpose();
   }
   return c;

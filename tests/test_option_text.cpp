@@ -26,7 +26,8 @@ void expect_refused(const std::function<void()>& parse, const std::string& messa
 }  // namespace
 
 TEST(OptionText, EnumsRoundTripTheirNames) {
-  for (ProxyKind k : {ProxyKind::Plane, ProxyKind::Poly, ProxyKind::Quadric}) EXPECT_EQ(parse_proxy_kind(to_string(k)), k);
+  for (ProxyKind k : {ProxyKind::Plane, ProxyKind::Poly, ProxyKind::Quadric})
+    EXPECT_EQ(parse_proxy_kind(to_string(k)), k);
   for (SplitterKind k : {SplitterKind::SplitPlane, SplitterKind::Lloyd}) EXPECT_EQ(parse_splitter(to_string(k)), k);
   for (ErrorMetric m : {ErrorMetric::Rms, ErrorMetric::Max}) EXPECT_EQ(parse_error_metric(to_string(m)), m);
   for (MeshColoring c : {MeshColoring::None, MeshColoring::ByNode, MeshColoring::ByDistance, MeshColoring::FromInput,
@@ -48,10 +49,12 @@ TEST(OptionText, RefusalsSayWhatIsAccepted) {
   expect_refused([] { parse_proxy_kind("point"); }, "proxy must be plane, poly or quadric, not \"point\"");
   expect_refused([] { parse_splitter("kmeans"); }, "splitter must be split-plane or lloyd, not \"kmeans\"");
   expect_refused([] { parse_error_metric("mean"); }, "error metric must be rms or max, not \"mean\"");
-  expect_refused([] { parse_mesh_coloring("red"); }, "color must be none, leaf, distance, input or intensity, not \"red\"");
+  expect_refused([] { parse_mesh_coloring("red"); },
+                 "color must be none, leaf, distance, input or intensity, not \"red\"");
   for (const char* bad : {"big", "-1", "1e", "", " 0.1", "nan", "inf"})
-    expect_refused([&] { parse_tolerance(bad); },
-                   std::string("tolerance must be \"auto\" or a non-negative fraction of the diagonal, not \"") + bad + "\"");
+    expect_refused(
+        [&] { parse_tolerance(bad); },
+        std::string("tolerance must be \"auto\" or a non-negative fraction of the diagonal, not \"") + bad + "\"");
   for (const char* bad : {"0", "many", "-5", "2.5", "1073741825"})
     expect_refused([&] { parse_min_points(bad); },
                    std::string("min points must be \"auto\" or a whole number from 1 to 2^30, not \"") + bad + "\"");

@@ -1,7 +1,7 @@
 // Orientation: by normals, and by propagation on the bunny with its normals stripped.
 
-#include <clustersurf/surface/orientation.hpp>
 #include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/surface/orientation.hpp>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -122,7 +122,8 @@ TEST(Orientation, TowardsTheScanners) {
     ClusterTree t = build_cluster_tree(c, {});
     const OrientationReport r = orient_tree(t, c);
     EXPECT_TRUE(r.used_scanners);
-    for (auto i : t.leaves()) EXPECT_GT(side * t.nodes[static_cast<std::size_t>(i)].proxy.normal().z(), 0) << "leaf " << i;
+    for (auto i : t.leaves())
+      EXPECT_GT(side * t.nodes[static_cast<std::size_t>(i)].proxy.normal().z(), 0) << "leaf " << i;
   }
   const PointCloud sphere = test::sample_sphere(20000);
   PointCloud seen;

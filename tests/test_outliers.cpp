@@ -2,12 +2,12 @@
 // and a tree built from a cloud with outliers meshes as if they were not there.
 
 #include <clustersurf/cluster/cluster_tree.hpp>
-#include <clustersurf/surface/implicit_surface.hpp>
-#include <clustersurf/mesh/mesh_extraction.hpp>
-#include <clustersurf/surface/orientation.hpp>
-#include <clustersurf/spatial/outliers.hpp>
-#include <clustersurf/io/point_cloud_io.hpp>
 #include <clustersurf/cluster/tree_file.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/mesh/mesh_extraction.hpp>
+#include <clustersurf/spatial/outliers.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
+#include <clustersurf/surface/orientation.hpp>
 
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
@@ -54,8 +54,8 @@ TEST(Outliers, FindsPointsInTheAirAndKeepsTheSurface) {
     ++far;
     far_flagged += flagged[static_cast<std::size_t>(i)];
   }
-  std::cout << "sphere: " << surface_flagged << " of " << kSurface << " surface points flagged, " << far_flagged << " of "
-            << far << " outliers farther than 0.1\n";
+  std::cout << "sphere: " << surface_flagged << " of " << kSurface << " surface points flagged, " << far_flagged
+            << " of " << far << " outliers farther than 0.1\n";
   EXPECT_EQ(surface_flagged, 0);
   EXPECT_GT(far, 300);
   EXPECT_GE(far_flagged, 0.98 * far);
@@ -99,7 +99,9 @@ TEST(Outliers, SmallCloudsAndZeroRatiosFlagNothing) {
 TEST(Outliers, SameResultForOneAndTwoThreads) {
   PointCloud c = test::sample_torus(20000);
   add_uniform_outliers(c, 200, 3);
-  const auto run = [&](int threads) { return tbb::task_arena(threads).execute([&] { return find_outliers(c.positions).outliers; }); };
+  const auto run = [&](int threads) {
+    return tbb::task_arena(threads).execute([&] { return find_outliers(c.positions).outliers; });
+  };
   EXPECT_EQ(run(1), run(2));
 }
 
@@ -149,7 +151,8 @@ TEST(Outliers, TreeLeavesThemOutAndMeshesTheTrueSurface) {
   orient_tree(all, c);
   const TriangleMesh bad = extract_mesh(ImplicitSurface(all), mo);
   double bad_worst = 0;
-  for (Eigen::Index v = 0; v < bad.vertices.rows(); ++v) bad_worst = std::max(bad_worst, std::abs(bad.vertices.row(v).norm() - 1.0));
+  for (Eigen::Index v = 0; v < bad.vertices.rows(); ++v)
+    bad_worst = std::max(bad_worst, std::abs(bad.vertices.row(v).norm() - 1.0));
   std::cout << "sphere + 1 % outliers: worst vertex " << worst << " (removed), " << bad_worst << " (kept)\n";
   EXPECT_GT(bad_worst, 10 * worst);
 }

@@ -66,7 +66,8 @@ void expect_points(const PointCloud& c) {
 std::string compressed_file() {
   const std::vector<char> raw = records(true);
   std::vector<char> packed(raw.size() * 2 + 16);
-  const unsigned size = lzf_compress(raw.data(), static_cast<unsigned>(raw.size()), packed.data(), static_cast<unsigned>(packed.size()));
+  const unsigned size =
+      lzf_compress(raw.data(), static_cast<unsigned>(raw.size()), packed.data(), static_cast<unsigned>(packed.size()));
   EXPECT_GT(size, 0u);
   std::string bytes = kHeader + "DATA binary_compressed\n";
   const std::uint32_t sizes[2] = {size, static_cast<std::uint32_t>(raw.size())};
@@ -89,7 +90,8 @@ void expect_error(const std::string& bytes, const std::string& text) {
 // to more values than an ascii line can hold are refused, naming the DATA line; a binary file
 // with such fields and no points costs nothing.
 TEST(PcdReader, HugeCountsAreRefusedOrCostNothing) {
-  const std::string header = "VERSION 0.7\nFIELDS x y z w\nSIZE 4 4 4 1\nTYPE F F F U\nCOUNT 1 1 1 1048576\nWIDTH 0\nHEIGHT 1\nPOINTS 0\n";
+  const std::string header =
+      "VERSION 0.7\nFIELDS x y z w\nSIZE 4 4 4 1\nTYPE F F F U\nCOUNT 1 1 1 1048576\nWIDTH 0\nHEIGHT 1\nPOINTS 0\n";
   try {
     parse_pcd(header + "DATA ascii\n");
     FAIL() << "accepted";
@@ -99,8 +101,7 @@ TEST(PcdReader, HugeCountsAreRefusedOrCostNothing) {
   }
   try {
     parse_pcd(header + "DATA binary\n");  // no points: refused as empty, if at all, not for memory
-  } catch (const InputError&) {
-  }
+  } catch (const InputError&) {}
 }
 
 TEST(PcdReader, BinaryAndCompressedRecords) {
@@ -125,8 +126,10 @@ std::string many_points(std::size_t n, bool compressed) {
     put(fields[3], 0.0f), put(fields[4], 0.6f), put(fields[5], 0.8f);
     put(fields[6], static_cast<std::uint32_t>(i % 7 == 0 ? 0x00FF8001u : 0x00102030u));
   }
-  std::string bytes = "VERSION 0.7\nFIELDS x y z normal_x normal_y normal_z rgb\nSIZE 4 4 4 4 4 4 4\nTYPE F F F F F F U\n"
-                      "COUNT 1 1 1 1 1 1 1\nWIDTH " + std::to_string(n) + "\nHEIGHT 1\nPOINTS " + std::to_string(n) + "\n";
+  std::string bytes =
+      "VERSION 0.7\nFIELDS x y z normal_x normal_y normal_z rgb\nSIZE 4 4 4 4 4 4 4\nTYPE F F F F F F U\n"
+      "COUNT 1 1 1 1 1 1 1\nWIDTH " +
+      std::to_string(n) + "\nHEIGHT 1\nPOINTS " + std::to_string(n) + "\n";
   if (!compressed) {
     bytes += "DATA binary\n";
     for (std::size_t i = 0; i < n; ++i)
@@ -136,7 +139,8 @@ std::string many_points(std::size_t n, bool compressed) {
   std::vector<char> raw;
   for (const auto& f : fields) raw.insert(raw.end(), f.begin(), f.end());
   std::vector<char> packed(raw.size() + raw.size() / 16 + 64);
-  const unsigned size = lzf_compress(raw.data(), static_cast<unsigned>(raw.size()), packed.data(), static_cast<unsigned>(packed.size()));
+  const unsigned size =
+      lzf_compress(raw.data(), static_cast<unsigned>(raw.size()), packed.data(), static_cast<unsigned>(packed.size()));
   EXPECT_GT(size, 0u);
   EXPECT_LT(size, raw.size() / 2);  // the runs compress: the test exercises back references
   bytes += "DATA binary_compressed\n";
@@ -166,8 +170,9 @@ TEST(PcdReader, CompressedBackReferenceFromTheFarthestByte) {
   const char* raw = reinterpret_cast<const char*>(values.data());
   for (int run = 0; run < 256; ++run) packed.push_back(31), packed.append(raw + 32 * run, 32);
   packed.push_back(static_cast<char>((2 << 5) | 31)), packed.push_back(static_cast<char>(0xFF));
-  std::string bytes = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 683\nHEIGHT 1\nPOINTS 683\n"
-                      "DATA binary_compressed\n";
+  std::string bytes =
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 683\nHEIGHT 1\nPOINTS 683\n"
+      "DATA binary_compressed\n";
   const std::uint32_t sizes[2] = {static_cast<std::uint32_t>(packed.size()), 683 * 12};
   bytes.append(reinterpret_cast<const char*>(sizes), 8).append(packed);
   const PointCloud c = parse_pcd(bytes);
@@ -180,9 +185,11 @@ TEST(PcdReader, CompressedBackReferenceFromTheFarthestByte) {
   // The same reference after one run less (8160 bytes behind it) reaches before the data's
   // start: refused.
   std::string too_far = packed.substr(33, 33 * 255);  // runs 1..255, each a control byte and 32 bytes
-  too_far.push_back(static_cast<char>(0xFF)), too_far.push_back(27), too_far.push_back(static_cast<char>(0xFF));  // 36 bytes
-  std::string refused = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 683\nHEIGHT 1\nPOINTS 683\n"
-                        "DATA binary_compressed\n";
+  too_far.push_back(static_cast<char>(0xFF)), too_far.push_back(27),
+      too_far.push_back(static_cast<char>(0xFF));  // 36 bytes
+  std::string refused =
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 683\nHEIGHT 1\nPOINTS 683\n"
+      "DATA binary_compressed\n";
   const std::uint32_t refused_sizes[2] = {static_cast<std::uint32_t>(too_far.size()), 683 * 12};
   refused.append(reinterpret_cast<const char*>(refused_sizes), 8).append(too_far);
   expect_error(refused, "before its start");
@@ -190,11 +197,12 @@ TEST(PcdReader, CompressedBackReferenceFromTheFarthestByte) {
 
 TEST(PcdReader, AsciiWithAnySeparator) {
   const std::string header =
-      "VERSION .7\nFIELDS x y z rgb intensity\nSIZE 4 4 4 4 4\nTYPE F F F U F\nCOUNT 1 1 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\n";
+      "VERSION .7\nFIELDS x y z rgb intensity\nSIZE 4 4 4 4 4\nTYPE F F F U F\nCOUNT 1 1 1 1 1\nWIDTH 2\nHEIGHT "
+      "1\nPOINTS 2\nDATA ascii\n";
   for (const char* sep : {" ", "\t", ","}) {
     const std::string s(sep);
-    const PointCloud c = parse_pcd(header + "1" + s + "2" + s + "3" + s + "16744449" + s + "0.5\n4" + s + "5" + s + "6" + s + "0" +
-                                   s + "nan\n");
+    const PointCloud c = parse_pcd(header + "1" + s + "2" + s + "3" + s + "16744449" + s + "0.5\n4" + s + "5" + s +
+                                   "6" + s + "0" + s + "nan\n");
     ASSERT_EQ(c.size(), 2);
     EXPECT_TRUE(mat_eq(c.positions, rows({{1, 2, 3}, {4, 5, 6}})));
     EXPECT_EQ(c.colors.row(0), (Eigen::Matrix<std::uint8_t, 1, 3>(255, 128, 1)));
@@ -245,12 +253,15 @@ TEST(PcdReader, HostileFiles) {
   many.replace(many.find("WIDTH 3"), 7, "WIDTH 300000000");
   many.replace(many.find("POINTS 3"), 8, "POINTS 300000000");
   expect_error(many + "DATA binary\n", "more than the rest of the file can hold");
-  expect_error("VERSION .7\nFIELDS a b c\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 0\nPOINTS 0\nDATA ascii\n", "FIELDS name no x, y and z");
+  expect_error("VERSION .7\nFIELDS a b c\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 0\nPOINTS 0\nDATA ascii\n",
+               "FIELDS name no x, y and z");
   expect_error("VERSION .7\nFIELDS x y z\nSIZE 4 4\n", "SIZE needs 3 value(s)");
   expect_error("VERSION .7\nFIELDS x y z\nSIZE 4 4 3\n", "SIZE must be 1, 2, 4 or 8 bytes");
   expect_error("VERSION .7\nFIELDS x y z\nTYPE F F Q\n", "TYPE must be F, I or U");
-  expect_error("VERSION .7\nFIELDS x y z\nSIZE 4 4 2\nTYPE F F F\nWIDTH 1\nDATA binary\n123456", "is a float of 2 bytes");
-  expect_error("VERSION .7\nFIELDS x y z\nWIDTH 2\nHEIGHT 2\nPOINTS 3\nDATA ascii\n", "POINTS (3) is not WIDTH x HEIGHT");
+  expect_error("VERSION .7\nFIELDS x y z\nSIZE 4 4 2\nTYPE F F F\nWIDTH 1\nDATA binary\n123456",
+               "is a float of 2 bytes");
+  expect_error("VERSION .7\nFIELDS x y z\nWIDTH 2\nHEIGHT 2\nPOINTS 3\nDATA ascii\n",
+               "POINTS (3) is not WIDTH x HEIGHT");
   expect_error("VERSION .7\nFIELDS x y z\nWIDTH 1\nDATA lzma\n", "DATA must be ascii, binary or binary_compressed");
   expect_error("VERSION .7\nFIELDS x y z\nWIDTH 2\nDATA ascii\n1 2 3\n", "file ends after 1 of 2 points");
   expect_error("VERSION .7\nFIELDS x y z\nWIDTH 1\nDATA ascii\n1 2\n", "expected 3 values, found 2");

@@ -33,17 +33,20 @@ TEST(PlyReader, AsciiWithCommentsObjInfoAndCrlf) {
 
 TEST(PlyReader, AllScalarTypesForCoordinatesInEveryEncoding) {
   TempDir dir;
-  const std::vector<std::string> types = {"char", "uchar", "short", "ushort", "int", "uint", "float", "double",
+  const std::vector<std::string> types = {"char", "uchar", "short", "ushort", "int",   "uint",   "float",   "double",
                                           "int8", "uint8", "int16", "uint16", "int32", "uint32", "float32", "float64"};
   for (const std::string& type : types) {
     const bool is_unsigned = type.find('u') == 0;
     const bool is_float = type.find("float") == 0 || type == "double";
     Points expected(3, 3);
-    if (is_float) expected << 1.5, -2.25, 100.125, 0, -0.5, 3e3, 7.75, 8, -9;
-    else if (is_unsigned) expected << 1, 2, 100, 0, 5, 9, 127, 12, 3;
-    else expected << -1, 2, -100, 0, -5, 9, 127, -128, 3;
-    const std::string body = "element vertex 3\nproperty " + type + " x\nproperty " + type + " y\nproperty " + type +
-                             " z\n";
+    if (is_float)
+      expected << 1.5, -2.25, 100.125, 0, -0.5, 3e3, 7.75, 8, -9;
+    else if (is_unsigned)
+      expected << 1, 2, 100, 0, 5, 9, 127, 12, 3;
+    else
+      expected << -1, 2, -100, 0, -5, 9, 127, -128, 3;
+    const std::string body =
+        "element vertex 3\nproperty " + type + " x\nproperty " + type + " y\nproperty " + type + " z\n";
     for (const std::string format : {"ascii", "binary_little_endian", "binary_big_endian"}) {
       SCOPED_TRACE(type + " " + format);
       std::string bytes = ply_header(format, body);
@@ -95,11 +98,11 @@ TEST(PlyReader, NormalsColorsAndExtraPropertiesBinaryBothEndians) {
 
 TEST(PlyReader, FloatAndUshortColorsAndAlternativeNames) {
   TempDir dir;
-  const std::string text = ply_header("ascii",
-                                      "element vertex 3\n" + kXyzFloat +
-                                          "property float normal_x\nproperty float normal_y\nproperty float normal_z\n"
-                                          "property float r\nproperty float g\nproperty float b\n") +
-                           "0 0 0 1 0 0 0 0.5 1\n1 1 1 0 1 0 1.5 -0.5 0.2\n2 2 2 0 0 -1 nan 0.999 0.001\n";
+  const std::string text =
+      ply_header("ascii", "element vertex 3\n" + kXyzFloat +
+                              "property float normal_x\nproperty float normal_y\nproperty float normal_z\n"
+                              "property float r\nproperty float g\nproperty float b\n") +
+      "0 0 0 1 0 0 0 0.5 1\n1 1 1 0 1 0 1.5 -0.5 0.2\n2 2 2 0 0 -1 nan 0.999 0.001\n";
   const PointCloud c = read_text(dir, "f.ply", text);
   ASSERT_TRUE(c.has_colors());
   ASSERT_TRUE(c.has_normals());
@@ -109,12 +112,12 @@ TEST(PlyReader, FloatAndUshortColorsAndAlternativeNames) {
 
   Bytes b;
   b.floats({0, 0, 0}).put<std::uint16_t>(65535).put<std::uint16_t>(0).put<std::uint16_t>(257 * 100);
-  const PointCloud u = read_text(
-      dir, "u.ply",
-      ply_header("binary_little_endian", "element vertex 1\n" + kXyzFloat +
-                                             "property ushort diffuse_red\nproperty ushort diffuse_green\n"
-                                             "property ushort diffuse_blue\n") +
-          b.s);
+  const PointCloud u =
+      read_text(dir, "u.ply",
+                ply_header("binary_little_endian", "element vertex 1\n" + kXyzFloat +
+                                                       "property ushort diffuse_red\nproperty ushort diffuse_green\n"
+                                                       "property ushort diffuse_blue\n") +
+                    b.s);
   ASSERT_TRUE(u.has_colors());
   EXPECT_EQ(u.colors(0, 0), 255);
   EXPECT_EQ(u.colors(0, 1), 0);
@@ -123,9 +126,10 @@ TEST(PlyReader, FloatAndUshortColorsAndAlternativeNames) {
 
 TEST(PlyReader, PartialNormalsOrColorsAreIgnored) {
   TempDir dir;
-  const PointCloud c = read_text(
-      dir, "p.ply",
-      ply_header("ascii", "element vertex 1\n" + kXyzFloat + "property float nx\nproperty uchar red\n") + "1 2 3 1 9\n");
+  const PointCloud c =
+      read_text(dir, "p.ply",
+                ply_header("ascii", "element vertex 1\n" + kXyzFloat + "property float nx\nproperty uchar red\n") +
+                    "1 2 3 1 9\n");
   EXPECT_FALSE(c.has_normals());
   EXPECT_FALSE(c.has_colors());
 }
@@ -167,9 +171,9 @@ TEST(PlyReader, FacesAreFanTriangulated) {
   const std::string body =
       "element vertex 5\n" + kXyzFloat + "element face 3\nproperty list uchar int vertex_indices\n";
   const Triangles expected = (Triangles(4, 3) << 0, 1, 2, 0, 2, 3, 4, 0, 1, 1, 2, 4).finished();
-  const TriangleMesh a = read_mesh_text(dir, "a.ply",
-                                        ply_header("ascii", body) + "0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 2 2\n" +
-                                            "4 0 1 2 3\n3 4 0 1\n3 1 2 4\n");
+  const TriangleMesh a = read_mesh_text(
+      dir, "a.ply",
+      ply_header("ascii", body) + "0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 2 2\n" + "4 0 1 2 3\n3 4 0 1\n3 1 2 4\n");
   EXPECT_EQ(a.vertices.rows(), 5);
   EXPECT_TRUE(mat_eq(a.triangles, expected));
   for (bool big : {false, true}) {
@@ -187,8 +191,7 @@ TEST(PlyReader, FacesAreFanTriangulated) {
   // points and edges (fewer than 3 indices) carry no triangles.
   const TriangleMesh f = read_mesh_text(
       dir, "f.ply",
-      ply_header("ascii",
-                 "element face 3\nproperty list int ushort vertex_index\nelement vertex 4\n" + kXyzFloat) +
+      ply_header("ascii", "element face 3\nproperty list int ushort vertex_index\nelement vertex 4\n" + kXyzFloat) +
           "4 0 1 2 3\n2 0 1\n1 3\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n");
   EXPECT_TRUE(mat_eq(f.triangles, (Triangles(2, 3) << 0, 1, 2, 0, 2, 3).finished()));
   // Read as a point cloud with its vertices, faces are skipped.
@@ -229,8 +232,8 @@ TEST(PlyReader, AMeshReadAsACloudTakesItsNormalsFromItsFaces) {
   off.normals_from_faces = false;
   EXPECT_EQ(parse_point_cloud(tetrahedron_ply(), FileFormat::Ply, "<memory>", off).normals.rows(), 0);
   EXPECT_EQ(parse_point_cloud(tetrahedron_ply(1), FileFormat::Ply, "<memory>", vertices).normals.rows(), 0);
-  const PointCloud broken =
-      parse_point_cloud(tetrahedron_ply(0, "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 9\n"), FileFormat::Ply, "<memory>", vertices);
+  const PointCloud broken = parse_point_cloud(tetrahedron_ply(0, "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 9\n"),
+                                              FileFormat::Ply, "<memory>", vertices);
   EXPECT_EQ(broken.size(), 4);
   EXPECT_EQ(broken.normals.rows(), 0);
 }
@@ -268,9 +271,11 @@ TEST(PlyReader, ASmallMeshIsReadAsSamplesOfItsFaces) {
   // Vertex normals that disagree with the winding turn the faces: the samples follow the normals.
   const std::string inward_header =
       "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
-      "property float nx\nproperty float ny\nproperty float nz\nelement face 4\nproperty list uchar int vertex_indices\n"
+      "property float nx\nproperty float ny\nproperty float nz\nelement face 4\nproperty list uchar int "
+      "vertex_indices\n"
       "end_header\n0 0 0 -1 -1 -1\n1 0 0 1 0 0\n0 1 0 0 1 0\n0 0 1 0 0 1\n";
-  const PointCloud flipped = parse_point_cloud(inward_header + "3 0 1 2\n3 0 3 1\n3 0 2 3\n3 1 3 2\n", FileFormat::Ply, "f.ply", options);
+  const PointCloud flipped =
+      parse_point_cloud(inward_header + "3 0 1 2\n3 0 3 1\n3 0 2 3\n3 1 3 2\n", FileFormat::Ply, "f.ply", options);
   ASSERT_EQ(flipped.size(), 2000);
   for (Eigen::Index i = 0; i < flipped.size(); ++i)
     EXPECT_GT(flipped.normals.row(i).dot(flipped.positions.row(i) - centroid.transpose()), 0) << "point " << i;
@@ -281,8 +286,14 @@ TEST(PlyReader, ASmallMeshIsReadAsSamplesOfItsFaces) {
   EXPECT_EQ(parse_point_cloud(tetrahedron_ply(), FileFormat::Ply, "tet.ply", options).size(), 4);
   // Faces that do not hold together: the vertices stand alone.
   options.mesh_samples = 2000;
-  EXPECT_EQ(parse_point_cloud(tetrahedron_ply(0, "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 9\n"), FileFormat::Ply, "b.ply", options).size(), 4);
-  EXPECT_EQ(parse_point_cloud(tetrahedron_ply(0, "3 0 0 1\n3 1 1 2\n3 2 2 3\n3 3 3 0\n"), FileFormat::Ply, "z.ply", options).size(), 4);
+  EXPECT_EQ(
+      parse_point_cloud(tetrahedron_ply(0, "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 9\n"), FileFormat::Ply, "b.ply", options)
+          .size(),
+      4);
+  EXPECT_EQ(
+      parse_point_cloud(tetrahedron_ply(0, "3 0 0 1\n3 1 1 2\n3 2 2 3\n3 3 3 0\n"), FileFormat::Ply, "z.ply", options)
+          .size(),
+      4);
 }
 
 TEST(PlyReader, AMeshFarFromZeroIsSampledWhereItIs) {

@@ -249,7 +249,8 @@ TEST(PointStream, LasInBlocksIsTheReadersCloud) {
   world.rowwise() += read.origin.transpose();
   const PointCloud streamed = read_all(stream, 2);
   EXPECT_EQ(streamed.positions, world);
-  EXPECT_LT((streamed.positions.row(4) - Eigen::RowVector3d(636004, 849000 - 0.028, 400.07)).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((streamed.positions.row(4) - Eigen::RowVector3d(636004, 849000 - 0.028, 400.07)).cwiseAbs().maxCoeff(),
+            1e-9);
 
   const auto real = test::shared_data("formats/las/autzen_trim.las");
   if (!real) GTEST_SKIP() << "the shared LAS sample formats/las/autzen_trim.las is not here";
@@ -304,15 +305,18 @@ TEST(PointStream, E57InBlocksIsTheReadersCloud) {
   const std::string scale = "scale=\"0.001\" offset=\"10\"";
   const std::string pose =
       "<pose type=\"Structure\"><rotation type=\"Structure\"><w type=\"Float\">0.9</w><x type=\"Float\">0.1</x>"
-      "<y type=\"Float\">-0.3</y><z type=\"Float\">0.2</z></rotation><translation type=\"Structure\"><x type=\"Float\">500000</x>"
+      "<y type=\"Float\">-0.3</y><z type=\"Float\">0.2</z></rotation><translation type=\"Structure\"><x "
+      "type=\"Float\">500000</x>"
       "<y type=\"Float\">4e6</y><z type=\"Float\">120</z></translation></pose>";
-  const TestScan cartesian{{int_field("cartesianX", -4000, 4000, x, scale), int_field("cartesianY", -4000, 4000, y, scale),
-                            int_field("cartesianZ", -4000, 4000, z, scale), int_field("cartesianInvalidState", 0, 2, state)},
-                           pose};
+  const TestScan cartesian{
+      {int_field("cartesianX", -4000, 4000, x, scale), int_field("cartesianY", -4000, 4000, y, scale),
+       int_field("cartesianZ", -4000, 4000, z, scale), int_field("cartesianInvalidState", 0, 2, state)},
+      pose};
   const TestScan empty{{float_field("cartesianX", {}), float_field("cartesianY", {}), float_field("cartesianZ", {})}};
-  const TestScan spherical{{float_field("sphericalRange", range), float_field("sphericalAzimuth", az),
-                            float_field("sphericalElevation", el), int_field("sphericalInvalidState", 0, 0, std::vector<std::int64_t>(n, 0))},
-                           pose};
+  const TestScan spherical{
+      {float_field("sphericalRange", range), float_field("sphericalAzimuth", az), float_field("sphericalElevation", el),
+       int_field("sphericalInvalidState", 0, 0, std::vector<std::int64_t>(n, 0))},
+      pose};
   WriteOptions small;  // values straddle packets, packets straddle pages
   small.page = 64;
   small.chunk = 7;
@@ -331,7 +335,8 @@ TEST(PointStream, E57InBlocksIsTheReadersCloud) {
     stream.rewind();
     const PointCloud streamed = read_all(stream, block);
     ASSERT_EQ(streamed.size(), read.size()) << block;
-    EXPECT_LT((streamed.positions - world).cwiseAbs().maxCoeff(), 1e-9) << block;  // the reader's shift is exact to rounding
+    EXPECT_LT((streamed.positions - world).cwiseAbs().maxCoeff(), 1e-9)
+        << block;  // the reader's shift is exact to rounding
   }
 
   std::string absent;
@@ -346,8 +351,9 @@ TEST(PointStream, E57InBlocksIsTheReadersCloud) {
 TEST(PointStream, DamagedE57IsRefusedWithTheByteOffset) {
   using namespace clustersurf::test;
   const test::TempDir dir;
-  const TestFile nan = write_e57({TestScan{{float_field("cartesianX", {1, 2, std::nan(""), 4}), float_field("cartesianY", {4, 5, 6, 7}),
-                                            float_field("cartesianZ", {7, 8, 9, 10})}}});
+  const TestFile nan =
+      write_e57({TestScan{{float_field("cartesianX", {1, 2, std::nan(""), 4}), float_field("cartesianY", {4, 5, 6, 7}),
+                           float_field("cartesianZ", {7, 8, 9, 10})}}});
   write_file(dir / "nan.e57", nan.bytes);
   PointStream stream(dir / "nan.e57");
   PointCloud block;
@@ -357,7 +363,8 @@ TEST(PointStream, DamagedE57IsRefusedWithTheByteOffset) {
     stream.read(2, block);
     FAIL() << "a NaN coordinate was read";
   } catch (const InputError& e) {
-    EXPECT_EQ(e.where().byte_offset, std::optional<std::uint64_t>(nan.packets[0] + 12 + 16)) << e.what();  // the third double of X
+    EXPECT_EQ(e.where().byte_offset, std::optional<std::uint64_t>(nan.packets[0] + 12 + 16))
+        << e.what();  // the third double of X
     EXPECT_NE(std::string(e.what()).find("point 2"), std::string::npos) << e.what();
   }
   EXPECT_THROW(stream.read(2, block), InputError);
@@ -370,8 +377,9 @@ TEST(PointStream, DamagedE57IsRefusedWithTheByteOffset) {
 
   // A NaN in a record the scanner marked invalid is no error; the valid NaN after it is named
   // by its own byte, streamed and read whole alike.
-  const TestFile masked = write_e57({TestScan{{float_field("cartesianX", {std::nan(""), 1, std::nan(""), 4}), float_field("cartesianY", {4, 5, 6, 7}),
-                                               float_field("cartesianZ", {7, 8, 9, 10}), int_field("cartesianInvalidState", 0, 2, {2, 0, 0, 0})}}});
+  const TestFile masked = write_e57(
+      {TestScan{{float_field("cartesianX", {std::nan(""), 1, std::nan(""), 4}), float_field("cartesianY", {4, 5, 6, 7}),
+                 float_field("cartesianZ", {7, 8, 9, 10}), int_field("cartesianInvalidState", 0, 2, {2, 0, 0, 0})}}});
   write_file(dir / "masked.e57", masked.bytes);
   const std::uint64_t third_x = masked.packets[0] + 6 + 2 * 4 + 16;  // header, 4 buffer lengths, 2 doubles
   PointStream masked_stream(dir / "masked.e57");
@@ -388,7 +396,8 @@ TEST(PointStream, DamagedE57IsRefusedWithTheByteOffset) {
     EXPECT_EQ(e.where().byte_offset, std::optional<std::uint64_t>(third_x)) << e.what();
   }
 
-  TestScan short_scan{{float_field("cartesianX", {1, 2}), float_field("cartesianY", {4, 5}), float_field("cartesianZ", {7, 8})}};
+  TestScan short_scan{
+      {float_field("cartesianX", {1, 2}), float_field("cartesianY", {4, 5}), float_field("cartesianZ", {7, 8})}};
   short_scan.record_count = "3";
   WriteOptions slack;
   slack.extra_packets = true;
@@ -420,7 +429,8 @@ TEST(PointStream, PtxInBlocksIsTheReadersCloud) {
            "0 1 0 0\n-1 0 0 0\n0 0 1 0\n" + t + " 1\n";
   };
   std::string text = scan(3, 2, "600000 4000000 12.5");
-  for (int i = 0; i < 6; ++i) text += i == 2 ? "0 0 0 0.5\n" : std::to_string(i) + ".25 " + std::to_string(-i) + " 1.5 0.5\n";
+  for (int i = 0; i < 6; ++i)
+    text += i == 2 ? "0 0 0 0.5\n" : std::to_string(i) + ".25 " + std::to_string(-i) + " 1.5 0.5\n";
   text += "\n" + scan(1, 3, "-5 7 0");
   text += "1 2 3 0.1\n0 0 0 0\n4 5 6 0.2\n";
   test::write_file(dir / "s.ptx", text);
@@ -478,8 +488,9 @@ TEST(PointStream, DamagedPtxIsRefusedWithTheLine) {
 // after another, is read whole.
 TEST(PointStream, PcdInBlocksIsTheReadersCloud) {
   const test::TempDir dir;
-  const std::string header = "VERSION 0.7\nFIELDS x y z normal_x normal_y normal_z label\nSIZE 8 8 4 4 4 4 2\nTYPE F F F F F F U\n"
-                             "COUNT 1 1 1 1 1 1 1\nWIDTH 5\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 5\n";
+  const std::string header =
+      "VERSION 0.7\nFIELDS x y z normal_x normal_y normal_z label\nSIZE 8 8 4 4 4 4 2\nTYPE F F F F F F U\n"
+      "COUNT 1 1 1 1 1 1 1\nWIDTH 5\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 5\n";
   std::string binary = header + "DATA binary\n", ascii = header + "DATA ascii\n";
   for (int i = 0; i < 5; ++i) {
     const double x = 600000 + 0.25 * i, y = i == 3 ? std::nan("") : 4e6 - i;
@@ -524,18 +535,23 @@ TEST(PointStream, CompressedPcdInBlocksIsTheReadersCloud) {
   const test::TempDir dir;
   constexpr std::size_t n = 30000;
   std::vector<char> raw;
-  auto put = [&raw](float v) { raw.insert(raw.end(), reinterpret_cast<const char*>(&v), reinterpret_cast<const char*>(&v) + 4); };
+  auto put = [&raw](float v) {
+    raw.insert(raw.end(), reinterpret_cast<const char*>(&v), reinterpret_cast<const char*>(&v) + 4);
+  };
   for (int f = 0; f < 6; ++f)
     for (std::size_t i = 0; i < n; ++i) {
-      const float values[6] = {static_cast<float>(i % 1000) * 0.25f, static_cast<float>(i / 1000), std::sin(static_cast<float>(i) * 0.01f),
-                               0.0f, i == 5 ? std::nanf("") : 0.6f, 0.8f};
+      const float values[6] = {static_cast<float>(i % 1000) * 0.25f,    static_cast<float>(i / 1000),
+                               std::sin(static_cast<float>(i) * 0.01f), 0.0f,
+                               i == 5 ? std::nanf("") : 0.6f,           0.8f};
       put(f == 0 && i == 9 ? std::nanf("") : values[f]);  // point 9 is PCL's "no point"
     }
   std::vector<char> packed(raw.size() + raw.size() / 16 + 64);
-  const unsigned size = lzf_compress(raw.data(), static_cast<unsigned>(raw.size()), packed.data(), static_cast<unsigned>(packed.size()));
+  const unsigned size =
+      lzf_compress(raw.data(), static_cast<unsigned>(raw.size()), packed.data(), static_cast<unsigned>(packed.size()));
   ASSERT_GT(size, 0u);
-  std::string bytes = "VERSION 0.7\nFIELDS x y z normal_x normal_y normal_z\nSIZE 4 4 4 4 4 4\nTYPE F F F F F F\nCOUNT 1 1 1 1 1 1\n"
-                      "WIDTH 30000\nHEIGHT 1\nPOINTS 30000\nDATA binary_compressed\n";
+  std::string bytes =
+      "VERSION 0.7\nFIELDS x y z normal_x normal_y normal_z\nSIZE 4 4 4 4 4 4\nTYPE F F F F F F\nCOUNT 1 1 1 1 1 1\n"
+      "WIDTH 30000\nHEIGHT 1\nPOINTS 30000\nDATA binary_compressed\n";
   const std::uint32_t sizes[2] = {size, static_cast<std::uint32_t>(raw.size())};
   bytes.append(reinterpret_cast<const char*>(sizes), 8).append(packed.data(), size);
   test::write_file(dir / "c.pcd", bytes);
@@ -574,7 +590,8 @@ TEST(PointStream, CompressedPcdInBlocksIsTheReadersCloud) {
 // offset of the data; an ascii line of the wrong width when its block is read, with its line.
 TEST(PointStream, DamagedPcdIsRefusedWhereItIsDamaged) {
   const test::TempDir dir;
-  const std::string header = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\nHEIGHT 1\nPOINTS 3\n";
+  const std::string header =
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\nHEIGHT 1\nPOINTS 3\n";
   test::write_file(dir / "short.pcd", header + "DATA binary\n" + std::string(30, '\0'));
   try {
     PointStream stream(dir / "short.pcd");

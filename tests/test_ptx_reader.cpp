@@ -51,7 +51,8 @@ TEST(PtxReader, TransformsScansSkipsNoReturnsAndKeepsScanners) {
 // Blank lines between scans (and at the end) are only blank lines: a blank line used to read
 // as the end of the file, and the scans after it were silently lost.
 TEST(PtxReader, ScansSeparatedByBlankLinesAreAllRead) {
-  const std::string text = header(1, 2, "0 0 0") + "1 0 0 0.5\n0 2 0 0.25\n\n\n" + header(1, 1, "-5 0 0") + "1 1 1 0.75\n\n";
+  const std::string text =
+      header(1, 2, "0 0 0") + "1 0 0 0.5\n0 2 0 0.25\n\n\n" + header(1, 1, "-5 0 0") + "1 1 1 0.75\n\n";
   const PointCloud c = parse_ptx(text);
   EXPECT_EQ(c.size(), 3);
   EXPECT_EQ(c.scanner_positions.rows(), 2);

@@ -64,7 +64,8 @@ TEST(RangeScan, PointsOnTheSurfaceWithNormalsTowardsTheScanners) {
   // follow the sphere closely. (No ray slips through the mesh between two triangles: rows of
   // the grid run exactly along the sphere's seam.)
   double worst = 1;
-  for (Eigen::Index i = 0; i < c.size(); ++i) worst = std::min(worst, c.normals.row(i).dot(c.positions.row(i).normalized()));
+  for (Eigen::Index i = 0; i < c.size(); ++i)
+    worst = std::min(worst, c.normals.row(i).dot(c.positions.row(i).normalized()));
   EXPECT_GT(worst, 0.9);
 }
 
@@ -149,7 +150,8 @@ TEST(RangeScan, RejectsBadOptions) {
            [](RangeScanOptions& o) { o.scans = 0; }, [](RangeScanOptions& o) { o.count = 0; },
            [](RangeScanOptions& o) { o.distance = 0.2; }, [](RangeScanOptions& o) { o.noise = -1; },
            [](RangeScanOptions& o) { o.registration = std::nan(""); },
-           [](RangeScanOptions& o) { o.max_incidence_degrees = 0; }, [](RangeScanOptions& o) { o.flipped_normals = 1.5; },
+           [](RangeScanOptions& o) { o.max_incidence_degrees = 0; },
+           [](RangeScanOptions& o) { o.flipped_normals = 1.5; },
            [](RangeScanOptions& o) { o.flipped_normals = std::nan(""); }}) {
     RangeScanOptions o;
     bad(o);

@@ -4,8 +4,8 @@
 
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/mesh/mesh_extraction.hpp>
-#include <clustersurf/surface/orientation.hpp>
 #include <clustersurf/render/render.hpp>
+#include <clustersurf/surface/orientation.hpp>
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -165,8 +165,10 @@ TEST(RayTracer, HighlightDrawsOneClusterInRed) {
   std::size_t red = 0, grey = 0;
   for (const Rgba8& p : img.pixels) {
     if (p.a == 0) continue;
-    if (p.r > p.g + 60 && p.r > p.b + 60) ++red;
-    else if (std::abs(p.r - p.g) < 10 && std::abs(p.g - p.b) < 10) ++grey;
+    if (p.r > p.g + 60 && p.r > p.b + 60)
+      ++red;
+    else if (std::abs(p.r - p.g) < 10 && std::abs(p.g - p.b) < 10)
+      ++grey;
   }
   EXPECT_GT(red, 20u);
   EXPECT_GT(grey, 20u);

@@ -2,12 +2,12 @@
 // as the stages called one by one; mesh_tree() of a loaded tree gives the same mesh; the checks
 // (surface extent, points that are not the tree's input) happen here, once.
 
-#include <clustersurf/core/errors.hpp>
-#include <clustersurf/mesh/mesh_colors.hpp>
-#include <clustersurf/io/point_cloud_io.hpp>
-#include <clustersurf/pipeline/reconstruct.hpp>
-#include <clustersurf/evaluation/surface_comparison.hpp>
 #include <clustersurf/cluster/tree_file.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/evaluation/surface_comparison.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/mesh/mesh_colors.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
 
 #include <gtest/gtest.h>
 

@@ -160,7 +160,7 @@ TEST(VoxelDownsample, MeanOfEachVoxelOnAConstructedCase) {
   // Ordered by voxel with x fastest: (0,0,0), (1,0,0), (0,1,0), (0,0,2).
   const Points want = (Points(4, 3) << (0 + 0.5 + 0.25) / 3, (0 + 0.5 + 0.75) / 3, (0 + 0.5 + 0.5) / 3,  //
                        (1.5 + 1.25 + 1.0) / 3, (0.5 + 0.25 + 0) / 3, (0.5 + 0.75 + 0) / 3,               //
-                       0.5, 1.5, 0.25,                                                                 //
+                       0.5, 1.5, 0.25,                                                                   //
                        0.5, 0.5, 2.5)
                           .finished();
   for (Eigen::Index r = 0; r < 4; ++r)
@@ -229,9 +229,9 @@ TEST(VoxelDownsample, RandomCloudAgainstBruteForce) {
     const Eigen::Vector3d mean = v.first / v.second;
     EXPECT_LT((out.positions.row(r).transpose() - mean).norm(), 1e-12) << "voxel " << r;
     // The mean lies in its voxel.
-    const Eigen::Vector3d lo = box.min + size * Eigen::Vector3d(static_cast<double>(std::get<2>(key)),
-                                                                static_cast<double>(std::get<1>(key)),
-                                                                static_cast<double>(std::get<0>(key)));
+    const Eigen::Vector3d lo =
+        box.min + size * Eigen::Vector3d(static_cast<double>(std::get<2>(key)), static_cast<double>(std::get<1>(key)),
+                                         static_cast<double>(std::get<0>(key)));
     EXPECT_TRUE(((mean - lo).array() >= -1e-12).all() && ((mean - lo).array() <= size + 1e-12).all());
     EXPECT_NEAR(out.normals.row(r).norm(), 1.0, 1e-12);
     ++r;

@@ -1,10 +1,10 @@
 // Two sheets facing apart: both sides of a thin part, sampled with their normals.
 
 #include <clustersurf/cluster/cluster_tree.hpp>
-#include <clustersurf/surface/implicit_surface.hpp>
-#include <clustersurf/surface/orientation.hpp>
 #include <clustersurf/mesh/mesh_extraction.hpp>
 #include <clustersurf/pipeline/reconstruct.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
+#include <clustersurf/surface/orientation.hpp>
 
 #include <gtest/gtest.h>
 

@@ -46,7 +46,8 @@ double mean_distance_to_torus(const TriangleMesh& mesh) {
     const Eigen::Vector3d p = mesh.vertices.row(v).transpose();
     sum += std::abs(std::hypot(std::hypot(p.x(), p.y()) - 1, p.z()) - kTube);
   }
-  return mesh.vertices.rows() > 0 ? sum / static_cast<double>(mesh.vertices.rows()) : std::numeric_limits<double>::infinity();
+  return mesh.vertices.rows() > 0 ? sum / static_cast<double>(mesh.vertices.rows())
+                                  : std::numeric_limits<double>::infinity();
 }
 
 double meshed_distance(const PointCloud& cloud, bool fit_normals) {
@@ -63,8 +64,8 @@ TEST(SupportFit, ExactNormalsOnNoisyPositionsBringTheSurfaceCloser) {
   const PointCloud cloud = noisy_torus(12000, 0.04 * kTube, 7);
   const double positions = meshed_distance(cloud, false);
   const double hermite = meshed_distance(cloud, true);
-  std::cout << "noisy torus, mean distance of the mesh: positions only " << positions << ", with the normals " << hermite
-            << "\n";
+  std::cout << "noisy torus, mean distance of the mesh: positions only " << positions << ", with the normals "
+            << hermite << "\n";
   EXPECT_LT(hermite, 0.9 * positions);
 }
 

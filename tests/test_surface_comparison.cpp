@@ -1,8 +1,8 @@
 // Point-to-mesh distance and the reconstruction scores, against cases with known answers.
 
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/evaluation/surface_comparison.hpp>
 #include <clustersurf/evaluation/mesh_distance.hpp>
+#include <clustersurf/evaluation/surface_comparison.hpp>
 #include <clustersurf/io/surface_sampling.hpp>
 
 #include <gtest/gtest.h>
@@ -67,9 +67,9 @@ TEST(MeshDistance, EqualsBruteForceOverAllTriangles) {
     const Eigen::Vector3d p(u(rng), u(rng), u(rng));
     double best = std::numeric_limits<double>::infinity();
     for (Eigen::Index t = 0; t < m.triangles.rows(); ++t) {
-      const Eigen::Vector3d x =
-          closest_point_on_triangle(p, m.vertices.row(m.triangles(t, 0)).transpose(),
-                                    m.vertices.row(m.triangles(t, 1)).transpose(), m.vertices.row(m.triangles(t, 2)).transpose());
+      const Eigen::Vector3d x = closest_point_on_triangle(p, m.vertices.row(m.triangles(t, 0)).transpose(),
+                                                          m.vertices.row(m.triangles(t, 1)).transpose(),
+                                                          m.vertices.row(m.triangles(t, 2)).transpose());
       best = std::min(best, (x - p).squaredNorm());
     }
     const ClosestPoint c = md.closest(p);

@@ -1,12 +1,12 @@
 // A tiled run on disk: the partition, each stage a task that reads and writes files, the same
 // result as the tiled pipeline in memory; interrupted runs resume, damaged files are refused.
 
+#include <clustersurf/cluster/tree_file.hpp>
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/io/point_cloud_io.hpp>
 #include <clustersurf/pipeline/reconstruct.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/tiling/tiled_run.hpp>
-#include <clustersurf/cluster/tree_file.hpp>
 
 #include <gtest/gtest.h>
 
@@ -187,7 +187,8 @@ TEST(TiledRun, ColorsAndTheUpAxisGoThroughTheRun) {
   PointCloud torus = test::sample_torus(15000);
   torus.colors.resize(torus.size(), 3);
   for (Eigen::Index i = 0; i < torus.size(); ++i)
-    torus.colors.row(i) = torus.positions(i, 0) > 0.2 ? Eigen::Matrix<std::uint8_t, 1, 3>(200, 40, 10) : Eigen::Matrix<std::uint8_t, 1, 3>(30, 90, 160);
+    torus.colors.row(i) = torus.positions(i, 0) > 0.2 ? Eigen::Matrix<std::uint8_t, 1, 3>(200, 40, 10)
+                                                      : Eigen::Matrix<std::uint8_t, 1, 3>(30, 90, 160);
   torus.up = UpAxis::Z;
   PlyWriteOptions ply;
   ply.double_precision = true;
@@ -282,7 +283,8 @@ TEST(TiledRun, MemorySizes) {
   EXPECT_EQ(format_memory_size(std::uint64_t{4} << 30), "4G");
   EXPECT_EQ(format_memory_size(std::uint64_t{3} << 29), "1536M");
   EXPECT_EQ(format_memory_size(1000), "1000");
-  for (const std::uint64_t bytes : {std::uint64_t{1}, std::uint64_t{1} << 20, (std::uint64_t{5} << 40) + 1024, std::uint64_t{123456789}})
+  for (const std::uint64_t bytes :
+       {std::uint64_t{1}, std::uint64_t{1} << 20, (std::uint64_t{5} << 40) + 1024, std::uint64_t{123456789}})
     EXPECT_EQ(parse_memory_size(format_memory_size(bytes)), bytes) << bytes;
   EXPECT_EQ(default_work_directory("out/mesh.ply"), std::filesystem::path("out/mesh.ply.work"));
   EXPECT_EQ(parse_memory_size("4G"), std::uint64_t{4} << 30);

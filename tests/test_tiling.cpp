@@ -1,10 +1,10 @@
 // Regions and tiles: a cloud split into regions built apart and meshed as tiles of one lattice
 // gives the in-core surface, without seams along the tile borders.
 
+#include <clustersurf/cluster/tree_file.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/evaluation/surface_comparison.hpp>
 #include <clustersurf/tiling/tiling.hpp>
-#include <clustersurf/cluster/tree_file.hpp>
 
 #include <gtest/gtest.h>
 
@@ -29,7 +29,8 @@ std::set<std::array<double, 9>> triangle_set(const TriangleMesh& mesh) {
   for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
     std::array<std::array<double, 3>, 3> c;
     for (int k = 0; k < 3; ++k)
-      for (int a = 0; a < 3; ++a) c[static_cast<std::size_t>(k)][static_cast<std::size_t>(a)] = mesh.vertices(mesh.triangles(t, k), a);
+      for (int a = 0; a < 3; ++a)
+        c[static_cast<std::size_t>(k)][static_cast<std::size_t>(a)] = mesh.vertices(mesh.triangles(t, k), a);
     const auto first = static_cast<std::size_t>(std::min_element(c.begin(), c.end()) - c.begin());
     std::array<double, 9> key;
     for (std::size_t k = 0; k < 3; ++k)
@@ -46,7 +47,8 @@ TEST(RegionPlan, BalancesRegionsByPointCount) {
   const RegionPlan plan = plan_regions(cloud.positions, 40000, bounding_box(cloud.positions), 0.0002, regions_of(5000));
   ASSERT_GE(plan.regions(), 8u);
   std::vector<std::size_t> own(plan.regions(), 0);
-  for (Eigen::Index i = 0; i < cloud.size(); ++i) ++own[static_cast<std::size_t>(plan.region_of(cloud.positions.row(i).transpose()))];
+  for (Eigen::Index i = 0; i < cloud.size(); ++i)
+    ++own[static_cast<std::size_t>(plan.region_of(cloud.positions.row(i).transpose()))];
   for (const std::size_t n : own) {
     EXPECT_LE(n, 5000u);
     EXPECT_GE(n, 2000u);  // median cuts: no region far below half the limit

@@ -1,10 +1,10 @@
 // Tree files: bit-exact round trips, reproducible bytes, and a table of corruptions that must
 // each be rejected with a clear error.
 
-#include <clustersurf/spatial/cloud_stats.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/io/point_cloud_io.hpp>
-#include <clustersurf/cluster/tree_file.hpp>
+#include <clustersurf/spatial/cloud_stats.hpp>
 
 #include <gtest/gtest.h>
 #include <zlib.h>
@@ -26,7 +26,8 @@ ClusterTree sample_tree(ProxyKind proxy) {
 }
 
 void fix_crc(std::string& b) {
-  const auto crc = static_cast<std::uint32_t>(crc32(0L, reinterpret_cast<const Bytef*>(b.data()), static_cast<uInt>(b.size() - 4)));
+  const auto crc =
+      static_cast<std::uint32_t>(crc32(0L, reinterpret_cast<const Bytef*>(b.data()), static_cast<uInt>(b.size() - 4)));
   std::memcpy(b.data() + b.size() - 4, &crc, 4);
 }
 
@@ -94,7 +95,8 @@ TEST(TreeFile, CreaseSideMustBeZeroOrOne) {
     deserialize_tree(b, "bad.cstree");
     ADD_FAILURE() << "accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("crease side must be 0 (concave) or 1 (convex)"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("crease side must be 0 (concave) or 1 (convex)"), std::string::npos)
+        << e.what();
   }
 }
 

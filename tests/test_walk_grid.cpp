@@ -16,7 +16,9 @@ TEST(WalkGrid, CornersAreQueuedOnceAndKeepTheirValues) {
   // Every corner of the cell at `far` is queued; one of them twice.
   for (const auto& c : kCellCorner) EXPECT_TRUE(walk.queue({far[0] + c[0], far[1] + c[1], far[2] + c[2]}));
   EXPECT_FALSE(walk.queue(far));
-  for (const auto& c : kCellCorner) walk.set_value({far[0] + c[0], far[1] + c[1], far[2] + c[2]}, -0.25f * static_cast<float>(c[0] + 2 * c[1] + 4 * c[2]));
+  for (const auto& c : kCellCorner)
+    walk.set_value({far[0] + c[0], far[1] + c[1], far[2] + c[2]},
+                   -0.25f * static_cast<float>(c[0] + 2 * c[1] + 4 * c[2]));
   walk.set_value(far, std::numeric_limits<float>::quiet_NaN());
   SurfaceCell cell{far, {}};
   walk.values(cell);
@@ -50,7 +52,8 @@ TEST(WalkGrid, SurfaceCellsGetTheirCornersInOrder) {
     SurfaceCell cell{corner, {}};
     walk.values(cell);
     for (std::size_t c = 0; c < 8; ++c)
-      EXPECT_EQ(cell.values[c], code(cell.corner[0] + kCellCorner[c][0], cell.corner[1] + kCellCorner[c][1], cell.corner[2] + kCellCorner[c][2]));
+      EXPECT_EQ(cell.values[c], code(cell.corner[0] + kCellCorner[c][0], cell.corner[1] + kCellCorner[c][1],
+                                     cell.corner[2] + kCellCorner[c][2]));
   }
   SurfaceCell beyond{{2, 0, 0}, {}};  // its far corners were never queued
   EXPECT_THROW(walk.values(beyond), std::logic_error);

@@ -46,7 +46,8 @@ struct Fixture {
     return o;
   }
   bool users_files_intact() const {
-    return test::read_file(work / "thesis.txt") == "my thesis\n" && test::read_file(work / ".notes.txt.tmp123456") == "my notes\n";
+    return test::read_file(work / "thesis.txt") == "my thesis\n" &&
+           test::read_file(work / ".notes.txt.tmp123456") == "my notes\n";
   }
 };
 

@@ -2,8 +2,8 @@
 #include "mesh_check_report.hpp"
 
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/mesh/mesh_check.hpp>
 #include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/mesh/mesh_check.hpp>
 
 #include <fmt/format.h>
 

@@ -20,7 +20,9 @@ int run_convert(Console& console, const ConvertArgs& args) {
   ply.double_precision = args.double_precision;
   write_point_cloud(args.output, cloud, ply);
   if (console.options().json) {
-    std::cout << nlohmann::json{{"input", args.input.file}, {"output", args.output}, {"points_read", read},
+    std::cout << nlohmann::json{{"input", args.input.file},
+                                {"output", args.output},
+                                {"points_read", read},
                                 {"points", cloud.size()}}
                      .dump(2)
               << "\n";

@@ -28,11 +28,11 @@ nlohmann::json facts(const MeshTopology& t) {
 
 std::string describe(const MeshTopology& t) {
   if (t.triangles == 0) return fmt::format("point cloud, {} points", t.vertices);
-  return fmt::format("{} vertices, {} faces, {} boundary edges ({:.3g} of boundary per square root of area), {} "
-                     "non-manifold edges, {} components ({} loose fragments under {:g} % of the area), {}",
-                     t.vertices, t.triangles, t.boundary_edges, boundary_per_sqrt_area(t),
-                     t.non_manifold_edges, t.components, t.small_components, 100 * kSmallComponentShare,
-                     is_watertight(t) ? "watertight" : "not watertight");
+  return fmt::format(
+      "{} vertices, {} faces, {} boundary edges ({:.3g} of boundary per square root of area), {} "
+      "non-manifold edges, {} components ({} loose fragments under {:g} % of the area), {}",
+      t.vertices, t.triangles, t.boundary_edges, boundary_per_sqrt_area(t), t.non_manifold_edges, t.components,
+      t.small_components, 100 * kSmallComponentShare, is_watertight(t) ? "watertight" : "not watertight");
 }
 
 }  // namespace
@@ -63,7 +63,8 @@ int run_eval(Console& console, const EvalArgs& args) {
                      {"reconstruction_mesh", facts(e.reconstruction_topology)},
                      {"reference_mesh", facts(e.reference_topology)}};
     for (const FScore& f : e.fscores)
-      j["fscore"].push_back({{"tau", f.threshold}, {"precision", f.precision}, {"recall", f.recall}, {"fscore", f.fscore}});
+      j["fscore"].push_back(
+          {{"tau", f.threshold}, {"precision", f.precision}, {"recall", f.recall}, {"fscore", f.fscore}});
     std::cout << j.dump(2) << "\n";
     return 0;
   }
@@ -75,14 +76,15 @@ int run_eval(Console& console, const EvalArgs& args) {
   console.print(fmt::format("chamfer         {:.6f}", e.chamfer));
   console.print(fmt::format("95th percentile {:.6f}  (of both directions' distances)", e.distance_p95));
   console.print(fmt::format("hausdorff       {:.6f}", e.hausdorff));
-  console.print(std::isnan(e.normal_consistency) ? std::string("normals         n/a (one side has no normals)")
-                                                 : fmt::format("normals         {:.4f}  (mean |n.n'|)", e.normal_consistency));
+  console.print(std::isnan(e.normal_consistency)
+                    ? std::string("normals         n/a (one side has no normals)")
+                    : fmt::format("normals         {:.4f}  (mean |n.n'|)", e.normal_consistency));
   if (!std::isnan(e.far_share))
     console.print(fmt::format("far surface     {:.4f} %  (farther than {:g} point spacings of the reference, {:.6g})",
                               100 * e.far_share, options.far_spacings, e.reference_spacing));
   for (const FScore& f : e.fscores)
-    console.print(fmt::format("F-score @{:.2f}%  {:.4f}  (precision {:.4f}, recall {:.4f})", 100 * f.threshold, f.fscore,
-                              f.precision, f.recall));
+    console.print(fmt::format("F-score @{:.2f}%  {:.4f}  (precision {:.4f}, recall {:.4f})", 100 * f.threshold,
+                              f.fscore, f.precision, f.recall));
   return 0;
 }
 

@@ -3,9 +3,9 @@
 #include "mesh_stage.hpp"
 #include "tree_report.hpp"
 
+#include <clustersurf/cluster/tree_file.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/tiling/tiled_run.hpp>
-#include <clustersurf/cluster/tree_file.hpp>
 
 #include <fmt/format.h>
 
@@ -55,25 +55,35 @@ int run_out_of_core(Console& console, const ReconstructArgs& args, const Reconst
   out_of_core.read = read_options(console, args.input);
   out_of_core.mesh_output = args.mesh_output;
   out_of_core.ply.binary = !args.mesh.ascii;
-  const OutOfCoreReconstruction result = reconstruct_out_of_core(args.input.file, options, out_of_core, console.progress());
+  const OutOfCoreReconstruction result =
+      reconstruct_out_of_core(args.input.file, options, out_of_core, console.progress());
   console.end_progress();
   if (!args.tree_output.empty()) save_tree(args.tree_output, result.tree);
   nlohmann::json mesh;
   if (result.mesh) {
     const WrittenMesh& m = *result.mesh;
-    mesh = {{"file", m.file.string()}, {"vertices", m.vertices}, {"triangles", m.triangles}, {"streamed", m.streamed},
-            {"blended_nodes", m.blended_nodes}, {"voxel_size", m.grid.voxel_size}, {"surface_cells", m.grid.surface_cells},
-            {"removed_components", m.removed_components}, {"mesh_seconds", m.seconds}};
+    mesh = {{"file", m.file.string()},
+            {"vertices", m.vertices},
+            {"triangles", m.triangles},
+            {"streamed", m.streamed},
+            {"blended_nodes", m.blended_nodes},
+            {"voxel_size", m.grid.voxel_size},
+            {"surface_cells", m.grid.surface_cells},
+            {"removed_components", m.removed_components},
+            {"mesh_seconds", m.seconds}};
   }
   if (console.options().json) {
     nlohmann::json j = tree_report_json(result.tree);
     j["input"] = args.input.file;
-    j["out_of_core"] = {{"memory_limit", out_of_core.memory_limit}, {"work_dir", out_of_core.work_directory.string()},
-                        {"regions", result.regions}, {"work_bytes", result.work_bytes}};
+    j["out_of_core"] = {{"memory_limit", out_of_core.memory_limit},
+                        {"work_dir", out_of_core.work_directory.string()},
+                        {"regions", result.regions},
+                        {"work_bytes", result.work_bytes}};
     if (!args.tree_output.empty()) j["tree"] = args.tree_output;
     j["timing"] = {{"build_seconds", result.build_seconds}};
     for (const auto& [stage, seconds] : result.stage_seconds) j["timing"][stage + "_seconds"] = seconds;
-    j["orientation"] = {{"used_normals", result.orientation.used_normals}, {"used_scanners", result.orientation.used_scanners}};
+    j["orientation"] = {{"used_normals", result.orientation.used_normals},
+                        {"used_scanners", result.orientation.used_scanners}};
     if (result.mesh) j["mesh"] = mesh;
     std::cout << j.dump(2) << "\n";
     return 0;
@@ -81,15 +91,17 @@ int run_out_of_core(Console& console, const ReconstructArgs& args, const Reconst
   for (const auto& line : tree_report_lines(result.tree)) console.print(line);
   console.print("orientation     " + std::string(result.orientation.used_normals    ? "by input normals"
                                                  : result.orientation.used_scanners ? "towards the scanners"
-                                                                                     : "by propagation in each region"));
+                                                                                    : "by propagation in each region"));
   std::string stages;
-  for (const auto& [stage, seconds] : result.stage_seconds) stages += fmt::format("{}{} {:.2f} s", stages.empty() ? "" : ", ", stage, seconds);
-  console.print(fmt::format("out of core     {} regions within {} ({:.0f} MB of work files): {}", result.regions, args.memory_limit,
-                            static_cast<double>(result.work_bytes) / 1e6, stages));
+  for (const auto& [stage, seconds] : result.stage_seconds)
+    stages += fmt::format("{}{} {:.2f} s", stages.empty() ? "" : ", ", stage, seconds);
+  console.print(fmt::format("out of core     {} regions within {} ({:.0f} MB of work files): {}", result.regions,
+                            args.memory_limit, static_cast<double>(result.work_bytes) / 1e6, stages));
   if (result.mesh) {
     const WrittenMesh& m = *result.mesh;
-    console.print(fmt::format("mesh            {} vertices, {} triangles ({} blended nodes, voxel {:.4g}){}", m.vertices, m.triangles,
-                              m.blended_nodes, m.grid.voxel_size, m.streamed ? ", written tile by tile" : ""));
+    console.print(fmt::format("mesh            {} vertices, {} triangles ({} blended nodes, voxel {:.4g}){}",
+                              m.vertices, m.triangles, m.blended_nodes, m.grid.voxel_size,
+                              m.streamed ? ", written tile by tile" : ""));
     console.print(fmt::format("mesh time       {:.3f} s", m.seconds));
     console.print("wrote           " + m.file.string());
   }
@@ -124,7 +136,8 @@ int run_reconstruct(Console& console, const ReconstructArgs& args) {
     j["input"] = args.input.file;
     if (!args.tree_output.empty()) j["tree"] = args.tree_output;
     j["timing"] = {{"read_seconds", read_seconds}, {"build_seconds", result.build_seconds}};
-    j["orientation"] = {{"used_normals", orientation.used_normals}, {"used_scanners", orientation.used_scanners},
+    j["orientation"] = {{"used_normals", orientation.used_normals},
+                        {"used_scanners", orientation.used_scanners},
                         {"components", orientation.components},
                         {"flipped", orientation.flipped}};
     if (result.mesh) j["mesh"] = write_surface_mesh(console, *result.mesh, args.mesh, args.mesh_output);
@@ -133,9 +146,10 @@ int run_reconstruct(Console& console, const ReconstructArgs& args) {
     return 0;
   }
   for (const auto& line : tree_report_lines(result.tree)) console.print(line);
-  console.print("orientation     " + (orientation.used_normals    ? std::string("by input normals")
-                                      : orientation.used_scanners ? std::string("towards the scanners")
-                                                                  : fmt::format("by propagation ({} component{})", orientation.components,
+  console.print("orientation     " + (orientation.used_normals ? std::string("by input normals")
+                                      : orientation.used_scanners
+                                          ? std::string("towards the scanners")
+                                          : fmt::format("by propagation ({} component{})", orientation.components,
                                                         orientation.components == 1 ? "" : "s")));
   console.print(fmt::format("time            read {:.3f} s, build {:.3f} s", read_seconds, result.build_seconds));
   if (result.mesh) write_surface_mesh(console, *result.mesh, args.mesh, args.mesh_output);

@@ -1,9 +1,9 @@
 #include "commands.hpp"
 #include "input.hpp"
 
+#include <clustersurf/cluster/tree_file.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/render/render.hpp>
-#include <clustersurf/cluster/tree_file.hpp>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -26,7 +26,10 @@ bool is_tree_file(const std::string& file) {
   std::ifstream in(file, std::ios::binary);
   char magic[8] = {};
   in.read(magic, sizeof magic);
-  return in.gcount() == 8 && std::string(magic, 8) == std::string("\x89" "CSTREE\n", 8);
+  return in.gcount() == 8 && std::string(magic, 8) == std::string(
+                                                          "\x89"
+                                                          "CSTREE\n",
+                                                          8);
 }
 
 Scene load_scene(Console& console, const std::string& file) {
@@ -48,9 +51,12 @@ BoundingBox scene_box(const Scene& scene) {
       [](const auto& s) -> BoundingBox {
         using T = std::decay_t<decltype(s)>;
         BoundingBox box;
-        if constexpr (std::is_same_v<T, ClusterTree>) box = s.bbox;
-        else if constexpr (std::is_same_v<T, TriangleMesh>) box = bounding_box(s.vertices);
-        else box = bounding_box(s.positions);
+        if constexpr (std::is_same_v<T, ClusterTree>)
+          box = s.bbox;
+        else if constexpr (std::is_same_v<T, TriangleMesh>)
+          box = bounding_box(s.vertices);
+        else
+          box = bounding_box(s.positions);
         return box.empty() ? box : BoundingBox{box.min + s.origin, box.max + s.origin};
       },
       scene);
@@ -87,7 +93,8 @@ int run_render(Console& console, const RenderArgs& args) {
   options.ambient_occlusion = args.ambient_occlusion;
   options.min_weight = args.min_weight;
   options.point_radius = args.point_radius;
-  if (options.show == ShowMode::Error && args.points.empty()) throw OptionError("--show error needs the input points (--points FILE)");
+  if (options.show == ShowMode::Error && args.points.empty())
+    throw OptionError("--show error needs the input points (--points FILE)");
 
   std::vector<Scene> scenes;
   for (const std::string& file : args.inputs) scenes.push_back(load_scene(console, file));
@@ -134,9 +141,11 @@ int run_render(Console& console, const RenderArgs& args) {
     total.seconds += stats.seconds;
     total.rays += stats.rays;
     total.hits += stats.hits;
-    console.print(fmt::format("render          {} ({}): {}x{}, {} spp, {:.3f} s, {:.3g} rays/s, {:.1f} % hit", args.inputs[k], kind,
-                              args.width, args.height, args.samples, stats.seconds, stats.rays_per_second,
-                              stats.rays > 0 ? 100.0 * static_cast<double>(stats.hits) * args.samples / static_cast<double>(stats.rays) : 0.0));
+    console.print(fmt::format(
+        "render          {} ({}): {}x{}, {} spp, {:.3f} s, {:.3g} rays/s, {:.1f} % hit", args.inputs[k], kind,
+        args.width, args.height, args.samples, stats.seconds, stats.rays_per_second,
+        stats.rays > 0 ? 100.0 * static_cast<double>(stats.hits) * args.samples / static_cast<double>(stats.rays)
+                       : 0.0));
     nlohmann::json j = {{"input", args.inputs[k]}, {"kind", kind},       {"seconds", stats.seconds},
                         {"rays", stats.rays},      {"hits", stats.hits}, {"rays_per_second", stats.rays_per_second}};
     if (kind == "tree") j["mode"] = args.mode, j["show"] = args.show;
@@ -147,14 +156,15 @@ int run_render(Console& console, const RenderArgs& args) {
   write_png(args.output, picture);
   console.print("wrote           " + args.output);
   if (console.options().json) {
-    const nlohmann::json j = {{"file", args.output},
-                              {"width", picture.width},
-                              {"height", picture.height},
-                              {"samples", args.samples},
-                              {"seconds", total.seconds},
-                              {"rays", total.rays},
-                              {"rays_per_second", total.seconds > 0 ? static_cast<double>(total.rays) / total.seconds : 0.0},
-                              {"renders", renders}};
+    const nlohmann::json j = {
+        {"file", args.output},
+        {"width", picture.width},
+        {"height", picture.height},
+        {"samples", args.samples},
+        {"seconds", total.seconds},
+        {"rays", total.rays},
+        {"rays_per_second", total.seconds > 0 ? static_cast<double>(total.rays) / total.seconds : 0.0},
+        {"renders", renders}};
     std::cout << j.dump(2) << "\n";
   }
   return 0;

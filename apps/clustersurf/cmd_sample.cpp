@@ -1,8 +1,8 @@
 #include "commands.hpp"
 
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/io/point_cloud_io.hpp>
 #include <clustersurf/evaluation/range_scan.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
 #include <clustersurf/io/surface_sampling.hpp>
 
 #include <fmt/format.h>
@@ -43,16 +43,22 @@ int run_sample(Console& console, const SampleArgs& args) {
   ply.binary = !args.ascii;
   write_point_cloud(args.output, cloud, ply);
   if (console.options().json) {
-    std::cout << nlohmann::json{{"mesh", args.mesh},       {"output", args.output}, {"points", cloud.size()},
-                                {"noise", args.noise},     {"outliers", args.outliers},
-                                {"seed", args.seed},       {"scanner", args.scanner},
-                                {"registration", args.registration}, {"flipped_normals", args.flipped_normals}}
+    std::cout << nlohmann::json{{"mesh", args.mesh},
+                                {"output", args.output},
+                                {"points", cloud.size()},
+                                {"noise", args.noise},
+                                {"outliers", args.outliers},
+                                {"seed", args.seed},
+                                {"scanner", args.scanner},
+                                {"registration", args.registration},
+                                {"flipped_normals", args.flipped_normals}}
                      .dump(2)
               << "\n";
   } else {
-    console.print(fmt::format("wrote {} points {} {} to {}", cloud.size(),
-                              args.scanner > 0 ? fmt::format("scanned from {} viewpoints of", args.scanner) : "sampled from",
-                              args.mesh, args.output));
+    console.print(
+        fmt::format("wrote {} points {} {} to {}", cloud.size(),
+                    args.scanner > 0 ? fmt::format("scanned from {} viewpoints of", args.scanner) : "sampled from",
+                    args.mesh, args.output));
   }
   return 0;
 }

@@ -39,11 +39,13 @@ int run_stats(Console& console, const StatsArgs& args) {
                             s.median_spacing));
   console.print(fmt::format("normals         {}", s.has_normals ? "yes" : "no"));
   console.print(fmt::format("colors          {}", s.has_colors ? "yes" : "no"));
-  console.print(fmt::format("attributes      {}", s.attributes.empty() ? "none" : fmt::format("{}", fmt::join(s.attributes, ", "))));
-  console.print(fmt::format("scanners        {}", s.scanners == 0 ? std::string("unknown") : std::to_string(s.scanners)));
+  console.print(fmt::format("attributes      {}",
+                            s.attributes.empty() ? "none" : fmt::format("{}", fmt::join(s.attributes, ", "))));
+  console.print(
+      fmt::format("scanners        {}", s.scanners == 0 ? std::string("unknown") : std::to_string(s.scanners)));
   if (!s.origin.isZero())
-    console.print(fmt::format("origin          {:.17g} {:.17g} {:.17g} (the points are stored relative to it)", s.origin.x(),
-                              s.origin.y(), s.origin.z()));
+    console.print(fmt::format("origin          {:.17g} {:.17g} {:.17g} (the points are stored relative to it)",
+                              s.origin.x(), s.origin.y(), s.origin.z()));
   return 0;
 }
 

@@ -1,9 +1,9 @@
 #include "commands.hpp"
 #include "input.hpp"
 
+#include <clustersurf/cluster/tree_file.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/view/html_viewer.hpp>
-#include <clustersurf/cluster/tree_file.hpp>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -24,8 +24,9 @@ int run_view(Console& console, const ViewArgs& args) {
 
   PointCloud cloud;
   if (args.points.empty()) {
-    console.warn("no --points: the page shows the tree's proxies and spheres only (tree files do not hold the "
-                 "positions; pass the cloud the tree was built from to see the points)");
+    console.warn(
+        "no --points: the page shows the tree's proxies and spheres only (tree files do not hold the "
+        "positions; pass the cloud the tree was built from to see the points)");
   } else {
     cloud = read_input(console, args.points);
   }
@@ -48,16 +49,18 @@ int run_view(Console& console, const ViewArgs& args) {
   options.max_points = args.max_points;
   options.title = std::filesystem::path(args.tree).filename().string();
   const PointCloud* points = args.points.empty() ? nullptr : &cloud;
-  const ViewerStats stats = glb ? write_viewer_html(args.output, tree, points, glb_mesh, options)
-                                : write_viewer_html(args.output, tree, points, args.mesh.empty() ? nullptr : &mesh, options);
+  const ViewerStats stats =
+      glb ? write_viewer_html(args.output, tree, points, glb_mesh, options)
+          : write_viewer_html(args.output, tree, points, args.mesh.empty() ? nullptr : &mesh, options);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (stats.points < static_cast<std::size_t>(cloud.size()))
     console.print(fmt::format("points          {} of {} embedded (--max-points)", stats.points, cloud.size()));
-  console.print(fmt::format("wrote           {} ({:.1f} MB: {} nodes, {} points, {} triangles) in {:.2f} s", args.output,
-                            static_cast<double>(stats.bytes) / 1e6, stats.nodes, stats.points, stats.triangles, seconds));
+  console.print(fmt::format("wrote           {} ({:.1f} MB: {} nodes, {} points, {} triangles) in {:.2f} s",
+                            args.output, static_cast<double>(stats.bytes) / 1e6, stats.nodes, stats.points,
+                            stats.triangles, seconds));
   if (console.options().json) {
-    const nlohmann::json j = {{"file", args.output},     {"bytes", stats.bytes},         {"nodes", stats.nodes},
-                              {"points", stats.points},  {"input_points", cloud.size()}, {"triangles", stats.triangles},
+    const nlohmann::json j = {{"file", args.output},    {"bytes", stats.bytes},         {"nodes", stats.nodes},
+                              {"points", stats.points}, {"input_points", cloud.size()}, {"triangles", stats.triangles},
                               {"seconds", seconds}};
     std::cout << j.dump(2) << "\n";
   }

@@ -4,13 +4,13 @@
 
 #include "console.hpp"
 
-#include <clustersurf/view/html_viewer.hpp>
-#include <clustersurf/io/point_cloud_io.hpp>
 #include <clustersurf/evaluation/range_scan.hpp>
+#include <clustersurf/evaluation/surface_comparison.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/io/surface_sampling.hpp>
 #include <clustersurf/pipeline/reconstruct.hpp>
 #include <clustersurf/render/render.hpp>
-#include <clustersurf/evaluation/surface_comparison.hpp>
-#include <clustersurf/io/surface_sampling.hpp>
+#include <clustersurf/view/html_viewer.hpp>
 
 #include <cstdint>
 #include <optional>
@@ -30,9 +30,9 @@ struct InputArgs {
 /// SurfaceMeshOptions (defaults and all) with the words still to parse.
 struct MeshArgs {
   SurfaceMeshOptions options;
-  std::string resolution = "auto";  // parse_resolution()
+  std::string resolution = "auto";                               // parse_resolution()
   std::string color = to_string(SurfaceMeshOptions{}.coloring);  // parse_mesh_coloring()
-  std::string points;               // input cloud for --trim and --color distance (mesh command)
+  std::string points;  // input cloud for --trim and --color distance (mesh command)
   bool ascii = false;
 };
 
@@ -60,9 +60,9 @@ struct ReconstructArgs {
   std::string mesh_output;  // .ply/.obj (optional)
   MeshArgs mesh;
   BuildOptions build;
-  std::string proxy = to_string(BuildOptions{}.proxy);         // parse_proxy_kind()
-  std::string splitter = to_string(BuildOptions{}.splitter);   // parse_splitter()
-  std::string tolerance = "auto";                              // parse_tolerance()
+  std::string proxy = to_string(BuildOptions{}.proxy);        // parse_proxy_kind()
+  std::string splitter = to_string(BuildOptions{}.splitter);  // parse_splitter()
+  std::string tolerance = "auto";                             // parse_tolerance()
   std::optional<double> absolute_tolerance;
   std::string error_metric = to_string(BuildOptions{}.metric);  // parse_error_metric()
   std::string min_points = "auto";                              // parse_min_points()
@@ -128,7 +128,7 @@ struct RenderArgs {
   std::string show = to_string(RenderOptions{}.show);  // surface | clusters | spheres | proxies | error
   std::optional<std::uint32_t> level;
   std::optional<std::int32_t> highlight;
-  std::string points;               // input cloud for --show error
+  std::string points;  // input cloud for --show error
   std::optional<double> error_scale;
   double azimuth = CameraOptions{}.azimuth;
   double elevation = CameraOptions{}.elevation;
@@ -147,10 +147,10 @@ struct RenderArgs {
 int run_render(Console& console, const RenderArgs& args);
 
 struct ViewArgs {
-  std::string tree;              // .cstree
-  std::string output;            // .html
-  std::string points;            // the tree's input cloud (optional: without it, no points are shown)
-  std::string mesh;              // .ply/.obj (optional)
+  std::string tree;    // .cstree
+  std::string output;  // .html
+  std::string points;  // the tree's input cloud (optional: without it, no points are shown)
+  std::string mesh;    // .ply/.obj (optional)
   std::size_t max_points = ViewerOptions{}.max_points;  // 0: all
 };
 int run_view(Console& console, const ViewArgs& args);

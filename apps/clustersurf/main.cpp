@@ -28,6 +28,20 @@ constexpr int kExitMemory = 5;
 constexpr int kExitCancelled = 130;
 constexpr int kExitInternal = 70;
 
+/// The arguments of every subcommand (CLI11 binds to them; the one parsed is run).
+struct Commands {
+  clustersurf::cli::ConvertArgs convert;
+  clustersurf::cli::StatsArgs stats;
+  clustersurf::cli::ReconstructArgs reconstruct;
+  clustersurf::cli::InfoArgs info;
+  clustersurf::cli::MeshCommandArgs mesh;
+  clustersurf::cli::SampleArgs sample;
+  clustersurf::cli::EvalArgs eval;
+  clustersurf::cli::CheckArgs check;
+  clustersurf::cli::RenderArgs render;
+  clustersurf::cli::ViewArgs view;
+};
+
 void add_input(CLI::App& cmd, clustersurf::cli::InputArgs& in) {
   cmd.add_option("input", in.file, "Point cloud (.ply, .xyz/.pts/.txt/.csv, .obj, .las, .e57, .ptx, .pcd)")->required();
   cmd.add_flag("--drop-non-finite", in.drop_non_finite,
@@ -47,7 +61,8 @@ void add_mesh_options(CLI::App& cmd, clustersurf::cli::MeshArgs& m) {
                      std::to_string(o.grid.resolution) + " cells)")
       ->check(CLI::Range(2, 100000) | CLI::IsMember({"auto"}))
       ->capture_default_str();
-  cmd.add_option("--voxel-size", o.grid.voxel_size, "Mesh grid cell size (overrides --resolution)")->check(CLI::PositiveNumber);
+  cmd.add_option("--voxel-size", o.grid.voxel_size, "Mesh grid cell size (overrides --resolution)")
+      ->check(CLI::PositiveNumber);
   cmd.add_option("--lod-depth", o.lod_depth, "Blend the tree cut at this depth instead of the leaves");
   cmd.add_option("--lod-error", o.lod_error, "Blend the shallowest nodes with error <= this fraction of the diagonal")
       ->check(CLI::NonNegativeNumber);
@@ -88,6 +103,278 @@ void add_mesh_options(CLI::App& cmd, clustersurf::cli::MeshArgs& m) {
   cmd.add_flag("--mesh-ascii", m.ascii, "Write the mesh as ascii PLY instead of binary");
 }
 
+/// The `convert` subcommand, its arguments bound to `args`.
+CLI::App* add_convert_command(CLI::App& app, clustersurf::cli::ConvertArgs& args) {
+  CLI::App* c = app.add_subcommand("convert", "Convert a point cloud between formats, optionally reduced");
+  add_input(*c, args.input);
+  c->add_option("output", args.output, "Output file (.ply, .xyz, .obj)")->required();
+  c->add_option("--subsample", args.subsample, "Keep N points chosen uniformly at random")->check(CLI::PositiveNumber);
+  c->add_option("--voxel", args.voxel, "Average the points in each cube of this side")->check(CLI::PositiveNumber);
+  c->add_option("--seed", args.seed, "Random seed for --subsample")->default_val(1);
+  c->add_flag("--ascii", args.ascii, "Write ascii PLY instead of binary");
+  c->add_flag("--double", args.double_precision, "Store PLY coordinates as double (bit-exact)");
+  return c;
+}
+
+/// The `stats` subcommand, its arguments bound to `args`.
+CLI::App* add_stats_command(CLI::App& app, clustersurf::cli::StatsArgs& args) {
+  CLI::App* s = app.add_subcommand("stats", "Point count, bounding box, spacing, attributes of a cloud");
+  add_input(*s, args.input);
+  return s;
+}
+
+/// The `reconstruct` subcommand, its arguments bound to `args`.
+CLI::App* add_reconstruct_command(CLI::App& app, clustersurf::cli::ReconstructArgs& args) {
+  CLI::App* r = app.add_subcommand("reconstruct", "Build the cluster tree of a point cloud (and save it)");
+  add_input(*r, args.input);
+  r->add_option("-o,--output", args.tree_output, "Tree file to write (.cstree)");
+  r->add_option("--mesh", args.mesh_output, "Also mesh the surface into this file (.ply, .obj, .off, .stl or .glb)");
+  add_mesh_options(*r, args.mesh);
+  r->add_flag("--ignore-normals", args.ignore_normals, "Orient by propagation even when the input has normals");
+  r->add_flag("--no-creases", args.no_creases,
+              "No crease leaves: a cluster on the two faces of a sharp edge is split like any other instead of "
+              "fitted by two planes meeting at the edge");
+  r->add_option("--proxy", args.proxy, "Proxy per cluster: plane, poly (bivariate quadratic) or quadric")
+      ->check(CLI::IsMember({"plane", "poly", "quadric"}))
+      ->capture_default_str();
+  r->add_option("--splitter", args.splitter, "Cluster splitting: split-plane or lloyd")
+      ->check(CLI::IsMember({"split-plane", "lloyd"}))
+      ->capture_default_str();
+  r->add_option("--tolerance,--max-error", args.tolerance,
+                "The error a leaf may keep beyond the estimated scanner noise, as a fraction of the bbox diagonal (a "
+                "leaf's RMS error must be <= hypot(tolerance, noise)); \"auto\" = " +
+                    fmt::format("{}", clustersurf::BuildOptions{}.tolerance))
+      ->capture_default_str();
+  r->add_option("--absolute-tolerance,--absolute-error", args.absolute_tolerance,
+                "Leaf error threshold in the input's units, noise included (overrides --tolerance)")
+      ->check(CLI::NonNegativeNumber);
+  r->add_option("--error", args.error_metric, "Error compared with the threshold: rms or max")
+      ->check(CLI::IsMember({"rms", "max"}))
+      ->capture_default_str();
+  r->add_option(
+       "--min-points", args.min_points,
+       "No cluster below this many points, or \"auto\": from the estimated noise against the point spacing (12 "
+       "for clean or sparse data up to 20 for noise of half a spacing or more), and two thirds of that where relief "
+       "finer than the clusters needs it")
+      ->check(CLI::Range(1, 1 << 30) | CLI::IsMember({"auto"}))
+      ->capture_default_str();
+  auto& b = args.build;
+  r->add_option("--max-depth", b.max_depth, "Maximum tree depth")->capture_default_str();
+  r->add_option("--alpha", b.alpha, "Support radius = alpha x cluster bbox diagonal")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  r->add_option("--kstep", b.kstep, "Split-plane sweep step (0: at most 64 candidates per split)")
+      ->capture_default_str();
+  r->add_option("--lloyd-restarts", b.lloyd_restarts, "Lloyd splitter: 2-means restarts")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  r->add_option("--proxy-lloyd", b.proxy_lloyd_iterations, "Lloyd splitter: proxy-Lloyd refinement rounds")
+      ->capture_default_str();
+  r->add_option("--noise-factor", b.noise_factor,
+                "Noise counted in the threshold = this x the estimated noise (0: ignore the noise, no estimate)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  r->add_option("--support-factor", b.support_factor,
+                "A leaf's weighted RMS error over the points in its support sphere must be <= this x the threshold "
+                "(0: no check)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  r->add_option("--seed", b.seed, "Seed for every random choice")->capture_default_str();
+  r->add_flag("--keep-outliers", args.keep_outliers,
+              "Cluster every input point; by default isolated points (mean distance to their 8 nearest "
+              "neighbours over 3x their neighbours' or 6x the cloud's median) are left out");
+  r->add_flag("--no-point-leaves", args.no_point_leaves, "Do not store each point's leaf in the tree file");
+  r->add_option("--memory-limit", args.memory_limit,
+                "Build and mesh out of core within about this much memory (e.g. 4G): the input is split into "
+                "regions on disk, each built and meshed in turn, the tiles welded into one mesh");
+  r->add_option("--work-dir", args.work_dir,
+                "Where an out-of-core run keeps its files (default: the mesh or tree file's name + .work); a run "
+                "interrupted and started again resumes there. A folder holding other files is used alongside them: "
+                "only the run's "
+                "own files are removed when it is done, and the folder only if the run created it");
+  r->add_flag("--keep-work-dir", args.keep_work_dir, "Keep an out-of-core run's files when it is done");
+  return r;
+}
+
+/// The `info` subcommand, its arguments bound to `args`.
+CLI::App* add_info_command(CLI::App& app, clustersurf::cli::InfoArgs& args) {
+  CLI::App* i = app.add_subcommand("info", "Describe a tree file: sizes, depth, proxies, errors, parameters");
+  i->add_option("tree", args.tree, "Tree file (.cstree)")->required();
+  return i;
+}
+
+/// The `mesh` subcommand, its arguments bound to `args`.
+CLI::App* add_mesh_command(CLI::App& app, clustersurf::cli::MeshCommandArgs& args) {
+  CLI::App* m = app.add_subcommand("mesh", "Mesh the implicit surface of a tree file");
+  m->add_option("tree", args.tree, "Tree file (.cstree)")->required();
+  m->add_option("-o,--output", args.output, "Mesh file to write (.ply, .obj, .off, .stl or .glb)")->required();
+  m->add_option("--points", args.mesh.points, "The tree's input cloud, for --trim and --color distance or input");
+  add_mesh_options(*m, args.mesh);
+  return m;
+}
+
+/// The `sample` subcommand, its arguments bound to `args`.
+CLI::App* add_sample_command(CLI::App& app, clustersurf::cli::SampleArgs& args) {
+  CLI::App* sm = app.add_subcommand("sample",
+                                    "Draw area-uniform random points (with normals) from a triangle mesh, or scan it "
+                                    "with a virtual range scanner (--scanner)");
+  sm->add_option("mesh", args.mesh, "Triangle mesh (.ply or .obj)")->required();
+  sm->add_option("-o,--output", args.output, "Point cloud to write (.ply, .xyz)")->required();
+  sm->add_option("-n,--n", args.count, "Number of surface points (--scanner: about this many)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  sm->add_option("--noise", args.noise,
+                 "Gaussian noise sigma as a fraction of the bbox diagonal (--scanner: along the line of sight)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  sm->add_option("--outliers", args.outliers, "Uniform outliers in the bbox, as a fraction of N")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  sm->add_option("--seed", args.seed, "Random seed")->capture_default_str();
+  sm->add_flag("--ascii", args.ascii, "Write ascii PLY instead of binary");
+  sm->add_flag("--no-normals", args.no_normals, "Do not write the normals");
+  sm->add_option("--scanner", args.scanner,
+                 "Scan from N viewpoints around the mesh instead: occlusion holes, grazing returns dropped, normals "
+                 "from each scan's grid towards its scanner")
+      ->check(CLI::PositiveNumber);
+  sm->add_option("--registration", args.registration,
+                 "--scanner: each scan's rigid misregistration, sigma as a fraction of the bbox diagonal")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  sm->add_option("--flip-normals", args.flipped_normals,
+                 "--scanner: fraction of the returns whose normal points away from its scanner (orientation errors)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  sm->add_option("--scanner-distance", args.scanner_distance, "--scanner: distance to the bbox center, in diagonals")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  return sm;
+}
+
+/// The `eval` subcommand, its arguments bound to `args`.
+CLI::App* add_eval_command(CLI::App& app, clustersurf::cli::EvalArgs& args) {
+  CLI::App* ev = app.add_subcommand("eval", "Accuracy of a reconstruction against a reference surface (mesh or cloud)");
+  ev->add_option("reconstruction", args.reconstruction, "Reconstructed mesh or cloud (.ply, .obj, .xyz)")->required();
+  ev->add_option("-r,--reference", args.reference, "Reference mesh or cloud (the ground truth)")->required();
+  ev->add_option("--samples", args.samples, "Points sampled on each mesh surface")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  ev->add_option("--seed", args.seed, "Random seed for the samples")->capture_default_str();
+  return ev;
+}
+
+/// The `check` subcommand, its arguments bound to `args`.
+CLI::App* add_check_command(CLI::App& app, clustersurf::cli::CheckArgs& args) {
+  CLI::App* ck = app.add_subcommand("check",
+                                    "Is a mesh ready to print: boundary and non-manifold edges, orientation, "
+                                    "components, Euler characteristic and genus, volume, self-intersections");
+  ck->add_option("mesh", args.mesh, "Triangle mesh (.ply or .obj)")->required();
+  return ck;
+}
+
+/// The `render` subcommand, its arguments bound to `args`.
+CLI::App* add_render_command(CLI::App& app, clustersurf::cli::RenderArgs& args) {
+  CLI::App* v = app.add_subcommand("render", "Ray-trace a picture of a tree's surface (or of meshes and point clouds)");
+  v->add_option("input", args.inputs, "Tree file (.cstree), mesh or point cloud; several with --grid")->required();
+  v->add_option("-o,--output", args.output, "Picture to write (.png)")->required();
+  v->add_option("--width", args.width, "Picture width in pixels")->check(CLI::Range(1, 32768))->capture_default_str();
+  v->add_option("--height", args.height, "Picture height in pixels")
+      ->check(CLI::Range(1, 32768))
+      ->capture_default_str();
+  v->add_option("--samples", args.samples, "Rays per pixel (anti-aliasing)")
+      ->check(CLI::Range(1, 1024))
+      ->capture_default_str();
+  v->add_option("--mode", args.mode,
+                "Intersection: implicit (first zero of f), hit-blend (blend the proxies' hits, thesis 5.1) or "
+                "brute-force (implicit without the hierarchy)")
+      ->check(CLI::IsMember({"implicit", "hit-blend", "brute-force"}))
+      ->capture_default_str();
+  v->add_option("--show", args.show, "What to draw: surface, clusters, spheres, proxies or error")
+      ->check(CLI::IsMember({"surface", "clusters", "spheres", "proxies", "error"}))
+      ->capture_default_str();
+  v->add_option("--level", args.level, "clusters: color by the ancestor at this depth instead of the leaf");
+  v->add_option("--highlight", args.highlight, "Draw this node's cluster and proxy in red over the grey surface")
+      ->check(CLI::NonNegativeNumber);
+  v->add_option("--points", args.points, "The input cloud, for --show error");
+  v->add_option("--error-scale", args.error_scale, "error: distance drawn full red (default 0.005 x diagonal)")
+      ->check(CLI::PositiveNumber);
+  v->add_option("--azimuth", args.azimuth, "Camera turn around the up axis, degrees")->capture_default_str();
+  v->add_option("--elevation", args.elevation, "Camera elevation, degrees")
+      ->check(CLI::Range(-89.9, 89.9))
+      ->capture_default_str();
+  v->add_option("--distance", args.distance, "Camera distance to the target (default: the model fills the view)")
+      ->check(CLI::PositiveNumber);
+  v->add_option("--fov", args.fov, "Vertical field of view, degrees")
+      ->check(CLI::Range(1.0, 170.0))
+      ->capture_default_str();
+  v->add_option("--eye", args.eye, "Explicit camera position x,y,z")->delimiter(',')->expected(3);
+  v->add_option("--target", args.target, "Point looked at x,y,z (default: bbox center)")->delimiter(',')->expected(3);
+  v->add_option("--up", args.up,
+                "Up direction x,y,z (default: the input's up axis: 0,0,1 for LAS, E57 and PTX surveys and what was "
+                "made from them, else 0,1,0)")
+      ->delimiter(',')
+      ->expected(3);
+  v->add_option("--background", args.background, "transparent, white, black or #rrggbb")->default_val("white");
+  v->add_flag("--ao", args.ambient_occlusion, "Ambient occlusion (8 short rays per hit)");
+  v->add_option("--lod-depth", args.lod_depth, "Blend the tree cut at this depth instead of the leaves");
+  v->add_option("--lod-error", args.lod_error, "Blend the shallowest nodes with error <= this fraction of the diagonal")
+      ->check(CLI::NonNegativeNumber);
+  v->add_option("--min-weight", args.min_weight, "Surface only where the total weight exceeds this (as the mesher)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  v->add_option("--point-radius", args.point_radius, "Point clouds: splat radius (0: 0.75 x mean spacing)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  v->add_flag("--grid", args.grid, "Render every input with the same camera into one labelled picture");
+  v->add_option("--columns", args.columns, "--grid: pictures per row (0: as square as possible)")
+      ->check(CLI::NonNegativeNumber);
+  return v;
+}
+
+/// The `view` subcommand, its arguments bound to `args`.
+CLI::App* add_view_command(CLI::App& app, clustersurf::cli::ViewArgs& args) {
+  CLI::App* vw =
+      app.add_subcommand("view", "Write an interactive HTML viewer of a tree: clusters, proxies, spheres, mesh");
+  vw->add_option("tree", args.tree, "Tree file (.cstree)")->required();
+  vw->add_option("-o,--output", args.output, "Page to write (.html, self-contained: open it in a browser)")->required();
+  vw->add_option("--points", args.points, "The cloud the tree was built from (tree files do not hold the positions)");
+  vw->add_option("--mesh", args.mesh, "A mesh to show as well (.ply, .obj or .glb)");
+  vw->add_option("--max-points", args.max_points,
+                 "Embed at most this many points, evenly spread over the input (0: all)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  return vw;
+}
+
+/// The exit code of the exception in flight, its message logged: the one place where errors
+/// become messages and exit codes.
+int report_failure(clustersurf::cli::Console& console) {
+  console.end_progress();
+  try {
+    throw;
+  } catch (const clustersurf::InputError& e) {
+    spdlog::error("{}", e.what());
+    return kExitInput;
+  } catch (const clustersurf::IoError& e) {
+    spdlog::error("{}", e.what());
+    return kExitIo;
+  } catch (const clustersurf::OptionError& e) {
+    spdlog::error("{}", e.what());
+    return kExitUsage;
+  } catch (const clustersurf::Cancelled&) {
+    spdlog::error("{}", clustersurf::cli::interrupt_requested()
+                            ? "interrupted: stopped before writing any output (files already there are unchanged)"
+                            : "cancelled");
+    return kExitCancelled;
+  } catch (const std::bad_alloc&) {
+    spdlog::error("out of memory");
+    return kExitMemory;
+  } catch (const std::exception& e) {
+    spdlog::error("internal error: {}", e.what());
+    return kExitInternal;
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -103,189 +390,17 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", global.quiet, "No progress, no human output; errors only");
   app.add_flag("--json", global.json, "Machine-readable JSON on stdout");
 
-  ConvertArgs convert;
-  auto* c = app.add_subcommand("convert", "Convert a point cloud between formats, optionally reduced");
-  add_input(*c, convert.input);
-  c->add_option("output", convert.output, "Output file (.ply, .xyz, .obj)")->required();
-  c->add_option("--subsample", convert.subsample, "Keep N points chosen uniformly at random")->check(CLI::PositiveNumber);
-  c->add_option("--voxel", convert.voxel, "Average the points in each cube of this side")->check(CLI::PositiveNumber);
-  c->add_option("--seed", convert.seed, "Random seed for --subsample")->default_val(1);
-  c->add_flag("--ascii", convert.ascii, "Write ascii PLY instead of binary");
-  c->add_flag("--double", convert.double_precision, "Store PLY coordinates as double (bit-exact)");
-
-  StatsArgs stats;
-  auto* s = app.add_subcommand("stats", "Point count, bounding box, spacing, attributes of a cloud");
-  add_input(*s, stats.input);
-
-  ReconstructArgs rec;
-  auto* r = app.add_subcommand("reconstruct", "Build the cluster tree of a point cloud (and save it)");
-  add_input(*r, rec.input);
-  r->add_option("-o,--output", rec.tree_output, "Tree file to write (.cstree)");
-  r->add_option("--mesh", rec.mesh_output, "Also mesh the surface into this file (.ply, .obj, .off, .stl or .glb)");
-  add_mesh_options(*r, rec.mesh);
-  r->add_flag("--ignore-normals", rec.ignore_normals, "Orient by propagation even when the input has normals");
-  r->add_flag("--no-creases", rec.no_creases,
-              "No crease leaves: a cluster on the two faces of a sharp edge is split like any other instead of "
-              "fitted by two planes meeting at the edge");
-  r->add_option("--proxy", rec.proxy, "Proxy per cluster: plane, poly (bivariate quadratic) or quadric")
-      ->check(CLI::IsMember({"plane", "poly", "quadric"}))
-      ->capture_default_str();
-  r->add_option("--splitter", rec.splitter, "Cluster splitting: split-plane or lloyd")
-      ->check(CLI::IsMember({"split-plane", "lloyd"}))
-      ->capture_default_str();
-  r->add_option("--tolerance,--max-error", rec.tolerance,
-                "The error a leaf may keep beyond the estimated scanner noise, as a fraction of the bbox diagonal (a "
-                "leaf's RMS error must be <= hypot(tolerance, noise)); \"auto\" = " +
-                    fmt::format("{}", clustersurf::BuildOptions{}.tolerance))
-      ->capture_default_str();
-  r->add_option("--absolute-tolerance,--absolute-error", rec.absolute_tolerance,
-                "Leaf error threshold in the input's units, noise included (overrides --tolerance)")
-      ->check(CLI::NonNegativeNumber);
-  r->add_option("--error", rec.error_metric, "Error compared with the threshold: rms or max")
-      ->check(CLI::IsMember({"rms", "max"}))
-      ->capture_default_str();
-  r->add_option("--min-points", rec.min_points,
-                 "No cluster below this many points, or \"auto\": from the estimated noise against the point spacing (12 "
-                 "for clean or sparse data up to 20 for noise of half a spacing or more), and two thirds of that where relief "
-                 "finer than the clusters needs it")
-      ->check(CLI::Range(1, 1 << 30) | CLI::IsMember({"auto"}))
-      ->capture_default_str();
-  auto& b = rec.build;
-  r->add_option("--max-depth", b.max_depth, "Maximum tree depth")->capture_default_str();
-  r->add_option("--alpha", b.alpha, "Support radius = alpha x cluster bbox diagonal")->check(CLI::PositiveNumber)->capture_default_str();
-  r->add_option("--kstep", b.kstep, "Split-plane sweep step (0: at most 64 candidates per split)")->capture_default_str();
-  r->add_option("--lloyd-restarts", b.lloyd_restarts, "Lloyd splitter: 2-means restarts")->check(CLI::Range(1, 1000))->capture_default_str();
-  r->add_option("--proxy-lloyd", b.proxy_lloyd_iterations, "Lloyd splitter: proxy-Lloyd refinement rounds")->capture_default_str();
-  r->add_option("--noise-factor", b.noise_factor,
-                "Noise counted in the threshold = this x the estimated noise (0: ignore the noise, no estimate)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  r->add_option("--support-factor", b.support_factor,
-                "A leaf's weighted RMS error over the points in its support sphere must be <= this x the threshold "
-                "(0: no check)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  r->add_option("--seed", b.seed, "Seed for every random choice")->capture_default_str();
-  r->add_flag("--keep-outliers", rec.keep_outliers,
-              "Cluster every input point; by default isolated points (mean distance to their 8 nearest "
-              "neighbours over 3x their neighbours' or 6x the cloud's median) are left out");
-  r->add_flag("--no-point-leaves", rec.no_point_leaves, "Do not store each point's leaf in the tree file");
-  r->add_option("--memory-limit", rec.memory_limit,
-                "Build and mesh out of core within about this much memory (e.g. 4G): the input is split into "
-                "regions on disk, each built and meshed in turn, the tiles welded into one mesh");
-  r->add_option("--work-dir", rec.work_dir,
-                "Where an out-of-core run keeps its files (default: the mesh or tree file's name + .work); a run "
-                "interrupted and started again resumes there. A folder holding other files is used alongside them: only the run's "
-                "own files are removed when it is done, and the folder only if the run created it");
-  r->add_flag("--keep-work-dir", rec.keep_work_dir, "Keep an out-of-core run's files when it is done");
-
-  InfoArgs info;
-  auto* i = app.add_subcommand("info", "Describe a tree file: sizes, depth, proxies, errors, parameters");
-  i->add_option("tree", info.tree, "Tree file (.cstree)")->required();
-
-  MeshCommandArgs meshcmd;
-  auto* m = app.add_subcommand("mesh", "Mesh the implicit surface of a tree file");
-  m->add_option("tree", meshcmd.tree, "Tree file (.cstree)")->required();
-  m->add_option("-o,--output", meshcmd.output, "Mesh file to write (.ply, .obj, .off, .stl or .glb)")->required();
-  m->add_option("--points", meshcmd.mesh.points, "The tree's input cloud, for --trim and --color distance or input");
-  add_mesh_options(*m, meshcmd.mesh);
-
-  SampleArgs sample;
-  auto* sm = app.add_subcommand("sample", "Draw area-uniform random points (with normals) from a triangle mesh, or scan it "
-                                          "with a virtual range scanner (--scanner)");
-  sm->add_option("mesh", sample.mesh, "Triangle mesh (.ply or .obj)")->required();
-  sm->add_option("-o,--output", sample.output, "Point cloud to write (.ply, .xyz)")->required();
-  sm->add_option("-n,--n", sample.count, "Number of surface points (--scanner: about this many)")->check(CLI::PositiveNumber)->capture_default_str();
-  sm->add_option("--noise", sample.noise,
-                 "Gaussian noise sigma as a fraction of the bbox diagonal (--scanner: along the line of sight)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  sm->add_option("--outliers", sample.outliers, "Uniform outliers in the bbox, as a fraction of N")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  sm->add_option("--seed", sample.seed, "Random seed")->capture_default_str();
-  sm->add_flag("--ascii", sample.ascii, "Write ascii PLY instead of binary");
-  sm->add_flag("--no-normals", sample.no_normals, "Do not write the normals");
-  sm->add_option("--scanner", sample.scanner,
-                 "Scan from N viewpoints around the mesh instead: occlusion holes, grazing returns dropped, normals "
-                 "from each scan's grid towards its scanner")
-      ->check(CLI::PositiveNumber);
-  sm->add_option("--registration", sample.registration,
-                 "--scanner: each scan's rigid misregistration, sigma as a fraction of the bbox diagonal")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  sm->add_option("--flip-normals", sample.flipped_normals,
-                 "--scanner: fraction of the returns whose normal points away from its scanner (orientation errors)")
-      ->check(CLI::Range(0.0, 1.0))
-      ->capture_default_str();
-  sm->add_option("--scanner-distance", sample.scanner_distance, "--scanner: distance to the bbox center, in diagonals")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-
-  EvalArgs eval;
-  auto* ev = app.add_subcommand("eval", "Accuracy of a reconstruction against a reference surface (mesh or cloud)");
-  ev->add_option("reconstruction", eval.reconstruction, "Reconstructed mesh or cloud (.ply, .obj, .xyz)")->required();
-  ev->add_option("-r,--reference", eval.reference, "Reference mesh or cloud (the ground truth)")->required();
-  ev->add_option("--samples", eval.samples, "Points sampled on each mesh surface")->check(CLI::PositiveNumber)->capture_default_str();
-  ev->add_option("--seed", eval.seed, "Random seed for the samples")->capture_default_str();
-
-  CheckArgs checkargs;
-  auto* ck = app.add_subcommand("check", "Is a mesh ready to print: boundary and non-manifold edges, orientation, "
-                                         "components, Euler characteristic and genus, volume, self-intersections");
-  ck->add_option("mesh", checkargs.mesh, "Triangle mesh (.ply or .obj)")->required();
-
-  RenderArgs rnd;
-  auto* v = app.add_subcommand("render", "Ray-trace a picture of a tree's surface (or of meshes and point clouds)");
-  v->add_option("input", rnd.inputs, "Tree file (.cstree), mesh or point cloud; several with --grid")->required();
-  v->add_option("-o,--output", rnd.output, "Picture to write (.png)")->required();
-  v->add_option("--width", rnd.width, "Picture width in pixels")->check(CLI::Range(1, 32768))->capture_default_str();
-  v->add_option("--height", rnd.height, "Picture height in pixels")->check(CLI::Range(1, 32768))->capture_default_str();
-  v->add_option("--samples", rnd.samples, "Rays per pixel (anti-aliasing)")->check(CLI::Range(1, 1024))->capture_default_str();
-  v->add_option("--mode", rnd.mode,
-                "Intersection: implicit (first zero of f), hit-blend (blend the proxies' hits, thesis 5.1) or "
-                "brute-force (implicit without the hierarchy)")
-      ->check(CLI::IsMember({"implicit", "hit-blend", "brute-force"}))
-      ->capture_default_str();
-  v->add_option("--show", rnd.show, "What to draw: surface, clusters, spheres, proxies or error")
-      ->check(CLI::IsMember({"surface", "clusters", "spheres", "proxies", "error"}))
-      ->capture_default_str();
-  v->add_option("--level", rnd.level, "clusters: color by the ancestor at this depth instead of the leaf");
-  v->add_option("--highlight", rnd.highlight, "Draw this node's cluster and proxy in red over the grey surface")
-      ->check(CLI::NonNegativeNumber);
-  v->add_option("--points", rnd.points, "The input cloud, for --show error");
-  v->add_option("--error-scale", rnd.error_scale, "error: distance drawn full red (default 0.005 x diagonal)")
-      ->check(CLI::PositiveNumber);
-  v->add_option("--azimuth", rnd.azimuth, "Camera turn around the up axis, degrees")->capture_default_str();
-  v->add_option("--elevation", rnd.elevation, "Camera elevation, degrees")->check(CLI::Range(-89.9, 89.9))->capture_default_str();
-  v->add_option("--distance", rnd.distance, "Camera distance to the target (default: the model fills the view)")
-      ->check(CLI::PositiveNumber);
-  v->add_option("--fov", rnd.fov, "Vertical field of view, degrees")->check(CLI::Range(1.0, 170.0))->capture_default_str();
-  v->add_option("--eye", rnd.eye, "Explicit camera position x,y,z")->delimiter(',')->expected(3);
-  v->add_option("--target", rnd.target, "Point looked at x,y,z (default: bbox center)")->delimiter(',')->expected(3);
-  v->add_option("--up", rnd.up, "Up direction x,y,z (default: the input's up axis: 0,0,1 for LAS, E57 and PTX surveys and what was made from them, else 0,1,0)")->delimiter(',')->expected(3);
-  v->add_option("--background", rnd.background, "transparent, white, black or #rrggbb")->default_val("white");
-  v->add_flag("--ao", rnd.ambient_occlusion, "Ambient occlusion (8 short rays per hit)");
-  v->add_option("--lod-depth", rnd.lod_depth, "Blend the tree cut at this depth instead of the leaves");
-  v->add_option("--lod-error", rnd.lod_error, "Blend the shallowest nodes with error <= this fraction of the diagonal")
-      ->check(CLI::NonNegativeNumber);
-  v->add_option("--min-weight", rnd.min_weight, "Surface only where the total weight exceeds this (as the mesher)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  v->add_option("--point-radius", rnd.point_radius, "Point clouds: splat radius (0: 0.75 x mean spacing)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  v->add_flag("--grid", rnd.grid, "Render every input with the same camera into one labelled picture");
-  v->add_option("--columns", rnd.columns, "--grid: pictures per row (0: as square as possible)")->check(CLI::NonNegativeNumber);
-
-  ViewArgs view;
-  auto* vw = app.add_subcommand("view", "Write an interactive HTML viewer of a tree: clusters, proxies, spheres, mesh");
-  vw->add_option("tree", view.tree, "Tree file (.cstree)")->required();
-  vw->add_option("-o,--output", view.output, "Page to write (.html, self-contained: open it in a browser)")->required();
-  vw->add_option("--points", view.points, "The cloud the tree was built from (tree files do not hold the positions)");
-  vw->add_option("--mesh", view.mesh, "A mesh to show as well (.ply, .obj or .glb)");
-  vw->add_option("--max-points", view.max_points, "Embed at most this many points, evenly spread over the input (0: all)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  Commands commands;
+  CLI::App* c = add_convert_command(app, commands.convert);
+  CLI::App* s = add_stats_command(app, commands.stats);
+  CLI::App* r = add_reconstruct_command(app, commands.reconstruct);
+  CLI::App* i = add_info_command(app, commands.info);
+  CLI::App* m = add_mesh_command(app, commands.mesh);
+  CLI::App* sm = add_sample_command(app, commands.sample);
+  CLI::App* ev = add_eval_command(app, commands.eval);
+  CLI::App* ck = add_check_command(app, commands.check);
+  CLI::App* v = add_render_command(app, commands.render);
+  CLI::App* vw = add_view_command(app, commands.view);
 
   try {
     app.parse(argc, argv);
@@ -299,41 +414,18 @@ int main(int argc, char** argv) {
   Console console(global);
   install_interrupt_handlers();
   try {
-    if (c->parsed()) return run_convert(console, convert);
-    if (s->parsed()) return run_stats(console, stats);
-    if (r->parsed()) return run_reconstruct(console, rec);
-    if (i->parsed()) return run_info(console, info);
-    if (m->parsed()) return run_mesh(console, meshcmd);
-    if (sm->parsed()) return run_sample(console, sample);
-    if (ev->parsed()) return run_eval(console, eval);
-    if (ck->parsed()) return run_check(console, checkargs);
-    if (v->parsed()) return run_render(console, rnd);
-    if (vw->parsed()) return run_view(console, view);
+    if (c->parsed()) return run_convert(console, commands.convert);
+    if (s->parsed()) return run_stats(console, commands.stats);
+    if (r->parsed()) return run_reconstruct(console, commands.reconstruct);
+    if (i->parsed()) return run_info(console, commands.info);
+    if (m->parsed()) return run_mesh(console, commands.mesh);
+    if (sm->parsed()) return run_sample(console, commands.sample);
+    if (ev->parsed()) return run_eval(console, commands.eval);
+    if (ck->parsed()) return run_check(console, commands.check);
+    if (v->parsed()) return run_render(console, commands.render);
+    if (vw->parsed()) return run_view(console, commands.view);
     return kExitUsage;
-  } catch (const clustersurf::InputError& e) {
-    console.end_progress();
-    spdlog::error("{}", e.what());
-    return kExitInput;
-  } catch (const clustersurf::IoError& e) {
-    console.end_progress();
-    spdlog::error("{}", e.what());
-    return kExitIo;
-  } catch (const clustersurf::OptionError& e) {
-    console.end_progress();
-    spdlog::error("{}", e.what());
-    return kExitUsage;
-  } catch (const clustersurf::Cancelled&) {
-    console.end_progress();
-    spdlog::error("{}", interrupt_requested() ? "interrupted: stopped before writing any output (files already there are unchanged)"
-                                              : "cancelled");
-    return kExitCancelled;
-  } catch (const std::bad_alloc&) {
-    console.end_progress();
-    spdlog::error("out of memory");
-    return kExitMemory;
-  } catch (const std::exception& e) {
-    console.end_progress();
-    spdlog::error("internal error: {}", e.what());
-    return kExitInternal;
+  } catch (...) {
+    return report_failure(console);
   }
 }

@@ -9,7 +9,9 @@ namespace clustersurf::cli {
 
 namespace {
 
-std::string plural(std::size_t n, const char* one, const char* many) { return fmt::format("{} {}", n, n == 1 ? one : many); }
+std::string plural(std::size_t n, const char* one, const char* many) {
+  return fmt::format("{} {}", n, n == 1 ? one : many);
+}
 
 }  // namespace
 
@@ -60,7 +62,7 @@ std::vector<std::string> mesh_check_lines(const MeshCheck& c) {
   out.push_back(fmt::format("components      {}", t.components));
   out.push_back(c.genus >= 0 ? fmt::format("euler           {} (genus {})", t.euler_characteristic, c.genus)
                              : fmt::format("euler           {} (genus not defined: {})", t.euler_characteristic,
-                                           !c.watertight            ? "not closed"
+                                           !c.watertight              ? "not closed"
                                            : !c.consistently_oriented ? "not consistently oriented"
                                                                       : "components pinched at vertices"));
   out.push_back(std::isnan(c.volume) ? std::string("volume          n/a (not closed)")
@@ -71,9 +73,11 @@ std::vector<std::string> mesh_check_lines(const MeshCheck& c) {
     std::vector<std::string> shown;
     for (std::size_t k = 0; k < c.intersecting_pairs.size() && k < 5; ++k)
       shown.push_back(fmt::format("{}&{}", c.intersecting_pairs[k][0], c.intersecting_pairs[k][1]));
-    pairs = fmt::format(" (triangles {}{})", fmt::join(shown, ", "), c.self_intersections > shown.size() ? ", ..." : "");
+    pairs =
+        fmt::format(" (triangles {}{})", fmt::join(shown, ", "), c.self_intersections > shown.size() ? ", ..." : "");
   }
-  out.push_back(fmt::format("self-intersect  {}{}", plural(c.self_intersections, "triangle pair", "triangle pairs"), pairs));
+  out.push_back(
+      fmt::format("self-intersect  {}{}", plural(c.self_intersections, "triangle pair", "triangle pairs"), pairs));
   out.push_back(fmt::format("watertight      {}", c.watertight ? "yes" : "no"));
   out.push_back(fmt::format("oriented        {}", c.consistently_oriented ? "yes" : "no"));
   const std::vector<std::string> problems = mesh_check_problems(c);

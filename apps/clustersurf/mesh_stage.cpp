@@ -17,24 +17,28 @@ SurfaceMeshOptions surface_mesh_options(const MeshArgs& args) {
   return o;
 }
 
-nlohmann::json write_surface_mesh(Console& console, const SurfaceMesh& result, const MeshArgs& args, const std::string& output) {
+nlohmann::json write_surface_mesh(Console& console, const SurfaceMesh& result, const MeshArgs& args,
+                                  const std::string& output) {
   PlyWriteOptions ply;
   ply.binary = !args.ascii;
   write_triangle_mesh(output, result.mesh, ply);
   const MeshTopology topo = mesh_topology(result.mesh);
   const TrimReport& trimmed = result.trim;
-  console.print(fmt::format("mesh            {} vertices, {} triangles ({} blended nodes, voxel {:.4g}), {} boundary edges, "
-                            "{} non-manifold edges",
-                            topo.vertices, topo.triangles, result.blended_nodes, result.grid.voxel_size, topo.boundary_edges,
-                            topo.non_manifold_edges));
+  console.print(
+      fmt::format("mesh            {} vertices, {} triangles ({} blended nodes, voxel {:.4g}), {} boundary edges, "
+                  "{} non-manifold edges",
+                  topo.vertices, topo.triangles, result.blended_nodes, result.grid.voxel_size, topo.boundary_edges,
+                  topo.non_manifold_edges));
   if (trimmed.removed_triangles > 0 || trimmed.closed_pinholes > 0)
-    console.print(fmt::format("trimmed         {} triangles beyond the data or on {} unsupported fragments; {} pinholes closed",
-                              trimmed.removed_triangles, trimmed.removed_components, trimmed.closed_pinholes));
+    console.print(
+        fmt::format("trimmed         {} triangles beyond the data or on {} unsupported fragments; {} pinholes closed",
+                    trimmed.removed_triangles, trimmed.removed_components, trimmed.closed_pinholes));
   if (result.closing.closed)
-    console.print(fmt::format("closed          {} of {} vertices filled in (the \"filled\" attribute), {} triangles; "
-                              "{} holes larger than --fill-holes left open; fill grid cell {:.4g}",
-                              result.closing.filled_vertices, topo.vertices, result.closing.filled_triangles,
-                              result.closing.opened_holes, result.closing.fill_cell));
+    console.print(
+        fmt::format("closed          {} of {} vertices filled in (the \"filled\" attribute), {} triangles; "
+                    "{} holes larger than --fill-holes left open; fill grid cell {:.4g}",
+                    result.closing.filled_vertices, topo.vertices, result.closing.filled_triangles,
+                    result.closing.opened_holes, result.closing.fill_cell));
   if (result.decimation.triangles_after != result.decimation.triangles_before)
     console.print(fmt::format("decimated       {} -> {} triangles, surface moved by at most {:.4g}",
                               result.decimation.triangles_before, result.decimation.triangles_after,
@@ -48,25 +52,25 @@ nlohmann::json write_surface_mesh(Console& console, const SurfaceMesh& result, c
   }
   console.print("wrote           " + output);
   nlohmann::json report = {{"file", output},
-          {"vertices", topo.vertices},
-          {"triangles", topo.triangles},
-          {"boundary_edges", topo.boundary_edges},
-          {"non_manifold_edges", topo.non_manifold_edges},
-          {"euler_characteristic", topo.euler_characteristic},
-          {"blended_nodes", result.blended_nodes},
-          {"voxel_size", result.grid.voxel_size},
-          {"surface_cells", result.grid.surface_cells},
-          {"evaluated_corners", result.grid.evaluated_corners},
-          {"trimmed_triangles", trimmed.removed_triangles},
-          {"removed_components", trimmed.removed_components},
-          {"closed_pinholes", trimmed.closed_pinholes},
-          {"watertight", is_watertight(topo)},
-          {"filled_vertices", result.closing.filled_vertices},
-          {"filled_triangles", result.closing.filled_triangles},
-          {"opened_holes", result.closing.opened_holes},
-          {"decimated_from_triangles", result.decimation.triangles_before},
-          {"decimation_deviation", result.decimation.deviation},
-          {"mesh_seconds", result.seconds}};
+                           {"vertices", topo.vertices},
+                           {"triangles", topo.triangles},
+                           {"boundary_edges", topo.boundary_edges},
+                           {"non_manifold_edges", topo.non_manifold_edges},
+                           {"euler_characteristic", topo.euler_characteristic},
+                           {"blended_nodes", result.blended_nodes},
+                           {"voxel_size", result.grid.voxel_size},
+                           {"surface_cells", result.grid.surface_cells},
+                           {"evaluated_corners", result.grid.evaluated_corners},
+                           {"trimmed_triangles", trimmed.removed_triangles},
+                           {"removed_components", trimmed.removed_components},
+                           {"closed_pinholes", trimmed.closed_pinholes},
+                           {"watertight", is_watertight(topo)},
+                           {"filled_vertices", result.closing.filled_vertices},
+                           {"filled_triangles", result.closing.filled_triangles},
+                           {"opened_holes", result.closing.opened_holes},
+                           {"decimated_from_triangles", result.decimation.triangles_before},
+                           {"decimation_deviation", result.decimation.deviation},
+                           {"mesh_seconds", result.seconds}};
   if (!check.is_null()) report["check"] = check;
   return report;
 }

@@ -15,6 +15,7 @@ SurfaceMeshOptions surface_mesh_options(const MeshArgs& args);
 
 /// Writes `mesh` to `output` atomically and returns its figures as JSON (also printed as text
 /// unless --json/--quiet).
-nlohmann::json write_surface_mesh(Console& console, const SurfaceMesh& mesh, const MeshArgs& args, const std::string& output);
+nlohmann::json write_surface_mesh(Console& console, const SurfaceMesh& mesh, const MeshArgs& args,
+                                  const std::string& output);
 
 }  // namespace clustersurf::cli

@@ -22,12 +22,12 @@
 // CGAL 5.5. Progress and stage times go to stderr. Exit codes: 2 usage, 3 unreadable or empty
 // input, 4 reconstruction failed, 5 output not writable.
 
+#include <CGAL/Advancing_front_surface_reconstruction.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Point_set_3.h>
 #include <CGAL/Point_set_3/IO.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Surface_mesh.h>
-#include <CGAL/Advancing_front_surface_reconstruction.h>
 #include <CGAL/compute_average_spacing.h>
 #include <CGAL/jet_estimate_normals.h>
 #include <CGAL/mst_orient_normals.h>
@@ -53,8 +53,8 @@ using Vector = Kernel::Vector_3;
 using PointSet = CGAL::Point_set_3<Point, Vector>;
 using Mesh = CGAL::Surface_mesh<Point>;
 
-constexpr int kSpacingNeighbours = 6;   // CGAL's Poisson example
-constexpr int kNormalNeighbours = 24;   // CGAL's reconstruction tutorial
+constexpr int kSpacingNeighbours = 6;  // CGAL's Poisson example
+constexpr int kNormalNeighbours = 24;  // CGAL's reconstruction tutorial
 
 // Seconds since `start`, for the stage log.
 double seconds_since(std::chrono::steady_clock::time_point start) {
@@ -134,8 +134,7 @@ bool run_poisson(PointSet& points, bool force_estimate, Mesh& mesh) {
     std::fprintf(stderr, "normals: from the input\n");
   }
   const auto t1 = std::chrono::steady_clock::now();
-  const double spacing =
-      CGAL::compute_average_spacing<CGAL::Parallel_if_available_tag>(points, kSpacingNeighbours);
+  const double spacing = CGAL::compute_average_spacing<CGAL::Parallel_if_available_tag>(points, kSpacingNeighbours);
   std::fprintf(stderr, "average spacing: %g (%.2f s)\n", spacing, seconds_since(t1));
   const auto t2 = std::chrono::steady_clock::now();
   const bool ok = CGAL::poisson_surface_reconstruction_delaunay(points.begin(), points.end(), points.point_map(),
@@ -225,8 +224,8 @@ int main(int argc, char** argv) {
 
   PointSet points;
   if (!read_points(args[1], points)) return 3;
-  std::fprintf(stderr, "cgal %s, %zu points%s, %d thread(s) for the parallel stages\n", CGAL_VERSION_STR,
-               points.size(), points.has_normal_map() ? " with normals" : "", thread_count());
+  std::fprintf(stderr, "cgal %s, %zu points%s, %d thread(s) for the parallel stages\n", CGAL_VERSION_STR, points.size(),
+               points.has_normal_map() ? " with normals" : "", thread_count());
   Mesh mesh;
   const bool ok = method == "poisson" ? run_poisson(points, force_estimate, mesh) : run_advancing_front(points, mesh);
   if (!ok) {

@@ -15,23 +15,23 @@
 #include <clustersurf/io/surface_sampling.hpp>
 
 // points, proxies, the tree, its implicit surface and its regions (clustersurf::tree)
+#include <clustersurf/cluster/cluster_tree.hpp>
+#include <clustersurf/cluster/noise.hpp>
+#include <clustersurf/cluster/tree_file.hpp>
+#include <clustersurf/proxy/moments.hpp>
+#include <clustersurf/proxy/proxy.hpp>
+#include <clustersurf/regions/regions.hpp>
 #include <clustersurf/spatial/cloud_index.hpp>
 #include <clustersurf/spatial/cloud_stats.hpp>
 #include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/spatial/normal_estimation.hpp>
 #include <clustersurf/spatial/outliers.hpp>
 #include <clustersurf/spatial/resample.hpp>
-#include <clustersurf/proxy/moments.hpp>
-#include <clustersurf/proxy/proxy.hpp>
-#include <clustersurf/cluster/cluster_tree.hpp>
-#include <clustersurf/cluster/noise.hpp>
-#include <clustersurf/cluster/tree_file.hpp>
 #include <clustersurf/surface/box_walk.hpp>
 #include <clustersurf/surface/closed_surface.hpp>
 #include <clustersurf/surface/implicit_surface.hpp>
 #include <clustersurf/surface/orientation.hpp>
 #include <clustersurf/surface/palette.hpp>
-#include <clustersurf/regions/regions.hpp>
 
 // meshing, the pipeline and its tiled runs (clustersurf::mesh)
 #include <clustersurf/mesh/mesh_check.hpp>

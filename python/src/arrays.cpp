@@ -150,7 +150,8 @@ py::object cloud_object(PointCloud&& cloud) {
       to_array(std::move(cloud.positions)), "normals"_a = to_array_or_none(std::move(cloud.normals)),
       "colors"_a = to_array_or_none(std::move(cloud.colors)), "origin"_a = vector_array(cloud.origin),
       "attributes"_a = attributes,
-      "scanner_positions"_a = cloud.has_scanners() ? py::object(to_array(std::move(cloud.scanner_positions))) : py::none(),
+      "scanner_positions"_a =
+          cloud.has_scanners() ? py::object(to_array(std::move(cloud.scanner_positions))) : py::none(),
       "scanner_of_point"_a = scanner_of_point, "up"_a = cloud.up == UpAxis::Z ? "z" : "y");
 }
 
@@ -158,11 +159,10 @@ py::object mesh_object(TriangleMesh&& mesh) {
   using namespace pybind11::literals;
   py::dict attributes;
   for (PointAttribute& a : mesh.attributes) attributes[py::str(a.name)] = float_vector(std::move(a.values));
-  return types_module().attr("Mesh")(to_array(std::move(mesh.vertices)), to_array(std::move(mesh.triangles)),
-                                     "normals"_a = to_array_or_none(std::move(mesh.normals)),
-                                     "colors"_a = to_array_or_none(std::move(mesh.colors)),
-                                     "origin"_a = vector_array(mesh.origin), "attributes"_a = attributes,
-                                     "up"_a = mesh.up == UpAxis::Z ? "z" : "y");
+  return types_module().attr("Mesh")(
+      to_array(std::move(mesh.vertices)), to_array(std::move(mesh.triangles)),
+      "normals"_a = to_array_or_none(std::move(mesh.normals)), "colors"_a = to_array_or_none(std::move(mesh.colors)),
+      "origin"_a = vector_array(mesh.origin), "attributes"_a = attributes, "up"_a = mesh.up == UpAxis::Z ? "z" : "y");
 }
 
 Eigen::Vector3d to_vector3(const py::handle& value, const char* name) {
@@ -200,8 +200,9 @@ UpAxis up_of(const py::tuple& parts) {
 
 TriangleMesh mesh_argument(const py::handle& object, const py::handle& faces, const py::handle& normals,
                            const py::handle& colors, const py::handle& origin, const std::string& prefix) {
-  const py::tuple parts =
-      is_surface_object(object) ? surface_parts(object) : py::make_tuple(object, py::none(), py::none(), py::none(), py::none());
+  const py::tuple parts = is_surface_object(object)
+                              ? surface_parts(object)
+                              : py::make_tuple(object, py::none(), py::none(), py::none(), py::none());
   TriangleMesh mesh;
   mesh.vertices = to_points(parts[0], (prefix + "vertices").c_str());
   const py::handle f = either(faces, parts[1]);
@@ -221,9 +222,9 @@ TriangleMesh mesh_argument(const py::handle& object, const py::handle& faces, co
 
 PointCloud cloud_argument(const py::handle& object, const py::handle& normals, const py::handle& colors,
                           const py::handle& origin, const std::string& name) {
-  const py::tuple parts = is_surface_object(object)
-                              ? surface_parts(object)
-                              : py::make_tuple(object, py::none(), py::none(), py::none(), py::none(), py::none(), py::none());
+  const py::tuple parts = is_surface_object(object) ? surface_parts(object)
+                                                    : py::make_tuple(object, py::none(), py::none(), py::none(),
+                                                                     py::none(), py::none(), py::none());
   PointCloud cloud;
   cloud.positions = to_points(parts[0], name.c_str());
   const py::handle n = either(normals, parts[2]);
@@ -234,7 +235,8 @@ PointCloud cloud_argument(const py::handle& object, const py::handle& normals, c
   cloud.up = up_of(parts);
   if (cloud.normals.rows() != 0 && cloud.normals.rows() != cloud.size())
     throw OptionError("normals must have one row per point");
-  if (cloud.colors.rows() != 0 && cloud.colors.rows() != cloud.size()) throw OptionError("colors must have one row per point");
+  if (cloud.colors.rows() != 0 && cloud.colors.rows() != cloud.size())
+    throw OptionError("colors must have one row per point");
   if (!parts[5].is_none() && !parts[6].is_none()) {
     cloud.scanner_positions = to_points(parts[5], "scanner_positions");
     const auto which = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(parts[6]);
@@ -251,7 +253,8 @@ PointCloud cloud_argument(const py::handle& object, const py::handle& normals, c
     }
   }
   // A PointCloud's attributes (intensity, classification) come along: "intensity" colors.
-  if (is_surface_object(object) && py::hasattr(object, "attributes") && py::isinstance<py::dict>(object.attr("attributes"))) {
+  if (is_surface_object(object) && py::hasattr(object, "attributes") &&
+      py::isinstance<py::dict>(object.attr("attributes"))) {
     for (const auto& [key, value] : object.attr("attributes").cast<py::dict>()) {
       const auto values = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(value);
       if (!values || values.ndim() != 1 || values.shape(0) != cloud.size()) continue;

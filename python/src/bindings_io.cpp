@@ -3,11 +3,11 @@
 #include "bindings.hpp"
 
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/mesh/mesh_check.hpp>
+#include <clustersurf/evaluation/range_scan.hpp>
 #include <clustersurf/evaluation/surface_comparison.hpp>
 #include <clustersurf/io/point_cloud_io.hpp>
-#include <clustersurf/evaluation/range_scan.hpp>
 #include <clustersurf/io/surface_sampling.hpp>
+#include <clustersurf/mesh/mesh_check.hpp>
 
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
@@ -84,22 +84,20 @@ py::dict topology_dict(const MeshTopology& t) {
                   "boundary_edges"_a = t.boundary_edges, "non_manifold_edges"_a = t.non_manifold_edges,
                   "inconsistent_edges"_a = t.inconsistent_edges, "euler_characteristic"_a = t.euler_characteristic,
                   "components"_a = t.components, "small_components"_a = t.small_components, "area"_a = t.area,
-                  "boundary_length"_a = t.boundary_length,
-                  "boundary_per_sqrt_area"_a = boundary_per_sqrt_area(t),
-                  "signed_volume"_a = t.signed_volume,
-                  "watertight"_a = is_watertight(t));
+                  "boundary_length"_a = t.boundary_length, "boundary_per_sqrt_area"_a = boundary_per_sqrt_area(t),
+                  "signed_volume"_a = t.signed_volume, "watertight"_a = is_watertight(t));
 }
 
-}  // namespace
-
-void bind_io(py::module_& m) {
+/// Reading points and meshes, writing them.
+void bind_files(py::module_& m) {
   m.def(
       "read_points",
       [](const std::filesystem::path& file, bool drop_non_finite, std::size_t mesh_samples) {
         ReadOptions options;
         options.drop_non_finite = drop_non_finite;
         options.mesh_samples = mesh_samples;
-        return cloud_object(read_with_warnings(options, [&](const ReadOptions& o) { return read_point_cloud(file, o); }));
+        return cloud_object(
+            read_with_warnings(options, [&](const ReadOptions& o) { return read_point_cloud(file, o); }));
       },
       py::arg("path"), py::arg("drop_non_finite") = false, py::arg("mesh_samples") = ReadOptions{}.mesh_samples, R"doc(
 Reads a point cloud file into a PointCloud: PLY, XYZ/PTS/TXT/CSV, OBJ, LAS, E57, PTX or PCD.
@@ -123,7 +121,8 @@ Raises InputError (malformed file: the message names the line or byte) or IoErro
   m.def(
       "read_mesh",
       [](const std::filesystem::path& file) {
-        return mesh_object(read_with_warnings(ReadOptions{}, [&](const ReadOptions& o) { return read_triangle_mesh(file, o); }));
+        return mesh_object(
+            read_with_warnings(ReadOptions{}, [&](const ReadOptions& o) { return read_triangle_mesh(file, o); }));
       },
       py::arg("path"), R"doc(
 Reads a triangle mesh file into a Mesh: PLY or OBJ (polygons are fan-triangulated).
@@ -135,8 +134,8 @@ file's coordinates. Raises InputError or IoError.)doc");
 
   m.def(
       "write_points",
-      [](const std::filesystem::path& file, const py::handle& positions, const py::handle& normals, const py::handle& colors,
-         bool ascii, bool double_precision, const py::handle& origin) {
+      [](const std::filesystem::path& file, const py::handle& positions, const py::handle& normals,
+         const py::handle& colors, bool ascii, bool double_precision, const py::handle& origin) {
         const PointCloud cloud = cloud_argument(positions, normals, colors, origin, "positions");
         PlyWriteOptions ply;
         ply.binary = !ascii;
@@ -154,11 +153,14 @@ Writes a point cloud as PLY, XYZ or OBJ (by the extension of ``path``), atomical
 instead of binary; ``double`` (default False): float64 PLY coordinates instead of float32
 (always float64 when the origin is not zero). ``origin``: (x, y, z) added to every point in
 the file (default: the cloud's origin, else zero). Raises OptionError (bad shapes) or IoError.)doc");
+}
 
+/// Writing meshes and checking them.
+void bind_mesh_files(py::module_& m) {
   m.def(
       "write_mesh",
-      [](const std::filesystem::path& file, const py::handle& vertices, const py::handle& faces, const py::handle& normals,
-         const py::handle& colors, bool ascii, const py::handle& origin) {
+      [](const std::filesystem::path& file, const py::handle& vertices, const py::handle& faces,
+         const py::handle& normals, const py::handle& colors, bool ascii, const py::handle& origin) {
         const TriangleMesh mesh = mesh_argument(vertices, faces, normals, colors, origin, "");
         if (!is_surface_object(vertices) && faces.is_none())
           throw OptionError("faces are required: pass vertices and faces, or a mesh object");
@@ -189,7 +191,9 @@ indices) or IoError.)doc");
           return check_mesh(mesh);
         }();
         py::dict out = topology_dict(c.topology);
-        const auto nan_none = [](double x) { return std::isnan(x) ? py::object(py::none()) : py::object(py::float_(x)); };
+        const auto nan_none = [](double x) {
+          return std::isnan(x) ? py::object(py::none()) : py::object(py::float_(x));
+        };
         out["genus"] = c.genus >= 0 ? py::object(py::int_(c.genus)) : py::object(py::none());
         out["volume"] = nan_none(c.volume);
         out["self_intersections"] = c.self_intersections;
@@ -205,10 +209,14 @@ boundary_edges, non_manifold_edges, inconsistent_edges, euler_characteristic, co
 small_components, area, boundary_length, boundary_per_sqrt_area, signed_volume, watertight), genus and volume (None when not closed), self_intersections (pairs
 of triangles crossing other than where they connect) with the first intersecting_pairs,
 consistently_oriented and printable.)doc");
+}
 
+/// Benchmark inputs: points sampled on a mesh, virtual scans.
+void bind_sampling(py::module_& m) {
   m.def(
       "sample_surface",
-      [](const py::handle& vertices, const py::handle& faces, std::int64_t n, double noise, double outliers, std::uint64_t seed) {
+      [](const py::handle& vertices, const py::handle& faces, std::int64_t n, double noise, double outliers,
+         std::uint64_t seed) {
         if (n < 1) throw OptionError("n must be positive, not " + std::to_string(n));
         const TriangleMesh mesh = surface_to_sample(vertices, faces);
         SurfaceSamplingOptions options;
@@ -260,8 +268,8 @@ mesh's origin.)doc");
       py::arg("vertices"), py::arg("faces") = py::none(), py::arg("n") = RangeScanOptions{}.count,
       py::arg("scans") = RangeScanOptions{}.scans, py::arg("noise") = RangeScanOptions{}.noise,
       py::arg("registration") = RangeScanOptions{}.registration,
-      py::arg("flipped_normals") = RangeScanOptions{}.flipped_normals, py::arg("distance") = RangeScanOptions{}.distance,
-      py::arg("seed") = RangeScanOptions{}.seed, R"doc(
+      py::arg("flipped_normals") = RangeScanOptions{}.flipped_normals,
+      py::arg("distance") = RangeScanOptions{}.distance, py::arg("seed") = RangeScanOptions{}.seed, R"doc(
 Scans a triangle mesh with a virtual range scanner, as ``clustersurf sample --scanner`` does.
 
 ``vertices`` and ``faces``, or a mesh object in place of both, as in sample_surface().
@@ -272,13 +280,16 @@ share of the returns whose normal points away from its scanner; ``distance``: th
 distance to the box center, in diagonals; ``seed``: the same seed gives the same points.
 Returns a PointCloud with normals from each scan's grid, pointing towards its scanner, with
 the mesh's origin.)doc");
+}
 
+/// Scores of a reconstruction against a reference.
+void bind_comparison(py::module_& m) {
   const ComparisonOptions comparison;
   m.def(
       "compare_surfaces",
       [](const py::handle& recon_vertices, const py::handle& recon_faces, const py::handle& ref_vertices,
-         const py::handle& ref_faces, const py::handle& recon_normals, const py::handle& ref_normals, std::int64_t samples,
-         std::uint64_t seed, std::vector<double> fscore_thresholds) {
+         const py::handle& ref_faces, const py::handle& recon_normals, const py::handle& ref_normals,
+         std::int64_t samples, std::uint64_t seed, std::vector<double> fscore_thresholds) {
         if (samples < 1) throw OptionError("samples must be positive, not " + std::to_string(samples));
         const std::array<TriangleMesh, 2> sides =
             two_surfaces({recon_vertices, recon_faces, ref_vertices, ref_faces}, recon_normals, ref_normals);
@@ -294,22 +305,24 @@ the mesh's origin.)doc");
         }();
         py::list fscores;
         for (const FScore& f : e.fscores)
-          fscores.append(py::dict("tau"_a = f.threshold, "precision"_a = f.precision, "recall"_a = f.recall, "fscore"_a = f.fscore));
-        return py::dict("diagonal"_a = e.diagonal, "accuracy"_a = e.accuracy, "completeness"_a = e.completeness,
-                        "chamfer"_a = e.chamfer, "hausdorff"_a = e.hausdorff, "distance_p95"_a = e.distance_p95,
-                        "normal_consistency"_a = std::isnan(e.normal_consistency) ? py::object(py::none())
-                                                                                    : py::object(py::float_(e.normal_consistency)),
-                        "fscore"_a = fscores,
-                        "far_share"_a = std::isnan(e.far_share) ? py::object(py::none()) : py::object(py::float_(e.far_share)),
-                        "reference_spacing"_a = e.reference_spacing,
-                        "samples"_a = py::dict("reconstruction"_a = e.reconstruction_samples, "reference"_a = e.reference_samples),
-                        "reconstruction_mesh"_a = topology_dict(e.reconstruction_topology),
-                        "reference_mesh"_a = topology_dict(e.reference_topology));
+          fscores.append(py::dict("tau"_a = f.threshold, "precision"_a = f.precision, "recall"_a = f.recall,
+                                  "fscore"_a = f.fscore));
+        return py::dict(
+            "diagonal"_a = e.diagonal, "accuracy"_a = e.accuracy, "completeness"_a = e.completeness,
+            "chamfer"_a = e.chamfer, "hausdorff"_a = e.hausdorff, "distance_p95"_a = e.distance_p95,
+            "normal_consistency"_a = std::isnan(e.normal_consistency) ? py::object(py::none())
+                                                                      : py::object(py::float_(e.normal_consistency)),
+            "fscore"_a = fscores,
+            "far_share"_a = std::isnan(e.far_share) ? py::object(py::none()) : py::object(py::float_(e.far_share)),
+            "reference_spacing"_a = e.reference_spacing,
+            "samples"_a = py::dict("reconstruction"_a = e.reconstruction_samples, "reference"_a = e.reference_samples),
+            "reconstruction_mesh"_a = topology_dict(e.reconstruction_topology),
+            "reference_mesh"_a = topology_dict(e.reference_topology));
       },
       py::arg("recon_vertices"), py::arg("recon_faces") = py::none(), py::arg("ref_vertices") = py::none(),
-      py::arg("ref_faces") = py::none(),
-      py::arg("recon_normals") = py::none(), py::arg("ref_normals") = py::none(), py::arg("samples") = comparison.samples,
-      py::arg("seed") = comparison.seed, py::arg("fscore_thresholds") = comparison.fscore_thresholds, R"doc(
+      py::arg("ref_faces") = py::none(), py::arg("recon_normals") = py::none(), py::arg("ref_normals") = py::none(),
+      py::arg("samples") = comparison.samples, py::arg("seed") = comparison.seed,
+      py::arg("fscore_thresholds") = comparison.fscore_thresholds, R"doc(
 Scores a reconstruction against a reference surface, as ``clustersurf eval --json`` does
 (``evaluate`` is its old name).
 
@@ -329,6 +342,15 @@ reference cloud: the share of the reconstruction farther than 8 of its median po
 from every point; None for a mesh reference), reference_spacing, samples, reconstruction_mesh
 and reference_mesh (topology dicts, with area, boundary_length, boundary_per_sqrt_area and
 small_components: components under 0.1 % of the area).)doc");
+}
+
+}  // namespace
+
+void bind_io(py::module_& m) {
+  bind_files(m);
+  bind_mesh_files(m);
+  bind_sampling(m);
+  bind_comparison(m);
 }
 
 }  // namespace clustersurf::python

@@ -26,10 +26,11 @@ void bind_render(py::class_<TreeRef>& tree_class) {
       "render",
       [](const TreeRef& t, int width, int height, int samples, const std::string& mode, const std::string& show,
          std::optional<std::int64_t> level, std::optional<std::int64_t> highlight, const py::object& points,
-         std::optional<double> error_scale, double azimuth, double elevation, std::optional<double> distance, double fov,
-         const std::optional<std::vector<double>>& eye, const std::optional<std::vector<double>>& target,
+         std::optional<double> error_scale, double azimuth, double elevation, std::optional<double> distance,
+         double fov, const std::optional<std::vector<double>>& eye, const std::optional<std::vector<double>>& target,
          const std::optional<std::vector<double>>& up, const std::string& background, bool ao,
-         std::optional<std::int64_t> lod_depth, std::optional<double> lod_error, double min_weight, const py::object& progress) {
+         std::optional<std::int64_t> lod_depth, std::optional<double> lod_error, double min_weight,
+         const py::object& progress) {
         const ClusterTree& tree = *t.tree;
         RenderOptions o;
         o.width = width;
@@ -53,7 +54,8 @@ void bind_render(py::class_<TreeRef>& tree_class) {
         o.camera.up = vector_option(up, "up");
         o.background = parse_background(background);
         o.ambient_occlusion = ao;
-        o.lod = level_of_detail(tree, lod_depth ? std::optional(to_uint32(*lod_depth, "lod_depth")) : std::nullopt, lod_error);
+        o.lod = level_of_detail(tree, lod_depth ? std::optional(to_uint32(*lod_depth, "lod_depth")) : std::nullopt,
+                                lod_error);
         o.min_weight = min_weight;
         Points reference;
         if (!points.is_none()) {
@@ -62,8 +64,8 @@ void bind_render(py::class_<TreeRef>& tree_class) {
         }
         if (o.show == ShowMode::Error && o.reference_points == nullptr)
           throw OptionError("show=\"error\" needs the input points (points=...)");
-        auto image = std::make_unique<Image>(
-            run_released(progress, [&](const ProgressCallback& callback) { return render_tree(tree, o, nullptr, callback); }));
+        auto image = std::make_unique<Image>(run_released(
+            progress, [&](const ProgressCallback& callback) { return render_tree(tree, o, nullptr, callback); }));
         const py::ssize_t h = image->height, w = image->width;
         static_assert(sizeof(Rgba8) == 4);
         auto* data = reinterpret_cast<std::uint8_t*>(image->pixels.data());
@@ -72,13 +74,13 @@ void bind_render(py::class_<TreeRef>& tree_class) {
       },
       py::kw_only(), py::arg("width") = RenderOptions{}.width, py::arg("height") = RenderOptions{}.height,
       py::arg("samples") = RenderOptions{}.samples, py::arg("mode") = to_string(RenderOptions{}.mode),
-      py::arg("show") = to_string(RenderOptions{}.show), py::arg("level") = py::none(), py::arg("highlight") = py::none(),
-      py::arg("points") = py::none(), py::arg("error_scale") = py::none(), py::arg("azimuth") = CameraOptions{}.azimuth,
-      py::arg("elevation") = CameraOptions{}.elevation, py::arg("distance") = py::none(), py::arg("fov") = CameraOptions{}.fov,
-      py::arg("eye") = py::none(),
-      py::arg("target") = py::none(), py::arg("up") = py::none(), py::arg("background") = "white", py::arg("ao") = false,
-      py::arg("lod_depth") = py::none(), py::arg("lod_error") = py::none(), py::arg("min_weight") = RenderOptions{}.min_weight,
-      py::arg("progress") = py::none(), R"doc(
+      py::arg("show") = to_string(RenderOptions{}.show), py::arg("level") = py::none(),
+      py::arg("highlight") = py::none(), py::arg("points") = py::none(), py::arg("error_scale") = py::none(),
+      py::arg("azimuth") = CameraOptions{}.azimuth, py::arg("elevation") = CameraOptions{}.elevation,
+      py::arg("distance") = py::none(), py::arg("fov") = CameraOptions{}.fov, py::arg("eye") = py::none(),
+      py::arg("target") = py::none(), py::arg("up") = py::none(), py::arg("background") = "white",
+      py::arg("ao") = false, py::arg("lod_depth") = py::none(), py::arg("lod_error") = py::none(),
+      py::arg("min_weight") = RenderOptions{}.min_weight, py::arg("progress") = py::none(), R"doc(
 Ray-traces a picture of the tree, as ``clustersurf render`` does; returns an (height, width, 4)
 uint8 RGBA array (the pixels its PNG would hold).
 

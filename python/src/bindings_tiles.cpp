@@ -28,11 +28,15 @@ py::dict written_mesh_dict(const WrittenMesh& m) {
 
 }  // namespace
 
-void bind_tiles(py::module_& m) {
+namespace {
+
+/// reconstruct_file(), the work directory's default name, the memory rule of the regions.
+void bind_run_functions(py::module_& m) {
   m.def(
       "reconstruct_file",
-      [](const std::filesystem::path& input, const std::optional<std::filesystem::path>& mesh, const std::string& memory_limit,
-         const std::filesystem::path& work_dir, bool keep_work_dir, const py::object& progress, const py::kwargs& kwargs) {
+      [](const std::filesystem::path& input, const std::optional<std::filesystem::path>& mesh,
+         const std::string& memory_limit, const std::filesystem::path& work_dir, bool keep_work_dir,
+         const py::object& progress, const py::kwargs& kwargs) {
         ReconstructOptions o = reconstruct_options(kwargs);
         o.mesh = mesh.has_value();
         OutOfCoreOptions out_of_core;
@@ -46,7 +50,8 @@ void bind_tiles(py::module_& m) {
         py::object tree = py::cast(TreeRef{std::make_shared<const ClusterTree>(std::move(r.tree))});
         return py::make_tuple(tree, r.mesh ? written_mesh_dict(*r.mesh) : py::object(py::none()));
       },
-      py::arg("input"), py::kw_only(), py::arg("mesh") = py::none(), py::arg("memory_limit") = format_memory_size(OutOfCoreOptions{}.memory_limit), py::arg("work_dir"),
+      py::arg("input"), py::kw_only(), py::arg("mesh") = py::none(),
+      py::arg("memory_limit") = format_memory_size(OutOfCoreOptions{}.memory_limit), py::arg("work_dir"),
       py::arg("keep_work_dir") = false, py::arg("progress") = py::none(), R"doc(
 Reconstructs the point file ``input`` out of core, as ``clustersurf reconstruct IN --mesh MESH
 --memory-limit SIZE --work-dir DIR`` does: split into regions on disk (under ``work_dir``),
@@ -69,22 +74,19 @@ levels of detail, watertight and distance colors are not available out of core.
       [](const std::string& memory_limit) { return region_points_for_memory(parse_memory_size(memory_limit)); },
       py::arg("memory_limit"),
       "The most points a region may hold for its build to fit in ``memory_limit`` (\"4G\", \"512M\" or bytes).");
+}
 
-  py::class_<RunRef>(m, "TiledRun", R"doc(
-The work directory of a tiled reconstruction: the input split into region files (partition()),
-then per region a survey, a build and a mesh task, a merge between builds and meshes, and a
-join at the end. Every task writes its result atomically and does nothing when it is already
-there, so tasks can run in any order within a stage, on any machine sharing the directory,
-and be retried. clustersurf.distributed runs them on Dask.)doc")
-      .def(py::init([](const std::filesystem::path& directory) {
-             py::gil_scoped_release release;
-             return RunRef{std::make_shared<const TiledRun>(directory)};
-           }),
-           py::arg("directory"), "Opens a partitioned work directory.")
+/// A TiledRun opened or partitioned, and what it holds.
+void bind_run_opening(py::class_<RunRef>& run) {
+  run.def(py::init([](const std::filesystem::path& directory) {
+            py::gil_scoped_release release;
+            return RunRef{std::make_shared<const TiledRun>(directory)};
+          }),
+          py::arg("directory"), "Opens a partitioned work directory.")
       .def_static(
           "partition",
-          [](const std::filesystem::path& input, const std::filesystem::path& directory, std::uint64_t max_region_points,
-             double halo_spacings, const py::object& progress) {
+          [](const std::filesystem::path& input, const std::filesystem::path& directory,
+             std::uint64_t max_region_points, double halo_spacings, const py::object& progress) {
             PartitionOptions o;
             o.regions.max_points = max_region_points;
             o.regions.halo_spacings = halo_spacings;
@@ -92,30 +94,39 @@ and be retried. clustersurf.distributed runs them on Dask.)doc")
               return RunRef{std::make_shared<const TiledRun>(TiledRun::partition(input, directory, o, callback))};
             });
           },
-          py::arg("input"), py::arg("directory"), py::kw_only(), py::arg("max_region_points") = RegionOptions{}.max_points,
+          py::arg("input"), py::arg("directory"), py::kw_only(),
+          py::arg("max_region_points") = RegionOptions{}.max_points,
           py::arg("halo_spacings") = RegionOptions{}.halo_spacings, py::arg("progress") = py::none(),
           "Splits the point file ``input`` into regions of at most ``max_region_points`` points, each with a halo "
           "``halo_spacings`` median point spacings wide, under ``directory`` (reused when it already holds this "
           "input's partition); ``progress`` as in reconstruct().")
-      .def_property_readonly("directory", [](const RunRef& r) { return r.run->directory(); }, "The work directory.")
-      .def_property_readonly("regions", [](const RunRef& r) { return r.run->regions(); }, "How many regions the plan has.")
-      .def_property_readonly("input_points", [](const RunRef& r) { return r.run->input_points(); }, "Points in the input file.")
+      .def_property_readonly(
+          "directory", [](const RunRef& r) { return r.run->directory(); }, "The work directory.")
+      .def_property_readonly(
+          "regions", [](const RunRef& r) { return r.run->regions(); }, "How many regions the plan has.")
+      .def_property_readonly(
+          "input_points", [](const RunRef& r) { return r.run->input_points(); }, "Points in the input file.")
       .def(
-          "done", [](const RunRef& r, const std::string& stage, std::int32_t region) { return r.run->done(stage, region); },
-          py::arg("stage"), py::arg("region"), "Whether the result of ``stage`` (\"survey\", \"build\" or \"mesh\") of ``region`` is there.")
+          "done",
+          [](const RunRef& r, const std::string& stage, std::int32_t region) { return r.run->done(stage, region); },
+          py::arg("stage"), py::arg("region"),
+          "Whether the result of ``stage`` (\"survey\", \"build\" or \"mesh\") of ``region`` is there.")
       .def(
-          "claim",
-          [](const RunRef& r, const py::kwargs& kwargs) { r.run->claim(reconstruct_options(kwargs)); },
+          "claim", [](const RunRef& r, const py::kwargs& kwargs) { r.run->claim(reconstruct_options(kwargs)); },
           "Records the run's options (reconstruct()'s and Tree.mesh()'s keywords), or raises OptionError when the "
-          "directory holds results of other options.")
-      .def(
-          "survey",
-          [](const RunRef& r, std::int32_t region, const py::kwargs& kwargs) {
-            const ReconstructOptions o = reconstruct_options(kwargs);
-            py::gil_scoped_release release;
-            r.run->survey(region, o.build);
-          },
-          py::arg("region"), "Stage 1 of a region: its survey (spacing, spread, noise, box).")
+          "directory holds results of other options.");
+}
+
+/// A TiledRun's stages, each an idempotent task of one region or of the whole run.
+void bind_run_stages(py::class_<RunRef>& run) {
+  run.def(
+         "survey",
+         [](const RunRef& r, std::int32_t region, const py::kwargs& kwargs) {
+           const ReconstructOptions o = reconstruct_options(kwargs);
+           py::gil_scoped_release release;
+           r.run->survey(region, o.build);
+         },
+         py::arg("region"), "Stage 1 of a region: its survey (spacing, spread, noise, box).")
       .def(
           "build",
           [](const RunRef& r, std::int32_t region, const py::kwargs& kwargs) {
@@ -168,10 +179,13 @@ and be retried. clustersurf.distributed runs them on Dask.)doc")
           "Stage 5 into the file ``path`` (format by extension): a binary PLY is joined straight into it, tile by "
           "tile, never whole in memory. Returns what was written (file, vertices, triangles, streamed, ...).")
       .def(
-          "check_output", [](const RunRef& r, const std::filesystem::path& path) { r.run->check_output(path); }, py::arg("path"),
-          "Raises OptionError when ``path``, an output of the run, would be one of the run's own files in its directory.")
-      .def_property_readonly("file_bytes", [](const RunRef& r) { return r.run->file_bytes(); },
-                             "The bytes of the run's own files in its directory now.")
+          "check_output", [](const RunRef& r, const std::filesystem::path& path) { r.run->check_output(path); },
+          py::arg("path"),
+          "Raises OptionError when ``path``, an output of the run, would be one of the run's own files in its "
+          "directory.")
+      .def_property_readonly(
+          "file_bytes", [](const RunRef& r) { return r.run->file_bytes(); },
+          "The bytes of the run's own files in its directory now.")
       .def(
           "remove_files",
           [](const RunRef& r) {
@@ -181,9 +195,23 @@ and be retried. clustersurf.distributed runs them on Dask.)doc")
           "Removes the files the run wrote and the directories it created, where that leaves them empty; nothing "
           "else in the directory is touched.")
       .def("__repr__", [](const RunRef& r) {
-        return "<clustersurf.TiledRun " + r.run->directory().string() + ": " + std::to_string(r.run->regions()) + " regions, " +
-               std::to_string(r.run->input_points()) + " points>";
+        return "<clustersurf.TiledRun " + r.run->directory().string() + ": " + std::to_string(r.run->regions()) +
+               " regions, " + std::to_string(r.run->input_points()) + " points>";
       });
+}
+
+}  // namespace
+
+void bind_tiles(py::module_& m) {
+  bind_run_functions(m);
+  py::class_<RunRef> run(m, "TiledRun", R"doc(
+The work directory of a tiled reconstruction: the input split into region files (partition()),
+then per region a survey, a build and a mesh task, a merge between builds and meshes, and a
+join at the end. Every task writes its result atomically and does nothing when it is already
+there, so tasks can run in any order within a stage, on any machine sharing the directory,
+and be retried. clustersurf.distributed runs them on Dask.)doc");
+  bind_run_opening(run);
+  bind_run_stages(run);
 }
 
 }  // namespace clustersurf::python

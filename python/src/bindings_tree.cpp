@@ -3,12 +3,12 @@
 #include "bindings.hpp"
 
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/surface/implicit_surface.hpp>
-#include <clustersurf/surface/closed_surface.hpp>
 #include <clustersurf/pipeline/reconstruct.hpp>
+#include <clustersurf/surface/closed_surface.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
 
-#include <tbb/parallel_for.h>
 #include <clustersurf/cluster/tree_file.hpp>
+#include <tbb/parallel_for.h>
 
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
@@ -40,19 +40,19 @@ py::dict info_dict(const ClusterTree& tree) {
                       "max_depth"_a = p.max_depth, "alpha"_a = p.alpha, "kstep"_a = p.kstep,
                       "lloyd_restarts"_a = p.lloyd_restarts, "proxy_lloyd_iterations"_a = p.proxy_lloyd_iterations,
                       "support_factor"_a = p.support_factor, "seed"_a = p.seed, "creases"_a = p.creases);
-  return py::dict("nodes"_a = s.nodes, "leaves"_a = s.leaves, "depth"_a = s.depth, "input_points"_a = tree.input_points, "outliers"_a = tree.outliers(),
-                  "has_point_leaves"_a = !tree.point_leaf.empty(), "bbox_min"_a = vec(tree.bbox.min),
-                  "bbox_max"_a = vec(tree.bbox.max), "diagonal"_a = tree.bbox.diagonal(), "leaf_proxies"_a = hist,
-                  "leaf_size"_a = percentiles(s.leaf_size_percentiles),
-                  "leaf_rms_error"_a = percentiles(s.leaf_rms_percentiles),
-                  "leaves_over_threshold"_a = s.leaves_over_threshold, "noise_sigma"_a = tree.noise_sigma,
-                  "error_threshold"_a = tree.error_threshold, "point_spacing"_a = tree.point_spacing,
-                  "parameters"_a = parameters);
+  return py::dict(
+      "nodes"_a = s.nodes, "leaves"_a = s.leaves, "depth"_a = s.depth, "input_points"_a = tree.input_points,
+      "outliers"_a = tree.outliers(), "has_point_leaves"_a = !tree.point_leaf.empty(),
+      "bbox_min"_a = vec(tree.bbox.min), "bbox_max"_a = vec(tree.bbox.max), "diagonal"_a = tree.bbox.diagonal(),
+      "leaf_proxies"_a = hist, "leaf_size"_a = percentiles(s.leaf_size_percentiles),
+      "leaf_rms_error"_a = percentiles(s.leaf_rms_percentiles), "leaves_over_threshold"_a = s.leaves_over_threshold,
+      "noise_sigma"_a = tree.noise_sigma, "error_threshold"_a = tree.error_threshold,
+      "point_spacing"_a = tree.point_spacing, "parameters"_a = parameters);
 }
 
 /// f (or ∇f) at every row of xyz, NaN where undefined or not above min_weight.
-py::array_t<double> sample(const ClusterTree& tree, const py::handle& xyz, double min_weight, std::optional<std::int64_t> lod_depth,
-                           std::optional<double> lod_error, bool gradient) {
+py::array_t<double> sample(const ClusterTree& tree, const py::handle& xyz, double min_weight,
+                           std::optional<std::int64_t> lod_depth, std::optional<double> lod_error, bool gradient) {
   if (!(min_weight >= 0) || !std::isfinite(min_weight)) throw OptionError("min_weight must be >= 0");
   const Points p = to_points(xyz, "xyz");
   const LevelOfDetail lod =
@@ -68,8 +68,10 @@ py::array_t<double> sample(const ClusterTree& tree, const py::handle& xyz, doubl
     for (Eigen::Index i = 0; i < p.rows(); ++i) {
       const SurfaceSample& s = samples[static_cast<std::size_t>(i)];
       const bool defined = s.defined && s.weight > min_weight;
-      if (gradient) gradients.row(i) = defined ? Eigen::RowVector3d(s.gradient.transpose()) : Eigen::RowVector3d(nan, nan, nan);
-      else v[i] = defined ? s.value : nan;
+      if (gradient)
+        gradients.row(i) = defined ? Eigen::RowVector3d(s.gradient.transpose()) : Eigen::RowVector3d(nan, nan, nan);
+      else
+        v[i] = defined ? s.value : nan;
     }
   }
   if (gradient) return to_array(std::move(gradients));
@@ -86,25 +88,30 @@ std::shared_ptr<const PointCloud> tree_input(PointCloud cloud) {
   return kept;
 }
 
-void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class) {
+namespace {
+
+/// reconstruct(), reconstruct_mesh() and load(): a tree from points or from a file.
+void bind_reconstruct(py::module_& m) {
   const BuildOptions defaults;
   m.def(
       "reconstruct",
       [](const py::object& points, const py::object& normals, const std::string& proxy, const std::string& splitter,
          const py::object& tolerance, std::optional<double> absolute_tolerance, const std::string& error,
-         const py::object& min_points, std::int64_t max_depth, double alpha, std::int64_t kstep, std::int64_t lloyd_restarts,
-         std::int64_t proxy_lloyd, double noise_factor, double support_factor, std::uint64_t seed, bool ignore_normals,
-         bool no_point_leaves, bool keep_outliers, bool creases, const py::object& max_error,
-         std::optional<double> absolute_error, const py::object& progress) {
+         const py::object& min_points, std::int64_t max_depth, double alpha, std::int64_t kstep,
+         std::int64_t lloyd_restarts, std::int64_t proxy_lloyd, double noise_factor, double support_factor,
+         std::uint64_t seed, bool ignore_normals, bool no_point_leaves, bool keep_outliers, bool creases,
+         const py::object& max_error, std::optional<double> absolute_error, const py::object& progress) {
         if (!max_error.is_none() && !(py::isinstance<py::str>(tolerance) && tolerance.cast<std::string>() == "auto"))
           throw OptionError("give tolerance or its old name max_error, not both");
-        if (absolute_error && absolute_tolerance) throw OptionError("give absolute_tolerance or its old name absolute_error, not both");
-        py::dict options("proxy"_a = proxy, "splitter"_a = splitter, "tolerance"_a = max_error.is_none() ? tolerance : max_error,
-                         "absolute_tolerance"_a = absolute_error ? absolute_error : absolute_tolerance, "error"_a = error,
-                         "min_points"_a = min_points, "max_depth"_a = max_depth, "alpha"_a = alpha, "kstep"_a = kstep,
-                         "lloyd_restarts"_a = lloyd_restarts, "proxy_lloyd"_a = proxy_lloyd, "noise_factor"_a = noise_factor,
-                         "support_factor"_a = support_factor, "seed"_a = seed, "ignore_normals"_a = ignore_normals,
-                         "no_point_leaves"_a = no_point_leaves, "keep_outliers"_a = keep_outliers, "creases"_a = creases);
+        if (absolute_error && absolute_tolerance)
+          throw OptionError("give absolute_tolerance or its old name absolute_error, not both");
+        py::dict options(
+            "proxy"_a = proxy, "splitter"_a = splitter, "tolerance"_a = max_error.is_none() ? tolerance : max_error,
+            "absolute_tolerance"_a = absolute_error ? absolute_error : absolute_tolerance, "error"_a = error,
+            "min_points"_a = min_points, "max_depth"_a = max_depth, "alpha"_a = alpha, "kstep"_a = kstep,
+            "lloyd_restarts"_a = lloyd_restarts, "proxy_lloyd"_a = proxy_lloyd, "noise_factor"_a = noise_factor,
+            "support_factor"_a = support_factor, "seed"_a = seed, "ignore_normals"_a = ignore_normals,
+            "no_point_leaves"_a = no_point_leaves, "keep_outliers"_a = keep_outliers, "creases"_a = creases);
         ReconstructOptions o = reconstruct_options(options);
         o.mesh = false;
         PointCloud cloud = cloud_argument(points, normals, py::none(), py::none(), "points");
@@ -115,13 +122,15 @@ void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class) {
       },
       py::arg("points"), py::arg("normals") = py::none(), py::kw_only(), py::arg("proxy") = to_string(defaults.proxy),
       py::arg("splitter") = to_string(defaults.splitter), py::arg("tolerance") = "auto",
-      py::arg("absolute_tolerance") = py::none(), py::arg("error") = to_string(defaults.metric), py::arg("min_points") = "auto",
-      py::arg("max_depth") = defaults.max_depth, py::arg("alpha") = defaults.alpha, py::arg("kstep") = defaults.kstep,
-      py::arg("lloyd_restarts") = defaults.lloyd_restarts, py::arg("proxy_lloyd") = defaults.proxy_lloyd_iterations,
-      py::arg("noise_factor") = defaults.noise_factor, py::arg("support_factor") = defaults.support_factor,
-      py::arg("seed") = defaults.seed, py::arg("ignore_normals") = !defaults.use_normals,
-      py::arg("no_point_leaves") = !defaults.keep_point_leaves, py::arg("keep_outliers") = !defaults.remove_outliers,
-      py::arg("creases") = defaults.creases, py::arg("max_error") = py::none(), py::arg("absolute_error") = py::none(), py::arg("progress") = py::none(), R"doc(
+      py::arg("absolute_tolerance") = py::none(), py::arg("error") = to_string(defaults.metric),
+      py::arg("min_points") = "auto", py::arg("max_depth") = defaults.max_depth, py::arg("alpha") = defaults.alpha,
+      py::arg("kstep") = defaults.kstep, py::arg("lloyd_restarts") = defaults.lloyd_restarts,
+      py::arg("proxy_lloyd") = defaults.proxy_lloyd_iterations, py::arg("noise_factor") = defaults.noise_factor,
+      py::arg("support_factor") = defaults.support_factor, py::arg("seed") = defaults.seed,
+      py::arg("ignore_normals") = !defaults.use_normals, py::arg("no_point_leaves") = !defaults.keep_point_leaves,
+      py::arg("keep_outliers") = !defaults.remove_outliers, py::arg("creases") = defaults.creases,
+      py::arg("max_error") = py::none(), py::arg("absolute_error") = py::none(), py::arg("progress") = py::none(),
+      R"doc(
 Builds and orients the cluster tree of a point cloud, as ``clustersurf reconstruct`` does
 (the library's reconstruct(): the same checks, the same tree).
 
@@ -179,8 +188,12 @@ reconstruct(); the GIL is released.)doc");
         }();
         return TreeRef{std::move(tree)};
       },
-      py::arg("path"), "Reads the .cstree file at ``path`` (validated and checksummed) into a Tree. Raises IoError or InputError.");
+      py::arg("path"),
+      "Reads the .cstree file at ``path`` (validated and checksummed) into a Tree. Raises IoError or InputError.");
+}
 
+/// Saving and reading a Tree, its nodes and its figures.
+void bind_tree_structure(py::class_<TreeRef>& tree_class) {
   tree_class
       .def(
           "save",
@@ -191,30 +204,40 @@ reconstruct(); the GIL is released.)doc");
           py::arg("path"),
           "Writes the tree as the .cstree file ``path``, atomically; the same tree always gives the same bytes.")
       .def(
-          "to_bytes", [](const TreeRef& t) { return py::bytes(serialize_tree(*t.tree)); },
-          "The .cstree file's bytes.")
+          "to_bytes", [](const TreeRef& t) { return py::bytes(serialize_tree(*t.tree)); }, "The .cstree file's bytes.")
       .def_static(
           "from_bytes",
           [](const py::bytes& bytes) {
             const std::string_view view(bytes);
             return TreeRef{std::make_shared<const ClusterTree>(deserialize_tree(view))};
           },
-          py::arg("data"), "A tree from ``data``, .cstree bytes (as to_bytes() gives). Raises InputError when they are corrupt.")
+          py::arg("data"),
+          "A tree from ``data``, .cstree bytes (as to_bytes() gives). Raises InputError when they are corrupt.")
       .def(py::pickle([](const TreeRef& t) { return py::bytes(serialize_tree(*t.tree)); },
-                      [](const py::bytes& bytes) { return TreeRef{std::make_shared<const ClusterTree>(deserialize_tree(std::string_view(bytes)))}; }))
-      .def("info", [](const TreeRef& t) { return info_dict(*t.tree); }, R"doc(
+                      [](const py::bytes& bytes) {
+                        return TreeRef{std::make_shared<const ClusterTree>(deserialize_tree(std::string_view(bytes)))};
+                      }))
+      .def(
+          "info", [](const TreeRef& t) { return info_dict(*t.tree); }, R"doc(
 Figures and parameters of the tree, with the keys of ``clustersurf --json info``: nodes,
 leaves, depth, input_points, outliers, has_point_leaves, bbox_min, bbox_max, diagonal, leaf_proxies,
 leaf_size, leaf_rms_error, leaves_over_threshold, noise_sigma, error_threshold, parameters.)doc")
-      .def("__len__", [](const TreeRef& t) { return t.tree->nodes.size(); }, "Number of nodes.")
+      .def(
+          "__len__", [](const TreeRef& t) { return t.tree->nodes.size(); }, "Number of nodes.")
       .def("node", &node_at, py::arg("index"), "The node at `index` (pre-order; negative counts from the end).")
       .def("__getitem__", &node_at, py::arg("index"), "tree[index]: the node at ``index``, as node(index).")
-      .def_property_readonly("root", [](const TreeRef& t) { return NodeRef{t.tree, 0}; }, "The root node.")
+      .def_property_readonly(
+          "root",
+          [](const TreeRef& t) {
+            return NodeRef{t.tree, 0};
+          },
+          "The root node.")
       .def_property_readonly(
           "nodes",
           [](const TreeRef& t) {
             py::list out;
-            for (std::size_t i = 0; i < t.tree->nodes.size(); ++i) out.append(NodeRef{t.tree, static_cast<std::int32_t>(i)});
+            for (std::size_t i = 0; i < t.tree->nodes.size(); ++i)
+              out.append(NodeRef{t.tree, static_cast<std::int32_t>(i)});
             return out;
           },
           "Every node, in pre-order (a list of Node views).")
@@ -227,19 +250,29 @@ leaf_size, leaf_rms_error, leaves_over_threshold, noise_sigma, error_threshold, 
             return a;
           },
           "Indices of the leaves, in pre-order (int32 array).")
-      .def_property_readonly("depth", [](const TreeRef& t) { return t.tree->depth(); }, "Largest node depth (root: 0).")
       .def_property_readonly(
-          "bbox", [](const TreeRef& t) { return py::make_tuple(vector_array(t.tree->bbox.min), vector_array(t.tree->bbox.max)); },
+          "depth", [](const TreeRef& t) { return t.tree->depth(); }, "Largest node depth (root: 0).")
+      .def_property_readonly(
+          "bbox",
+          [](const TreeRef& t) {
+            return py::make_tuple(vector_array(t.tree->bbox.min), vector_array(t.tree->bbox.max));
+          },
           "(min, max) corners of the input's bounding box, relative to ``origin``.")
       .def_property_readonly(
           "origin", [](const TreeRef& t) { return vector_array(t.tree->origin); },
           "Where the input lay: the tree (nodes, bbox, meshes) is relative to this point of the file's coordinates "
-          "(zero unless the input was read far from zero).")
+          "(zero unless the input was read far from zero).");
+}
+
+/// f, its gradient, inside() and the leaf of each input point.
+void bind_tree_queries(py::class_<TreeRef>& tree_class) {
+  tree_class
       .def(
           "leaf_of_points",
           [](const TreeRef& t) {
             if (t.tree->point_leaf.empty())
-              throw OptionError("the tree stores no leaf per point (it was built with no_point_leaves / --no-point-leaves)");
+              throw OptionError(
+                  "the tree stores no leaf per point (it was built with no_point_leaves / --no-point-leaves)");
             py::array_t<std::int32_t> a(static_cast<py::ssize_t>(t.tree->point_leaf.size()));
             std::copy(t.tree->point_leaf.begin(), t.tree->point_leaf.end(), a.mutable_data());
             return a;
@@ -292,20 +325,27 @@ cells) is outside. ``resolution``: cells of the fill grid along the longest side
           R"doc(
 The exact gradient of f at each row of ``xyz`` (n, 3): an (n, 3) float64 array, NaN rows where
 f is undefined or the weight is not above ``min_weight``; ``lod_depth`` / ``lod_error`` blend a
-coarser cut of the tree, as in evaluate() and mesh().)doc")
+coarser cut of the tree, as in evaluate() and mesh().)doc");
+}
+
+/// Tree.mesh() and the Tree's repr.
+void bind_tree_mesh(py::class_<TreeRef>& tree_class) {
+  tree_class
       .def(
           "mesh",
-          [](const TreeRef& t, const std::variant<std::int64_t, std::string>& resolution, std::optional<double> voxel_size,
-             std::optional<std::int64_t> lod_depth, std::optional<double> lod_error, const py::object& points, double trim,
-             std::size_t min_component_points, bool close_pinholes, const std::string& color, bool watertight,
-             double fill_holes, std::size_t decimate, double decimate_tolerance, const py::object& progress) {
+          [](const TreeRef& t, const std::variant<std::int64_t, std::string>& resolution,
+             std::optional<double> voxel_size, std::optional<std::int64_t> lod_depth, std::optional<double> lod_error,
+             const py::object& points, double trim, std::size_t min_component_points, bool close_pinholes,
+             const std::string& color, bool watertight, double fill_holes, std::size_t decimate,
+             double decimate_tolerance, const py::object& progress) {
             SurfaceMeshOptions o;
             o.closing.enabled = watertight;
             o.closing.max_hole_size = fill_holes;
             o.decimation.target_triangles = decimate;
             o.decimation.max_deviation = decimate_tolerance;
             const auto* number = std::get_if<std::int64_t>(&resolution);
-            if (const auto cells = parse_resolution(number ? std::to_string(*number) : std::get<std::string>(resolution))) {
+            if (const auto cells =
+                    parse_resolution(number ? std::to_string(*number) : std::get<std::string>(resolution))) {
               o.auto_resolution = false;
               o.grid.resolution = *cells;
             }
@@ -332,11 +372,13 @@ coarser cut of the tree, as in evaluate() and mesh().)doc")
             });
             return mesh_object(std::move(mesh.mesh));
           },
-          py::kw_only(), py::arg("resolution") = "auto", py::arg("voxel_size") = py::none(), py::arg("lod_depth") = py::none(),
-          py::arg("lod_error") = py::none(), py::arg("points") = py::none(), py::arg("trim") = TrimOptions{}.spread_factor,
+          py::kw_only(), py::arg("resolution") = "auto", py::arg("voxel_size") = py::none(),
+          py::arg("lod_depth") = py::none(), py::arg("lod_error") = py::none(), py::arg("points") = py::none(),
+          py::arg("trim") = TrimOptions{}.spread_factor,
           py::arg("min_component_points") = TrimOptions{}.min_component_points,
-          py::arg("close_pinholes") = TrimOptions{}.close_pinholes, py::arg("color") = to_string(SurfaceMeshOptions{}.coloring),
-          py::arg("watertight") = ClosingOptions{}.enabled, py::arg("fill_holes") = ClosingOptions{}.max_hole_size,
+          py::arg("close_pinholes") = TrimOptions{}.close_pinholes,
+          py::arg("color") = to_string(SurfaceMeshOptions{}.coloring), py::arg("watertight") = ClosingOptions{}.enabled,
+          py::arg("fill_holes") = ClosingOptions{}.max_hole_size,
           py::arg("decimate") = DecimationOptions{}.target_triangles,
           py::arg("decimate_tolerance") = DecimationOptions{}.max_deviation, py::arg("progress") = py::none(), R"doc(
 Meshes the surface f = 0, as ``clustersurf mesh`` does (the library's mesh_tree(): same
@@ -369,6 +411,15 @@ surface moves by at most about this distance, as ``--decimate`` / ``--decimate-t
                std::to_string(t.tree->leaves().size()) + " leaves, depth " + std::to_string(t.tree->depth()) + ", " +
                std::to_string(t.tree->input_points) + " points>";
       });
+}
+
+}  // namespace
+
+void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class) {
+  bind_reconstruct(m);
+  bind_tree_structure(tree_class);
+  bind_tree_queries(tree_class);
+  bind_tree_mesh(tree_class);
 }
 
 }  // namespace clustersurf::python

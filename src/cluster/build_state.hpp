@@ -58,8 +58,8 @@ struct BuildScale {
 /// clustered points, or those and their region's halo; `support_normals`: their input normals,
 /// or null). The tree's bbox is that of `clustered`.
 ClusterTree build_tree(const PointCloud& cloud, std::vector<std::uint32_t> ids, const Points& clustered,
-                       const Points& support_points, const Points* support_normals, const KdTree& support_index, const BuildScale& scale,
-                       const BuildOptions& options, const ProgressCallback& progress);
+                       const Points& support_points, const Points* support_normals, const KdTree& support_index,
+                       const BuildScale& scale, const BuildOptions& options, const ProgressCallback& progress);
 
 /// Smallest sphere containing spheres a and b (padded so rounding never leaves one outside).
 Sphere enclose(const Sphere& a, const Sphere& b);

@@ -17,8 +17,10 @@ namespace {
 /// variance of one normal): 2 (1 − |mean|) for the input's oriented normals, 1 − μ for
 /// estimated unoriented ones.
 /// Nullopt without usable normals (a zero mean, or a NaN among them).
-std::optional<std::pair<Eigen::Vector3d, double>> normals_axis(const Points& points, std::span<const std::uint32_t> range,
-                                                              const FrameNormals& normals, std::span<const std::uint32_t> ids) {
+std::optional<std::pair<Eigen::Vector3d, double>> normals_axis(const Points& points,
+                                                               std::span<const std::uint32_t> range,
+                                                               const FrameNormals& normals,
+                                                               std::span<const std::uint32_t> ids) {
   const double n = static_cast<double>(range.size());
   if (normals.input != nullptr) {
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();

@@ -43,9 +43,9 @@ struct FrameNormals {
 /// estimated normals, which carry the positions' own information over overlapping
 /// neighbourhoods, are consulted only when the principal frame is not determined. The
 /// principal normal's tilt varies by σ² / (ℓ² n) over n points of noise σ (the tree's
-/// estimate) spread ℓ across the plane, the mean normal's by its normals' own spread over n: 2 (1 − |mean|) for oriented normals, 1 − μ for unoriented ones (μ the
-/// largest eigenvalue of their mean outer product n nᵀ, whose axis is then the normal); the
-/// smaller wins. Clean data (σ ≈ 0) keep the principal frame exactly; noisy positions with
+/// estimate) spread ℓ across the plane, the mean normal's by its normals' own spread over n: 2 (1 − |mean|) for
+/// oriented normals, 1 − μ for unoriented ones (μ the largest eigenvalue of their mean outer product n nᵀ, whose axis
+/// is then the normal); the smaller wins. Clean data (σ ≈ 0) keep the principal frame exactly; noisy positions with
 /// consistent normals take the normals' plane, where the principal one tilts with the noise
 /// (a noisy blob around a finger has no principal plane). A frame from the normals is
 /// determined; so is every frame when the normals are the input's.

@@ -32,9 +32,12 @@ const char* to_string(SplitterKind kind) { return kind == SplitterKind::SplitPla
 const char* to_string(ErrorMetric metric) { return metric == ErrorMetric::Rms ? "rms" : "max"; }
 const char* to_string(ThresholdMode mode) {
   switch (mode) {
-    case ThresholdMode::Relative: return "relative";
-    case ThresholdMode::Absolute: return "absolute";
-    case ThresholdMode::Auto: return "auto";
+    case ThresholdMode::Relative:
+      return "relative";
+    case ThresholdMode::Absolute:
+      return "absolute";
+    case ThresholdMode::Auto:
+      return "auto";
   }
   return "unknown";
 }

@@ -20,8 +20,7 @@ std::size_t split_at_gap(const Points& points, std::span<std::uint32_t> range, c
   if (n < 2) return 0;
   const Eigen::Vector3d axis = frame.axes.col(0);
   std::vector<std::pair<double, std::uint32_t>> along(n);
-  for (std::size_t k = 0; k < n; ++k)
-    along[k] = {axis.dot(points.row(range[k]).transpose() - frame.origin), range[k]};
+  for (std::size_t k = 0; k < n; ++k) along[k] = {axis.dot(points.row(range[k]).transpose() - frame.origin), range[k]};
   std::sort(along.begin(), along.end());  // ties by index: deterministic
   // The widest gap; a side below min_points only when the gap dwarfs both sides (a few stray
   // points far from the rest would otherwise stretch the leaf's support across the gap).
@@ -32,7 +31,8 @@ std::size_t split_at_gap(const Points& points, std::span<std::uint32_t> range, c
     if (gap <= widest) continue;
     const double left = along[j].first - along.front().first, right = along.back().first - along[j + 1].first;
     const bool sides_large = j + 1 >= m && n - (j + 1) >= m;
-    if (sides_large ? gap > std::max(left, right) : gap > kStrayGapRatio * std::max(left, right)) widest = gap, best = j + 1;
+    if (sides_large ? gap > std::max(left, right) : gap > kStrayGapRatio * std::max(left, right))
+      widest = gap, best = j + 1;
   }
   if (best == 0) return 0;
   for (std::size_t k = 0; k < n; ++k) range[k] = along[k].second;

@@ -23,7 +23,9 @@ std::uint64_t ordered_bits(double key) {
   return u >> 63 ? ~u : u | std::uint64_t{1} << 63;
 }
 
-double key_of(std::uint64_t bits) { return std::bit_cast<double>(bits >> 63 ? bits & ~(std::uint64_t{1} << 63) : ~bits); }
+double key_of(std::uint64_t bits) {
+  return std::bit_cast<double>(bits >> 63 ? bits & ~(std::uint64_t{1} << 63) : ~bits);
+}
 
 struct Item {
   std::uint64_t bits;

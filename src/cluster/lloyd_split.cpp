@@ -39,7 +39,8 @@ std::size_t lloyd_split(const Points& points, std::span<std::uint32_t> range, co
     double best = -1;
     Eigen::Vector3d far = x;
     for (auto i : range)
-      if (const double d = (points.row(i).transpose() - x).squaredNorm(); d > best) best = d, far = points.row(i).transpose();
+      if (const double d = (points.row(i).transpose() - x).squaredNorm(); d > best)
+        best = d, far = points.row(i).transpose();
     return far;
   };
   const Eigen::Vector3d a = farthest(mean);

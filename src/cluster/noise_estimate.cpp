@@ -1,7 +1,7 @@
-#include <clustersurf/core/errors.hpp>
-#include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/cluster/noise.hpp>
+#include <clustersurf/core/errors.hpp>
 #include <clustersurf/proxy/proxy.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 
 #include "cluster/local_fit.hpp"
 #include "core/splitmix.hpp"
@@ -32,10 +32,10 @@ constexpr std::size_t kMinCoarsePoints = 4096;
 
 /// The local fits' medians at one neighbourhood size.
 struct LocalNoise {
-  double sigma = 0;       // median RMS residual of the local fits
-  double difference = 0;  // median of the residual differences' estimate (LocalFit::difference)
-  double width = 0;       // median neighbourhood radius
-  std::size_t points = 0; // median points per fit
+  double sigma = 0;        // median RMS residual of the local fits
+  double difference = 0;   // median of the residual differences' estimate (LocalFit::difference)
+  double width = 0;        // median neighbourhood radius
+  std::size_t points = 0;  // median points per fit
 };
 
 /// Median noise and neighbourhood radius over evenly strided points of `points`, for the
@@ -103,7 +103,8 @@ constexpr double kMinCorrectedWidth = 3.5;
 /// (detail::plane_fit_bias(), its width calibrated as this scale's is measured). nullopt when
 /// no such σ is found, or the neighbourhoods are narrower than kMinCorrectedWidth of it.
 std::optional<double> corrected_noise(const LocalNoise& e) {
-  if (!(e.sigma > 0) || !(e.width > 0) || !std::isfinite(e.sigma) || !std::isfinite(e.width) || e.points < kMinFitPoints)
+  if (!(e.sigma > 0) || !(e.width > 0) || !std::isfinite(e.sigma) || !std::isfinite(e.width) ||
+      e.points < kMinFitPoints)
     return std::nullopt;
   double sigma = e.sigma, width_scale = 1;
   for (int round = 0; round < kBiasRounds; ++round) {
@@ -173,12 +174,14 @@ double estimate_noise(const Points& points, const NoiseOptions& options) {
 double estimate_noise(const Points& points, const KdTree& tree, const NoiseOptions& options, const Points* normals) {
   const auto n = static_cast<std::size_t>(points.rows());
   if (std::min(options.neighbors, n) < kMinFitPoints || options.samples == 0) return 0;
-  if (normals != nullptr && normals->rows() != points.rows()) throw OptionError("noise estimate: one normal per point is needed");
+  if (normals != nullptr && normals->rows() != points.rows())
+    throw OptionError("noise estimate: one normal per point is needed");
   if (!options.facing_normals) normals = nullptr;
   auto est = local_noise(points, tree, options, normals);
   // Dense samples of a noisy surface: the neighbourhoods are thin slabs of noise, and the
   // local fit follows it. Coarsen until the neighbourhoods are wide compared with the noise.
-  for (unsigned level = 1; est[0].width < options.min_width_ratio * est[0].sigma && (n >> (2 * level)) >= kMinCoarsePoints; ++level) {
+  for (unsigned level = 1;
+       est[0].width < options.min_width_ratio * est[0].sigma && (n >> (2 * level)) >= kMinCoarsePoints; ++level) {
     const Points coarse = subsample(points, level);
     const Points coarse_normals = normals != nullptr ? subsample(*normals, level) : Points();
     est = local_noise(coarse, KdTree(coarse), options, normals != nullptr ? &coarse_normals : nullptr);

@@ -51,11 +51,12 @@ double residual_correlation(const Points& points, std::span<const std::uint32_t>
         const double du = plane(k, 0) - plane(j, 0), dv = plane(k, 1) - plane(j, 1);
         if (du * du > best) return false;
         const double d2 = du * du + dv * dv;
-        if (d2 < best || (d2 == best && static_cast<std::uint32_t>(j) < best_index)) best = d2, best_index = static_cast<std::uint32_t>(j);
+        if (d2 < best || (d2 == best && static_cast<std::uint32_t>(j) < best_index))
+          best = d2, best_index = static_cast<std::uint32_t>(j);
         return true;
       };
       for (std::size_t q = p + 1; q < by_u.size() && visit(q);) ++q;  // rightwards
-      for (std::size_t q = p; q > 0 && visit(q - 1);) --q;             // leftwards
+      for (std::size_t q = p; q > 0 && visit(q - 1);) --q;            // leftwards
       nearest[static_cast<std::size_t>(k)] = best_index;
     }
   } else {

@@ -21,7 +21,8 @@ constexpr double kApartErrors = 3;
 constexpr double kBalancedShare = 3;
 
 /// The unit mean of the normals of a range's rows, or zero when they cancel.
-Eigen::Vector3d mean_normal(const Points& normals, std::span<const std::uint32_t> ids, std::span<const std::uint32_t> range) {
+Eigen::Vector3d mean_normal(const Points& normals, std::span<const std::uint32_t> ids,
+                            std::span<const std::uint32_t> range) {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (auto row : range) sum += normals.row(ids[row]).transpose();
   const double norm = sum.norm();

@@ -51,7 +51,8 @@ Eigen::Vector3d split_direction(const Points& points, std::span<const std::uint3
   const TwoMeans tm = two_means(points, range, a, b, kDirectionRounds);
   Eigen::Vector3d n = Eigen::Vector3d::Zero();
   if (tm.sizes[0] > 0 && tm.sizes[1] > 0)
-    n = static_cast<double>(tm.sizes[0]) * (tm.centers[0] - mean) - static_cast<double>(tm.sizes[1]) * (tm.centers[1] - mean);
+    n = static_cast<double>(tm.sizes[0]) * (tm.centers[0] - mean) -
+        static_cast<double>(tm.sizes[1]) * (tm.centers[1] - mean);
   const double scale = (b - a).norm() * static_cast<double>(range.size());
   if (!(n.norm() > 1e-12 * scale)) return frame.axes.col(0);
   return n.normalized();

@@ -61,7 +61,12 @@ constexpr std::size_t kOtherSheetPoints = 3;
 
 SupportFit::SupportFit(const Points& input, const Points& cluster_points, const SupportSampler& sampler,
                        const BuildOptions& options, double tolerance, double noise, const Points* normals)
-    : input_(input), points_(cluster_points), sampler_(sampler), options_(options), tolerance_(tolerance), noise_(noise),
+    : input_(input),
+      points_(cluster_points),
+      sampler_(sampler),
+      options_(options),
+      tolerance_(tolerance),
+      noise_(noise),
       normals_(normals) {}
 
 double SupportFit::coverage_radius(const Eigen::Vector3d& center, double alpha_radius) const {
@@ -71,7 +76,8 @@ double SupportFit::coverage_radius(const Eigen::Vector3d& center, double alpha_r
   return std::min(holding, kMaxSupportGrowth * alpha_radius);
 }
 
-bool SupportFit::own_points_cover(std::span<const std::uint32_t> range, const Eigen::Vector3d& center, double radius) const {
+bool SupportFit::own_points_cover(std::span<const std::uint32_t> range, const Eigen::Vector3d& center,
+                                  double radius) const {
   if (range.size() < kMinSupportPoints) return false;
   // The margin keeps the answer exact against the k-d tree's own rounding of the distances.
   const double r2 = radius * radius * (1 - 1e-9);
@@ -86,12 +92,13 @@ SupportError SupportFit::check(ClusterNode& node, std::span<const std::uint32_t>
   if (!(r2 > 0)) return {};
   thread_local std::vector<Neighbor> inside;
   sampler_.inside(node.support.center, node.support.radius, kSupportPointsPerClusterPoint * node.point_count,
-                 kSupportSample, inside);
+                  kSupportSample, inside);
   if (std::holds_alternative<PolyProxy>(node.proxy.variant())) refit(node, range, inside);
   return weighted_error(node.proxy, node.support, inside);
 }
 
-SupportError SupportFit::weighted_error(const Proxy& proxy, const Sphere& support, std::span<const Neighbor> inside) const {
+SupportError SupportFit::weighted_error(const Proxy& proxy, const Sphere& support,
+                                        std::span<const Neighbor> inside) const {
   const double r2 = support.radius * support.radius;
   double sum = 0, weight = 0, weight2 = 0;
   for (const auto& nb : inside) {
@@ -122,14 +129,16 @@ double SupportFit::other_sheet_distance(const ClusterNode& node, std::span<const
   const double radius = node.support.radius;
   if (normals_ == nullptr || !(radius > 0)) return radius;
   thread_local std::vector<Neighbor> inside;
-  sampler_.inside(node.support.center, radius, kSupportPointsPerClusterPoint * node.point_count, kSupportSample, inside);
+  sampler_.inside(node.support.center, radius, kSupportPointsPerClusterPoint * node.point_count, kSupportSample,
+                  inside);
   const double threshold = allowed_error(tolerance_, noise_, static_cast<double>(range.size()));
   const double reach = kSupportFitReach * std::max(threshold, node.rms_error);
   // The way the leaf's own sheet faces: the mean input normal of the support points its proxy
   // fits.
   Eigen::Vector3d facing = Eigen::Vector3d::Zero();
   for (const auto& nb : inside)
-    if (std::abs(node.proxy.value(input_.row(nb.index).transpose())) <= reach) facing += normals_->row(nb.index).transpose();
+    if (std::abs(node.proxy.value(input_.row(nb.index).transpose())) <= reach)
+      facing += normals_->row(nb.index).transpose();
   if (!(facing.squaredNorm() > 0)) return radius;
   facing.normalize();
   // The kOtherSheetPoints nearest points off the proxy that face the other way, nearest first:
@@ -149,7 +158,8 @@ double SupportFit::other_sheet_distance(const ClusterNode& node, std::span<const
 
 std::optional<Proxy> SupportFit::unbent(const ClusterNode& node, std::span<const std::uint32_t> range, double threshold,
                                         double& rms) const {
-  if (!(node.rms_error > threshold) || range.size() < kMinUnbentPoints + 1 || range.size() > kMaxUnbentPoints) return std::nullopt;
+  if (!(node.rms_error > threshold) || range.size() < kMinUnbentPoints + 1 || range.size() > kMaxUnbentPoints)
+    return std::nullopt;
   const Frame& frame = std::get<PolyProxy>(node.proxy.variant()).frame;
   // The point whose removal leaves the others' fit the least error (their moments less its
   // own, an O(1) refit each): the stray, when the others then meet the threshold.
@@ -168,7 +178,8 @@ std::optional<Proxy> SupportFit::unbent(const ClusterNode& node, std::span<const
   others.assign(range.begin(), range.end());
   others.erase(others.begin() + static_cast<std::ptrdiff_t>(*stray));
   Proxy fit(fit_poly_in_frame(frame, points_, others));
-  if (!(std::abs(fit.value(points_.row(range[*stray]).transpose())) > kSupportFitReach * threshold)) return std::nullopt;
+  if (!(std::abs(fit.value(points_.row(range[*stray]).transpose())) > kSupportFitReach * threshold))
+    return std::nullopt;
   rms = proxy_error(fit, points_, range).rms;  // over all the points, as the cluster fit's own RMS
   return fit;
 }
@@ -181,7 +192,8 @@ std::optional<Proxy> SupportFit::unbent(const ClusterNode& node, std::span<const
 /// own weighted RMS (a stray point near the surface that bent the cluster's fit) are left out
 /// and the rest refitted. The node's errors are re-measured on its own points, but for a few
 /// strays beyond that reach.
-void SupportFit::refit(ClusterNode& node, std::span<const std::uint32_t> range, std::span<const Neighbor> inside) const {
+void SupportFit::refit(ClusterNode& node, std::span<const std::uint32_t> range,
+                       std::span<const Neighbor> inside) const {
   const PolyProxy& cluster_fit = std::get<PolyProxy>(node.proxy.variant());
   const double r2 = node.support.radius * node.support.radius;
   const double threshold = allowed_error(tolerance_, noise_, static_cast<double>(range.size()));
@@ -221,7 +233,8 @@ void SupportFit::refit(ClusterNode& node, std::span<const std::uint32_t> range, 
   const std::size_t support_points = ids.size();
   double cut = measure();
   for (int round = 0; round < kTrimRounds; ++round) {
-    const auto kept = static_cast<std::size_t>(std::count_if(residual.begin(), residual.end(), [&](double q) { return q <= cut; }));
+    const auto kept =
+        static_cast<std::size_t>(std::count_if(residual.begin(), residual.end(), [&](double q) { return q <= cut; }));
     if (kept == ids.size() || kept < kMinSupportFitPoints || !few(support_points - kept, support_points)) break;
     std::size_t k = 0;
     for (std::size_t j = 0; j < ids.size(); ++j) {
@@ -253,7 +266,8 @@ void SupportFit::refit(ClusterNode& node, std::span<const std::uint32_t> range, 
     }
     const double ratio = slope > 0 ? position / slope : 0;
     if (ratio >= kMinNormalWeight * r2 && std::isfinite(ratio)) {
-      Proxy hermite = fit_poly_in_frame(poly.frame, input_, ids, weights, normals_, std::min(ratio, kMaxNormalWeight * r2));
+      Proxy hermite =
+          fit_poly_in_frame(poly.frame, input_, ids, weights, normals_, std::min(ratio, kMaxNormalWeight * r2));
       if (accept(node, range, threshold, cut, std::move(hermite))) return;
     }
   }
@@ -263,7 +277,8 @@ void SupportFit::refit(ClusterNode& node, std::span<const std::uint32_t> range, 
 /// Takes `fit` as the node's proxy while the cluster's own points still meet the threshold (or
 /// what the cluster's fit achieved): a leaf's error on its points stays within the threshold. A
 /// few own points beyond the stray `cut` (a stray that bent the cluster's fit) are not counted.
-bool SupportFit::accept(ClusterNode& node, std::span<const std::uint32_t> range, double threshold, double cut, Proxy fit) const {
+bool SupportFit::accept(ClusterNode& node, std::span<const std::uint32_t> range, double threshold, double cut,
+                        Proxy fit) const {
   const auto few = [](std::size_t strays, std::size_t total) {
     return static_cast<double>(strays) <= std::max(1.0, kMaxTrimmedShare * static_cast<double>(total));
   };
@@ -279,7 +294,8 @@ bool SupportFit::accept(ClusterNode& node, std::span<const std::uint32_t> range,
     ++inliers;
   }
   const bool trim = inliers > 0 && few(range.size() - inliers, range.size());
-  const double rms = trim ? std::sqrt(inlier_sum / static_cast<double>(inliers)) : std::sqrt(all_sum / static_cast<double>(range.size()));
+  const double rms = trim ? std::sqrt(inlier_sum / static_cast<double>(inliers))
+                          : std::sqrt(all_sum / static_cast<double>(range.size()));
   const double max = trim ? inlier_max : all_max;
   const double e = options_.metric == ErrorMetric::Rms ? rms : max;
   const double own = options_.metric == ErrorMetric::Rms ? node.rms_error : node.max_error;

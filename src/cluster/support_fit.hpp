@@ -22,8 +22,8 @@ class SupportFit {
   /// `input`: the clustered points in input order (indexed by `sampler`); `cluster_points`:
   /// the working copy in cluster order (the ranges index it); `tolerance` and `noise` as the
   /// builder's.
-  SupportFit(const Points& input, const Points& cluster_points, const SupportSampler& sampler, const BuildOptions& options,
-             double tolerance, double noise, const Points* normals);
+  SupportFit(const Points& input, const Points& cluster_points, const SupportSampler& sampler,
+             const BuildOptions& options, double tolerance, double noise, const Points* normals);
 
   /// The radius around `center` that holds kMinSupportPoints input points (MPU's N_min), at most
   /// kMaxSupportGrowth × `alpha_radius`: a small cluster's support overlaps its neighbours'

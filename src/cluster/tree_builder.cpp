@@ -1,19 +1,19 @@
 // Recursive construction of the cluster tree (thesis ch. 3), subtrees in parallel.
 
-#include <clustersurf/spatial/cloud_stats.hpp>
 #include <clustersurf/cluster/cluster_tree.hpp>
-#include <clustersurf/core/errors.hpp>
-#include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/cluster/noise.hpp>
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/spatial/cloud_stats.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 
 #include "cluster/build_state.hpp"
 #include "cluster/cluster_frame.hpp"
-#include "proxy/crease_fit.hpp"
 #include "cluster/residual_structure.hpp"
 #include "cluster/splitters.hpp"
 #include "cluster/support_fit.hpp"
 #include "core/progress_reporter.hpp"
 #include "core/splitmix.hpp"
+#include "proxy/crease_fit.hpp"
 
 #include <tbb/parallel_invoke.h>
 
@@ -55,8 +55,9 @@ class Builder {
   /// `frame_normals`: the normals the clusters' frames may follow (the input's, or estimated).
   /// `support`: the support checks, or null when they are off. `detail_splits`: whether a leaf
   /// may be split below options.min_points (detail_split(); when min_points was "auto").
-  Builder(const Points* normals, const detail::FrameNormals& frame_normals, WorkingSet& work, const detail::SupportFit* support,
-          const BuildOptions& options, double tolerance, double noise, bool detail_splits, detail::ProgressReporter& progress)
+  Builder(const Points* normals, const detail::FrameNormals& frame_normals, WorkingSet& work,
+          const detail::SupportFit* support, const BuildOptions& options, double tolerance, double noise,
+          bool detail_splits, detail::ProgressReporter& progress)
       : normals_(normals),
         frame_normals_(frame_normals),
         work_(work),
@@ -106,15 +107,20 @@ class Builder {
     // when its residuals show structure that noise does not leave or its proxy fails over its
     // support. A blob as thick as it is wide has a frame the noise chooses: its proxy's misfit,
     // there and over its support, is the noise's, and splitting it leaves smaller blobs.
-    if (can_split && (e > threshold || (fitted.determined && (systematic_misfit(node.proxy, frame, range) ||
-                                                              (support_ != nullptr && support_fails(*(support = support_->check(node, range)), tolerance_)))))) {
-      k = options_.splitter == SplitterKind::SplitPlane ? detail::split_plane(points_, range, frame, options_, noise_)
-                                                        : detail::lloyd_split(points_, range, options_, detail::splitmix64(path_seed));
+    if (can_split &&
+        (e > threshold ||
+         (fitted.determined &&
+          (systematic_misfit(node.proxy, frame, range) ||
+           (support_ != nullptr && support_fails(*(support = support_->check(node, range)), tolerance_)))))) {
+      k = options_.splitter == SplitterKind::SplitPlane
+              ? detail::split_plane(points_, range, frame, options_, noise_)
+              : detail::lloyd_split(points_, range, options_, detail::splitmix64(path_seed));
     } else if (range.size() >= 2) {
       // The proxy fits, but the cluster may be two parts with empty space between them (below
       // 2 × min_points only stray points across a wide gap are cut off).
       k = detail::split_at_gap(points_, range, frame, options_.min_points);
-      if ((k == 0 || k >= range.size()) && detail_splits_ && !can_split && depth < options_.max_depth && fitted.determined) {
+      if ((k == 0 || k >= range.size()) && detail_splits_ && !can_split && depth < options_.max_depth &&
+          fitted.determined) {
         if (e > threshold) {
           k = detail_split(range, frame, e, nullptr);
         } else if (support_ != nullptr) {
@@ -166,7 +172,9 @@ class Builder {
         // support against what it achieves there.
         const double own = std::sqrt(std::max(0.0, e * e - noise_ * noise_));
         const double tolerance = std::max(tolerance_, own);
-        for (int shrink = 0; shrink < kSupportShrinkSteps && support_fails(*support, tolerance) && node.support.radius > cover; ++shrink) {
+        for (int shrink = 0;
+             shrink < kSupportShrinkSteps && support_fails(*support, tolerance) && node.support.radius > cover;
+             ++shrink) {
           node.support.radius = std::max(cover, node.support.radius * kSupportShrinkFactor);
           support = support_->check(node, range);
         }
@@ -203,8 +211,7 @@ class Builder {
   /// when the cluster's own points show it to be within alpha × extent: only leaves need it).
   detail::ClusterFrame fit(ClusterNode& node, std::span<const std::uint32_t> range, double& cover) const {
     node.point_count = static_cast<std::uint32_t>(range.size());
-    const detail::ClusterFrame fitted =
-        detail::cluster_frame(points_, range, frame_normals_, work_.ids, noise_);
+    const detail::ClusterFrame fitted = detail::cluster_frame(points_, range, frame_normals_, work_.ids, noise_);
     const Frame& frame = fitted.frame;
     node.proxy = options_.proxy == ProxyKind::Poly ? Proxy(fit_poly_in_frame(frame, points_, range))
                                                    : fit_proxy(options_.proxy, points_, range);
@@ -227,7 +234,9 @@ class Builder {
   }
 
   /// The node's error by the metric of the options.
-  double error(const ClusterNode& node) const { return options_.metric == ErrorMetric::Rms ? node.rms_error : node.max_error; }
+  double error(const ClusterNode& node) const {
+    return options_.metric == ErrorMetric::Rms ? node.rms_error : node.max_error;
+  }
 
   /// Whether `after` leaves at most a quarter of the misfit of `before` beyond the noise (half
   /// its RMS): the rule by which a crease or a split below min_points explains a misfit.
@@ -240,13 +249,14 @@ class Builder {
   /// than the cluster: a lip, an eyelid, a fold) or fails over its support (`support`: that
   /// check's error) is split below min_points when that resolves it: into two halves of at
   /// least two thirds of min_points and kMinDetailPoints (8 for clean data) whose proxies each
-  /// meet the threshold or explain() the cluster's misfit `error`, and, for a support failure, whose support checks each pass or explain the
-  /// cluster's. A stray point that bends a proxy leaves its half's misfit about as large as
+  /// meet the threshold or explain() the cluster's misfit `error`, and, for a support failure, whose support checks
+  /// each pass or explain the cluster's. A stray point that bends a proxy leaves its half's misfit about as large as
   /// the cluster's, so no split is made for it; nor for a misfit the halves cannot resolve.
   /// Only when min_points is "auto". Returns the split position (`range` reordered), or 0.
   std::size_t detail_split(std::span<std::uint32_t> range, const Frame& frame, double error,
                            const detail::SupportError* support) const {
-    const std::size_t smallest = std::max<std::size_t>(kMinDetailPoints, (2 * std::size_t{options_.min_points} + 2) / 3);
+    const std::size_t smallest =
+        std::max<std::size_t>(kMinDetailPoints, (2 * std::size_t{options_.min_points} + 2) / 3);
     if (range.size() < 2 * smallest) return 0;
     BuildOptions halves = options_;
     halves.min_points = static_cast<std::uint32_t>(smallest);
@@ -260,7 +270,8 @@ class Builder {
       if (!(e <= allowed(tolerance_, static_cast<double>(half.size())) || explains(e, error))) return 0;
       if (support == nullptr) continue;
       const detail::SupportError hs = support_->check(h, half);
-      if (!(hs.rms <= allowed(options_.support_factor * tolerance_, hs.effective_points) || explains(hs.rms, support->rms)))
+      if (!(hs.rms <= allowed(options_.support_factor * tolerance_, hs.effective_points) ||
+            explains(hs.rms, support->rms)))
         return 0;
     }
     return k;
@@ -278,8 +289,8 @@ class Builder {
 
   const Points* normals_;  // the input cloud's normals (rows: WorkingSet::ids), or null
   detail::FrameNormals frame_normals_;
-  WorkingSet& work_;       // the input in cluster order; subtrees touch disjoint rows
-  const Points& points_;   // work_.positions
+  WorkingSet& work_;      // the input in cluster order; subtrees touch disjoint rows
+  const Points& points_;  // work_.positions
   const detail::SupportFit* support_;
   const BuildOptions& options_;
   double tolerance_;
@@ -303,7 +314,8 @@ ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& opti
   return build_cluster_tree(CloudIndex(cloud), options, progress);
 }
 
-ClusterTree build_cluster_tree(const CloudIndex& cloud_index, const BuildOptions& options, const ProgressCallback& progress) {
+ClusterTree build_cluster_tree(const CloudIndex& cloud_index, const BuildOptions& options,
+                               const ProgressCallback& progress) {
   const PointCloud& cloud = cloud_index.cloud();
   validate(cloud, options);
   const auto stage = [&progress](std::string_view name) {
@@ -339,13 +351,13 @@ ClusterTree build_cluster_tree(const CloudIndex& cloud_index, const BuildOptions
     const Points* facing = options.noise.facing_normals ? clustered_normals : nullptr;
     scale.noise_sigma = estimate_noise(clustered.positions, clustered.index, options.noise, facing);
   }
-  return detail::build_tree(cloud, ids, clustered.positions, clustered.positions, clustered_normals, clustered.index, scale, options,
-                            progress);
+  return detail::build_tree(cloud, ids, clustered.positions, clustered.positions, clustered_normals, clustered.index,
+                            scale, options, progress);
 }
 
 ClusterTree detail::build_tree(const PointCloud& cloud, std::vector<std::uint32_t> ids, const Points& clustered,
-                               const Points& support_points, const Points* support_normals, const KdTree& support_index, const BuildScale& scale,
-                               const BuildOptions& options, const ProgressCallback& progress) {
+                               const Points& support_points, const Points* support_normals, const KdTree& support_index,
+                               const BuildScale& scale, const BuildOptions& options, const ProgressCallback& progress) {
   validate(cloud, options);
   if (ids.empty()) throw OptionError("cannot build a tree without points to cluster");
   ClusterTree tree;
@@ -376,7 +388,8 @@ ClusterTree detail::build_tree(const PointCloud& cloud, std::vector<std::uint32_
   tree.origin = cloud.origin;
   tree.up = cloud.up;
   const double diagonal = scale.bbox.diagonal();
-  const double tolerance = p.threshold_mode == ThresholdMode::Absolute ? options.tolerance : options.tolerance * diagonal;
+  const double tolerance =
+      p.threshold_mode == ThresholdMode::Absolute ? options.tolerance : options.tolerance * diagonal;
   double noise = 0;  // the noise the leaves may keep on top of the tolerance
   if (p.threshold_mode == ThresholdMode::Auto) {
     tree.noise_sigma = scale.noise_sigma;
@@ -395,7 +408,8 @@ ClusterTree detail::build_tree(const PointCloud& cloud, std::vector<std::uint32_
   std::optional<detail::SupportFit> support;
   if (options.support_factor > 0) {
     sampler.emplace(support_points, support_index);
-    support.emplace(support_points, work.positions, *sampler, resolved, tolerance, noise, use_normals && options.fit_normals ? support_normals : nullptr);
+    support.emplace(support_points, work.positions, *sampler, resolved, tolerance, noise,
+                    use_normals && options.fit_normals ? support_normals : nullptr);
   }
   // The clusters' frames follow the input normals, or without them normals estimated over each
   // point's neighbourhood (slopes from a wider scale than a blob's own spread).
@@ -409,7 +423,8 @@ ClusterTree detail::build_tree(const PointCloud& cloud, std::vector<std::uint32_
   }
   detail::ProgressReporter reporter(progress, "building tree", n);
   BuildNode root;
-  Builder(normals, frame_normals, work, support ? &*support : nullptr, resolved, tolerance, noise, options.min_points == 0, reporter)
+  Builder(normals, frame_normals, work, support ? &*support : nullptr, resolved, tolerance, noise,
+          options.min_points == 0, reporter)
       .build(root, work.local, 0, options.seed);
   reporter.finish();
   const std::vector<std::uint32_t>& perm = work.ids;

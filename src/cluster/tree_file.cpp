@@ -1,8 +1,8 @@
 // The .cstree binary format (docs/file-format.md): little-endian, versioned, CRC-32 protected,
 // every field validated on load.
 
-#include <clustersurf/core/errors.hpp>
 #include <clustersurf/cluster/tree_file.hpp>
+#include <clustersurf/core/errors.hpp>
 
 #include "io/atomic_file.hpp"
 #include "io/mapped_file.hpp"
@@ -156,8 +156,10 @@ PlaneProxy get_plane(Reader& r) {
 
 Proxy get_proxy(Reader& r, ProxyKind kind) {
   switch (kind) {
-    case ProxyKind::Point: return PointProxy{r.vec("point proxy center")};
-    case ProxyKind::Plane: return get_plane(r);
+    case ProxyKind::Point:
+      return PointProxy{r.vec("point proxy center")};
+    case ProxyKind::Plane:
+      return get_plane(r);
     case ProxyKind::Crease: {
       CreaseProxy p;
       p.a = get_plane(r);
@@ -248,7 +250,6 @@ void write_tree(Writer& w, const ClusterTree& tree) {
   w.put(w.crc());
 }
 
-
 /// The tree in `bytes` (of `file`); with its mapping, the pages read are released as it goes.
 ClusterTree parse_tree(std::string_view bytes, const std::filesystem::path& file, const io::MappedFile* mapped);
 
@@ -260,7 +261,9 @@ std::string serialize_tree(const ClusterTree& tree) {
   return std::move(w.bytes());
 }
 
-ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path& file) { return parse_tree(bytes, file, nullptr); }
+ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path& file) {
+  return parse_tree(bytes, file, nullptr);
+}
 
 namespace {
 
@@ -272,8 +275,8 @@ ClusterTree parse_tree(std::string_view bytes, const std::filesystem::path& file
   const std::size_t version_at = r.pos();
   const auto version = r.get<std::uint32_t>("format version");
   if (version < 1 || version > kTreeFileVersion)
-    r.fail_at(version_at, "unsupported tree file version " + std::to_string(version) + " (this build reads versions 1 to " +
-                              std::to_string(kTreeFileVersion) + ")");
+    r.fail_at(version_at, "unsupported tree file version " + std::to_string(version) +
+                              " (this build reads versions 1 to " + std::to_string(kTreeFileVersion) + ")");
   const std::size_t endian_at = r.pos();
   if (r.get<std::uint32_t>("endianness tag") != kEndianTag)
     r.fail_at(endian_at, "endianness tag mismatch (file written on an incompatible machine or corrupted)");
@@ -281,8 +284,7 @@ ClusterTree parse_tree(std::string_view bytes, const std::filesystem::path& file
   std::uint32_t stored_crc;
   std::memcpy(&stored_crc, bytes.data() + bytes.size() - 4, 4);
   const std::uint32_t crc = crc_of(bytes.substr(0, bytes.size() - 4), 0, mapped);
-  if (crc != stored_crc)
-    r.fail_at(bytes.size() - 4, "checksum mismatch: the file is corrupted or truncated");
+  if (crc != stored_crc) r.fail_at(bytes.size() - 4, "checksum mismatch: the file is corrupted or truncated");
 
   ClusterTree tree;
   TreeParameters& p = tree.parameters;
@@ -334,8 +336,8 @@ ClusterTree parse_tree(std::string_view bytes, const std::filesystem::path& file
     n.right = r.get<std::int32_t>("node child");
     if ((n.left < 0) != (n.right < 0) || (n.left >= 0 && (n.left != i + 1 || n.right <= n.left || n.right >= nodes)) ||
         n.left < -1 || n.right < -1)
-      r.fail_at(node_at[static_cast<std::size_t>(i)],
-                "node " + std::to_string(i) + " has invalid children " + std::to_string(n.left) + ", " + std::to_string(n.right));
+      r.fail_at(node_at[static_cast<std::size_t>(i)], "node " + std::to_string(i) + " has invalid children " +
+                                                          std::to_string(n.left) + ", " + std::to_string(n.right));
     n.point_count = r.get<std::uint32_t>("node point count");
     const ProxyKind kind = get_enum<ProxyKind>(r, version >= 2 ? kProxyKinds : 4, "proxy kind");
     r.get<std::uint8_t>("padding"), r.get<std::uint16_t>("padding");
@@ -360,7 +362,8 @@ ClusterTree parse_tree(std::string_view bytes, const std::filesystem::path& file
   for (std::int64_t i = 0; i < nodes; ++i) {
     ClusterNode& n = tree.nodes[static_cast<std::size_t>(i)];
     if (n.is_leaf()) {
-      if (n.point_count == 0) r.fail_at(node_at[static_cast<std::size_t>(i)], "leaf " + std::to_string(i) + " has no points");
+      if (n.point_count == 0)
+        r.fail_at(node_at[static_cast<std::size_t>(i)], "leaf " + std::to_string(i) + " has no points");
       continue;
     }
     for (std::int32_t c : {n.left, n.right}) {
@@ -382,8 +385,8 @@ ClusterTree parse_tree(std::string_view bytes, const std::filesystem::path& file
                               tree.nodes[static_cast<std::size_t>(n.right)].point_count;
     if (sum != n.point_count)
       r.fail_at(node_at[static_cast<std::size_t>(i)], "node " + std::to_string(i) + " counts " +
-                                                         std::to_string(n.point_count) + " points but its children " +
-                                                         std::to_string(sum));
+                                                          std::to_string(n.point_count) + " points but its children " +
+                                                          std::to_string(sum));
   }
   if (tree.nodes[0].point_count > tree.input_points)
     r.fail_at(node_at[0], "root counts " + std::to_string(tree.nodes[0].point_count) + " points but the header says " +

@@ -31,10 +31,12 @@ class EmbreeScene {
   /// Attaches the triangles of `mesh` as the scene's geometry and commits the scene.
   void commit_triangles(const TriangleMesh& mesh) {
     RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                          3 * sizeof(float), static_cast<std::size_t>(mesh.vertices.rows())));
+    auto* v =
+        static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                    3 * sizeof(float), static_cast<std::size_t>(mesh.vertices.rows())));
     auto* f = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                             3 * sizeof(unsigned), static_cast<std::size_t>(mesh.triangles.rows())));
+                                                             3 * sizeof(unsigned),
+                                                             static_cast<std::size_t>(mesh.triangles.rows())));
     if (v == nullptr || f == nullptr) {
       rtcReleaseGeometry(geometry);
       throw std::bad_alloc();

@@ -26,7 +26,8 @@ PointCloud select(const PointCloud& cloud, const std::vector<Eigen::Index>& indi
   out.scanner_positions = cloud.scanner_positions;
   if (cloud.has_scanners()) {
     out.scanner_of_point.reserve(indices.size());
-    for (const Eigen::Index i : indices) out.scanner_of_point.push_back(cloud.scanner_of_point[static_cast<std::size_t>(i)]);
+    for (const Eigen::Index i : indices)
+      out.scanner_of_point.push_back(cloud.scanner_of_point[static_cast<std::size_t>(i)]);
   }
   return out;
 }

@@ -5,8 +5,8 @@
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/core/progress.hpp>
 
-#include <atomic>
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <mutex>
 #include <string>
@@ -16,7 +16,10 @@ namespace clustersurf::detail {
 class ProgressReporter {
  public:
   ProgressReporter(const ProgressCallback& callback, std::string stage, std::uint64_t total)
-      : callback_(callback), stage_(std::move(stage)), total_(static_cast<double>(total > 0 ? total : 1)), step_((total > 0 ? total : 1) / 1000 + 1) {
+      : callback_(callback),
+        stage_(std::move(stage)),
+        total_(static_cast<double>(total > 0 ? total : 1)),
+        step_((total > 0 ? total : 1) / 1000 + 1) {
     report(0.0);
   }
 

@@ -103,7 +103,9 @@ Eigen::Vector3d grid_normal(const std::vector<Return>& grid, int side, int i, in
   };
   const Return& c = *at(i, j);
   const double reach = kMaxNeighbourGap * pixel_angle * (c.point - eye).norm();
-  const auto near = [&](const Return* r, int steps) { return r != nullptr && (r->point - c.point).norm() <= steps * reach; };
+  const auto near = [&](const Return* r, int steps) {
+    return r != nullptr && (r->point - c.point).norm() <= steps * reach;
+  };
   const auto difference = [&](const Return* lo, const Return* hi) -> std::optional<Eigen::Vector3d> {
     if (near(lo, 1) && near(hi, 1)) return hi->point - lo->point;
     if (near(hi, 1)) return hi->point - c.point;
@@ -128,7 +130,8 @@ Eigen::Isometry3d misregistration(const Eigen::Vector3d& center, double radius, 
   const double share = sigma / std::sqrt(2.0);
   const Eigen::Vector3d axis = random.unit_vector();
   const double angle = share / radius * random.normal();
-  const Eigen::Vector3d shift = share / std::sqrt(3.0) * Eigen::Vector3d(random.normal(), random.normal(), random.normal());
+  const Eigen::Vector3d shift =
+      share / std::sqrt(3.0) * Eigen::Vector3d(random.normal(), random.normal(), random.normal());
   motion.translate(center + shift);
   motion.rotate(Eigen::AngleAxisd(angle, axis));
   motion.translate(-center);
@@ -140,14 +143,17 @@ void validate(const TriangleMesh& mesh, const RangeScanOptions& o) {
   if (o.scans < 1) throw OptionError("the scanner needs at least 1 scan");
   if (o.count < 1) throw OptionError("the scanner needs a point count of at least 1");
   if (!(o.distance > 0.5) || !std::isfinite(o.distance))
-    throw OptionError(fmt::format("the scanner distance must exceed 0.5 diagonals (outside the model), got {}", o.distance));
-  if (!(o.noise >= 0) || !std::isfinite(o.noise)) throw OptionError(fmt::format("noise must be a finite fraction >= 0, got {}", o.noise));
+    throw OptionError(
+        fmt::format("the scanner distance must exceed 0.5 diagonals (outside the model), got {}", o.distance));
+  if (!(o.noise >= 0) || !std::isfinite(o.noise))
+    throw OptionError(fmt::format("noise must be a finite fraction >= 0, got {}", o.noise));
   if (!(o.registration >= 0) || !std::isfinite(o.registration))
     throw OptionError(fmt::format("registration error must be a finite fraction >= 0, got {}", o.registration));
   if (!(o.flipped_normals >= 0 && o.flipped_normals <= 1))
     throw OptionError(fmt::format("the share of flipped normals must be in [0, 1], got {}", o.flipped_normals));
   if (!(o.max_incidence_degrees > 0 && o.max_incidence_degrees <= 90))
-    throw OptionError(fmt::format("the largest incidence angle must be in (0, 90] degrees, got {}", o.max_incidence_degrees));
+    throw OptionError(
+        fmt::format("the largest incidence angle must be in (0, 90] degrees, got {}", o.max_incidence_degrees));
   const Eigen::Index nv = mesh.vertices.rows();
   if ((mesh.triangles.array() < 0).any() || (mesh.triangles.array() >= nv).any())
     throw OptionError(fmt::format("a triangle references a vertex outside 0..{}", nv - 1));
@@ -171,7 +177,8 @@ PointCloud scan_surface(const TriangleMesh& mesh, const RangeScanOptions& option
 
   std::vector<Scanner> scanners;
   for (std::size_t s = 0; s < options.scans; ++s)
-    scanners.push_back(make_scanner(center, radius, options.distance * diagonal, fibonacci_direction(s, options.scans)));
+    scanners.push_back(
+        make_scanner(center, radius, options.distance * diagonal, fibonacci_direction(s, options.scans)));
 
   // How many of a grid's rays return, on a coarse probe of every scan; the grids are sized so
   // that all scans together return about options.count points.
@@ -179,8 +186,11 @@ PointCloud scan_surface(const TriangleMesh& mesh, const RangeScanOptions& option
   for (const auto& scanner : scanners)
     for (const auto& r : scan_grid(scene, scanner, kProbeSide, 0, min_cos, 0)) probe_returns += r.valid;
   if (probe_returns == 0) throw OptionError("no scanner sees the mesh (every return is grazing)");
-  const double per_ray = static_cast<double>(probe_returns) / (static_cast<double>(kProbeSide * kProbeSide) * static_cast<double>(options.scans));
-  const int side = std::max(2, static_cast<int>(std::lround(std::sqrt(static_cast<double>(options.count) / (per_ray * static_cast<double>(options.scans))))));
+  const double per_ray = static_cast<double>(probe_returns) /
+                         (static_cast<double>(kProbeSide * kProbeSide) * static_cast<double>(options.scans));
+  const int side =
+      std::max(2, static_cast<int>(std::lround(
+                      std::sqrt(static_cast<double>(options.count) / (per_ray * static_cast<double>(options.scans))))));
 
   std::vector<Eigen::Vector3d> points, normals;
   const double sigma = options.noise * diagonal;
@@ -188,11 +198,13 @@ PointCloud scan_surface(const TriangleMesh& mesh, const RangeScanOptions& option
     const Scanner& scanner = scanners[s];
     const std::uint64_t scan_seed = detail::splitmix64(options.seed * 0x100000001b3ULL + s);
     const std::vector<Return> grid = scan_grid(scene, scanner, side, sigma, min_cos, scan_seed);
-    const Eigen::Isometry3d motion = misregistration(center, radius, options.registration * diagonal, detail::splitmix64(scan_seed));
+    const Eigen::Isometry3d motion =
+        misregistration(center, radius, options.registration * diagonal, detail::splitmix64(scan_seed));
     const double pixel_angle = 2 * scanner.half_width / side;
     for (int i = 0; i < side; ++i)
       for (int j = 0; j < side; ++j) {
-        const Return& r = grid[static_cast<std::size_t>(i) * static_cast<std::size_t>(side) + static_cast<std::size_t>(j)];
+        const Return& r =
+            grid[static_cast<std::size_t>(i) * static_cast<std::size_t>(side) + static_cast<std::size_t>(j)];
         if (!r.valid) continue;
         points.push_back(motion * r.point);
         normals.push_back(motion.linear() * grid_normal(grid, side, i, j, scanner.eye, pixel_angle));

@@ -1,10 +1,10 @@
 #include <clustersurf/core/errors.hpp>
+#include <clustersurf/evaluation/mesh_distance.hpp>
 #include <clustersurf/evaluation/surface_comparison.hpp>
+#include <clustersurf/io/surface_sampling.hpp>
 #include <clustersurf/spatial/cloud_stats.hpp>
 #include <clustersurf/spatial/kd_tree.hpp>
-#include <clustersurf/evaluation/mesh_distance.hpp>
 #include <clustersurf/spatial/resample.hpp>
-#include <clustersurf/io/surface_sampling.hpp>
 
 #include <tbb/parallel_for.h>
 
@@ -38,8 +38,10 @@ PointCloud samples_of(const TriangleMesh& surface, const ComparisonOptions& opti
 class Target {
  public:
   explicit Target(const TriangleMesh& surface) : surface_(surface) {
-    if (is_mesh(surface)) mesh_.emplace(surface);
-    else points_.emplace(surface.vertices);
+    if (is_mesh(surface))
+      mesh_.emplace(surface);
+    else
+      points_.emplace(surface.vertices);
   }
   /// The points' index when the surface is a cloud, else null.
   const KdTree* points() const { return points_ ? &*points_ : nullptr; }
@@ -118,7 +120,7 @@ double share_within(const std::vector<double>& v, double tau) {
 }  // namespace
 
 SurfaceComparison compare_surfaces(const TriangleMesh& reconstruction, const TriangleMesh& reference,
-                             const ComparisonOptions& options) {
+                                   const ComparisonOptions& options) {
   if (reconstruction.vertices.rows() == 0) throw OptionError("the reconstruction is empty");
   if (reference.vertices.rows() == 0) throw OptionError("the reference is empty");
   if (options.samples == 0) throw OptionError("the number of samples must be positive");
@@ -139,7 +141,9 @@ SurfaceComparison compare_surfaces(const TriangleMesh& reconstruction, const Tri
   e.accuracy = mean(forward.distance) * scale;
   e.completeness = mean(backward.distance) * scale;
   e.chamfer = 0.5 * (e.accuracy + e.completeness);
-  const auto max_of = [](const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); };
+  const auto max_of = [](const std::vector<double>& v) {
+    return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
+  };
   e.hausdorff = std::max(max_of(forward.distance), max_of(backward.distance)) * scale;
   e.distance_p95 = percentile(forward.distance, backward.distance, 0.95) * scale;
   const std::size_t nc = forward.normal_count + backward.normal_count;
@@ -158,7 +162,8 @@ SurfaceComparison compare_surfaces(const TriangleMesh& reconstruction, const Tri
   if (const KdTree* points = reference_target.points()) {
     e.reference_spacing = point_spacing(*points).median;
     // Most points coinciding leave no spacing to measure by.
-    if (e.reference_spacing > 0) e.far_share = 1 - share_within(forward.distance, options.far_spacings * e.reference_spacing);
+    if (e.reference_spacing > 0)
+      e.far_share = 1 - share_within(forward.distance, options.far_spacings * e.reference_spacing);
   }
   e.reconstruction_topology = mesh_topology(reconstruction);
   e.reference_topology = mesh_topology(reference);

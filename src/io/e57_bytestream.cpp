@@ -69,9 +69,12 @@ void drain(StreamState& s, const StreamField& f, std::uint64_t record_count) {
 
 double FieldCodec::value(std::uint64_t raw) const noexcept {
   switch (kind) {
-    case Kind::Float32: return static_cast<double>(std::bit_cast<float>(static_cast<std::uint32_t>(raw)));
-    case Kind::Float64: return std::bit_cast<double>(raw);
-    case Kind::Integer: break;
+    case Kind::Float32:
+      return static_cast<double>(std::bit_cast<float>(static_cast<std::uint32_t>(raw)));
+    case Kind::Float64:
+      return std::bit_cast<double>(raw);
+    case Kind::Integer:
+      break;
   }
   const auto v = static_cast<std::int64_t>(raw + static_cast<std::uint64_t>(minimum));  // wraps, never UB
   return static_cast<double>(v) * scale + offset;
@@ -87,13 +90,14 @@ Section open_section(const PagedFile& pages, std::uint64_t file_offset, std::uin
   if (h[0] != 1) pages.fail(physical, "section id is " + std::to_string(h[0]) + ", not 1 (CompressedVector)");
   const auto length = load_le<std::uint64_t>(h + 8);
   if (length < kSectionHeaderBytes || length > pages.logical_size() - s.begin)
-    pages.fail(physical + 8, "section length " + std::to_string(length) + " is shorter than its header or reaches past the end of the file");
+    pages.fail(physical + 8, "section length " + std::to_string(length) +
+                                 " is shorter than its header or reaches past the end of the file");
   s.end = s.begin + length;
   const std::uint64_t capacity = (length - kSectionHeaderBytes) * 8 / std::max<std::uint64_t>(bits_per_record, 1);
   if (record_count > capacity)
     pages.fail(where, "recordCount " + std::to_string(record_count) + " is more than the " + std::to_string(length) +
-                          "-byte section at byte " + std::to_string(file_offset) + " can hold (" + std::to_string(bits_per_record) +
-                          " bits per record)");
+                          "-byte section at byte " + std::to_string(file_offset) + " can hold (" +
+                          std::to_string(bits_per_record) + " bits per record)");
   if (record_count == 0) return s;
   s.data = pages.to_logical(load_le<std::uint64_t>(h + 16), "dataPhysicalOffset", physical + 16);
   if (s.data < s.begin + kSectionHeaderBytes || s.data >= s.end)
@@ -194,8 +198,7 @@ bool RecordDecoder::State::packet() {
 void decode_records(const PagedFile& pages, const Section& section, std::uint64_t record_count,
                     const std::vector<StreamField>& fields) {
   RecordDecoder decoder(pages, section, record_count, fields);
-  while (decoder.next_packet()) {
-  }
+  while (decoder.next_packet()) {}
 }
 
 }  // namespace clustersurf::io::e57

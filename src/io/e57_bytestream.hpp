@@ -57,7 +57,8 @@ Section open_section(const PagedFile& pages, std::uint64_t file_offset, std::uin
 /// `pages` and `section`.
 class RecordDecoder {
  public:
-  RecordDecoder(const PagedFile& pages, const Section& section, std::uint64_t record_count, std::vector<StreamField> fields);
+  RecordDecoder(const PagedFile& pages, const Section& section, std::uint64_t record_count,
+                std::vector<StreamField> fields);
   ~RecordDecoder();
   RecordDecoder(RecordDecoder&&) noexcept;
   RecordDecoder& operator=(RecordDecoder&&) noexcept;

@@ -48,7 +48,8 @@ PagedFile::PagedFile(std::filesystem::path file, std::string_view bytes) : file_
   const char* h = bytes.data();
   header_ = {load_le<std::uint32_t>(h + 8),  load_le<std::uint32_t>(h + 12), load_le<std::uint64_t>(h + 16),
              load_le<std::uint64_t>(h + 24), load_le<std::uint64_t>(h + 32), load_le<std::uint64_t>(h + 40)};
-  if (header_.major != 1) fail(8, "unsupported E57 major version " + std::to_string(header_.major) + " (this reader reads 1)");
+  if (header_.major != 1)
+    fail(8, "unsupported E57 major version " + std::to_string(header_.major) + " (this reader reads 1)");
   if (header_.physical_length != bytes.size())
     fail(16, "header says the file is " + std::to_string(header_.physical_length) + " bytes long but it is " +
                  std::to_string(bytes.size()) + " (truncated or corrupted)");
@@ -56,7 +57,8 @@ PagedFile::PagedFile(std::filesystem::path file, std::string_view bytes) : file_
   if (ps < 64 || ps > (1U << 20) || !std::has_single_bit(ps))
     fail(40, "page size " + std::to_string(ps) + " is not a power of two between 64 and 1048576");
   if (bytes.size() % ps != 0)
-    fail(16, "file length " + std::to_string(bytes.size()) + " is not a whole number of " + std::to_string(ps) + "-byte pages");
+    fail(16, "file length " + std::to_string(bytes.size()) + " is not a whole number of " + std::to_string(ps) +
+                 "-byte pages");
   pages_ = bytes.size() / ps;
   checked_.assign(pages_, false);
   check_page(0);
@@ -67,7 +69,8 @@ std::uint64_t PagedFile::to_logical(std::uint64_t physical, const char* what, st
   if (physical >= bytes_.size())
     fail(where, std::string(what) + " " + std::to_string(physical) + " is past the end of the file (" +
                     std::to_string(bytes_.size()) + " bytes)");
-  if (physical % ps >= ps - 4) fail(where, std::string(what) + " " + std::to_string(physical) + " points into a page's CRC");
+  if (physical % ps >= ps - 4)
+    fail(where, std::string(what) + " " + std::to_string(physical) + " points into a page's CRC");
   return physical / ps * (ps - 4) + physical % ps;
 }
 
@@ -99,8 +102,8 @@ void PagedFile::check_page(std::uint64_t page) const {
   const std::uint32_t stored = (std::uint32_t{p[ps - 4]} << 24) | (std::uint32_t{p[ps - 3]} << 16) |
                                (std::uint32_t{p[ps - 2]} << 8) | std::uint32_t{p[ps - 1]};
   if (crc32c(p, ps - 4) != stored)
-    fail(start, "page " + std::to_string(page) + " (bytes " + std::to_string(start) + " to " + std::to_string(start + ps - 1) +
-                    ") fails its CRC-32C check: the file is corrupted");
+    fail(start, "page " + std::to_string(page) + " (bytes " + std::to_string(start) + " to " +
+                    std::to_string(start + ps - 1) + ") fails its CRC-32C check: the file is corrupted");
   checked_[page] = true;
 }
 

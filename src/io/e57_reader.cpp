@@ -58,7 +58,8 @@ ParsedFile read_e57(const std::filesystem::path& file, std::string_view bytes) {
     const e57::Scan& s = scans[si];
     std::vector<e57::StreamField> streams = s.streams();
     for (int k = 0; k < 3; ++k)
-      streams[static_cast<std::size_t>(s.coord[k])].sink = [&, k, row0](std::uint64_t r, double v, std::uint64_t logical) {
+      streams[static_cast<std::size_t>(s.coord[k])].sink = [&, k, row0](std::uint64_t r, double v,
+                                                                        std::uint64_t logical) {
         cloud.positions(row0 + static_cast<Eigen::Index>(r), k) = v;
         if (!std::isfinite(v)) non_finite.emplace(row0 + static_cast<Eigen::Index>(r), pages.to_physical(logical));
       };
@@ -71,8 +72,10 @@ ParsedFile read_e57(const std::filesystem::path& file, std::string_view bytes) {
         cloud.colors(row0 + static_cast<Eigen::Index>(r), k) = s.color_byte(k, v);
       };
     if (intensity)
-      streams[static_cast<std::size_t>(s.intensity)].sink = [&, row0, lim = s.intensity_limits](std::uint64_t r, double v, std::uint64_t) {
-        intensities(row0 + static_cast<Eigen::Index>(r)) = to_float(lim ? (v - (*lim)[0]) / ((*lim)[1] - (*lim)[0]) : v);
+      streams[static_cast<std::size_t>(s.intensity)].sink = [&, row0, lim = s.intensity_limits](
+                                                                std::uint64_t r, double v, std::uint64_t) {
+        intensities(row0 + static_cast<Eigen::Index>(r)) =
+            to_float(lim ? (v - (*lim)[0]) / ((*lim)[1] - (*lim)[0]) : v);
       };
     e57::decode_records(pages, s.section, s.records, streams);
 
@@ -91,7 +94,8 @@ ParsedFile read_e57(const std::filesystem::path& file, std::string_view bytes) {
     // The first kept point with a non-finite coordinate is named by its byte (invalid records
     // may hold anything).
     if (!out.first_non_finite)
-      if (const auto it = non_finite.find(i); it != non_finite.end()) out.first_non_finite = FileLocation{std::nullopt, it->second};
+      if (const auto it = non_finite.find(i); it != non_finite.end())
+        out.first_non_finite = FileLocation{std::nullopt, it->second};
     cloud.positions.row(kept) = cloud.positions.row(i);
     if (colors) cloud.colors.row(kept) = cloud.colors.row(i);
     if (intensity) intensities(kept) = intensities(i);
@@ -108,7 +112,8 @@ ParsedFile read_e57(const std::filesystem::path& file, std::string_view bytes) {
     scan_of.resize(static_cast<std::size_t>(kept));
     cloud.scanner_of_point = std::move(scan_of);
     cloud.scanner_positions.resize(static_cast<Eigen::Index>(scans.size()), 3);
-    for (std::size_t si = 0; si < scans.size(); ++si) cloud.scanner_positions.row(static_cast<Eigen::Index>(si)) = scans[si].translation.transpose();
+    for (std::size_t si = 0; si < scans.size(); ++si)
+      cloud.scanner_positions.row(static_cast<Eigen::Index>(si)) = scans[si].translation.transpose();
   }
   return out;
 }

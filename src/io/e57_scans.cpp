@@ -26,9 +26,7 @@ struct Xml {
     const std::ptrdiff_t off = n.offset_debug();
     return pages.to_physical(logical + static_cast<std::uint64_t>(std::max<std::ptrdiff_t>(off, 0)));
   }
-  [[noreturn]] void fail(const pugi::xml_node& n, const std::string& message) const {
-    pages.fail(where(n), message);
-  }
+  [[noreturn]] void fail(const pugi::xml_node& n, const std::string& message) const { pages.fail(where(n), message); }
 };
 
 /// `text` without leading and trailing blanks.
@@ -55,7 +53,9 @@ T number_attribute(const Xml& xml, const pugi::xml_node& n, const char* name, T 
   const pugi::xml_attribute a = n.attribute(name);
   if (!a) return fallback;
   const auto v = parse_number<T>(a.value());
-  if (!v) xml.fail(n, std::string("attribute ") + name + "=\"" + a.value() + "\" of <" + n.name() + "> is not a valid number");
+  if (!v)
+    xml.fail(n,
+             std::string("attribute ") + name + "=\"" + a.value() + "\" of <" + n.name() + "> is not a valid number");
   return *v;
 }
 
@@ -95,7 +95,8 @@ Field read_field(const Xml& xml, const pugi::xml_node& n) {
     return f;
   }
   if (type != "Integer" && type != "ScaledInteger")
-    xml.fail(n, "field " + f.name + " has unsupported type \"" + std::string(type) + "\" (expected Float, ScaledInteger or Integer)");
+    xml.fail(n, "field " + f.name + " has unsupported type \"" + std::string(type) +
+                    "\" (expected Float, ScaledInteger or Integer)");
   const auto lo = number_attribute(xml, n, "minimum", std::numeric_limits<std::int64_t>::min());
   const auto hi = number_attribute(xml, n, "maximum", std::numeric_limits<std::int64_t>::max());
   if (hi < lo) xml.fail(n, "field " + f.name + " has maximum below minimum");
@@ -149,12 +150,15 @@ Scan read_scan(const Xml& xml, const pugi::xml_node& node, std::uint64_t& total_
     s.color[k] = find_field(s.fields, std::string("color") + channel[k]);
     if (s.color[k] < 0) continue;
     const Field& f = s.fields[static_cast<std::size_t>(s.color[k])];
-    s.color_lo[k] = element_value(xml, color_limits.child((std::string("color") + channel[k] + "Minimum").c_str()), f.minimum);
-    s.color_hi[k] = element_value(xml, color_limits.child((std::string("color") + channel[k] + "Maximum").c_str()), f.maximum);
+    s.color_lo[k] =
+        element_value(xml, color_limits.child((std::string("color") + channel[k] + "Minimum").c_str()), f.minimum);
+    s.color_hi[k] =
+        element_value(xml, color_limits.child((std::string("color") + channel[k] + "Maximum").c_str()), f.maximum);
   }
   s.intensity = find_field(s.fields, "intensity");
   if (const pugi::xml_node limits = node.child("intensityLimits")) {
-    const double lo = element_value(xml, limits.child("intensityMinimum"), 0), hi = element_value(xml, limits.child("intensityMaximum"), 0);
+    const double lo = element_value(xml, limits.child("intensityMinimum"), 0),
+                 hi = element_value(xml, limits.child("intensityMaximum"), 0);
     if (hi > lo && std::isfinite(hi - lo)) s.intensity_limits = std::array<double, 2>{lo, hi};
   }
   if (const pugi::xml_node pose = node.child("pose")) {
@@ -168,7 +172,8 @@ Scan read_scan(const Xml& xml, const pugi::xml_node& node, std::uint64_t& total_
       s.posed = unit.coeffs() != Eigen::Quaterniond::Identity().coeffs();
     }
     const pugi::xml_node t = pose.child("translation");
-    s.translation = {element_value(xml, t.child("x"), 0), element_value(xml, t.child("y"), 0), element_value(xml, t.child("z"), 0)};
+    s.translation = {element_value(xml, t.child("x"), 0), element_value(xml, t.child("y"), 0),
+                     element_value(xml, t.child("z"), 0)};
     if (!s.translation.allFinite()) xml.fail(t, "pose translation is not finite");
     s.posed = s.posed || !s.translation.isZero(0);
   }
@@ -181,7 +186,8 @@ Scan read_scan(const Xml& xml, const pugi::xml_node& node, std::uint64_t& total_
   // Sections do not overlap, so all scans' records together fit in the file too.
   const std::uint64_t max_bits = xml.pages.header().physical_length * 8;
   if (s.records > (max_bits - total_bits) / std::max<std::uint64_t>(bits, 1))
-    xml.fail(points, "recordCount " + std::to_string(s.records) + " and the scans before it hold more records than the file can");
+    xml.fail(points, "recordCount " + std::to_string(s.records) +
+                         " and the scans before it hold more records than the file can");
   total_bits += s.records * std::max<std::uint64_t>(bits, 1);
   return s;
 }
@@ -192,13 +198,16 @@ Scans read_scans(const PagedFile& pages) {
   const FileHeader& header = pages.header();
   Xml xml{pages, pages.to_logical(header.xml_physical_offset, "xmlPhysicalOffset", 24)};
   if (header.xml_logical_length > pages.logical_size() - xml.logical)
-    pages.fail(32, "XML section of " + std::to_string(header.xml_logical_length) + " bytes reaches past the end of the file");
+    pages.fail(
+        32, "XML section of " + std::to_string(header.xml_logical_length) + " bytes reaches past the end of the file");
   if (header.xml_logical_length > kMaxXmlBytes)
-    pages.fail(32, "XML section of " + std::to_string(header.xml_logical_length) + " bytes is larger than the 64 MiB limit");
+    pages.fail(
+        32, "XML section of " + std::to_string(header.xml_logical_length) + " bytes is larger than the 64 MiB limit");
   std::string text(static_cast<std::size_t>(header.xml_logical_length), '\0');
   pages.read(xml.logical, text.size(), reinterpret_cast<unsigned char*>(text.data()));
   pugi::xml_document doc;
-  const pugi::xml_parse_result parsed = doc.load_buffer(text.data(), text.size(), pugi::parse_default, pugi::encoding_utf8);
+  const pugi::xml_parse_result parsed =
+      doc.load_buffer(text.data(), text.size(), pugi::parse_default, pugi::encoding_utf8);
   if (!parsed)
     pages.fail(pages.to_physical(xml.logical + static_cast<std::uint64_t>(std::max<std::ptrdiff_t>(parsed.offset, 0))),
                std::string("XML section is not well-formed: ") + parsed.description());

@@ -88,7 +88,8 @@ void E57Points::Impl::open_scan() {
   decoder.emplace(pages, s.section, s.records, std::move(streams));
 }
 
-E57Points::E57Points(const std::filesystem::path& file, std::string_view bytes) : impl_(std::make_unique<Impl>(file, bytes)) {
+E57Points::E57Points(const std::filesystem::path& file, std::string_view bytes)
+    : impl_(std::make_unique<Impl>(file, bytes)) {
   impl_->open_scan();
 }
 
@@ -111,8 +112,7 @@ void E57Points::read(std::uint64_t n, Points& out, std::vector<std::optional<std
       continue;
     }
     const std::uint64_t want = std::min(n, s.records - d.taken);
-    while (d.ready() < want && d.decoder->next_packet()) {
-    }
+    while (d.ready() < want && d.decoder->next_packet()) {}
     const std::size_t m = static_cast<std::size_t>(std::min<std::uint64_t>(want, d.ready()));
     for (std::size_t i = d.head; i < d.head + m; ++i) {
       if (s.invalid >= 0 && d.value(3, i) != 0) continue;
@@ -121,7 +121,8 @@ void E57Points::read(std::uint64_t n, Points& out, std::vector<std::optional<std
         for (int k = 0; k < 3; ++k) (*colors)(kept, k) = s.color_byte(k, d.value(4 + static_cast<std::size_t>(k), i));
       out.row(kept++) = s.position({d.value(0, i), d.value(1, i), d.value(2, i)}).transpose();
       std::optional<std::uint64_t> where;
-      if (const auto it = d.non_finite.find(record); it != d.non_finite.end()) where = d.pages.to_physical(it->second);
+      if (const auto it = d.non_finite.find(record); it != d.non_finite.end())
+        where = d.pages.to_physical(it->second);
       else if (d.constant[0] || d.constant[1] || d.constant[2])
         for (std::size_t k = 0; k < 3 && !where; ++k)
           if (d.constant[k] && !std::isfinite(*d.constant[k])) where = d.pages.to_physical(s.section.begin);

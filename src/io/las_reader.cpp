@@ -25,7 +25,7 @@ T field(std::string_view bytes, std::uint64_t at) {
 
 /// Where the parts of a point record are: formats 0-5 share one layout, 6-10 another.
 struct RecordLayout {
-  std::uint16_t length = 0;     // the smallest record length the format allows
+  std::uint16_t length = 0;  // the smallest record length the format allows
   std::uint16_t classification = 0;
   std::uint8_t classification_mask = 0xFF;
   std::optional<std::uint16_t> rgb;  // offset of red, green, blue (16 bits each)
@@ -67,7 +67,8 @@ bool LasPoints::eight_bit_colors(std::string_view bytes) const {
 Eigen::Vector3d LasPoints::position(std::string_view bytes, std::uint64_t i) const {
   const std::uint64_t r = first + i * record;
   Eigen::Vector3d x;
-  for (int k = 0; k < 3; ++k) x(k) = static_cast<double>(field<std::int32_t>(bytes, r + 4 * static_cast<unsigned>(k))) * scale(k) + offset(k);
+  for (int k = 0; k < 3; ++k)
+    x(k) = static_cast<double>(field<std::int32_t>(bytes, r + 4 * static_cast<unsigned>(k))) * scale(k) + offset(k);
   return x;
 }
 
@@ -77,10 +78,13 @@ LasPoints las_points(const std::filesystem::path& file, std::string_view bytes) 
     return InputError(file, FileLocation{std::nullopt, at}, message);
   };
   if (bytes.substr(0, 4) != "LASF") throw fail(0, "not a LAS file (no \"LASF\" signature)");
-  if (size < 227) throw fail(size, "LAS header is truncated: the file has " + std::to_string(size) + " bytes, the header at least 227");
+  if (size < 227)
+    throw fail(size,
+               "LAS header is truncated: the file has " + std::to_string(size) + " bytes, the header at least 227");
   const unsigned major = static_cast<unsigned char>(bytes[24]), minor = static_cast<unsigned char>(bytes[25]);
   if (major != 1 || minor > 4)
-    throw fail(24, "unsupported LAS version " + std::to_string(major) + "." + std::to_string(minor) + " (expected 1.0 to 1.4)");
+    throw fail(24, "unsupported LAS version " + std::to_string(major) + "." + std::to_string(minor) +
+                       " (expected 1.0 to 1.4)");
   const auto header_size = field<std::uint16_t>(bytes, 94);
   const auto point_offset = field<std::uint32_t>(bytes, 96);
   const auto vlr_count = field<std::uint32_t>(bytes, 100);
@@ -94,14 +98,17 @@ LasPoints las_points(const std::filesystem::path& file, std::string_view bytes) 
     throw fail(104, "this is a compressed (LAZ) point format (" + std::to_string(format_byte) +
                         "): LAZ is not supported; decompress it to LAS first (e.g. laszip or PDAL)");
   const unsigned format = format_byte;
-  if (format > 10) throw fail(104, "unknown LAS point data record format " + std::to_string(format) + " (expected 0 to 10)");
+  if (format > 10)
+    throw fail(104, "unknown LAS point data record format " + std::to_string(format) + " (expected 0 to 10)");
   if (format > 5 && minor < 4)
-    throw fail(104, "point format " + std::to_string(format) + " needs LAS 1.4, the file says 1." + std::to_string(minor));
+    throw fail(104,
+               "point format " + std::to_string(format) + " needs LAS 1.4, the file says 1." + std::to_string(minor));
   if (header_size < 227 || header_size > size)
-    throw fail(94, "LAS header size " + std::to_string(header_size) + " is impossible (at least 227, at most the file's " +
-                       std::to_string(size) + " bytes)");
+    throw fail(94, "LAS header size " + std::to_string(header_size) +
+                       " is impossible (at least 227, at most the file's " + std::to_string(size) + " bytes)");
   if (minor >= 4) {
-    if (header_size < 375) throw fail(94, "a LAS 1.4 header has at least 375 bytes, this one says " + std::to_string(header_size));
+    if (header_size < 375)
+      throw fail(94, "a LAS 1.4 header has at least 375 bytes, this one says " + std::to_string(header_size));
     const auto count64 = field<std::uint64_t>(bytes, 247);
     if (count != 0 && count64 != count)
       throw fail(247, "the 64-bit point count (" + std::to_string(count64) + ") contradicts the legacy count (" +
@@ -133,11 +140,13 @@ LasPoints las_points(const std::filesystem::path& file, std::string_view bytes) 
     const auto evlr_count = field<std::uint32_t>(bytes, 243);
     for (std::uint32_t v = 0; v < evlr_count; ++v) {
       if (evlr > size || size - evlr < 60)
-        throw fail(235, "extended variable-length record " + std::to_string(v + 1) + " of " + std::to_string(evlr_count) +
-                            " starts past the end of the file (byte " + std::to_string(evlr) + ")");
+        throw fail(235, "extended variable-length record " + std::to_string(v + 1) + " of " +
+                            std::to_string(evlr_count) + " starts past the end of the file (byte " +
+                            std::to_string(evlr) + ")");
       const auto length = field<std::uint64_t>(bytes, evlr + 20);
       if (length > size - evlr - 60)
-        throw fail(evlr + 20, "extended variable-length record " + std::to_string(v + 1) + " runs past the end of the file");
+        throw fail(evlr + 20,
+                   "extended variable-length record " + std::to_string(v + 1) + " runs past the end of the file");
       evlr += 60 + length;
     }
   }
@@ -170,7 +179,8 @@ ParsedFile read_las(const std::filesystem::path& file, std::string_view bytes) {
     const std::uint64_t r = las.first + static_cast<std::uint64_t>(i) * las.record;
     cloud.positions.row(i) = las.position(bytes, static_cast<std::uint64_t>(i)).transpose();
     intensity(i) = field<std::uint16_t>(bytes, r + 12);
-    classification(i) = static_cast<float>(static_cast<unsigned char>(bytes[r + layout.classification]) & layout.classification_mask);
+    classification(i) =
+        static_cast<float>(static_cast<unsigned char>(bytes[r + layout.classification]) & layout.classification_mask);
     if (las.has_colors()) {
       const std::array<std::uint16_t, 3> c = las.color(bytes, static_cast<std::uint64_t>(i));
       for (int k = 0; k < 3; ++k) cloud.colors(i, k) = wide_color_byte(c[static_cast<std::size_t>(k)], eight_bit);

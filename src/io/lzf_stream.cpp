@@ -21,7 +21,8 @@ void LzfStream::start_instruction() {
   const std::size_t at = in_;
   const auto byte = [&]() -> std::uint32_t {
     if (in_ >= packed_.size())
-      throw InputError(*file_, FileLocation{std::nullopt, file_offset_ + at}, "LZF data is corrupt: it ends in the middle of an instruction");
+      throw InputError(*file_, FileLocation{std::nullopt, file_offset_ + at},
+                       "LZF data is corrupt: it ends in the middle of an instruction");
     return static_cast<unsigned char>(packed_[in_++]);
   };
   const std::uint32_t control = byte();
@@ -29,15 +30,17 @@ void LzfStream::start_instruction() {
     literal_ = true;
     pending_ = control + 1;
     if (pending_ > packed_.size() - in_)
-      throw InputError(*file_, FileLocation{std::nullopt, file_offset_ + at}, "LZF data is corrupt: a literal run goes past its end");
+      throw InputError(*file_, FileLocation{std::nullopt, file_offset_ + at},
+                       "LZF data is corrupt: a literal run goes past its end");
     return;
   }
   std::uint32_t length = control >> 5;
   if (length == 7) length += byte();
   distance_ = ((control & 31) << 8) + byte() + 1;
   if (distance_ > produced_)
-    throw InputError(*file_, FileLocation{std::nullopt, file_offset_ + at},
-                     "LZF data is corrupt: a back reference points " + std::to_string(distance_) + " bytes back, before its start");
+    throw InputError(
+        *file_, FileLocation{std::nullopt, file_offset_ + at},
+        "LZF data is corrupt: a back reference points " + std::to_string(distance_) + " bytes back, before its start");
   literal_ = false;
   pending_ = length + 2;
 }
@@ -62,7 +65,8 @@ void LzfStream::read(char* out, std::uint64_t n) {
     if (pending_ == 0) {
       if (in_ >= packed_.size())
         throw InputError(*file_, FileLocation{std::nullopt, file_offset_ + in_},
-                         "LZF data is corrupt: it ends after " + std::to_string(produced_) + " decompressed bytes, fewer than declared");
+                         "LZF data is corrupt: it ends after " + std::to_string(produced_) +
+                             " decompressed bytes, fewer than declared");
       start_instruction();
     }
     const auto step = static_cast<std::uint32_t>(std::min<std::uint64_t>(n, pending_));

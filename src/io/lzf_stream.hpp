@@ -46,11 +46,11 @@ class LzfStream {
   const std::filesystem::path* file_;
   std::string_view packed_;
   std::size_t file_offset_;
-  std::size_t in_ = 0;           // next compressed byte
-  std::uint64_t produced_ = 0;   // bytes written so far
-  std::uint32_t pending_ = 0;    // bytes of the current instruction still to write
-  bool literal_ = false;         // the current instruction copies input bytes (else a reference)
-  std::uint32_t distance_ = 0;   // a reference: how far behind the output it copies from
+  std::size_t in_ = 0;                  // next compressed byte
+  std::uint64_t produced_ = 0;          // bytes written so far
+  std::uint32_t pending_ = 0;           // bytes of the current instruction still to write
+  bool literal_ = false;                // the current instruction copies input bytes (else a reference)
+  std::uint32_t distance_ = 0;          // a reference: how far behind the output it copies from
   std::array<char, kWindow> window_{};  // the last kWindow bytes written, at produced % kWindow
 };
 

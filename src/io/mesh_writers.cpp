@@ -56,10 +56,9 @@ Points unit_normals(const TriangleMesh& mesh) {
 void write_stl(const std::filesystem::path& file, const TriangleMesh& mesh) {
   const Eigen::Index nf = mesh.triangles.rows();
   if (nf > std::numeric_limits<std::uint32_t>::max()) throw OptionError(file.string() + ": too many triangles for STL");
-  std::string header = mesh.origin.isZero()
-                           ? std::string("binary STL written by clustersurf")
-                           : fmt::format("clustersurf; coordinates relative to origin {} {} {}", mesh.origin.x(),
-                                         mesh.origin.y(), mesh.origin.z());
+  std::string header = mesh.origin.isZero() ? std::string("binary STL written by clustersurf")
+                                            : fmt::format("clustersurf; coordinates relative to origin {} {} {}",
+                                                          mesh.origin.x(), mesh.origin.y(), mesh.origin.z());
   header.resize(80, ' ');
   io::AtomicFile out(file);
   out.write(header);
@@ -142,9 +141,10 @@ void write_glb(const std::filesystem::path& file, const TriangleMesh& mesh) {
   };
   constexpr int kFloat = 5126, kUnsignedByte = 5121, kUnsignedInt = 5125, kArrayBuffer = 34962, kElementArray = 34963;
   int accessor = 0;
-  add_accessor(add_view(kArrayBuffer), kFloat, nv, "VEC3",
-               nv > 0 ? fmt::format(R"(,"min":[{},{},{}],"max":[{},{},{}])", lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z())
-                      : std::string());
+  add_accessor(
+      add_view(kArrayBuffer), kFloat, nv, "VEC3",
+      nv > 0 ? fmt::format(R"(,"min":[{},{},{}],"max":[{},{},{}])", lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z())
+             : std::string());
   attributes_json = fmt::format(R"("POSITION":{})", accessor++);
   if (has_n) {
     add_accessor(add_view(kArrayBuffer), kFloat, nv, "VEC3", "");
@@ -159,7 +159,8 @@ void write_glb(const std::filesystem::path& file, const TriangleMesh& mesh) {
   // glTF is +y up: a z-up mesh is turned by -90 degrees about x, (x, y, z) -> (x, z, -y), its
   // origin with it (the node's transform is translation * rotation).
   const bool z_up = mesh.up == UpAxis::Z;
-  const Eigen::Vector3d shift = z_up ? Eigen::Vector3d(mesh.origin.x(), mesh.origin.z(), -mesh.origin.y()) : mesh.origin;
+  const Eigen::Vector3d shift =
+      z_up ? Eigen::Vector3d(mesh.origin.x(), mesh.origin.z(), -mesh.origin.y()) : mesh.origin;
   std::string translation =
       shift.isZero() ? std::string() : fmt::format(R"(,"translation":[{},{},{}])", shift.x(), shift.y(), shift.z());
   if (z_up) translation += R"(,"rotation":[-0.7071067811865476,0,0,0.7071067811865476])";
@@ -171,7 +172,8 @@ void write_glb(const std::filesystem::path& file, const TriangleMesh& mesh) {
   while (json.size() % 4 != 0) json.push_back(' ');
 
   const std::size_t total = 12 + 8 + json.size() + 8 + bin.size();
-  if (total > std::numeric_limits<std::uint32_t>::max()) throw OptionError(file.string() + ": mesh too large for GLB (4 GB)");
+  if (total > std::numeric_limits<std::uint32_t>::max())
+    throw OptionError(file.string() + ": mesh too large for GLB (4 GB)");
   std::vector<char> head;
   put(head, std::uint32_t{0x46546C67});  // "glTF"
   put(head, std::uint32_t{2});

@@ -9,8 +9,8 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace clustersurf::io {
@@ -39,7 +39,8 @@ ParsedFile read_obj(const std::filesystem::path& file, std::string_view bytes, b
     if (kw == "v") {
       const std::size_t n = fields.size() - 1;
       if (n != 3 && n != 4 && n != 6)
-        throw InputError(file, {cur.line(), {}}, "expected \"v x y z [w]\" or \"v x y z r g b\", found " + std::to_string(n) + " values");
+        throw InputError(file, {cur.line(), {}},
+                         "expected \"v x y z [w]\" or \"v x y z r g b\", found " + std::to_string(n) + " values");
       double v[6];
       numbers(1, n, v);
       if (!bad_v && !(std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2])))
@@ -47,7 +48,8 @@ ParsedFile read_obj(const std::filesystem::path& file, std::string_view bytes, b
       pos.insert(pos.end(), v, v + 3);
       if (n == 6) {
         ++colored;
-        for (int k = 3; k < 6; ++k) rgb.push_back(static_cast<std::uint8_t>(std::lround(std::clamp(v[k], 0.0, 1.0) * 255.0)));
+        for (int k = 3; k < 6; ++k)
+          rgb.push_back(static_cast<std::uint8_t>(std::lround(std::clamp(v[k], 0.0, 1.0) * 255.0)));
       } else {
         rgb.insert(rgb.end(), 3, 0);
       }
@@ -66,11 +68,13 @@ ParsedFile read_obj(const std::filesystem::path& file, std::string_view bytes, b
         std::string_view t = fields[k].substr(0, fields[k].find('/'));
         std::int64_t idx;
         if (!parse_int(t, idx) || idx == 0)
-          throw InputError(file, {cur.line(), {}}, "expected a vertex index, found \"" + std::string(fields[k].substr(0, 40)) + "\"");
+          throw InputError(file, {cur.line(), {}},
+                           "expected a vertex index, found \"" + std::string(fields[k].substr(0, 40)) + "\"");
         idx = idx > 0 ? idx - 1 : nv + idx;
         if (idx < 0 || idx >= nv)
-          throw InputError(file, {cur.line(), {}},
-                           "face refers to vertex " + std::string(t) + " but only " + std::to_string(nv) + " are defined before it");
+          throw InputError(
+              file, {cur.line(), {}},
+              "face refers to vertex " + std::string(t) + " but only " + std::to_string(nv) + " are defined before it");
         poly.push_back(idx);
       }
       for (std::size_t k = 1; k + 1 < poly.size(); ++k) {

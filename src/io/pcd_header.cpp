@@ -17,7 +17,8 @@ namespace {
 
 std::string lower(std::string_view s) {
   std::string out(s);
-  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(out.begin(), out.end(), out.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return out;
 }
 
@@ -45,7 +46,8 @@ std::array<std::uint8_t, 3> packed_color(double value, const Field& f) {
   std::uint32_t packed = 0;
   if (f.type == 'F' && f.size == 4) {
     constexpr double kMax = std::numeric_limits<float>::max();
-    const float bits = std::isnan(value) ? std::numeric_limits<float>::quiet_NaN() : static_cast<float>(std::clamp(value, -kMax, kMax));
+    const float bits = std::isnan(value) ? std::numeric_limits<float>::quiet_NaN()
+                                         : static_cast<float>(std::clamp(value, -kMax, kMax));
     std::memcpy(&packed, &bits, 4);
   } else {
     packed = std::isnan(value) ? 0u : static_cast<std::uint32_t>(std::clamp(value, 0.0, 4294967295.0));
@@ -60,14 +62,20 @@ double decode(const char* bytes, char type, unsigned size) {
     return static_cast<double>(value);
   };
   switch (type) {
-    case 'F': return size == 4 ? get(float{}) : get(double{});
+    case 'F':
+      return size == 4 ? get(float{}) : get(double{});
     case 'I':
-      return size == 1 ? get(std::int8_t{}) : size == 2 ? get(std::int16_t{}) : size == 4 ? get(std::int32_t{}) : get(std::int64_t{});
+      return size == 1   ? get(std::int8_t{})
+             : size == 2 ? get(std::int16_t{})
+             : size == 4 ? get(std::int32_t{})
+                         : get(std::int64_t{});
     default:
-      return size == 1 ? get(std::uint8_t{}) : size == 2 ? get(std::uint16_t{}) : size == 4 ? get(std::uint32_t{}) : get(std::uint64_t{});
+      return size == 1   ? get(std::uint8_t{})
+             : size == 2 ? get(std::uint16_t{})
+             : size == 4 ? get(std::uint32_t{})
+                         : get(std::uint64_t{});
   }
 }
-
 
 Layout read_layout(const std::filesystem::path& file, std::string_view bytes) {
   TextCursor cur(bytes, file);
@@ -86,19 +94,23 @@ Layout read_layout(const std::filesystem::path& file, std::string_view bytes) {
     const std::uint64_t at = cur.line();
     auto need_values = [&](std::size_t n) {
       if (n == 0 || tokens.size() - 1 != n)
-        throw InputError(file, {at, {}}, keyword + " needs " + (n ? std::to_string(n) : std::string("at least one")) +
-                                              " value(s), found " + std::to_string(tokens.size() - 1));
+        throw InputError(file, {at, {}},
+                         keyword + " needs " + (n ? std::to_string(n) : std::string("at least one")) +
+                             " value(s), found " + std::to_string(tokens.size() - 1));
     };
     auto integer = [&](std::size_t k, std::int64_t lo, std::int64_t hi) {
       std::int64_t v = 0;
       if (!parse_int(tokens[k], v) || v < lo || v > hi)
-        throw InputError(file, {at, {}}, keyword + ": expected an integer from " + std::to_string(lo) + " to " +
-                                              std::to_string(hi) + ", found \"" + std::string(tokens[k].substr(0, 40)) + "\"");
+        throw InputError(file, {at, {}},
+                         keyword + ": expected an integer from " + std::to_string(lo) + " to " + std::to_string(hi) +
+                             ", found \"" + std::string(tokens[k].substr(0, 40)) + "\"");
       return v;
     };
     if (key == "version") continue;
     if (fields.empty() && key != "fields" && key != "columns")
-      throw InputError(file, {at, {}}, "expected the PCD header (VERSION or FIELDS), found \"" + std::string(line.substr(0, 40)) + "\"");
+      throw InputError(
+          file, {at, {}},
+          "expected the PCD header (VERSION or FIELDS), found \"" + std::string(line.substr(0, 40)) + "\"");
     if (key == "fields" || key == "columns") {
       if (tokens.size() < 2 || tokens.size() > 1025) throw InputError(file, {at, {}}, "FIELDS needs 1 to 1024 names");
       fields.clear();
@@ -114,12 +126,14 @@ Layout read_layout(const std::filesystem::path& file, std::string_view bytes) {
       need_values(fields.size());
       for (std::size_t k = 0; k < fields.size(); ++k) {
         const std::string t = lower(tokens[k + 1]);
-        if (t != "f" && t != "i" && t != "u") throw InputError(file, {at, {}}, "TYPE must be F, I or U, found \"" + t + "\"");
+        if (t != "f" && t != "i" && t != "u")
+          throw InputError(file, {at, {}}, "TYPE must be F, I or U, found \"" + t + "\"");
         fields[k].type = static_cast<char>(std::toupper(static_cast<unsigned char>(t[0])));
       }
     } else if (key == "count") {
       need_values(fields.size());
-      for (std::size_t k = 0; k < fields.size(); ++k) fields[k].count = static_cast<std::uint64_t>(integer(k + 1, 1, 1 << 20));
+      for (std::size_t k = 0; k < fields.size(); ++k)
+        fields[k].count = static_cast<std::uint64_t>(integer(k + 1, 1, 1 << 20));
     } else if (key == "width") {
       need_values(1);
       width = integer(1, 0, std::numeric_limits<std::int32_t>::max());
@@ -132,7 +146,8 @@ Layout read_layout(const std::filesystem::path& file, std::string_view bytes) {
     } else if (key == "viewpoint") {
       need_values(7);
       for (int k = 0; k < 7; ++k)
-        if (!parse_double(tokens[static_cast<std::size_t>(k) + 1], out.viewpoint[k]) || !std::isfinite(out.viewpoint[k]))
+        if (!parse_double(tokens[static_cast<std::size_t>(k) + 1], out.viewpoint[k]) ||
+            !std::isfinite(out.viewpoint[k]))
           throw InputError(file, {at, {}}, "VIEWPOINT needs 7 finite numbers");
     } else if (key == "data") {
       need_values(1);
@@ -151,12 +166,14 @@ Layout read_layout(const std::filesystem::path& file, std::string_view bytes) {
   if (width < 0) throw InputError(file, {out.data_line, {}}, "PCD header has no WIDTH");
   if (points < 0) points = width * out.height;
   if (points != width * out.height)
-    throw InputError(file, {out.data_line, {}}, "POINTS (" + std::to_string(points) + ") is not WIDTH x HEIGHT (" +
-                                                    std::to_string(width) + " x " + std::to_string(out.height) + ")");
+    throw InputError(file, {out.data_line, {}},
+                     "POINTS (" + std::to_string(points) + ") is not WIDTH x HEIGHT (" + std::to_string(width) + " x " +
+                         std::to_string(out.height) + ")");
   for (Field& f : fields) {
     if (f.type == 'F' && f.size != 4 && f.size != 8)
-      throw InputError(file, {out.data_line, {}}, "field " + f.name + " is a float of " + std::to_string(f.size) +
-                                                      " bytes (PCD floats have 4 or 8)");
+      throw InputError(
+          file, {out.data_line, {}},
+          "field " + f.name + " is a float of " + std::to_string(f.size) + " bytes (PCD floats have 4 or 8)");
     f.offset = out.record;
     out.record += f.size * f.count;
   }
@@ -166,8 +183,9 @@ Layout read_layout(const std::filesystem::path& file, std::string_view bytes) {
     std::uint64_t columns = 0;
     for (const Field& f : fields) columns += f.count;
     if (columns > kMaxLineBytes / 2 + 1)
-      throw InputError(file, {out.data_line, {}}, "the fields' COUNTs add up to " + std::to_string(columns) +
-                                                      " values per point, more than an ascii line can hold");
+      throw InputError(file, {out.data_line, {}},
+                       "the fields' COUNTs add up to " + std::to_string(columns) +
+                           " values per point, more than an ascii line can hold");
   }
   out.points = static_cast<std::uint64_t>(points);
   out.body = cur.offset();
@@ -178,8 +196,9 @@ Layout read_layout(const std::filesystem::path& file, std::string_view bytes) {
                                    : out.data == Data::Binary ? remaining / out.record
                                                               : (remaining / out.record + 1) * 132;
   if (out.points > max_points)
-    throw InputError(file, FileLocation{std::nullopt, out.body},
-                     "the header declares " + std::to_string(out.points) + " points, more than the rest of the file can hold");
+    throw InputError(
+        file, FileLocation{std::nullopt, out.body},
+        "the header declares " + std::to_string(out.points) + " points, more than the rest of the file can hold");
   if (out.data == Data::Binary && out.points * out.record > remaining)
     throw InputError(file, FileLocation{std::nullopt, out.body}, "binary data ends before its points do");
   return out;
@@ -188,7 +207,8 @@ Layout read_layout(const std::filesystem::path& file, std::string_view bytes) {
 CompressedData compressed_data(const std::filesystem::path& file, std::string_view bytes, const Layout& layout) {
   const std::size_t body = layout.body;
   const std::uint64_t remaining = bytes.size() - body;
-  if (remaining < 8) throw InputError(file, FileLocation{std::nullopt, body}, "binary_compressed data has no size header");
+  if (remaining < 8)
+    throw InputError(file, FileLocation{std::nullopt, body}, "binary_compressed data has no size header");
   std::uint32_t packed_size = 0, unpacked_size = 0;
   std::memcpy(&packed_size, bytes.data() + body, 4);
   std::memcpy(&unpacked_size, bytes.data() + body + 4, 4);
@@ -239,7 +259,8 @@ Records::Records(const std::filesystem::path& file, std::string_view bytes, cons
   const auto skip_to = [&](std::uint64_t target) {
     while (decoder.produced() < target) {
       decoder.read(nullptr, std::min<std::uint64_t>(target - decoder.produced(), std::uint64_t{1} << 20));
-      if (consumed && decoder.consumed() - reported >= kReportBytes) reported = decoder.consumed(), consumed(packed_begin_ + reported);
+      if (consumed && decoder.consumed() - reported >= kReportBytes)
+        reported = decoder.consumed(), consumed(packed_begin_ + reported);
     }
   };
   kept_ = kept_fields(layout.roles);
@@ -279,17 +300,20 @@ bool Records::next() {
   std::string_view line;
   for (;;) {
     if (!cursor_->next_line(line))
-      throw InputError(file_, {cursor_->line(), {}},
-                       "file ends after " + std::to_string(read_ - 1) + " of " + std::to_string(layout_.points) + " points");
+      throw InputError(
+          file_, {cursor_->line(), {}},
+          "file ends after " + std::to_string(read_ - 1) + " of " + std::to_string(layout_.points) + " points");
     split_fields(line, tokens_);
     if (!tokens_.empty()) break;
   }
   if (tokens_.size() != values_.size())
-    throw InputError(file_, {cursor_->line(), {}}, "expected " + std::to_string(values_.size()) + " values, found " + std::to_string(tokens_.size()));
+    throw InputError(file_, {cursor_->line(), {}},
+                     "expected " + std::to_string(values_.size()) + " values, found " + std::to_string(tokens_.size()));
   for (std::size_t k = 0; k < values_.size(); ++k)
     if (!parse_double(tokens_[k], values_[k]))
-      throw InputError(file_, {cursor_->line(), {}}, "expected a number in column " + std::to_string(k + 1) + ", found \"" +
-                                                        std::string(tokens_[k].substr(0, 40)) + "\"");
+      throw InputError(file_, {cursor_->line(), {}},
+                       "expected a number in column " + std::to_string(k + 1) + ", found \"" +
+                           std::string(tokens_[k].substr(0, 40)) + "\"");
   return true;
 }
 
@@ -306,12 +330,16 @@ double Records::value(int f) const {
 FileLocation Records::location() const {
   if (layout_.data == Data::Ascii) return {cursor_->line(), std::nullopt};
   if (layout_.data == Data::BinaryCompressed)
-    return {std::nullopt, packed_begin_ + decoders_[static_cast<std::size_t>(slot_[static_cast<std::size_t>(layout_.roles.position[0])])].consumed()};
+    return {
+        std::nullopt,
+        packed_begin_ +
+            decoders_[static_cast<std::size_t>(slot_[static_cast<std::size_t>(layout_.roles.position[0])])].consumed()};
   return {std::nullopt, layout_.body + (read_ - 1) * layout_.record};
 }
 
 std::size_t Records::offset() const {
-  return layout_.data == Data::Ascii ? layout_.body + cursor_->offset() : layout_.body + static_cast<std::size_t>(read_ * layout_.record);
+  return layout_.data == Data::Ascii ? layout_.body + cursor_->offset()
+                                     : layout_.body + static_cast<std::size_t>(read_ * layout_.record);
 }
 
 std::vector<std::pair<std::size_t, std::size_t>> Records::take_read_spans() {

@@ -30,11 +30,11 @@ float to_float(double x) {
   return std::isnan(x) ? std::numeric_limits<float>::quiet_NaN() : static_cast<float>(std::clamp(x, -kMax, kMax));
 }
 
-
 /// Collects the points; `value(f)` gives the first element of field f of the current point.
 class PointSink {
  public:
-  PointSink(const std::vector<Field>& fields, const Roles& roles, std::size_t expected) : fields_(fields), roles_(roles) {
+  PointSink(const std::vector<Field>& fields, const Roles& roles, std::size_t expected)
+      : fields_(fields), roles_(roles) {
     has_normals_ = roles.normals();
     has_rgb_ = roles.packed_rgb >= 0 || std::all_of(roles.rgb, roles.rgb + 3, [](int f) { return f >= 0; });
     pos_.reserve(3 * expected);
@@ -51,11 +51,11 @@ class PointSink {
       for (int k = 0; k < 3; ++k) nrm_.push_back(value(roles_.normal[k]));
     if (has_rgb_) {
       if (roles_.packed_rgb >= 0) {
-        const auto rgb = pcd::packed_color(value(roles_.packed_rgb), fields_[static_cast<std::size_t>(roles_.packed_rgb)]);
+        const auto rgb =
+            pcd::packed_color(value(roles_.packed_rgb), fields_[static_cast<std::size_t>(roles_.packed_rgb)]);
         wide_rgb_.insert(wide_rgb_.end(), rgb.begin(), rgb.end());
       } else {
-        for (int k = 0; k < 3; ++k)
-          wide_rgb_.push_back(pcd::wide_channel(value(roles_.rgb[k])));
+        for (int k = 0; k < 3; ++k) wide_rgb_.push_back(pcd::wide_channel(value(roles_.rgb[k])));
       }
     }
     if (roles_.intensity >= 0) intensity_.push_back(to_float(value(roles_.intensity)));
@@ -70,9 +70,11 @@ class PointSink {
       // 16-bit red/green/blue fields (PDAL writes them) are scaled unless they hold 8-bit values.
       const bool eight_bit = *std::max_element(wide_rgb_.begin(), wide_rgb_.end()) <= 255;
       cloud.colors.resize(n, 3);
-      for (Eigen::Index i = 0; i < 3 * n; ++i) cloud.colors.data()[i] = wide_color_byte(wide_rgb_[static_cast<std::size_t>(i)], eight_bit);
+      for (Eigen::Index i = 0; i < 3 * n; ++i)
+        cloud.colors.data()[i] = wide_color_byte(wide_rgb_[static_cast<std::size_t>(i)], eight_bit);
     }
-    if (roles_.intensity >= 0) cloud.attributes.push_back({"intensity", Eigen::Map<Eigen::VectorXf>(intensity_.data(), n)});
+    if (roles_.intensity >= 0)
+      cloud.attributes.push_back({"intensity", Eigen::Map<Eigen::VectorXf>(intensity_.data(), n)});
     if (roles_.classification >= 0)
       cloud.attributes.push_back({"classification", Eigen::Map<Eigen::VectorXf>(classification_.data(), n)});
   }

@@ -22,11 +22,13 @@ ParsedFile read_ascii(const std::filesystem::path& file, std::string_view bytes,
     if (t.empty()) fail_line(file, cur.line(), "file ends inside " + element_what(e, i) + " (property " + p.name + ")");
     double v;
     if (!parse_double(t, v))
-      fail_line(file, cur.line(), "expected a number for property \"" + p.name + "\" of " + element_what(e, i) +
-                                      ", found \"" + std::string(t.substr(0, 40)) + "\"");
+      fail_line(file, cur.line(),
+                "expected a number for property \"" + p.name + "\" of " + element_what(e, i) + ", found \"" +
+                    std::string(t.substr(0, 40)) + "\"");
     if (is_integer_type(p.type) && (!std::isfinite(v) || v != std::floor(v)))
-      fail_line(file, cur.line(), "expected an integer for property \"" + p.name + "\" of " + element_what(e, i) +
-                                      ", found \"" + std::string(t.substr(0, 40)) + "\"");
+      fail_line(file, cur.line(),
+                "expected an integer for property \"" + p.name + "\" of " + element_what(e, i) + ", found \"" +
+                    std::string(t.substr(0, 40)) + "\"");
     return v;
   };
   auto list_length = [&](const Element& e, std::uint64_t i, const Property& p) {
@@ -34,8 +36,9 @@ ParsedFile read_ascii(const std::filesystem::path& file, std::string_view bytes,
     if (t.empty()) fail_line(file, cur.line(), "file ends inside " + element_what(e, i));
     std::int64_t c;
     if (!parse_int(t, c) || c < 0)
-      fail_line(file, cur.line(), "expected a list length for \"" + p.name + "\" of " + element_what(e, i) +
-                                      ", found \"" + std::string(t.substr(0, 40)) + "\"");
+      fail_line(file, cur.line(),
+                "expected a list length for \"" + p.name + "\" of " + element_what(e, i) + ", found \"" +
+                    std::string(t.substr(0, 40)) + "\"");
     if (c > 1'000'000) fail_line(file, cur.line(), "list length " + std::to_string(c) + " is implausible");
     return c;
   };
@@ -69,15 +72,17 @@ ParsedFile read_ascii(const std::filesystem::path& file, std::string_view bytes,
           if (static_cast<int>(k) == face_prop) {
             // Integral but beyond any vertex count (and beyond int64: the cast would be undefined).
             if (!(std::abs(v) <= 1e18))
-              fail_line(file, cur.line(), "face refers to vertex " + std::string(last_token) + " but there are " +
-                                              std::to_string(vertex_count) + " vertices");
+              fail_line(file, cur.line(),
+                        "face refers to vertex " + std::string(last_token) + " but there are " +
+                            std::to_string(vertex_count) + " vertices");
             faces.poly.push_back(static_cast<std::int64_t>(v));
           }
         }
       }
       if (vertices)
-        vertices->fill(static_cast<Eigen::Index>(i), [&](int k) { return values[static_cast<std::size_t>(k)]; },
-                       FileLocation{record_line, std::nullopt});
+        vertices->fill(
+            static_cast<Eigen::Index>(i), [&](int k) { return values[static_cast<std::size_t>(k)]; },
+            FileLocation{record_line, std::nullopt});
       if (face_prop >= 0) faces.emit(vertex_count, file, FileLocation{record_line, std::nullopt});
     }
   }

@@ -21,8 +21,9 @@ ParsedFile read_binary(const std::filesystem::path& file, std::string_view bytes
 
   auto need = [&](std::size_t n, const Element& e, std::uint64_t i) {
     if (n > size - off)
-      fail_byte(file, off, "file ends inside " + element_what(e, i) + " (needs " + std::to_string(n) +
-                               " more bytes, " + std::to_string(size - off) + " left)");
+      fail_byte(file, off,
+                "file ends inside " + element_what(e, i) + " (needs " + std::to_string(n) + " more bytes, " +
+                    std::to_string(size - off) + " left)");
   };
 
   for (const Element& e : h.elements) {
@@ -49,11 +50,14 @@ ParsedFile read_binary(const std::filesystem::path& file, std::string_view bytes
         if (!fixed) {
           record = 0;
           for (std::size_t k = 0; k < e.properties.size(); ++k) {
-            need(record + scalar_size(e.properties[k].is_list ? e.properties[k].count_type : e.properties[k].type), e, static_cast<std::uint64_t>(i));
+            need(record + scalar_size(e.properties[k].is_list ? e.properties[k].count_type : e.properties[k].type), e,
+                 static_cast<std::uint64_t>(i));
             offsets[k] = record;
             if (e.properties[k].is_list) {
               const double c = load_scalar(base + off + record, e.properties[k].count_type, swap);
-              if (c < 0) fail_byte(file, off + record, "negative list length in " + element_what(e, static_cast<std::uint64_t>(i)));
+              if (c < 0)
+                fail_byte(file, off + record,
+                          "negative list length in " + element_what(e, static_cast<std::uint64_t>(i)));
               record += scalar_size(e.properties[k].count_type) +
                         static_cast<std::size_t>(c) * scalar_size(e.properties[k].type);
             } else {
@@ -63,7 +67,8 @@ ParsedFile read_binary(const std::filesystem::path& file, std::string_view bytes
         }
         need(record, e, static_cast<std::uint64_t>(i));
         const char* rec = base + off;
-        vertices.fill(i, [&](int k) { return get(rec, k); }, FileLocation{std::nullopt, off});
+        vertices.fill(
+            i, [&](int k) { return get(rec, k); }, FileLocation{std::nullopt, off});
         off += record;
       }
       continue;
@@ -73,8 +78,7 @@ ParsedFile read_binary(const std::filesystem::path& file, std::string_view bytes
     if (!e.has_lists()) {
       const std::uint64_t rec = e.min_binary_record();
       if (rec != 0 && e.count > (size - off) / rec)
-        fail_byte(file, off + ((size - off) / rec) * rec,
-                  "file ends inside " + element_what(e, (size - off) / rec));
+        fail_byte(file, off + ((size - off) / rec) * rec, "file ends inside " + element_what(e, (size - off) / rec));
       off += rec * e.count;
       continue;
     }
@@ -96,7 +100,8 @@ ParsedFile read_binary(const std::filesystem::path& file, std::string_view bytes
         if (static_cast<int>(k) == face_prop) {
           faces.poly.clear();
           for (std::size_t j = 0; j < items; ++j)
-            faces.poly.push_back(static_cast<std::int64_t>(load_scalar(base + off + j * scalar_size(p.type), p.type, swap)));
+            faces.poly.push_back(
+                static_cast<std::int64_t>(load_scalar(base + off + j * scalar_size(p.type), p.type, swap)));
         }
         off += items * scalar_size(p.type);
       }
@@ -107,7 +112,9 @@ ParsedFile read_binary(const std::filesystem::path& file, std::string_view bytes
     bool blank = true;
     for (std::size_t k = off; k < size; ++k) blank = blank && (is_space(base[k]) || base[k] == '\n' || base[k] == '\0');
     if (!blank)
-      fail_byte(file, off, std::to_string(size - off) + " unexpected bytes after the last element (counts in the header too small?)");
+      fail_byte(
+          file, off,
+          std::to_string(size - off) + " unexpected bytes after the last element (counts in the header too small?)");
   }
   finish(file, seen_vertex, want_faces, faces, out);
   return out;

@@ -10,8 +10,8 @@
 
 #include <array>
 #include <bit>
-#include <cstring>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -26,13 +26,17 @@ enum class Scalar : std::uint8_t { Int8, UInt8, Int16, UInt16, Int32, UInt32, Fl
 inline constexpr std::size_t scalar_size(Scalar s) {
   switch (s) {
     case Scalar::Int8:
-    case Scalar::UInt8: return 1;
+    case Scalar::UInt8:
+      return 1;
     case Scalar::Int16:
-    case Scalar::UInt16: return 2;
+    case Scalar::UInt16:
+      return 2;
     case Scalar::Int32:
     case Scalar::UInt32:
-    case Scalar::Float32: return 4;
-    case Scalar::Float64: return 8;
+    case Scalar::Float32:
+      return 4;
+    case Scalar::Float64:
+      return 8;
   }
   return 0;
 }
@@ -145,18 +149,25 @@ inline T load(const char* p, bool swap) {
 
 inline double load_scalar(const char* p, Scalar s, bool swap) {
   switch (s) {
-    case Scalar::Int8: return static_cast<std::int8_t>(*p);
-    case Scalar::UInt8: return static_cast<std::uint8_t>(*p);
-    case Scalar::Int16: return load<std::int16_t>(p, swap);
-    case Scalar::UInt16: return load<std::uint16_t>(p, swap);
-    case Scalar::Int32: return load<std::int32_t>(p, swap);
-    case Scalar::UInt32: return load<std::uint32_t>(p, swap);
-    case Scalar::Float32: return load<float>(p, swap);
-    case Scalar::Float64: return load<double>(p, swap);
+    case Scalar::Int8:
+      return static_cast<std::int8_t>(*p);
+    case Scalar::UInt8:
+      return static_cast<std::uint8_t>(*p);
+    case Scalar::Int16:
+      return load<std::int16_t>(p, swap);
+    case Scalar::UInt16:
+      return load<std::uint16_t>(p, swap);
+    case Scalar::Int32:
+      return load<std::int32_t>(p, swap);
+    case Scalar::UInt32:
+      return load<std::uint32_t>(p, swap);
+    case Scalar::Float32:
+      return load<float>(p, swap);
+    case Scalar::Float64:
+      return load<double>(p, swap);
   }
   return 0;
 }
-
 
 /// The vertex element's records into out.cloud: the positions, and the normals and colors when
 /// the element has them, sized once; fill() stores one record from its property values.

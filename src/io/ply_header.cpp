@@ -33,8 +33,7 @@ Header parse_header(const std::filesystem::path& file, std::string_view bytes) {
     return true;
   };
   std::string_view line;
-  if (!next_line(line) || line != "ply")
-    fail_line(file, 1, "not a PLY file: expected the first line to be \"ply\"");
+  if (!next_line(line) || line != "ply") fail_line(file, 1, "not a PLY file: expected the first line to be \"ply\"");
   for (;;) {
     if (!next_line(line))
       fail_line(file, line_no + 1, "PLY header has no \"end_header\" line (file truncated or not PLY)");
@@ -48,12 +47,18 @@ Header parse_header(const std::filesystem::path& file, std::string_view bytes) {
     const std::string_view kw = tok[0];
     if (kw == "end_header") break;
     if (kw == "format") {
-      if (tok.size() != 3) fail_line(file, line_no, "expected \"format <ascii|binary_little_endian|binary_big_endian> 1.0\"");
-      if (tok[1] == "ascii") header.encoding = Encoding::Ascii;
-      else if (tok[1] == "binary_little_endian") header.encoding = Encoding::BinaryLittle;
-      else if (tok[1] == "binary_big_endian") header.encoding = Encoding::BinaryBig;
-      else fail_line(file, line_no, "unknown PLY format \"" + std::string(tok[1]) + "\"");
-      if (tok[2] != "1.0") fail_line(file, line_no, "unsupported PLY version \"" + std::string(tok[2]) + "\" (expected 1.0)");
+      if (tok.size() != 3)
+        fail_line(file, line_no, "expected \"format <ascii|binary_little_endian|binary_big_endian> 1.0\"");
+      if (tok[1] == "ascii")
+        header.encoding = Encoding::Ascii;
+      else if (tok[1] == "binary_little_endian")
+        header.encoding = Encoding::BinaryLittle;
+      else if (tok[1] == "binary_big_endian")
+        header.encoding = Encoding::BinaryBig;
+      else
+        fail_line(file, line_no, "unknown PLY format \"" + std::string(tok[1]) + "\"");
+      if (tok[2] != "1.0")
+        fail_line(file, line_no, "unsupported PLY version \"" + std::string(tok[2]) + "\" (expected 1.0)");
       have_format = true;
     } else if (kw == "element") {
       std::int64_t count = 0;
@@ -103,11 +108,10 @@ void check_counts(const std::filesystem::path& file, const Header& h, std::strin
     const std::uint64_t per = ascii ? 2 * e.properties.size() : e.min_binary_record();
     const std::uint64_t left = available - std::min(need, available);
     if (per != 0 && e.count > left / per) {
-      const std::string claim = "the header (line " + std::to_string(e.header_line) + ") claims " +
-                                std::to_string(e.count) + " " + e.name + " records of " +
-                                (ascii || e.has_lists() ? "at least " : "") + std::to_string(per) + " bytes" +
-                                (ascii ? " as text" : "") + " but only " + std::to_string(available) +
-                                " bytes of data follow the header";
+      const std::string claim =
+          "the header (line " + std::to_string(e.header_line) + ") claims " + std::to_string(e.count) + " " + e.name +
+          " records of " + (ascii || e.has_lists() ? "at least " : "") + std::to_string(per) + " bytes" +
+          (ascii ? " as text" : "") + " but only " + std::to_string(available) + " bytes of data follow the header";
       if (!ascii && exact && !e.has_lists()) {
         const std::uint64_t complete = left / per;
         fail_byte(file, h.data_offset + need + complete * per,

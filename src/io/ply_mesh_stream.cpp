@@ -6,10 +6,15 @@
 
 namespace clustersurf::io {
 
-PlyMeshStream::PlyMeshStream(const std::filesystem::path& file, std::uint64_t vertices, std::uint64_t triangles, bool normals,
-                             bool colors, const Eigen::Vector3d& origin, UpAxis up)
-    : out_(file), vertices_(vertices), triangles_(triangles), normals_(normals && vertices > 0), colors_(colors && vertices > 0),
-      double_(!origin.isZero()), origin_(origin) {
+PlyMeshStream::PlyMeshStream(const std::filesystem::path& file, std::uint64_t vertices, std::uint64_t triangles,
+                             bool normals, bool colors, const Eigen::Vector3d& origin, UpAxis up)
+    : out_(file),
+      vertices_(vertices),
+      triangles_(triangles),
+      normals_(normals && vertices > 0),
+      colors_(colors && vertices > 0),
+      double_(!origin.isZero()),
+      origin_(origin) {
   out_.write(ply_header(vertices, triangles, true, double_, normals_, colors_, {}, up));
   buffer_.reserve(1 << 20);
 }
@@ -29,8 +34,10 @@ void PlyMeshStream::add_vertices(const Points& positions, const Points& normals,
     buffer_.insert(buffer_.end(), p, p + sizeof(value));
   };
   const auto put_real = [&](double x) {
-    if (double_) put(x);
-    else put(static_cast<float>(x));
+    if (double_)
+      put(x);
+    else
+      put(static_cast<float>(x));
   };
   for (Eigen::Index i = 0; i < positions.rows(); ++i) {
     for (int k = 0; k < 3; ++k) put_real(origin_(k) == 0 ? positions(i, k) : positions(i, k) + origin_(k));
@@ -60,8 +67,9 @@ void PlyMeshStream::add_triangles(const Triangles& triangles) {
 
 void PlyMeshStream::commit() {
   if (vertices_written_ != vertices_ || triangles_written_ != triangles_)
-    throw IoError("PLY stream: " + std::to_string(vertices_written_) + " of " + std::to_string(vertices_) + " vertices and " +
-                  std::to_string(triangles_written_) + " of " + std::to_string(triangles_) + " triangles written");
+    throw IoError("PLY stream: " + std::to_string(vertices_written_) + " of " + std::to_string(vertices_) +
+                  " vertices and " + std::to_string(triangles_written_) + " of " + std::to_string(triangles_) +
+                  " triangles written");
   out_.write(buffer_.data(), buffer_.size());
   out_.commit();
 }

@@ -25,8 +25,8 @@ std::string ply_header(std::uint64_t vertices, std::optional<std::uint64_t> face
 /// commit(), which checks that the counts were met.
 class PlyMeshStream {
  public:
-  PlyMeshStream(const std::filesystem::path& file, std::uint64_t vertices, std::uint64_t triangles, bool normals, bool colors,
-                const Eigen::Vector3d& origin, UpAxis up);
+  PlyMeshStream(const std::filesystem::path& file, std::uint64_t vertices, std::uint64_t triangles, bool normals,
+                bool colors, const Eigen::Vector3d& origin, UpAxis up);
   /// Appends the rows of `positions` (relative to the origin), with their normals and colors
   /// when the stream has them.
   void add_vertices(const Points& positions, const Points& normals, const Colors& colors);

@@ -10,10 +10,16 @@ std::uint8_t to_color(double v, Scalar type) {
   double c;
   switch (type) {
     case Scalar::Float32:
-    case Scalar::Float64: c = v * 255.0; break;
+    case Scalar::Float64:
+      c = v * 255.0;
+      break;
     case Scalar::UInt16:
-    case Scalar::Int16: c = v / 257.0; break;
-    default: c = v; break;
+    case Scalar::Int16:
+      c = v / 257.0;
+      break;
+    default:
+      c = v;
+      break;
   }
   if (!(c > 0)) return 0;  // also NaN
   if (c >= 255) return 255;
@@ -30,15 +36,17 @@ VertexLayout vertex_layout(const std::filesystem::path& file, const Element& v) 
            v.find({"blue", "b", "diffuse_blue"})};
   for (int idx : {l.pos[0], l.pos[1], l.pos[2], l.nrm[0], l.nrm[1], l.nrm[2], l.rgb[0], l.rgb[1], l.rgb[2]})
     if (idx >= 0 && v.properties[static_cast<std::size_t>(idx)].is_list)
-      fail_line(file, v.header_line, "vertex property \"" + v.properties[static_cast<std::size_t>(idx)].name +
-                                         "\" is a list; expected a scalar");
+      fail_line(
+          file, v.header_line,
+          "vertex property \"" + v.properties[static_cast<std::size_t>(idx)].name + "\" is a list; expected a scalar");
   return l;
 }
 
 VertexRecords::VertexRecords(const std::filesystem::path& file, const Element& vertex, ParsedFile& out)
     : element_(vertex), layout_(vertex_layout(file, vertex)), out_(out) {
   if (vertex.count > static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max()))
-    fail_line(file, vertex.header_line, "too many vertices (" + std::to_string(vertex.count) + "); at most 2^31-1 supported");
+    fail_line(file, vertex.header_line,
+              "too many vertices (" + std::to_string(vertex.count) + "); at most 2^31-1 supported");
   const auto n = static_cast<Eigen::Index>(vertex.count);
   out.cloud.positions.resize(n, 3);
   if (layout_.normals()) out.cloud.normals.resize(n, 3);
@@ -53,8 +61,9 @@ void FaceSink::emit(std::int64_t vertex_count, const std::filesystem::path& file
   if (poly.size() < 3) return;  // points and edges carry no triangles
   for (auto i : poly)
     if (i < 0 || i >= vertex_count)
-      throw InputError(file, where, "face refers to vertex " + std::to_string(i) + " but there are " +
-                                        std::to_string(vertex_count) + " vertices");
+      throw InputError(file, where,
+                       "face refers to vertex " + std::to_string(i) + " but there are " + std::to_string(vertex_count) +
+                           " vertices");
   for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
     tri.push_back(static_cast<std::int32_t>(poly[0]));
     tri.push_back(static_cast<std::int32_t>(poly[k]));
@@ -64,7 +73,8 @@ void FaceSink::emit(std::int64_t vertex_count, const std::filesystem::path& file
 
 void finish(const std::filesystem::path& file, bool seen_vertex, bool want_faces, FaceSink& faces, ParsedFile& out) {
   if (!seen_vertex) fail_line(file, 1, "PLY file has no \"vertex\" element");
-  if (want_faces) out.triangles = Eigen::Map<Triangles>(faces.tri.data(), static_cast<Eigen::Index>(faces.tri.size() / 3), 3);
+  if (want_faces)
+    out.triangles = Eigen::Map<Triangles>(faces.tri.data(), static_cast<Eigen::Index>(faces.tri.size() / 3), 3);
 }
 
 }  // namespace clustersurf::io::ply

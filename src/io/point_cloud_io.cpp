@@ -21,7 +21,8 @@ namespace {
 
 std::string lower_extension(const std::filesystem::path& file) {
   std::string ext = file.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return ext;
 }
 
@@ -37,8 +38,9 @@ void check_finite(const std::filesystem::path& file, io::ParsedFile& parsed, con
     const bool ok = c.positions.row(i).allFinite() && (!c.has_normals() || c.normals.row(i).allFinite());
     if (!ok && !options.drop_non_finite)
       throw InputError(file, parsed.first_non_finite.value_or(FileLocation{}),
-                       "point " + std::to_string(i) + " (0-based) has a non-finite coordinate or normal "
-                       "(NaN or Inf); use the option to drop such points");
+                       "point " + std::to_string(i) +
+                           " (0-based) has a non-finite coordinate or normal "
+                           "(NaN or Inf); use the option to drop such points");
     if (ok) keep.push_back(i);
   }
   const auto m = static_cast<Eigen::Index>(keep.size());
@@ -54,16 +56,26 @@ void check_finite(const std::filesystem::path& file, io::ParsedFile& parsed, con
 
 const char* format_name(FileFormat format) {
   switch (format) {
-    case FileFormat::Ply: return "PLY";
-    case FileFormat::Xyz: return "XYZ";
-    case FileFormat::Obj: return "OBJ";
-    case FileFormat::Las: return "LAS";
-    case FileFormat::E57: return "E57";
-    case FileFormat::Ptx: return "PTX";
-    case FileFormat::Pcd: return "PCD";
-    case FileFormat::Off: return "OFF";
-    case FileFormat::Stl: return "STL";
-    case FileFormat::Glb: return "glTF";
+    case FileFormat::Ply:
+      return "PLY";
+    case FileFormat::Xyz:
+      return "XYZ";
+    case FileFormat::Obj:
+      return "OBJ";
+    case FileFormat::Las:
+      return "LAS";
+    case FileFormat::E57:
+      return "E57";
+    case FileFormat::Ptx:
+      return "PTX";
+    case FileFormat::Pcd:
+      return "PCD";
+    case FileFormat::Off:
+      return "OFF";
+    case FileFormat::Stl:
+      return "STL";
+    case FileFormat::Glb:
+      return "glTF";
   }
   return "?";
 }
@@ -74,23 +86,39 @@ io::ParsedFile parse(std::string_view bytes, FileFormat format, const std::files
   format = format_from_magic(bytes).value_or(format);
   const bool holds_faces = format == FileFormat::Ply || format == FileFormat::Obj;
   if (want_faces && !holds_faces)
-    throw InputError(file, {}, std::string("cannot read a mesh from a ") + format_name(format) +
-                                   " file (meshes are read from .ply or .obj)");
+    throw InputError(
+        file, {},
+        std::string("cannot read a mesh from a ") + format_name(format) + " file (meshes are read from .ply or .obj)");
   io::ParsedFile parsed;
   switch (format) {
-    case FileFormat::Ply: parsed = io::read_ply(file, bytes, want_faces); break;
-    case FileFormat::Obj: parsed = io::read_obj(file, bytes, want_faces); break;
-    case FileFormat::Xyz: parsed = io::read_xyz(file, bytes); break;
-    case FileFormat::Las: parsed = io::read_las(file, bytes); break;
-    case FileFormat::E57: parsed = io::read_e57(file, bytes); break;
-    case FileFormat::Ptx: parsed = io::read_ptx(file, bytes); break;
-    case FileFormat::Pcd: parsed = io::read_pcd(file, bytes); break;
+    case FileFormat::Ply:
+      parsed = io::read_ply(file, bytes, want_faces);
+      break;
+    case FileFormat::Obj:
+      parsed = io::read_obj(file, bytes, want_faces);
+      break;
+    case FileFormat::Xyz:
+      parsed = io::read_xyz(file, bytes);
+      break;
+    case FileFormat::Las:
+      parsed = io::read_las(file, bytes);
+      break;
+    case FileFormat::E57:
+      parsed = io::read_e57(file, bytes);
+      break;
+    case FileFormat::Ptx:
+      parsed = io::read_ptx(file, bytes);
+      break;
+    case FileFormat::Pcd:
+      parsed = io::read_pcd(file, bytes);
+      break;
     case FileFormat::Off:
     case FileFormat::Stl:
     case FileFormat::Glb:
-      throw InputError(file, {}, std::string("cannot read ") + format_name(format) +
-                                     " files: clustersurf writes them (read clouds from .ply, .xyz, .obj, "
-                                     ".las, .e57, .ptx or .pcd)");
+      throw InputError(file, {},
+                       std::string("cannot read ") + format_name(format) +
+                           " files: clustersurf writes them (read clouds from .ply, .xyz, .obj, "
+                           ".las, .e57, .ptx or .pcd)");
   }
   // Georeferenced surveys are z-up by convention.
   if (format == FileFormat::Las || format == FileFormat::E57 || format == FileFormat::Ptx) parsed.cloud.up = UpAxis::Z;
@@ -104,7 +132,8 @@ io::ParsedFile read(const std::filesystem::path& file, const ReadOptions& option
   const std::string_view bytes = mapped.view();
   // The signature decides before the extension (a PLY file named .xyz is still read), and an
   // empty file is reported as such whatever its name.
-  const FileFormat format = bytes.empty() ? FileFormat::Ply : format_from_magic(bytes).value_or(format_from_extension(file));
+  const FileFormat format =
+      bytes.empty() ? FileFormat::Ply : format_from_magic(bytes).value_or(format_from_extension(file));
   return parse(bytes, format, file, options, want_faces);
 }
 
@@ -135,7 +164,8 @@ void orient_faces_by_normals(TriangleMesh& mesh) {
   for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
     const auto tri = mesh.triangles.row(t);
     const Eigen::Vector3d a = mesh.vertices.row(tri(0)), b = mesh.vertices.row(tri(1)), c = mesh.vertices.row(tri(2));
-    const Eigen::Vector3d n = (mesh.normals.row(tri(0)) + mesh.normals.row(tri(1)) + mesh.normals.row(tri(2))).transpose();
+    const Eigen::Vector3d n =
+        (mesh.normals.row(tri(0)) + mesh.normals.row(tri(1)) + mesh.normals.row(tri(2))).transpose();
     if ((b - a).cross(c - a).dot(n) < 0) std::swap(mesh.triangles(t, 1), mesh.triangles(t, 2));
   }
 }
@@ -149,15 +179,17 @@ FileFormat format_from_extension(const std::filesystem::path& file) {
   if (ext == ".obj") return FileFormat::Obj;
   if (ext == ".las") return FileFormat::Las;
   if (ext == ".laz")
-    throw InputError(file, {}, "LAZ (compressed LAS) is not supported: decompress it to .las first (e.g. laszip or PDAL)");
+    throw InputError(file, {},
+                     "LAZ (compressed LAS) is not supported: decompress it to .las first (e.g. laszip or PDAL)");
   if (ext == ".e57") return FileFormat::E57;
   if (ext == ".ptx") return FileFormat::Ptx;
   if (ext == ".pcd") return FileFormat::Pcd;
   if (ext == ".off") return FileFormat::Off;
   if (ext == ".stl") return FileFormat::Stl;
   if (ext == ".glb") return FileFormat::Glb;
-  throw InputError(file, {}, "unknown file format \"" + ext +
-                                 "\" (expected .ply, .xyz, .pts, .txt, .csv, .obj, .las, .e57, .ptx, .pcd, .off, .stl or .glb)");
+  throw InputError(file, {},
+                   "unknown file format \"" + ext +
+                       "\" (expected .ply, .xyz, .pts, .txt, .csv, .obj, .las, .e57, .ptx, .pcd, .off, .stl or .glb)");
 }
 
 std::optional<FileFormat> format_from_magic(std::string_view bytes) {
@@ -179,8 +211,10 @@ Points vertex_normals(const TriangleMesh& mesh) {
   }
   for (Eigen::Index v = 0; v < normals.rows(); ++v) {
     const double norm = normals.row(v).norm();
-    if (norm > 0 && std::isfinite(norm)) normals.row(v) /= norm;
-    else normals.row(v).setZero();
+    if (norm > 0 && std::isfinite(norm))
+      normals.row(v) /= norm;
+    else
+      normals.row(v).setZero();
   }
   return normals;
 }
@@ -188,7 +222,8 @@ Points vertex_normals(const TriangleMesh& mesh) {
 PointCloud read_point_cloud(const std::filesystem::path& file, const ReadOptions& options) {
   const io::MappedFile mapped(file);
   const std::string_view bytes = mapped.view();
-  const FileFormat format = bytes.empty() ? FileFormat::Ply : format_from_magic(bytes).value_or(format_from_extension(file));
+  const FileFormat format =
+      bytes.empty() ? FileFormat::Ply : format_from_magic(bytes).value_or(format_from_extension(file));
   return parse_point_cloud(bytes, format, file, options);
 }
 
@@ -223,9 +258,10 @@ PointCloud parse_point_cloud(std::string_view bytes, FileFormat format, const st
       sampling.count = options.mesh_samples;
       PointCloud samples = sample_surface(mesh, sampling);
       if (options.warn)
-        options.warn(fmt::format("{}: a mesh of {} vertices, read as {} points drawn uniformly on its {} faces: its "
-                                 "vertices alone sample it too coarsely (0 mesh samples reads them)",
-                                 name.string(), mesh.vertices.rows(), options.mesh_samples, mesh.triangles.rows()));
+        options.warn(
+            fmt::format("{}: a mesh of {} vertices, read as {} points drawn uniformly on its {} faces: its "
+                        "vertices alone sample it too coarsely (0 mesh samples reads them)",
+                        name.string(), mesh.vertices.rows(), options.mesh_samples, mesh.triangles.rows()));
       return samples;
     } catch (const OptionError&) {
       // No face of positive area: the vertices are all there is.
@@ -246,8 +282,12 @@ TriangleMesh parse_triangle_mesh(std::string_view bytes, FileFormat format, cons
 void write_point_cloud(const std::filesystem::path& file, const PointCloud& cloud, const PlyWriteOptions& ply) {
   const FileFormat format = format_from_extension(file);
   switch (format) {
-    case FileFormat::Ply: write_ply(file, cloud, ply); return;
-    case FileFormat::Xyz: write_xyz(file, cloud); return;
+    case FileFormat::Ply:
+      write_ply(file, cloud, ply);
+      return;
+    case FileFormat::Xyz:
+      write_xyz(file, cloud);
+      return;
     case FileFormat::Obj: {
       TriangleMesh m;
       m.vertices = cloud.positions;
@@ -266,11 +306,21 @@ void write_point_cloud(const std::filesystem::path& file, const PointCloud& clou
 void write_triangle_mesh(const std::filesystem::path& file, const TriangleMesh& mesh, const PlyWriteOptions& ply) {
   const FileFormat format = format_from_extension(file);
   switch (format) {
-    case FileFormat::Ply: write_ply(file, mesh, ply); return;
-    case FileFormat::Obj: write_obj(file, mesh); return;
-    case FileFormat::Off: write_off(file, mesh); return;
-    case FileFormat::Stl: write_stl(file, mesh); return;
-    case FileFormat::Glb: write_glb(file, mesh); return;
+    case FileFormat::Ply:
+      write_ply(file, mesh, ply);
+      return;
+    case FileFormat::Obj:
+      write_obj(file, mesh);
+      return;
+    case FileFormat::Off:
+      write_off(file, mesh);
+      return;
+    case FileFormat::Stl:
+      write_stl(file, mesh);
+      return;
+    case FileFormat::Glb:
+      write_glb(file, mesh);
+      return;
     default:
       throw OptionError(file.string() + ": cannot write a mesh as " + format_name(format) +
                         " (use .ply, .obj, .off, .stl or .glb)");

@@ -43,20 +43,26 @@ std::optional<PlyPoints> ply_points(const std::filesystem::path& file, std::stri
     if (e.name == "face" && e.count > 0) return std::nullopt;  // a mesh: read_point_cloud() decides
     if (vertex != nullptr) continue;
     if (e.has_lists()) return std::nullopt;
-    if (e.name == "vertex") vertex = &e;
-    else out.begin += static_cast<std::size_t>(e.min_binary_record() * e.count);
+    if (e.name == "vertex")
+      vertex = &e;
+    else
+      out.begin += static_cast<std::size_t>(e.min_binary_record() * e.count);
   }
   if (vertex == nullptr) return std::nullopt;
   out.vertex = *vertex;
   out.layout = io::ply::vertex_layout(file, *vertex);
-  for (const io::ply::Property& p : vertex->properties) out.offsets.push_back(out.record), out.record += io::ply::scalar_size(p.type);
+  for (const io::ply::Property& p : vertex->properties)
+    out.offsets.push_back(out.record), out.record += io::ply::scalar_size(p.type);
   out.swap = (h.encoding == io::ply::Encoding::BinaryBig) != (std::endian::native == std::endian::big);
   return out;
 }
 
 /// The error for point `index` (0-based), found at `where`, that has `what` (a non-finite value).
-InputError non_finite_point(const std::filesystem::path& file, const FileLocation& where, std::uint64_t index, const std::string& what) {
-  return InputError(file, where, "point " + std::to_string(index) + " (0-based) has " + what + "; use the option to drop such points");
+InputError non_finite_point(const std::filesystem::path& file, const FileLocation& where, std::uint64_t index,
+                            const std::string& what) {
+  return InputError(
+      file, where,
+      "point " + std::to_string(index) + " (0-based) has " + what + "; use the option to drop such points");
 }
 
 }  // namespace
@@ -74,9 +80,9 @@ struct PointStream::Impl {
   std::optional<io::pcd::Records> pcd;
   std::uint64_t text_points = 0;  // points of an XYZ or PTX file, counted when opened
   bool xyz_normals = false;
-  bool ptx_colored = false;    // PTX: the points have colors
-  bool colors = false;         // blocks carry colors
-  bool eight_bit = false;      // LAS, PCD red, green, blue: every color is at most 255 (read as it is)
+  bool ptx_colored = false;  // PTX: the points have colors
+  bool colors = false;       // blocks carry colors
+  bool eight_bit = false;    // LAS, PCD red, green, blue: every color is at most 255 (read as it is)
   std::size_t released = 0;  // bytes of a text or PCD file given back to the system
   bool failed = false;       // a read threw: the text parser is past the point it refused
   std::uint64_t points = 0;  // E57: valid points decoded so far (for messages)
@@ -85,10 +91,10 @@ struct PointStream::Impl {
   std::uint64_t next = 0;
 
   std::uint64_t size() const {
-    return ply ? ply->vertex.count
-           : las ? las->count
-           : e57 ? e57->records()
-           : pcd ? pcd_layout->points
+    return ply          ? ply->vertex.count
+           : las        ? las->count
+           : e57        ? e57->records()
+           : pcd        ? pcd_layout->points
            : xyz || ptx ? text_points
                         : static_cast<std::uint64_t>(whole.size());
   }
@@ -98,8 +104,10 @@ struct PointStream::Impl {
   void open_text();
   /// Back to the text file's first point.
   void restart_text() {
-    if (xyz) xyz.emplace(file, mapped->view());
-    else ptx.emplace(file, mapped->view());
+    if (xyz)
+      xyz.emplace(file, mapped->view());
+    else
+      ptx.emplace(file, mapped->view());
   }
   /// The next `n` XYZ points into `block`.
   void read_xyz(Eigen::Index n, PointCloud& block);
@@ -177,7 +185,8 @@ std::uint16_t PointStream::Impl::pcd_color_maximum() {
   const io::pcd::Roles& r = pcd_layout->roles;
   std::uint16_t top = 0;
   while (pcd->next()) {
-    if (std::isnan(pcd->value(r.position[0])) || std::isnan(pcd->value(r.position[1])) || std::isnan(pcd->value(r.position[2])))
+    if (std::isnan(pcd->value(r.position[0])) || std::isnan(pcd->value(r.position[1])) ||
+        std::isnan(pcd->value(r.position[2])))
       continue;  // no point
     for (int k = 0; k < 3; ++k) top = std::max(top, io::pcd::wide_channel(pcd->value(r.rgb[k])));
   }
@@ -192,7 +201,8 @@ void PointStream::Impl::read_xyz(Eigen::Index n, PointCloud& block) {
   std::array<double, 7> v{};
   Eigen::Index kept = 0;
   for (Eigen::Index i = 0; i < n && xyz->next(v) != 0; ++i) {
-    const bool finite = std::all_of(v.begin(), v.begin() + (xyz_normals ? 6 : 3), [](double x) { return std::isfinite(x); });
+    const bool finite =
+        std::all_of(v.begin(), v.begin() + (xyz_normals ? 6 : 3), [](double x) { return std::isfinite(x); });
     if (!finite) {
       if (options.drop_non_finite) continue;
       throw non_finite_point(file, {xyz->line(), std::nullopt}, next + static_cast<std::uint64_t>(i),
@@ -238,12 +248,14 @@ void PointStream::Impl::read_las(Eigen::Index n, PointCloud& block) {
     if (x.allFinite()) {
       if (colors) {
         const std::array<std::uint16_t, 3> c = las->color(bytes, record);
-        for (int k = 0; k < 3; ++k) block.colors(kept, k) = io::wide_color_byte(c[static_cast<std::size_t>(k)], eight_bit);
+        for (int k = 0; k < 3; ++k)
+          block.colors(kept, k) = io::wide_color_byte(c[static_cast<std::size_t>(k)], eight_bit);
       }
       block.positions.row(kept++) = x.transpose();
     } else if (!options.drop_non_finite)
-      throw InputError(file, FileLocation{std::nullopt, las->first + record * las->record},
-                       "point " + std::to_string(record) + ": its coordinates overflow (integer times the header's scale)");
+      throw InputError(
+          file, FileLocation{std::nullopt, las->first + record * las->record},
+          "point " + std::to_string(record) + ": its coordinates overflow (integer times the header's scale)");
   }
   block.positions.conservativeResize(kept, 3);
   if (colors) block.colors.conservativeResize(kept, 3);
@@ -300,10 +312,12 @@ void PointStream::Impl::read_pcd(Eigen::Index n, PointCloud& block) {
     block.positions.row(kept) = p.transpose();
     if (normals) block.normals.row(kept) = q.transpose();
     if (colors && roles.packed_rgb >= 0) {
-      const auto rgb = io::pcd::packed_color(pcd->value(roles.packed_rgb), pcd_layout->fields[static_cast<std::size_t>(roles.packed_rgb)]);
+      const auto rgb = io::pcd::packed_color(pcd->value(roles.packed_rgb),
+                                             pcd_layout->fields[static_cast<std::size_t>(roles.packed_rgb)]);
       for (int k = 0; k < 3; ++k) block.colors(kept, k) = rgb[static_cast<std::size_t>(k)];
     } else if (colors) {
-      for (int k = 0; k < 3; ++k) block.colors(kept, k) = io::wide_color_byte(io::pcd::wide_channel(pcd->value(roles.rgb[k])), eight_bit);
+      for (int k = 0; k < 3; ++k)
+        block.colors(kept, k) = io::wide_color_byte(io::pcd::wide_channel(pcd->value(roles.rgb[k])), eight_bit);
     }
     ++kept;
   }
@@ -317,18 +331,26 @@ void PointStream::Impl::read_pcd(Eigen::Index n, PointCloud& block) {
   }
 }
 
-PointStream::PointStream(const std::filesystem::path& file, const ReadOptions& options) : impl_(std::make_unique<Impl>()) {
+PointStream::PointStream(const std::filesystem::path& file, const ReadOptions& options)
+    : impl_(std::make_unique<Impl>()) {
   impl_->file = file;
   impl_->options = options;
   impl_->mapped.emplace(file);
   const std::string_view bytes = impl_->mapped->view();
-  const FileFormat format = bytes.empty() ? FileFormat::Ply : format_from_magic(bytes).value_or(format_from_extension(file));
-  if (format == FileFormat::Las) impl_->las = io::las_points(file, bytes);
-  else if (format == FileFormat::E57) impl_->e57.emplace(file, bytes);
-  else if (format == FileFormat::Pcd) impl_->open_pcd();
-  else if (format == FileFormat::Xyz && !bytes.empty()) impl_->xyz.emplace(file, bytes), impl_->open_text();
-  else if (format == FileFormat::Ptx && !bytes.empty()) impl_->ptx.emplace(file, bytes), impl_->open_text();
-  else impl_->ply = ply_points(file, bytes);
+  const FileFormat format =
+      bytes.empty() ? FileFormat::Ply : format_from_magic(bytes).value_or(format_from_extension(file));
+  if (format == FileFormat::Las)
+    impl_->las = io::las_points(file, bytes);
+  else if (format == FileFormat::E57)
+    impl_->e57.emplace(file, bytes);
+  else if (format == FileFormat::Pcd)
+    impl_->open_pcd();
+  else if (format == FileFormat::Xyz && !bytes.empty())
+    impl_->xyz.emplace(file, bytes), impl_->open_text();
+  else if (format == FileFormat::Ptx && !bytes.empty())
+    impl_->ptx.emplace(file, bytes), impl_->open_text();
+  else
+    impl_->ply = ply_points(file, bytes);
   if (!impl_->streamed()) {
     impl_->mapped.reset();
     impl_->whole = read_point_cloud(file, options);
@@ -370,14 +392,20 @@ bool PointStream::read(std::size_t count, PointCloud& block) {
   if (s.next >= total || count == 0) return false;
   const auto n = static_cast<Eigen::Index>(std::min<std::uint64_t>(count, total - s.next));
   block = PointCloud{};
-  if (s.failed) throw InputError(s.file, {}, "the points after a refused one are not read: rewind to read the file again");
+  if (s.failed)
+    throw InputError(s.file, {}, "the points after a refused one are not read: rewind to read the file again");
   if (s.las || s.e57 || s.pcd || s.xyz || s.ptx) {
     try {
-      if (s.las) s.read_las(n, block);
-      else if (s.e57) s.read_e57(n, block);
-      else if (s.pcd) s.read_pcd(n, block);
-      else if (s.xyz) s.read_xyz(n, block);
-      else s.read_ptx(n, block);
+      if (s.las)
+        s.read_las(n, block);
+      else if (s.e57)
+        s.read_e57(n, block);
+      else if (s.pcd)
+        s.read_pcd(n, block);
+      else if (s.xyz)
+        s.read_xyz(n, block);
+      else
+        s.read_ptx(n, block);
     } catch (const InputError&) {
       s.failed = true;  // the parser or decoder is past what it refused
       throw;
@@ -419,10 +447,12 @@ bool PointStream::read(std::size_t count, PointCloud& block) {
         const int k = p.layout.rgb[static_cast<std::size_t>(c)];
         block.colors(kept, c) = io::ply::to_color(value(k), p.vertex.properties[static_cast<std::size_t>(k)].type);
       }
-    if (finite) ++kept;
+    if (finite)
+      ++kept;
     else if (!s.options.drop_non_finite)
       throw InputError(s.file, FileLocation{std::nullopt, at},
-                       io::ply::element_what(p.vertex, s.next + static_cast<std::uint64_t>(i)) + " has a non-finite coordinate or normal");
+                       io::ply::element_what(p.vertex, s.next + static_cast<std::uint64_t>(i)) +
+                           " has a non-finite coordinate or normal");
   }
   block.positions.conservativeResize(kept, 3);
   if (p.layout.normals()) block.normals.conservativeResize(kept, 3);

@@ -23,7 +23,8 @@ void read_numbers(TextCursor& cur, const std::filesystem::path& file, std::vecto
   std::string_view line;
   do {
     if (!cur.next_line(line))
-      throw InputError(file, {cur.line(), {}}, std::string("file ends where the scan header's ") + what + " was expected");
+      throw InputError(file, {cur.line(), {}},
+                       std::string("file ends where the scan header's ") + what + " was expected");
     split_fields(line, fields);
   } while (fields.empty());
   if (fields.size() != count)
@@ -53,14 +54,15 @@ bool PtxLines::open_scan() {
     split_fields(more ? line : std::string_view{}, fields_);
   } while (fields_.empty() && more);
   if (fields_.empty()) {
-    if (scanners_.empty()) throw InputError(file_, {1, {}}, "file holds no scan (expected a PTX header: columns, rows, ...)");
+    if (scanners_.empty())
+      throw InputError(file_, {1, {}}, "file holds no scan (expected a PTX header: columns, rows, ...)");
     return false;
   }
   const auto scan = scanners_.size() / 3;
   std::int64_t columns = 0, rows = 0;
   if (fields_.size() != 1 || !parse_int(fields_[0], columns) || columns <= 0)
-    throw InputError(file_, {header_line, {}}, "expected the scan's column count (a positive integer) to start scan " +
-                                                  std::to_string(scan + 1));
+    throw InputError(file_, {header_line, {}},
+                     "expected the scan's column count (a positive integer) to start scan " + std::to_string(scan + 1));
   double value[16];
   read_numbers(cursor_, file_, fields_, 1, value, "row count");
   if (!(value[0] >= 1 && value[0] <= 2147483648.0) || value[0] != std::floor(value[0]))
@@ -111,10 +113,12 @@ bool PtxLines::next(PtxPoint& out) {
                        "expected 3 (x y z), 4 (x y z intensity) or 7 (x y z intensity r g b) values, found " +
                            std::to_string(n_fields));
     const bool has_rgb = n_fields == 7;
-    if (!colored_) colored_ = has_rgb;
+    if (!colored_)
+      colored_ = has_rgb;
     else if (*colored_ != has_rgb)
-      throw InputError(file_, {cursor_.line(), {}}, has_rgb ? "a point has a color where earlier points have none"
-                                                            : "a point has no color where earlier points have one");
+      throw InputError(file_, {cursor_.line(), {}},
+                       has_rgb ? "a point has a color where earlier points have none"
+                               : "a point has no color where earlier points have one");
     for (std::size_t k = 0; k < n_fields; ++k)
       if (!parse_double(fields_[k], value[k]))
         throw InputError(file_, {cursor_.line(), {}},
@@ -124,11 +128,14 @@ bool PtxLines::next(PtxPoint& out) {
     out.position = (Eigen::RowVector3d(value[0], value[1], value[2]) * linear_ + translation_).transpose();
     // Intensities are small numbers; a value beyond float's range is clamped to it (NaN kept).
     constexpr double kMaxFloat = std::numeric_limits<float>::max();
-    out.intensity = n_fields > 3 && !std::isnan(value[3]) ? static_cast<float>(std::clamp(value[3], -kMaxFloat, kMaxFloat))
-                    : n_fields > 3                        ? std::numeric_limits<float>::quiet_NaN()
-                                                          : 0.0f;
+    out.intensity = n_fields > 3 && !std::isnan(value[3])
+                        ? static_cast<float>(std::clamp(value[3], -kMaxFloat, kMaxFloat))
+                    : n_fields > 3 ? std::numeric_limits<float>::quiet_NaN()
+                                   : 0.0f;
     if (has_rgb)
-      for (int k = 0; k < 3; ++k) out.rgb[static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(std::lround(std::clamp(value[4 + k], 0.0, 255.0)));
+      for (int k = 0; k < 3; ++k)
+        out.rgb[static_cast<std::size_t>(k)] =
+            static_cast<std::uint8_t>(std::lround(std::clamp(value[4 + k], 0.0, 255.0)));
     out.scan = scan;
     return true;
   }
@@ -155,7 +162,8 @@ ParsedFile read_ptx(const std::filesystem::path& file, std::string_view bytes) {
   if (!rgb.empty()) out.cloud.colors = Eigen::Map<Colors>(rgb.data(), n, 3);
   out.cloud.attributes.push_back({"intensity", Eigen::Map<Eigen::VectorXf>(intensity.data(), n)});
   const std::vector<double>& scanners = ptx.scanners();
-  out.cloud.scanner_positions = Eigen::Map<const Points>(scanners.data(), static_cast<Eigen::Index>(scanners.size() / 3), 3);
+  out.cloud.scanner_positions =
+      Eigen::Map<const Points>(scanners.data(), static_cast<Eigen::Index>(scanners.size() / 3), 3);
   out.cloud.scanner_of_point = std::move(scan_of);
   out.first_non_finite = first_non_finite;
   return out;

@@ -45,7 +45,8 @@ PointCloud sample_surface(const TriangleMesh& mesh, const SurfaceSamplingOptions
   for (const auto& row : mesh.triangles.rowwise())
     for (int k = 0; k < 3; ++k) box.extend(mesh.vertices.row(row(k)).transpose());
   const double sigma = options.noise * box.diagonal();
-  const auto outlier_count = static_cast<std::size_t>(std::llround(options.outliers * static_cast<double>(options.count)));
+  const auto outlier_count =
+      static_cast<std::size_t>(std::llround(options.outliers * static_cast<double>(options.count)));
   const std::size_t n = options.count + outlier_count;
 
   PointCloud cloud;
@@ -71,7 +72,8 @@ PointCloud sample_surface(const TriangleMesh& mesh, const SurfaceSamplingOptions
       Eigen::Vector3d rgb = Eigen::Vector3d::Zero();
       for (int k = 0; k < 3; ++k) rgb += weight(k) * mesh.colors.row(tri(k)).cast<double>().transpose();
       for (int channel = 0; channel < 3; ++channel)
-        cloud.colors(static_cast<Eigen::Index>(i), channel) = static_cast<std::uint8_t>(std::clamp(std::round(rgb(channel)), 0.0, 255.0));
+        cloud.colors(static_cast<Eigen::Index>(i), channel) =
+            static_cast<std::uint8_t>(std::clamp(std::round(rgb(channel)), 0.0, 255.0));
     }
     if (sigma > 0) p += sigma * Eigen::Vector3d(random.normal(), random.normal(), random.normal());
     cloud.positions.row(static_cast<Eigen::Index>(i)) = p;

@@ -57,7 +57,12 @@ inline bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c ==
 class TextCursor {
  public:
   TextCursor(std::string_view text, const std::filesystem::path& file, std::uint64_t first_line = 1)
-      : begin_(text.data()), p_(text.data()), end_(text.data() + text.size()), line_start_(p_), file_(file), line_(first_line) {}
+      : begin_(text.data()),
+        p_(text.data()),
+        end_(text.data() + text.size()),
+        line_start_(p_),
+        file_(file),
+        line_(first_line) {}
 
   /// Next token, crossing line breaks; empty at end of input. line() is the token's line.
   std::string_view next_token() {

@@ -22,8 +22,9 @@ double at_origin(double x, double origin) { return origin == 0 ? x : x + origin;
 
 static_assert(std::endian::native == std::endian::little, "binary writers assume a little-endian host");
 
-void write_ply_impl(const std::filesystem::path& file, const Points& v, const Eigen::Vector3d& origin, UpAxis up, const Points& n,
-                    const Colors& c, const std::vector<PointAttribute>& attributes, const Triangles* tris, PlyWriteOptions o) {
+void write_ply_impl(const std::filesystem::path& file, const Points& v, const Eigen::Vector3d& origin, UpAxis up,
+                    const Points& n, const Colors& c, const std::vector<PointAttribute>& attributes,
+                    const Triangles* tris, PlyWriteOptions o) {
   const Eigen::Index nv = v.rows();
   o.double_precision = o.double_precision || !origin.isZero();
   const bool has_n = n.rows() == nv && nv > 0;
@@ -35,8 +36,10 @@ void write_ply_impl(const std::filesystem::path& file, const Points& v, const Ei
       extra.push_back(&a);
       names.push_back(a.name);
     }
-  const std::string h = io::ply_header(static_cast<std::uint64_t>(nv), tris != nullptr ? std::optional(static_cast<std::uint64_t>(tris->rows())) : std::nullopt,
-                                       o.binary, o.double_precision, has_n, has_c, names, up);
+  const std::string h =
+      io::ply_header(static_cast<std::uint64_t>(nv),
+                     tris != nullptr ? std::optional(static_cast<std::uint64_t>(tris->rows())) : std::nullopt, o.binary,
+                     o.double_precision, has_n, has_c, names, up);
 
   io::AtomicFile out(file);
   out.write(h);
@@ -53,8 +56,10 @@ void write_ply_impl(const std::filesystem::path& file, const Points& v, const Ei
     buf.insert(buf.end(), p, p + sizeof(value));
   };
   auto put_real = [&](double x) {
-    if (o.double_precision) put(x);
-    else put(static_cast<float>(x));
+    if (o.double_precision)
+      put(x);
+    else
+      put(static_cast<float>(x));
   };
   fmt::memory_buffer text;
   for (Eigen::Index i = 0; i < nv; ++i) {
@@ -69,8 +74,10 @@ void write_ply_impl(const std::filesystem::path& file, const Points& v, const Ei
     } else {
       // Shortest representation that reads back to the same value ({} in fmt).
       auto fmt_real = [&](double x) {
-        if (o.double_precision) fmt::format_to(std::back_inserter(text), "{}", x);
-        else fmt::format_to(std::back_inserter(text), "{}", static_cast<float>(x));
+        if (o.double_precision)
+          fmt::format_to(std::back_inserter(text), "{}", x);
+        else
+          fmt::format_to(std::back_inserter(text), "{}", static_cast<float>(x));
       };
       fmt_real(at_origin(v(i, 0), origin(0))), text.push_back(' '), fmt_real(at_origin(v(i, 1), origin(1))),
           text.push_back(' '), fmt_real(at_origin(v(i, 2), origin(2)));
@@ -101,8 +108,9 @@ void write_ply_impl(const std::filesystem::path& file, const Points& v, const Ei
 
 }  // namespace
 
-std::string io::ply_header(std::uint64_t vertices, std::optional<std::uint64_t> faces, bool binary, bool double_precision,
-                           bool normals, bool colors, const std::vector<std::string>& attributes, UpAxis up) {
+std::string io::ply_header(std::uint64_t vertices, std::optional<std::uint64_t> faces, bool binary,
+                           bool double_precision, bool normals, bool colors, const std::vector<std::string>& attributes,
+                           UpAxis up) {
   const char* real = double_precision ? "double" : "float";
   std::string h = "ply\n";
   h += binary ? "format binary_little_endian 1.0\n" : "format ascii 1.0\n";
@@ -118,11 +126,13 @@ std::string io::ply_header(std::uint64_t vertices, std::optional<std::uint64_t> 
 }
 
 void write_ply(const std::filesystem::path& file, const PointCloud& cloud, const PlyWriteOptions& options) {
-  write_ply_impl(file, cloud.positions, cloud.origin, cloud.up, cloud.normals, cloud.colors, cloud.attributes, nullptr, options);
+  write_ply_impl(file, cloud.positions, cloud.origin, cloud.up, cloud.normals, cloud.colors, cloud.attributes, nullptr,
+                 options);
 }
 
 void write_ply(const std::filesystem::path& file, const TriangleMesh& mesh, const PlyWriteOptions& options) {
-  write_ply_impl(file, mesh.vertices, mesh.origin, mesh.up, mesh.normals, mesh.colors, mesh.attributes, &mesh.triangles, options);
+  write_ply_impl(file, mesh.vertices, mesh.origin, mesh.up, mesh.normals, mesh.colors, mesh.attributes, &mesh.triangles,
+                 options);
 }
 
 void write_xyz(const std::filesystem::path& file, const PointCloud& cloud) {
@@ -130,9 +140,11 @@ void write_xyz(const std::filesystem::path& file, const PointCloud& cloud) {
   fmt::memory_buffer text;
   for (Eigen::Index i = 0; i < cloud.size(); ++i) {
     fmt::format_to(std::back_inserter(text), "{} {} {}", at_origin(cloud.positions(i, 0), cloud.origin.x()),
-                   at_origin(cloud.positions(i, 1), cloud.origin.y()), at_origin(cloud.positions(i, 2), cloud.origin.z()));
+                   at_origin(cloud.positions(i, 1), cloud.origin.y()),
+                   at_origin(cloud.positions(i, 2), cloud.origin.z()));
     if (cloud.has_normals())
-      fmt::format_to(std::back_inserter(text), " {} {} {}", cloud.normals(i, 0), cloud.normals(i, 1), cloud.normals(i, 2));
+      fmt::format_to(std::back_inserter(text), " {} {} {}", cloud.normals(i, 0), cloud.normals(i, 1),
+                     cloud.normals(i, 2));
     text.push_back('\n');
     if (text.size() > (1u << 20)) out.write(text.data(), text.size()), text.clear();
   }
@@ -143,8 +155,8 @@ void write_xyz(const std::filesystem::path& file, const PointCloud& cloud) {
 void write_obj(const std::filesystem::path& file, const TriangleMesh& mesh) {
   io::AtomicFile out(file);
   fmt::memory_buffer text;
-  fmt::format_to(std::back_inserter(text), "# written by clustersurf: {} vertices, {} triangles\n", mesh.vertices.rows(),
-                 mesh.triangles.rows());
+  fmt::format_to(std::back_inserter(text), "# written by clustersurf: {} vertices, {} triangles\n",
+                 mesh.vertices.rows(), mesh.triangles.rows());
   const bool has_n = mesh.normals.rows() == mesh.vertices.rows() && mesh.vertices.rows() > 0;
   const bool has_c = mesh.colors.rows() == mesh.vertices.rows() && mesh.vertices.rows() > 0;
   auto drain = [&] {
@@ -154,20 +166,23 @@ void write_obj(const std::filesystem::path& file, const TriangleMesh& mesh) {
     fmt::format_to(std::back_inserter(text), "v {} {} {}", at_origin(mesh.vertices(i, 0), mesh.origin.x()),
                    at_origin(mesh.vertices(i, 1), mesh.origin.y()), at_origin(mesh.vertices(i, 2), mesh.origin.z()));
     if (has_c)
-      fmt::format_to(std::back_inserter(text), " {:.4f} {:.4f} {:.4f}", mesh.colors(i, 0) / 255.0, mesh.colors(i, 1) / 255.0,
-                     mesh.colors(i, 2) / 255.0);
+      fmt::format_to(std::back_inserter(text), " {:.4f} {:.4f} {:.4f}", mesh.colors(i, 0) / 255.0,
+                     mesh.colors(i, 1) / 255.0, mesh.colors(i, 2) / 255.0);
     text.push_back('\n');
     drain();
   }
   if (has_n)
     for (Eigen::Index i = 0; i < mesh.normals.rows(); ++i) {
-      fmt::format_to(std::back_inserter(text), "vn {} {} {}\n", mesh.normals(i, 0), mesh.normals(i, 1), mesh.normals(i, 2));
+      fmt::format_to(std::back_inserter(text), "vn {} {} {}\n", mesh.normals(i, 0), mesh.normals(i, 1),
+                     mesh.normals(i, 2));
       drain();
     }
   for (Eigen::Index f = 0; f < mesh.triangles.rows(); ++f) {
     const auto a = mesh.triangles(f, 0) + 1, b = mesh.triangles(f, 1) + 1, c = mesh.triangles(f, 2) + 1;
-    if (has_n) fmt::format_to(std::back_inserter(text), "f {}//{} {}//{} {}//{}\n", a, a, b, b, c, c);
-    else fmt::format_to(std::back_inserter(text), "f {} {} {}\n", a, b, c);
+    if (has_n)
+      fmt::format_to(std::back_inserter(text), "f {}//{} {}//{} {}//{}\n", a, a, b, b, c, c);
+    else
+      fmt::format_to(std::back_inserter(text), "f {} {} {}\n", a, b, c);
     drain();
   }
   out.write(text.data(), text.size());
@@ -186,12 +201,15 @@ void write_off(const std::filesystem::path& file, const TriangleMesh& mesh) {
   for (Eigen::Index i = 0; i < nv; ++i) {
     fmt::format_to(std::back_inserter(text), "{} {} {}", at_origin(mesh.vertices(i, 0), mesh.origin.x()),
                    at_origin(mesh.vertices(i, 1), mesh.origin.y()), at_origin(mesh.vertices(i, 2), mesh.origin.z()));
-    if (has_c) fmt::format_to(std::back_inserter(text), " {} {} {} 255", mesh.colors(i, 0), mesh.colors(i, 1), mesh.colors(i, 2));
+    if (has_c)
+      fmt::format_to(std::back_inserter(text), " {} {} {} 255", mesh.colors(i, 0), mesh.colors(i, 1),
+                     mesh.colors(i, 2));
     text.push_back('\n');
     drain();
   }
   for (Eigen::Index f = 0; f < mesh.triangles.rows(); ++f) {
-    fmt::format_to(std::back_inserter(text), "3 {} {} {}\n", mesh.triangles(f, 0), mesh.triangles(f, 1), mesh.triangles(f, 2));
+    fmt::format_to(std::back_inserter(text), "3 {} {} {}\n", mesh.triangles(f, 0), mesh.triangles(f, 1),
+                   mesh.triangles(f, 2));
     drain();
   }
   out.write(text.data(), text.size());

@@ -26,8 +26,9 @@ std::size_t XyzLines::next(std::array<double, 7>& v) {
     if (fields_.empty()) continue;
     if (columns_ == 0 && declared_ < 0 && points_ == 0 && fields_.size() == 1) {
       if (!parse_int(fields_[0], declared_) || declared_ < 0)
-        throw InputError(file_, {cursor_.line(), {}},
-                         "expected \"x y z\" or a point count, found \"" + std::string(fields_[0].substr(0, 40)) + "\"");
+        throw InputError(
+            file_, {cursor_.line(), {}},
+            "expected \"x y z\" or a point count, found \"" + std::string(fields_[0].substr(0, 40)) + "\"");
       declared_line_ = cursor_.line();
       continue;
     }
@@ -35,9 +36,10 @@ std::size_t XyzLines::next(std::array<double, 7>& v) {
       columns_ = fields_.size();
       columns_line_ = cursor_.line();
       if (columns_ != 3 && columns_ != 4 && columns_ != 6 && columns_ != 7)
-        throw InputError(file_, {cursor_.line(), {}},
-                         "expected 3 (x y z), 4 (x y z i), 6 (x y z nx ny nz) or 7 (x y z i r g b) values per line, found " +
-                             std::to_string(columns_));
+        throw InputError(
+            file_, {cursor_.line(), {}},
+            "expected 3 (x y z), 4 (x y z i), 6 (x y z nx ny nz) or 7 (x y z i r g b) values per line, found " +
+                std::to_string(columns_));
     } else if (fields_.size() != columns_) {
       throw InputError(file_, {cursor_.line(), {}},
                        "expected " + std::to_string(columns_) + " values as on line " + std::to_string(columns_line_) +
@@ -52,8 +54,9 @@ std::size_t XyzLines::next(std::array<double, 7>& v) {
     return columns_;
   }
   if (declared_ >= 0 && static_cast<std::uint64_t>(declared_) != points_)
-    throw InputError(file_, {declared_line_, {}},
-                     "the count line says " + std::to_string(declared_) + " points but the file has " + std::to_string(points_));
+    throw InputError(
+        file_, {declared_line_, {}},
+        "the count line says " + std::to_string(declared_) + " points but the file has " + std::to_string(points_));
   return 0;
 }
 
@@ -66,10 +69,12 @@ ParsedFile read_xyz(const std::filesystem::path& file, std::string_view bytes) {
   for (std::size_t columns; (columns = lines.next(v)) != 0;) {
     pos.insert(pos.end(), v.begin(), v.begin() + 3);
     if (columns == 6) nrm.insert(nrm.end(), v.begin() + 3, v.begin() + 6);
-    if (!first_non_finite && !std::all_of(v.begin(), v.begin() + (columns == 6 ? 6 : 3), [](double x) { return std::isfinite(x); }))
+    if (!first_non_finite &&
+        !std::all_of(v.begin(), v.begin() + (columns == 6 ? 6 : 3), [](double x) { return std::isfinite(x); }))
       first_non_finite = FileLocation{lines.line(), std::nullopt};
     if (columns == 7)
-      for (int k = 4; k < 7; ++k) rgb.push_back(static_cast<std::uint8_t>(std::lround(std::clamp(v[static_cast<std::size_t>(k)], 0.0, 255.0))));
+      for (int k = 4; k < 7; ++k)
+        rgb.push_back(static_cast<std::uint8_t>(std::lround(std::clamp(v[static_cast<std::size_t>(k)], 0.0, 255.0))));
   }
   const auto n = static_cast<Eigen::Index>(pos.size() / 3);
   ParsedFile out;

@@ -19,7 +19,8 @@ CellPolygons polygonize_cells(std::span<const SurfaceCell> cells, float outside)
       const auto [i, j, k] = cell.corner;
       macc.setValueOn(openvdb::Coord(i, j, k), true);
       for (int c = 0; c < 8; ++c)
-        acc.setValueOn(openvdb::Coord(i + kCellCorner[c][0], j + kCellCorner[c][1], k + kCellCorner[c][2]), cell.values[static_cast<std::size_t>(c)]);
+        acc.setValueOn(openvdb::Coord(i + kCellCorner[c][0], j + kCellCorner[c][1], k + kCellCorner[c][2]),
+                       cell.values[static_cast<std::size_t>(c)]);
     }
   }
   openvdb::tools::VolumeToMesh mesher(0.0, 0.0);

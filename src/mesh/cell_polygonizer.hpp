@@ -12,7 +12,8 @@
 namespace clustersurf::detail {
 
 /// The offsets of a cell's 8 corners from its lowest one, in the order its values are kept.
-inline constexpr int kCellCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
+inline constexpr int kCellCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0},
+                                          {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
 
 /// One grid cell crossed by the surface: its integer corner (i, j, k) and the values of f at
 /// its 8 corners, in the kCellCorner order. Shared corners of neighbouring cells carry the same

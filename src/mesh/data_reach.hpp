@@ -2,9 +2,9 @@
 // Which mesh vertices the input points reach: the trim's test, shared with the closed mesh's
 // marking of what was filled in.
 
-#include <clustersurf/spatial/kd_tree.hpp>
-#include <clustersurf/mesh/mesh_trim.hpp>
 #include <clustersurf/core/point_cloud.hpp>
+#include <clustersurf/mesh/mesh_trim.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 
 #include <cstdint>
 #include <vector>

@@ -1,8 +1,8 @@
 // The mesh grid matched to the sampling density of the input points, and what a walk of it costs.
 
-#include <clustersurf/spatial/cloud_stats.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/mesh/mesh_extraction.hpp>
+#include <clustersurf/spatial/cloud_stats.hpp>
 
 #include "mesh/clipped_extraction.hpp"
 
@@ -16,7 +16,8 @@
 namespace clustersurf {
 
 double cell_size_for_spacing(double median_spacing, double spacing_factor) {
-  if (!(spacing_factor > 0) || !std::isfinite(spacing_factor)) throw OptionError("the grid's spacing factor must be positive");
+  if (!(spacing_factor > 0) || !std::isfinite(spacing_factor))
+    throw OptionError("the grid's spacing factor must be positive");
   if (!(median_spacing > 0) || !std::isfinite(median_spacing))
     throw OptionError("cannot match the mesh grid to the points: most of them coincide (median spacing 0)");
   return spacing_factor * median_spacing;
@@ -63,7 +64,8 @@ std::optional<std::uint32_t> parse_resolution(std::string_view text) {
   std::uint64_t value = 0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (text.empty() || ec != std::errc{} || end != text.data() + text.size() || value < 2 || value > 100000)
-    throw OptionError("resolution must be a whole number from 2 to 100000 or \"auto\", not \"" + std::string(text) + "\"");
+    throw OptionError("resolution must be a whole number from 2 to 100000 or \"auto\", not \"" + std::string(text) +
+                      "\"");
   return static_cast<std::uint32_t>(value);
 }
 

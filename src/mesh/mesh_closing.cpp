@@ -17,9 +17,8 @@ Eigen::VectorXf filled_vertices(const TriangleMesh& mesh, const ClosedSurface& c
                                 const TrimOptions& reach) {
   const Eigen::Index nv = mesh.vertices.rows();
   Eigen::VectorXf filled(nv);
-  tbb::parallel_for(Eigen::Index{0}, nv, [&](Eigen::Index v) {
-    filled(v) = closed.filled(mesh.vertices.row(v).transpose()) ? 1.0f : 0.0f;
-  });
+  tbb::parallel_for(Eigen::Index{0}, nv,
+                    [&](Eigen::Index v) { filled(v) = closed.filled(mesh.vertices.row(v).transpose()) ? 1.0f : 0.0f; });
   if (data != nullptr && data->size() > reach.neighbors && reach.spread_factor > 0) {
     const std::vector<std::uint8_t> near = vertices_near_data(mesh, *data, reach);
     for (Eigen::Index v = 0; v < nv; ++v)
@@ -38,7 +37,8 @@ std::size_t open_large_fills(TriangleMesh& mesh, const Eigen::VectorXf& filled, 
   // Each patch's bounding box, over the vertices of its triangles.
   std::map<std::int32_t, BoundingBox> boxes;
   for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v)
-    if (patch[static_cast<std::size_t>(v)] >= 0) boxes[patch[static_cast<std::size_t>(v)]].extend(mesh.vertices.row(v).transpose());
+    if (patch[static_cast<std::size_t>(v)] >= 0)
+      boxes[patch[static_cast<std::size_t>(v)]].extend(mesh.vertices.row(v).transpose());
   std::size_t opened = 0;
   std::vector<std::uint8_t> drop_patch_of(static_cast<std::size_t>(mesh.vertices.rows()), 0);
   for (const auto& [id, box] : boxes)

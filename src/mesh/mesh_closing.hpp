@@ -2,10 +2,10 @@
 // What a closed mesh invented: the vertices the data does not support are marked, and filled
 // patches wider than a limit are opened again (--fill-holes).
 
-#include <clustersurf/surface/closed_surface.hpp>
-#include <clustersurf/spatial/kd_tree.hpp>
-#include <clustersurf/mesh/mesh_trim.hpp>
 #include <clustersurf/core/point_cloud.hpp>
+#include <clustersurf/mesh/mesh_trim.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
+#include <clustersurf/surface/closed_surface.hpp>
 
 #include <cstddef>
 

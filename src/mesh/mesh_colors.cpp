@@ -1,6 +1,6 @@
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/mesh/mesh_colors.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 
 #include <tbb/parallel_for.h>
 
@@ -43,7 +43,8 @@ Colors colors_from_points(const TriangleMesh& mesh, const KdTree& points, const 
       const double reach = nb.back().distance_squared;
       weight.clear();
       double total = 0;
-      for (const Neighbor& n : nb) total += weight.emplace_back(reach > 0 ? std::exp(-n.distance_squared / reach) : 1.0);
+      for (const Neighbor& n : nb)
+        total += weight.emplace_back(reach > 0 ? std::exp(-n.distance_squared / reach) : 1.0);
       for (int k = 0; k < 3; ++k) {
         channel.clear();
         for (std::size_t i = 0; i < nb.size(); ++i) channel.emplace_back(colors(nb[i].index, k), weight[i]);
@@ -99,7 +100,8 @@ Colors colors_by_distance(const TriangleMesh& mesh, const Points& points, double
   return colors_by_distance(mesh, KdTree(points), max_distance, distances);
 }
 
-Colors colors_by_distance(const TriangleMesh& mesh, const KdTree& tree, double max_distance, std::vector<double>* distances) {
+Colors colors_by_distance(const TriangleMesh& mesh, const KdTree& tree, double max_distance,
+                          std::vector<double>* distances) {
   Colors c(mesh.vertices.rows(), 3);
   if (distances != nullptr) distances->assign(static_cast<std::size_t>(mesh.vertices.rows()), 0.0);
   tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, mesh.vertices.rows(), 512), [&](const auto& r) {

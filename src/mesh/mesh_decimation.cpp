@@ -21,7 +21,8 @@ TriangleMesh decimate(const TriangleMesh& mesh, const DecimationOptions& options
   const auto nf = static_cast<std::size_t>(mesh.triangles.rows());
   DecimationReport done;
   done.triangles_before = done.triangles_after = nf;
-  if (!options.enabled() || nf == 0 || (options.target_triangles > 0 && options.target_triangles >= nf && options.max_deviation == 0)) {
+  if (!options.enabled() || nf == 0 ||
+      (options.target_triangles > 0 && options.target_triangles >= nf && options.max_deviation == 0)) {
     if (report) *report = done;
     return mesh;
   }
@@ -31,17 +32,20 @@ TriangleMesh decimate(const TriangleMesh& mesh, const DecimationOptions& options
   for (std::size_t i = 0; i < 3 * nf; ++i) indices[i] = static_cast<unsigned>(mesh.triangles.data()[i]);
   const float scale = meshopt_simplifyScale(positions.data(), nv, 3 * sizeof(float));
   // The simplifier's error is relative to the mesh's extent; no bound means any error (1).
-  const float relative = options.max_deviation > 0 && scale > 0 ? static_cast<float>(options.max_deviation / scale) : 1.0f;
+  const float relative =
+      options.max_deviation > 0 && scale > 0 ? static_cast<float>(options.max_deviation / scale) : 1.0f;
   const std::size_t target = options.target_triangles > 0 ? 3 * options.target_triangles : 0;
   std::vector<unsigned> kept(indices.size());
   float error = 0;
-  kept.resize(meshopt_simplify(kept.data(), indices.data(), indices.size(), positions.data(), nv, 3 * sizeof(float), target,
-                               relative, options.lock_boundary ? static_cast<unsigned>(meshopt_SimplifyLockBorder) : 0u, &error));
+  kept.resize(meshopt_simplify(kept.data(), indices.data(), indices.size(), positions.data(), nv, 3 * sizeof(float),
+                               target, relative,
+                               options.lock_boundary ? static_cast<unsigned>(meshopt_SimplifyLockBorder) : 0u, &error));
 
   TriangleMesh out = mesh;
   out.triangles.resize(static_cast<Eigen::Index>(kept.size() / 3), 3);
   for (std::size_t i = 0; i < kept.size(); ++i)
-    out.triangles(static_cast<Eigen::Index>(i / 3), static_cast<Eigen::Index>(i % 3)) = static_cast<std::int32_t>(kept[i]);
+    out.triangles(static_cast<Eigen::Index>(i / 3), static_cast<Eigen::Index>(i % 3)) =
+        static_cast<std::int32_t>(kept[i]);
   out = detail::without_unused_vertices(out);
   done.triangles_after = kept.size() / 3;
   done.deviation = static_cast<double>(error) * static_cast<double>(scale);

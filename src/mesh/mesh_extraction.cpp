@@ -1,9 +1,9 @@
 // Surface-following sparse grid walk (its state in walk_grid: OpenVDB), then polygonization
 // (cell_polygonizer: OpenVDB) and projection of the vertices onto f = 0.
 
-#include <clustersurf/surface/box_walk.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/mesh/mesh_extraction.hpp>
+#include <clustersurf/surface/box_walk.hpp>
 
 #include "core/progress_reporter.hpp"
 #include "core/system_memory.hpp"
@@ -91,8 +91,8 @@ constexpr int kRetrySteps = 8;
 /// Newton steps x ← x − f ∇f / |∇f|² towards f = 0 of `s`, its supports found through `near`
 /// (null: from the root); returns false if f is undefined or the point wanders farther than
 /// `max_move`.
-bool project(const ImplicitSurface& s, const ImplicitSurface::BoxWalk* near, Eigen::Vector3d& x, int steps, double max_move,
-             double tolerance) {
+bool project(const ImplicitSurface& s, const ImplicitSurface::BoxWalk* near, Eigen::Vector3d& x, int steps,
+             double max_move, double tolerance) {
   const Eigen::Vector3d start = x;
   for (int k = 0; k < steps; ++k) {
     const SurfaceSample q = near != nullptr ? s.sample(x, *near) : s.sample(x);
@@ -121,16 +121,20 @@ struct Lattice {
   const detail::MeshClip* clip = nullptr;
   Eigen::Array3d clip_lo = Eigen::Array3d::Constant(-static_cast<double>(kBias)), clip_hi = -clip_lo;
 
-  Lattice(const Eigen::Vector3d& lower, double cell, const detail::MeshClip* clipped) : origin(lower), h(cell), clip(clipped) {
+  Lattice(const Eigen::Vector3d& lower, double cell, const detail::MeshClip* clipped)
+      : origin(lower), h(cell), clip(clipped) {
     if (clip == nullptr) return;
     clip_lo = ((clip->box.min - origin) / h).array().floor();
     clip_hi = ((clip->box.max - origin) / h).array().floor();
   }
   Eigen::Vector3d corner(std::int64_t i, std::int64_t j, std::int64_t k) const {
-    return Eigen::Vector3d(origin + h * Eigen::Vector3d(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k)));
+    return Eigen::Vector3d(origin +
+                           h * Eigen::Vector3d(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k)));
   }
   /// A polygonizer vertex (in cell units) in the surface's coordinates.
-  Eigen::Vector3d at(const std::array<float, 3>& p) const { return Eigen::Vector3d(origin + h * Eigen::Vector3d(p[0], p[1], p[2])); }
+  Eigen::Vector3d at(const std::array<float, 3>& p) const {
+    return Eigen::Vector3d(origin + h * Eigen::Vector3d(p[0], p[1], p[2]));
+  }
   Key cell_of(const Eigen::Vector3d& x) const {
     const Eigen::Vector3d c = ((x - origin) / h).array().floor();
     return pack(static_cast<std::int64_t>(c.x()), static_cast<std::int64_t>(c.y()), static_cast<std::int64_t>(c.z()));
@@ -157,21 +161,26 @@ struct Field {
 /// a walk the machine cannot hold is refused before any cell is visited.
 double checked_cell_size(const ImplicitSurface& surface, const detail::MeshClip* clip, const MeshOptions& options) {
   const double longest = surface.tree().bbox.extent().maxCoeff();
-  const double h = options.voxel_size ? *options.voxel_size : (options.resolution > 0 ? longest / options.resolution : 0.0);
+  const double h =
+      options.voxel_size ? *options.voxel_size : (options.resolution > 0 ? longest / options.resolution : 0.0);
   if (!(longest > 0) && !options.voxel_size)
     throw OptionError("the surface has no extent (all input points coincide): there is nothing to mesh");
-  if (!(h > 0) || !std::isfinite(h)) throw OptionError("mesh voxel size must be positive (check --resolution/--voxel-size)");
-  if (!(options.min_weight >= 0) || !std::isfinite(options.min_weight)) throw OptionError("mesh min_weight must be >= 0");
+  if (!(h > 0) || !std::isfinite(h))
+    throw OptionError("mesh voxel size must be positive (check --resolution/--voxel-size)");
+  if (!(options.min_weight >= 0) || !std::isfinite(options.min_weight))
+    throw OptionError("mesh min_weight must be >= 0");
   if (longest / h > 500000) throw OptionError("mesh grid too fine: more than 500000 cells along the bounding box");
-  if (!(options.fill_cells >= 0) || !std::isfinite(options.fill_cells)) throw OptionError("mesh fill_cells must be >= 0");
+  if (!(options.fill_cells >= 0) || !std::isfinite(options.fill_cells))
+    throw OptionError("mesh fill_cells must be >= 0");
   const MeshEstimate cost = detail::estimate_mesh_within(surface, h, clip != nullptr ? &clip->box : nullptr);
   const std::uint64_t limit = options.memory_limit > 0 ? options.memory_limit : detail::available_memory();
   if (limit > 0 && cost.bytes > static_cast<double>(limit))
-    throw OptionError(fmt::format("the mesh grid of cell size {:.4g} would cross about {:.3g} million surface cells and take about "
-                                  "{:.1f} GiB, more than {} ({:.1f} GiB): use a coarser voxel_size or resolution",
-                                  h, cost.surface_cells / 1e6, cost.bytes / double(1ull << 30),
-                                  options.memory_limit > 0 ? "the memory limit" : "the machine has free",
-                                  static_cast<double>(limit) / double(1ull << 30)));
+    throw OptionError(
+        fmt::format("the mesh grid of cell size {:.4g} would cross about {:.3g} million surface cells and take about "
+                    "{:.1f} GiB, more than {} ({:.1f} GiB): use a coarser voxel_size or resolution",
+                    h, cost.surface_cells / 1e6, cost.bytes / double(1ull << 30),
+                    options.memory_limit > 0 ? "the memory limit" : "the machine has free",
+                    static_cast<double>(limit) / double(1ull << 30)));
   return h;
 }
 
@@ -191,7 +200,8 @@ std::vector<Key> seed_cells(const ImplicitSurface& surface, const Lattice& latti
       for (int a = -1; a <= 1; ++a)
         for (int b = -1; b <= 1; ++b) {
           Eigen::Vector3d x = n.support.center + step * (a * t1 + b * t2);
-          if (project(surface, nullptr, x, 12, n.support.radius, 1e-3 * lattice.h)) seeds[c].push_back(lattice.cell_of(x));
+          if (project(surface, nullptr, x, 12, n.support.radius, 1e-3 * lattice.h))
+            seeds[c].push_back(lattice.cell_of(x));
         }
     }
   });
@@ -205,7 +215,8 @@ std::vector<Key> seed_cells(const ImplicitSurface& surface, const Lattice& latti
     }
   const detail::MeshClip* clip = lattice.clip;
   if (clip != nullptr && clip->seeds != nullptr)
-    for (Eigen::Index p = 0; p < clip->seeds->rows(); ++p) frontier.push_back(lattice.cell_of(clip->seeds->row(p).transpose()));
+    for (Eigen::Index p = 0; p < clip->seeds->rows(); ++p)
+      frontier.push_back(lattice.cell_of(clip->seeds->row(p).transpose()));
   std::sort(frontier.begin(), frontier.end());
   frontier.erase(std::unique(frontier.begin(), frontier.end()), frontier.end());
   if (clip != nullptr) std::erase_if(frontier, [&](Key cell) { return !lattice.allowed(cell); });
@@ -214,14 +225,17 @@ std::vector<Key> seed_cells(const ImplicitSurface& surface, const Lattice& latti
 
 /// The field at `corners` (NaN where undefined), evaluated block by block, each block's walk of
 /// the tree done once.
-std::vector<float> corner_values(const Field& field, const Lattice& lattice, const std::vector<detail::GridIndex>& corners) {
+std::vector<float> corner_values(const Field& field, const Lattice& lattice,
+                                 const std::vector<detail::GridIndex>& corners) {
   const Blocks blocks = group_by_block(corners.size(), [&](std::size_t t) {
     return std::array<std::int64_t, 3>{corners[t][0], corners[t][1], corners[t][2]};
   });
   std::vector<float> values(corners.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.count()), [&](const auto& r) {
     for (std::size_t b = r.begin(); b != r.end(); ++b) {
-      const auto position = [&](std::uint32_t t) { return lattice.corner(corners[t][0], corners[t][1], corners[t][2]); };
+      const auto position = [&](std::uint32_t t) {
+        return lattice.corner(corners[t][0], corners[t][1], corners[t][2]);
+      };
       // A closed surface evaluates its own field: its corners keep an empty box.
       BoundingBox box;
       if (field.closed == nullptr)
@@ -231,10 +245,12 @@ std::vector<float> corner_values(const Field& field, const Lattice& lattice, con
       for (const std::uint32_t t : blocks.block(b)) {
         const Eigen::Vector3d x = position(t);
         std::optional<double> v;
-        if (field.closed != nullptr) v = field.closed->value(x);
+        if (field.closed != nullptr)
+          v = field.closed->value(x);
         else {
           v = field.surface.value(x, field.min_weight, near);
-          if (!v && field.fill) v = field.wide.value(x, field.min_weight, wide_near ? *wide_near : wide_near.emplace(field.wide, box));
+          if (!v && field.fill)
+            v = field.wide.value(x, field.min_weight, wide_near ? *wide_near : wide_near.emplace(field.wide, box));
         }
         values[t] = v ? static_cast<float>(*v) : std::numeric_limits<float>::quiet_NaN();
       }
@@ -252,7 +268,8 @@ struct Walk {
 
 /// Breadth-first walk from `frontier` over the cells whose corners' values change sign, into
 /// each neighbour across a face that does.
-Walk walk_surface(const Field& field, const Lattice& lattice, std::vector<Key> frontier, detail::ProgressReporter& reporter) {
+Walk walk_surface(const Field& field, const Lattice& lattice, std::vector<Key> frontier,
+                  detail::ProgressReporter& reporter) {
   detail::WalkGrid grid;  // corners queued (with f, NaN where undefined) and cells visited
   for (Key cell : frontier) grid.visit(grid_index(cell));
   Walk out;
@@ -295,7 +312,8 @@ Walk walk_surface(const Field& field, const Lattice& lattice, std::vector<Key> f
     std::sort(next.begin(), next.end());
     frontier = std::move(next);
     // The walk's length is unknown in advance: report the share of cells already settled.
-    const double done = static_cast<double>(out.cells.size()) / static_cast<double>(out.cells.size() + frontier.size() + 1);
+    const double done =
+        static_cast<double>(out.cells.size()) / static_cast<double>(out.cells.size() + frontier.size() + 1);
     const auto permille = static_cast<std::uint64_t>(900 * done);
     if (permille > reported) reporter.advance(permille - reported), reported = permille;
   }
@@ -317,7 +335,8 @@ TriangleMesh placed_vertices(const detail::CellPolygons& polygons, const Field& 
   mesh.normals.resize(nv, 3);
   const Blocks blocks = group_by_block(polygons.vertices.size(), [&](std::size_t v) {
     const auto& p = polygons.vertices[v];
-    return std::array<std::int64_t, 3>{static_cast<std::int64_t>(std::floor(p[0])), static_cast<std::int64_t>(std::floor(p[1])),
+    return std::array<std::int64_t, 3>{static_cast<std::int64_t>(std::floor(p[0])),
+                                       static_cast<std::int64_t>(std::floor(p[1])),
                                        static_cast<std::int64_t>(std::floor(p[2]))};
   });
   const ImplicitSurface& surface = field.surface;
@@ -330,7 +349,9 @@ TriangleMesh placed_vertices(const detail::CellPolygons& polygons, const Field& 
       box.min.array() -= h, box.max.array() += h;
       const ImplicitSurface::BoxWalk near(surface, box);
       std::optional<ImplicitSurface::BoxWalk> wide_near;  // built when a vertex needs the fill
-      const auto wide_walk = [&]() -> const ImplicitSurface::BoxWalk& { return wide_near ? *wide_near : wide_near.emplace(field.wide, box); };
+      const auto wide_walk = [&]() -> const ImplicitSurface::BoxWalk& {
+        return wide_near ? *wide_near : wide_near.emplace(field.wide, box);
+      };
       for (const std::uint32_t v : blocks.block(b)) {
         Eigen::Vector3d x = lattice.at(polygons.vertices[v]);
         Eigen::Vector3d y = x;
@@ -387,8 +408,10 @@ TriangleMesh with_triangles(TriangleMesh mesh, const detail::CellPolygons& polyg
                c = static_cast<std::int32_t>(quad[2]), d = static_cast<std::int32_t>(quad[3]);
     const double ac = (mesh.vertices.row(a) - mesh.vertices.row(c)).squaredNorm();
     const double bd = (mesh.vertices.row(b) - mesh.vertices.row(d)).squaredNorm();
-    if (ac <= bd) add(a, b, c), add(a, c, d);
-    else add(a, b, d), add(b, c, d);
+    if (ac <= bd)
+      add(a, b, c), add(a, c, d);
+    else
+      add(a, b, d), add(b, c, d);
   }
   for (const auto& tri : polygons.triangles)
     add(static_cast<std::int32_t>(tri[0]), static_cast<std::int32_t>(tri[1]), static_cast<std::int32_t>(tri[2]));

@@ -14,7 +14,8 @@ TriangleMesh compact(const TriangleMesh& mesh, const Triangles& triangles) {
     for (int k = 0; k < 3; ++k) remap[static_cast<std::size_t>(triangles(t, k))] = 0;
   std::vector<Eigen::Index> rows;
   for (Eigen::Index v = 0; v < nv; ++v)
-    if (remap[static_cast<std::size_t>(v)] == 0) remap[static_cast<std::size_t>(v)] = static_cast<std::int32_t>(rows.size()), rows.push_back(v);
+    if (remap[static_cast<std::size_t>(v)] == 0)
+      remap[static_cast<std::size_t>(v)] = static_cast<std::int32_t>(rows.size()), rows.push_back(v);
   TriangleMesh out;
   out.origin = mesh.origin;
   out.up = mesh.up;

@@ -26,7 +26,8 @@ MeshTopology mesh_topology(const TriangleMesh& mesh) {
   };
   std::vector<std::size_t> first(t.vertices + 1, 0);  // half-edges of lo = v: [first[v], first[v + 1])
   for (Eigen::Index f = 0; f < mesh.triangles.rows(); ++f)
-    for (int k = 0; k < 3; ++k) ++first[static_cast<std::size_t>(std::min(mesh.triangles(f, k), mesh.triangles(f, (k + 1) % 3))) + 1];
+    for (int k = 0; k < 3; ++k)
+      ++first[static_cast<std::size_t>(std::min(mesh.triangles(f, k), mesh.triangles(f, (k + 1) % 3))) + 1];
   for (std::size_t v = 0; v < t.vertices; ++v) first[v + 1] += first[v];
   std::vector<HalfEdge> half(3 * t.triangles);
   std::vector<std::size_t> next(first.begin(), first.end() - 1);
@@ -44,8 +45,9 @@ MeshTopology mesh_topology(const TriangleMesh& mesh) {
     t.area += triangle_area[static_cast<std::size_t>(f)];
   }
   for (std::size_t v = 0; v < t.vertices; ++v)
-    std::sort(half.begin() + static_cast<std::ptrdiff_t>(first[v]), half.begin() + static_cast<std::ptrdiff_t>(first[v + 1]),
-              [](const HalfEdge& a, const HalfEdge& b) { return a.hi < b.hi || (a.hi == b.hi && a.forward < b.forward); });
+    std::sort(
+        half.begin() + static_cast<std::ptrdiff_t>(first[v]), half.begin() + static_cast<std::ptrdiff_t>(first[v + 1]),
+        [](const HalfEdge& a, const HalfEdge& b) { return a.hi < b.hi || (a.hi == b.hi && a.forward < b.forward); });
   for (std::size_t i = 0; i < half.size();) {
     std::size_t j = i;
     std::size_t forward = 0;
@@ -55,9 +57,10 @@ MeshTopology mesh_topology(const TriangleMesh& mesh) {
     if (count == 1) {
       ++t.boundary_edges;
       t.boundary_length += (mesh.vertices.row(half[i].hi) - mesh.vertices.row(half[i].lo)).norm();
-    }
-    else if (count > 2) ++t.non_manifold_edges;
-    else if (forward != 1) ++t.inconsistent_edges;
+    } else if (count > 2)
+      ++t.non_manifold_edges;
+    else if (forward != 1)
+      ++t.inconsistent_edges;
     i = j;
   }
   t.euler_characteristic = static_cast<long>(t.vertices) - static_cast<long>(t.edges) + static_cast<long>(t.triangles);
@@ -70,7 +73,8 @@ MeshTopology mesh_topology(const TriangleMesh& mesh) {
     component_area[static_cast<std::size_t>(component[static_cast<std::size_t>(mesh.triangles(f, 0))])] +=
         triangle_area[static_cast<std::size_t>(f)];
   for (std::size_t v = 0; v < component.size(); ++v)
-    t.small_components += component[v] == static_cast<std::int32_t>(v) && component_area[v] < kSmallComponentShare * t.area;
+    t.small_components +=
+        component[v] == static_cast<std::int32_t>(v) && component_area[v] < kSmallComponentShare * t.area;
   return t;
 }
 

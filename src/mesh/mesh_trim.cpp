@@ -1,9 +1,9 @@
 // Dropping the triangles that reach beyond the input points, and the fragments they do not support.
 
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/mesh/mesh_trim.hpp>
 #include <clustersurf/proxy/moments.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 
 #include "mesh/data_reach.hpp"
 #include "mesh/mesh_components.hpp"
@@ -53,7 +53,7 @@ bool surrounded(const Eigen::Vector3d& x, const Points& points, std::span<const 
   if (around.size() < 3) return false;
   PlaneMoments moments(x);
   for (const auto& nb : around) moments.add(points.row(nb.index).transpose());
-  const Eigen::Vector3d variances = moments.spreads();  // ascending
+  const Eigen::Vector3d variances = moments.spreads();                         // ascending
   if (!(variances(0) <= kMaxSheetVarianceRatio * variances(1))) return false;  // not one sheet
   const PlaneProxy plane = moments.fit();
   if (std::abs((x - plane.point).dot(plane.normal)) > spread) return false;  // off the data's surface
@@ -73,7 +73,8 @@ bool surrounded(const Eigen::Vector3d& x, const Points& points, std::span<const 
 
 }  // namespace
 
-std::vector<std::uint8_t> detail::vertices_near_data(const TriangleMesh& mesh, const KdTree& index, const TrimOptions& options) {
+std::vector<std::uint8_t> detail::vertices_near_data(const TriangleMesh& mesh, const KdTree& index,
+                                                     const TrimOptions& options) {
   // The nearest input point of every vertex, then the spread of each such point (once per
   // point: many vertices share one).
   const Eigen::Index nv = mesh.vertices.rows();
@@ -154,7 +155,8 @@ std::size_t drop_unsupported_components(const TriangleMesh& mesh, const Points& 
     if (component[static_cast<std::size_t>(v)] == v) best = std::max(best, votes[static_cast<std::size_t>(v)]);
   const std::size_t needed = std::min(min_points, best);
   std::size_t dropped = 0;
-  for (const auto v : rows) dropped += component[static_cast<std::size_t>(v)] == v && votes[static_cast<std::size_t>(v)] < needed;
+  for (const auto v : rows)
+    dropped += component[static_cast<std::size_t>(v)] == v && votes[static_cast<std::size_t>(v)] < needed;
   if (dropped == 0) return 0;
   for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
     if (keep[static_cast<std::size_t>(t)] &&
@@ -165,11 +167,13 @@ std::size_t drop_unsupported_components(const TriangleMesh& mesh, const Points& 
 
 }  // namespace
 
-TriangleMesh trim_to_points(const TriangleMesh& mesh, const Points& points, const TrimOptions& options, TrimReport* report) {
+TriangleMesh trim_to_points(const TriangleMesh& mesh, const Points& points, const TrimOptions& options,
+                            TrimReport* report) {
   return trim_to_points(mesh, KdTree(points), options, report);
 }
 
-TriangleMesh trim_to_points(const TriangleMesh& mesh, const KdTree& data, const TrimOptions& options, TrimReport* report) {
+TriangleMesh trim_to_points(const TriangleMesh& mesh, const KdTree& data, const TrimOptions& options,
+                            TrimReport* report) {
   const Points& points = data.points();
   if (!(options.spread_factor >= 0) || !std::isfinite(options.spread_factor))
     throw OptionError("mesh trim: the spread factor must be finite and >= 0 (0 keeps every triangle)");
@@ -183,7 +187,8 @@ TriangleMesh trim_to_points(const TriangleMesh& mesh, const KdTree& data, const 
     const std::vector<std::uint8_t> near = detail::vertices_near_data(mesh, data, options);
     for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
       const auto tri = mesh.triangles.row(t);
-      keep[static_cast<std::size_t>(t)] = near[static_cast<std::size_t>(tri(0))] && near[static_cast<std::size_t>(tri(1))] &&
+      keep[static_cast<std::size_t>(t)] = near[static_cast<std::size_t>(tri(0))] &&
+                                          near[static_cast<std::size_t>(tri(1))] &&
                                           near[static_cast<std::size_t>(tri(2))];
     }
   }
@@ -192,8 +197,10 @@ TriangleMesh trim_to_points(const TriangleMesh& mesh, const KdTree& data, const 
     dropped_components = drop_unsupported_components(mesh, points, options.min_component_points, keep);
   // An if, not ?: between the const lvalue and the call: GCC 12 with ASan leaked that prvalue.
   TriangleMesh out;
-  if (std::find(keep.begin(), keep.end(), 0) == keep.end()) out = mesh;
-  else out = detail::with_triangles(mesh, keep);
+  if (std::find(keep.begin(), keep.end(), 0) == keep.end())
+    out = mesh;
+  else
+    out = detail::with_triangles(mesh, keep);
   if (report != nullptr) {
     report->removed_triangles = static_cast<std::size_t>(mesh.triangles.rows() - out.triangles.rows());
     report->removed_vertices = static_cast<std::size_t>(nv - out.vertices.rows());

@@ -38,7 +38,8 @@ UntangleReport untangle(TriangleMesh& mesh, std::size_t max_rounds) {
       Eigen::RowVector3d mean = Eigen::RowVector3d::Zero();
       const auto& n = neighbours[static_cast<std::size_t>(moving[i])];
       for (const std::int32_t v : n) mean += mesh.vertices.row(v);
-      target[i] = n.empty() ? Eigen::RowVector3d(mesh.vertices.row(moving[i])) : Eigen::RowVector3d(mean / static_cast<double>(n.size()));
+      target[i] = n.empty() ? Eigen::RowVector3d(mesh.vertices.row(moving[i]))
+                            : Eigen::RowVector3d(mean / static_cast<double>(n.size()));
     }
     for (std::size_t i = 0; i < moving.size(); ++i) mesh.vertices.row(moving[i]) = target[i];
     report.moved_vertices += moving.size();

@@ -1,8 +1,8 @@
 #pragma once
 // Removing a mesh's self-intersections by local smoothing.
 
-#include <clustersurf/mesh/mesh_check.hpp>
 #include <clustersurf/core/point_cloud.hpp>
+#include <clustersurf/mesh/mesh_check.hpp>
 
 #include <cstddef>
 

@@ -104,7 +104,8 @@ std::size_t close_pinholes(TriangleMesh& mesh, const KdTree& index, double sprea
     if (with_normals) {
       Eigen::Vector3d n = Eigen::Vector3d::Zero();
       for (auto v : loop) n += mesh.normals.row(v).transpose();
-      mesh.normals.row(v_next) = n.norm() > 0 ? Eigen::RowVector3d(n.normalized().transpose()) : Eigen::RowVector3d::Zero();
+      mesh.normals.row(v_next) =
+          n.norm() > 0 ? Eigen::RowVector3d(n.normalized().transpose()) : Eigen::RowVector3d::Zero();
     }
     if (with_colors) {
       Eigen::Vector3d c = Eigen::Vector3d::Zero();

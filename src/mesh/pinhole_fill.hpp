@@ -1,8 +1,8 @@
 #pragma once
 // Closing a mesh's pinholes: boundary loops the input points cover (see close_pinholes()).
 
-#include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/core/point_cloud.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 
 #include <cstddef>
 

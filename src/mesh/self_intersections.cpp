@@ -91,8 +91,8 @@ bool segments_meet2(const Vec2& p, const Vec2& q, const Vec2& a, const Vec2& b, 
   const int d1 = side2(p, q, a, tau), d2 = side2(p, q, b, tau);
   const int d3 = side2(a, b, p, tau), d4 = side2(a, b, q, tau);
   if (d1 * d2 < 0 && d3 * d4 < 0) return true;
-  return (d1 == 0 && in_box2(a, p, q, tau)) || (d2 == 0 && in_box2(b, p, q, tau)) || (d3 == 0 && in_box2(p, a, b, tau)) ||
-         (d4 == 0 && in_box2(q, a, b, tau));
+  return (d1 == 0 && in_box2(a, p, q, tau)) || (d2 == 0 && in_box2(b, p, q, tau)) ||
+         (d3 == 0 && in_box2(p, a, b, tau)) || (d4 == 0 && in_box2(q, a, b, tau));
 }
 
 /// p lies in the closed triangle t (within tau of it counts).
@@ -119,7 +119,8 @@ bool segment_meets_triangle(const Vec& p, const Vec& q, const Corners& t, const 
   }
   // At least one end clearly off the plane. Crossing it: where (|hp − hq| > tau, well
   // conditioned); else the end in the plane is the segment's closest point to it.
-  if ((hp < 0 && hq > 0) || (hp > 0 && hq < 0)) return point_in_triangle2(proj(p + (q - p) * (hp / (hp - hq))), t2, tau);
+  if ((hp < 0 && hq > 0) || (hp > 0 && hq < 0))
+    return point_in_triangle2(proj(p + (q - p) * (hp / (hp - hq))), t2, tau);
   return point_in_triangle2(proj(sp == 0 ? p : q), t2, tau);
 }
 
@@ -214,8 +215,10 @@ struct Search {
   static void bounds(const RTCBoundsFunctionArguments* args) {
     const auto* s = static_cast<const Search*>(args->geometryUserPtr);
     const Box& box = (*s->boxes)[args->primID];
-    args->bounds_o->lower_x = box.lower[0], args->bounds_o->lower_y = box.lower[1], args->bounds_o->lower_z = box.lower[2];
-    args->bounds_o->upper_x = box.upper[0], args->bounds_o->upper_y = box.upper[1], args->bounds_o->upper_z = box.upper[2];
+    args->bounds_o->lower_x = box.lower[0], args->bounds_o->lower_y = box.lower[1],
+    args->bounds_o->lower_z = box.lower[2];
+    args->bounds_o->upper_x = box.upper[0], args->bounds_o->upper_y = box.upper[1],
+    args->bounds_o->upper_z = box.upper[2];
   }
 
   // Embree reports each overlapping pair of boxes of one scene in both orders (never a box with

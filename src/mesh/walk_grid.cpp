@@ -30,12 +30,16 @@ bool WalkGrid::queue(const GridIndex& corner) {
   return true;
 }
 
-void WalkGrid::set_value(const GridIndex& corner, float value) { impl_->corner_access.setValueOnly(coord(corner), value); }
+void WalkGrid::set_value(const GridIndex& corner, float value) {
+  impl_->corner_access.setValueOnly(coord(corner), value);
+}
 
 void WalkGrid::values(SurfaceCell& cell) {
   for (std::size_t c = 0; c < 8; ++c) {
-    const openvdb::Coord at(cell.corner[0] + kCellCorner[c][0], cell.corner[1] + kCellCorner[c][1], cell.corner[2] + kCellCorner[c][2]);
-    if (!impl_->corner_access.probeValue(at, cell.values[c])) throw std::logic_error("mesh walk: a corner read before it was queued");
+    const openvdb::Coord at(cell.corner[0] + kCellCorner[c][0], cell.corner[1] + kCellCorner[c][1],
+                            cell.corner[2] + kCellCorner[c][2]);
+    if (!impl_->corner_access.probeValue(at, cell.values[c]))
+      throw std::logic_error("mesh walk: a corner read before it was queued");
   }
 }
 

@@ -1,9 +1,9 @@
 // The mesh step of the pipeline: grid, mesher, trim and colors for a tree.
 
-#include <clustersurf/spatial/cloud_stats.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/mesh/mesh_colors.hpp>
 #include <clustersurf/pipeline/reconstruct.hpp>
+#include <clustersurf/spatial/cloud_stats.hpp>
 
 #include "mesh/mesh_closing.hpp"
 #include "mesh/mesh_untangle.hpp"
@@ -17,11 +17,16 @@ namespace clustersurf {
 
 const char* to_string(MeshColoring coloring) {
   switch (coloring) {
-    case MeshColoring::None: return "none";
-    case MeshColoring::ByNode: return "leaf";
-    case MeshColoring::ByDistance: return "distance";
-    case MeshColoring::FromInput: return "input";
-    case MeshColoring::FromIntensity: return "intensity";
+    case MeshColoring::None:
+      return "none";
+    case MeshColoring::ByNode:
+      return "leaf";
+    case MeshColoring::ByDistance:
+      return "distance";
+    case MeshColoring::FromInput:
+      return "input";
+    case MeshColoring::FromIntensity:
+      return "intensity";
   }
   return "unknown";
 }
@@ -52,7 +57,8 @@ TriangleMesh closed_mesh(const ImplicitSurface& surface, const SurfaceMeshOption
     mesh = trim_to_points(mesh, *data, debris, &out.trim);
   }
   if (options.closing.max_hole_size > 0)
-    out.closing.opened_holes = detail::open_large_fills(mesh, mesh.attributes.back().values, options.closing.max_hole_size);
+    out.closing.opened_holes =
+        detail::open_large_fills(mesh, mesh.attributes.back().values, options.closing.max_hole_size);
   // A closed mesh is for solids and printers: no triangle may pass through another.
   detail::UntangleReport untangled = detail::untangle(mesh);
   out.closing.untangled_intersections = untangled.intersections_before - untangled.remaining.count;
@@ -60,7 +66,8 @@ TriangleMesh closed_mesh(const ImplicitSurface& surface, const SurfaceMeshOption
   out.closing.closed = true;
   out.closing.filled_vertices = static_cast<std::size_t>((filled.array() > 0).count());
   for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
-    out.closing.filled_triangles += filled(mesh.triangles(t, 0)) > 0 || filled(mesh.triangles(t, 1)) > 0 || filled(mesh.triangles(t, 2)) > 0;
+    out.closing.filled_triangles +=
+        filled(mesh.triangles(t, 0)) > 0 || filled(mesh.triangles(t, 1)) > 0 || filled(mesh.triangles(t, 2)) > 0;
   out.closing.fill_cell = closed.cell_size();
   out.closing.fill_nodes = closed.filled_nodes();
   untangled.remaining.pairs.resize(std::min(untangled.remaining.pairs.size(), MeshCheckOptions{}.max_pairs));
@@ -70,7 +77,8 @@ TriangleMesh closed_mesh(const ImplicitSurface& surface, const SurfaceMeshOption
 
 /// colors_from_points() of `colors` (one per input point) over the rows the tree clusters (its
 /// outliers' colors left out).
-Colors clustered_colors(const TriangleMesh& mesh, const ClusterTree& tree, const CloudIndex& input, const Colors& colors) {
+Colors clustered_colors(const TriangleMesh& mesh, const ClusterTree& tree, const CloudIndex& input,
+                        const Colors& colors) {
   const CloudIndex::Subset data = clustered_subset(input, tree);
   if (data.positions.rows() == colors.rows()) return colors_from_points(mesh, data.index, colors);
   const std::vector<std::uint32_t> rows = clustered_rows(tree);
@@ -90,7 +98,8 @@ SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options
                       const ProgressCallback& progress) {
   if (options.coloring == MeshColoring::ByDistance && input == nullptr)
     throw OptionError("distance colors need the tree's input points");
-  if (options.coloring == MeshColoring::ByDistance && (!(options.distance_scale > 0) || !std::isfinite(options.distance_scale)))
+  if (options.coloring == MeshColoring::ByDistance &&
+      (!(options.distance_scale > 0) || !std::isfinite(options.distance_scale)))
     throw OptionError("the distance color scale must be positive");
   if (input != nullptr) require_tree_input(tree, input->cloud().positions);
 
@@ -107,11 +116,13 @@ SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options
   SurfaceMesh out;
   out.blended_nodes = surface.cut().size();
   if (options.closing.enabled) {
-    out.mesh = closed_mesh(surface, options, grid, input == nullptr ? nullptr : &clustered_subset(*input, tree).index, out, progress);
+    out.mesh = closed_mesh(surface, options, grid, input == nullptr ? nullptr : &clustered_subset(*input, tree).index,
+                           out, progress);
   } else {
     out.mesh = extract_mesh(surface, grid, &out.grid, progress);
     // Trimmed to the clustered points: an outlier next to an extrapolated flap must not keep it.
-    if (input != nullptr) out.mesh = trim_to_points(out.mesh, clustered_subset(*input, tree).index, options.trim, &out.trim);
+    if (input != nullptr)
+      out.mesh = trim_to_points(out.mesh, clustered_subset(*input, tree).index, options.trim, &out.trim);
   }
   if (options.decimation.enabled()) {
     out.mesh = decimate(out.mesh, options.decimation, &out.decimation);

@@ -26,7 +26,8 @@ void require_surface_extent(const PointCloud& cloud) {
     throw InputError({}, {}, "all " + n + " points lie on one line: there is no surface to reconstruct");
 }
 
-Reconstruction reconstruct(const PointCloud& cloud, const ReconstructOptions& options, const ProgressCallback& progress) {
+Reconstruction reconstruct(const PointCloud& cloud, const ReconstructOptions& options,
+                           const ProgressCallback& progress) {
   require_surface_extent(cloud);
   const auto start = std::chrono::steady_clock::now();
   const CloudIndex index(cloud);

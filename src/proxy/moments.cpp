@@ -135,7 +135,8 @@ double PolyMoments::rms_error() const {
   gram.topLeftCorner<6, 6>() = bb_;
   gram.block<1, 6>(6, 0) = wb_.transpose();
   gram(6, 6) = ww_;
-  if (const auto f = detail::GramSolver<7>::factor(gram, 1e-10)) return scale_ * std::sqrt(f->residual_sum_of_squares() / n_);
+  if (const auto f = detail::GramSolver<7>::factor(gram, 1e-10))
+    return scale_ * std::sqrt(f->residual_sum_of_squares() / n_);
   const Vector6 c = solve();
   const Matrix6 a = bb_.selfadjointView<Eigen::Lower>();
   // Σ (w − Bᵀc)² = Σw² − 2 cᵀΣwB + cᵀ(ΣBBᵀ)c, in scaled units.

@@ -44,11 +44,16 @@ constexpr double kTinyGradient = 1e-12;
 
 const char* to_string(ProxyKind kind) {
   switch (kind) {
-    case ProxyKind::Point: return "point";
-    case ProxyKind::Plane: return "plane";
-    case ProxyKind::Poly: return "poly";
-    case ProxyKind::Quadric: return "quadric";
-    case ProxyKind::Crease: return "crease";
+    case ProxyKind::Point:
+      return "point";
+    case ProxyKind::Plane:
+      return "plane";
+    case ProxyKind::Poly:
+      return "poly";
+    case ProxyKind::Quadric:
+      return "quadric";
+    case ProxyKind::Crease:
+      return "crease";
   }
   return "unknown";
 }
@@ -60,104 +65,104 @@ ProxyKind parse_proxy_kind(std::string_view text) {
 }
 
 double Proxy::value(const Eigen::Vector3d& x) const {
-  return std::visit(
-      detail::Overloaded{
-          [&](const PointProxy& p) { return (x - p.center).norm(); },
-          [&](const PlaneProxy& p) { return p.normal.dot(x - p.point); },
-          [&](const PolyProxy& p) {
-            const Eigen::Vector3d l = p.frame.to_local(x);
-            const PolyLocal f = poly_at(p, l.x(), l.y());
-            return (l.z() - f.f) / std::sqrt(1 + f.fu * f.fu + f.fv * f.fv);
-          },
-          [&](const QuadricProxy& p) {
-            const Eigen::Vector3d y = (x - p.center) / p.scale;
-            const double g = std::max(quadric_grad(p.coeffs, y).norm(), kTinyGradient);
-            return p.scale * quadric_q(p.coeffs, y) / g;
-          },
-          [&](const CreaseProxy& p) {
-            const double qa = p.a.normal.dot(x - p.a.point), qb = p.b.normal.dot(x - p.b.point);
-            return p.convex ? std::max(qa, qb) : std::min(qa, qb);
-          },
-      },
-      v_);
+  return std::visit(detail::Overloaded{
+                        [&](const PointProxy& p) { return (x - p.center).norm(); },
+                        [&](const PlaneProxy& p) { return p.normal.dot(x - p.point); },
+                        [&](const PolyProxy& p) {
+                          const Eigen::Vector3d l = p.frame.to_local(x);
+                          const PolyLocal f = poly_at(p, l.x(), l.y());
+                          return (l.z() - f.f) / std::sqrt(1 + f.fu * f.fu + f.fv * f.fv);
+                        },
+                        [&](const QuadricProxy& p) {
+                          const Eigen::Vector3d y = (x - p.center) / p.scale;
+                          const double g = std::max(quadric_grad(p.coeffs, y).norm(), kTinyGradient);
+                          return p.scale * quadric_q(p.coeffs, y) / g;
+                        },
+                        [&](const CreaseProxy& p) {
+                          const double qa = p.a.normal.dot(x - p.a.point), qb = p.b.normal.dot(x - p.b.point);
+                          return p.convex ? std::max(qa, qb) : std::min(qa, qb);
+                        },
+                    },
+                    v_);
 }
 
 Eigen::Vector3d Proxy::gradient(const Eigen::Vector3d& x) const {
-  return std::visit(
-      detail::Overloaded{
-          [&](const PointProxy& p) -> Eigen::Vector3d {
-            const Eigen::Vector3d d = x - p.center;
-            const double n = d.norm();
-            return n > 0 ? Eigen::Vector3d(d / n) : Eigen::Vector3d::Zero();
-          },
-          [&](const PlaneProxy& p) -> Eigen::Vector3d { return p.normal; },
-          [&](const PolyProxy& p) -> Eigen::Vector3d {
-            const Eigen::Vector3d l = p.frame.to_local(x);
-            const auto& c = p.coeffs;
-            const PolyLocal f = poly_at(p, l.x(), l.y());
-            const double d2 = 1 + f.fu * f.fu + f.fv * f.fv;
-            const double d = std::sqrt(d2);
-            const double r = l.z() - f.f;
-            // d(D)/du = (fu fuu + fv fuv) / D with fuu = 2c3, fuv = c4, fvv = 2c5.
-            const double ddu = (f.fu * 2 * c[3] + f.fv * c[4]) / d;
-            const double ddv = (f.fu * c[4] + f.fv * 2 * c[5]) / d;
-            const Eigen::Vector3d local(-f.fu / d - r * ddu / d2, -f.fv / d - r * ddv / d2, 1 / d);
-            return p.frame.axes * local;
-          },
-          [&](const QuadricProxy& p) -> Eigen::Vector3d {
-            const Eigen::Vector3d y = (x - p.center) / p.scale;
-            const Eigen::Vector3d g = quadric_grad(p.coeffs, y);
-            const double gn = std::max(g.norm(), kTinyGradient);
-            const double q = quadric_q(p.coeffs, y);
-            return g / gn - q * (quadric_hessian(p.coeffs) * g) / (gn * gn * gn);
-          },
-          [&](const CreaseProxy& p) -> Eigen::Vector3d {
-            const double qa = p.a.normal.dot(x - p.a.point), qb = p.b.normal.dot(x - p.b.point);
-            return (p.convex ? qa >= qb : qa <= qb) ? p.a.normal : p.b.normal;
-          },
-      },
-      v_);
+  return std::visit(detail::Overloaded{
+                        [&](const PointProxy& p) -> Eigen::Vector3d {
+                          const Eigen::Vector3d d = x - p.center;
+                          const double n = d.norm();
+                          return n > 0 ? Eigen::Vector3d(d / n) : Eigen::Vector3d::Zero();
+                        },
+                        [&](const PlaneProxy& p) -> Eigen::Vector3d { return p.normal; },
+                        [&](const PolyProxy& p) -> Eigen::Vector3d {
+                          const Eigen::Vector3d l = p.frame.to_local(x);
+                          const auto& c = p.coeffs;
+                          const PolyLocal f = poly_at(p, l.x(), l.y());
+                          const double d2 = 1 + f.fu * f.fu + f.fv * f.fv;
+                          const double d = std::sqrt(d2);
+                          const double r = l.z() - f.f;
+                          // d(D)/du = (fu fuu + fv fuv) / D with fuu = 2c3, fuv = c4, fvv = 2c5.
+                          const double ddu = (f.fu * 2 * c[3] + f.fv * c[4]) / d;
+                          const double ddv = (f.fu * c[4] + f.fv * 2 * c[5]) / d;
+                          const Eigen::Vector3d local(-f.fu / d - r * ddu / d2, -f.fv / d - r * ddv / d2, 1 / d);
+                          return p.frame.axes * local;
+                        },
+                        [&](const QuadricProxy& p) -> Eigen::Vector3d {
+                          const Eigen::Vector3d y = (x - p.center) / p.scale;
+                          const Eigen::Vector3d g = quadric_grad(p.coeffs, y);
+                          const double gn = std::max(g.norm(), kTinyGradient);
+                          const double q = quadric_q(p.coeffs, y);
+                          return g / gn - q * (quadric_hessian(p.coeffs) * g) / (gn * gn * gn);
+                        },
+                        [&](const CreaseProxy& p) -> Eigen::Vector3d {
+                          const double qa = p.a.normal.dot(x - p.a.point), qb = p.b.normal.dot(x - p.b.point);
+                          return (p.convex ? qa >= qb : qa <= qb) ? p.a.normal : p.b.normal;
+                        },
+                    },
+                    v_);
 }
 
 std::optional<double> Proxy::intersect(const Ray& ray, double t_min, double t_max) const {
-  return std::visit(
-      detail::Overloaded{
-          [&](const PointProxy&) -> std::optional<double> { return std::nullopt; },
-          [&](const PlaneProxy& p) -> std::optional<double> {
-            return detail::smallest_root(0, p.normal.dot(ray.direction), p.normal.dot(ray.origin - p.point), t_min, t_max);
-          },
-          [&](const PolyProxy& p) -> std::optional<double> {
-            const Eigen::Vector3d o = p.frame.to_local(ray.origin);
-            const Eigen::Vector3d d = p.frame.axes.transpose() * ray.direction;
-            const auto& c = p.coeffs;
-            const double a = -(c[3] * d.x() * d.x() + c[4] * d.x() * d.y() + c[5] * d.y() * d.y());
-            const double b = d.z() - (c[1] * d.x() + c[2] * d.y() + 2 * c[3] * o.x() * d.x() +
-                                      c[4] * (o.x() * d.y() + o.y() * d.x()) + 2 * c[5] * o.y() * d.y());
-            const double c0 = o.z() - poly_at(p, o.x(), o.y()).f;
-            return detail::smallest_root(a, b, c0, t_min, t_max);
-          },
-          [&](const QuadricProxy& p) -> std::optional<double> {
-            const Eigen::Vector3d y0 = (ray.origin - p.center) / p.scale;
-            const Eigen::Vector3d e = ray.direction / p.scale;
-            const Eigen::Matrix3d a = 0.5 * quadric_hessian(p.coeffs);
-            const Eigen::Vector3d b(p.coeffs[6], p.coeffs[7], p.coeffs[8]);
-            return detail::smallest_root(e.dot(a * e), 2 * y0.dot(a * e) + b.dot(e), quadric_q(p.coeffs, y0), t_min, t_max);
-          },
-          [&](const CreaseProxy& p) -> std::optional<double> {
-            // Each plane's crossing counts where the other plane lets it decide: below it for
-            // max (convex), above it for min (concave).
-            std::optional<double> best;
-            for (const auto& [own, other] : {std::pair{&p.a, &p.b}, std::pair{&p.b, &p.a}}) {
-              const auto t = detail::smallest_root(0, own->normal.dot(ray.direction), own->normal.dot(ray.origin - own->point),
-                                                   t_min, t_max);
-              if (!t) continue;
-              const double q = other->normal.dot(ray.origin + *t * ray.direction - other->point);
-              if ((p.convex ? q <= 0 : q >= 0) && (!best || *t < *best)) best = t;
-            }
-            return best;
-          },
-      },
-      v_);
+  return std::visit(detail::Overloaded{
+                        [&](const PointProxy&) -> std::optional<double> { return std::nullopt; },
+                        [&](const PlaneProxy& p) -> std::optional<double> {
+                          return detail::smallest_root(0, p.normal.dot(ray.direction),
+                                                       p.normal.dot(ray.origin - p.point), t_min, t_max);
+                        },
+                        [&](const PolyProxy& p) -> std::optional<double> {
+                          const Eigen::Vector3d o = p.frame.to_local(ray.origin);
+                          const Eigen::Vector3d d = p.frame.axes.transpose() * ray.direction;
+                          const auto& c = p.coeffs;
+                          const double a = -(c[3] * d.x() * d.x() + c[4] * d.x() * d.y() + c[5] * d.y() * d.y());
+                          const double b = d.z() - (c[1] * d.x() + c[2] * d.y() + 2 * c[3] * o.x() * d.x() +
+                                                    c[4] * (o.x() * d.y() + o.y() * d.x()) + 2 * c[5] * o.y() * d.y());
+                          const double c0 = o.z() - poly_at(p, o.x(), o.y()).f;
+                          return detail::smallest_root(a, b, c0, t_min, t_max);
+                        },
+                        [&](const QuadricProxy& p) -> std::optional<double> {
+                          const Eigen::Vector3d y0 = (ray.origin - p.center) / p.scale;
+                          const Eigen::Vector3d e = ray.direction / p.scale;
+                          const Eigen::Matrix3d a = 0.5 * quadric_hessian(p.coeffs);
+                          const Eigen::Vector3d b(p.coeffs[6], p.coeffs[7], p.coeffs[8]);
+                          return detail::smallest_root(e.dot(a * e), 2 * y0.dot(a * e) + b.dot(e),
+                                                       quadric_q(p.coeffs, y0), t_min, t_max);
+                        },
+                        [&](const CreaseProxy& p) -> std::optional<double> {
+                          // Each plane's crossing counts where the other plane lets it decide: below it for
+                          // max (convex), above it for min (concave).
+                          std::optional<double> best;
+                          for (const auto& [own, other] : {std::pair{&p.a, &p.b}, std::pair{&p.b, &p.a}}) {
+                            const auto t =
+                                detail::smallest_root(0, own->normal.dot(ray.direction),
+                                                      own->normal.dot(ray.origin - own->point), t_min, t_max);
+                            if (!t) continue;
+                            const double q = other->normal.dot(ray.origin + *t * ray.direction - other->point);
+                            if ((p.convex ? q <= 0 : q >= 0) && (!best || *t < *best)) best = t;
+                          }
+                          return best;
+                        },
+                    },
+                    v_);
 }
 
 void Proxy::flip() {

@@ -58,8 +58,8 @@ QuadricProxy fit_quadric(const Points& points, std::span<const std::uint32_t> in
     const Eigen::Vector3d y = (points.row(i).transpose() - q.center) / q.scale;
     Vector9 l;
     l << y.x() * y.x(), y.y() * y.y(), y.z() * y.z(), y.x() * y.y(), y.x() * y.z(), y.y() * y.z(), y.x(), y.y(), y.z();
-    j << 2 * y.x(), 0, 0, 0, 2 * y.y(), 0, 0, 0, 2 * y.z(), y.y(), y.x(), 0, y.z(), 0, y.x(), 0, y.z(), y.y(), 1, 0, 0, 0,
-        1, 0, 0, 0, 1;
+    j << 2 * y.x(), 0, 0, 0, 2 * y.y(), 0, 0, 0, 2 * y.z(), y.y(), y.x(), 0, y.z(), 0, y.x(), 0, y.z(), y.y(), 1, 0, 0,
+        0, 1, 0, 0, 0, 1;
     m.noalias() += l * l.transpose();
     mean += l;
     g.noalias() += j * j.transpose();
@@ -121,8 +121,9 @@ namespace {
 /// slope_factor (the fit's normal along the input normal n: linear in the coefficients and
 /// bounded for any n; slopes are invariant under the scaling).
 template <class Row>
-void for_each_row(const Frame& frame, const Points& points, std::span<const std::uint32_t> indices, std::span<const double> weights,
-                  double scale, const Points* normals, double slope_factor, Row&& row) {
+void for_each_row(const Frame& frame, const Points& points, std::span<const std::uint32_t> indices,
+                  std::span<const double> weights, double scale, const Points* normals, double slope_factor,
+                  Row&& row) {
   using Vector7 = Eigen::Matrix<double, 7, 1>;
   for (std::size_t k = 0; k < indices.size(); ++k) {
     const Eigen::Vector3d l = frame.to_local(points.row(indices[k]).transpose()) / scale;
@@ -188,7 +189,9 @@ PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<
   // In scaled units a position row's residual is r / scale; the normal rows' weight keeps the
   // ratio normal_weight (a squared length) between the two sums.
   const double slope_factor = hermite ? std::sqrt(normal_weight) / scale : 0;
-  const auto rows = [&](auto&& row) { for_each_row(frame, points, indices, weights, scale, normals, slope_factor, row); };
+  const auto rows = [&](auto&& row) {
+    for_each_row(frame, points, indices, weights, scale, normals, slope_factor, row);
+  };
 
   Eigen::Matrix<double, 7, 7> gram = Eigen::Matrix<double, 7, 7>::Zero();
   rows([&](const Eigen::Matrix<double, 7, 1>& r) { detail::add_outer_lower(gram, r); });
@@ -217,10 +220,14 @@ double extent_of(const Points& points, std::span<const std::uint32_t> indices) {
 
 Proxy fit_proxy(ProxyKind kind, const Points& points, std::span<const std::uint32_t> indices) {
   switch (kind) {
-    case ProxyKind::Point: return PointProxy{mean_of(points, indices)};
-    case ProxyKind::Plane: return fit_plane(points, indices);
-    case ProxyKind::Poly: return fit_poly_in_frame(pca_frame(points, indices), points, indices);
-    case ProxyKind::Quadric: return fit_quadric(points, indices);
+    case ProxyKind::Point:
+      return PointProxy{mean_of(points, indices)};
+    case ProxyKind::Plane:
+      return fit_plane(points, indices);
+    case ProxyKind::Poly:
+      return fit_poly_in_frame(pca_frame(points, indices), points, indices);
+    case ProxyKind::Quadric:
+      return fit_quadric(points, indices);
     case ProxyKind::Crease: {
       const auto crease = detail::fit_crease(points, indices, pca_frame(points, indices), extent_of(points, indices));
       if (crease) return crease->proxy;

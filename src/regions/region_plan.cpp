@@ -42,7 +42,8 @@ struct Planner {
     // region's own points are a quarter of the limit (the halo of a smaller one would outweigh it).
     const double own = static_cast<double>(rows.size()) * points_per_sample;
     const double limit = static_cast<double>(max_points);
-    const bool fits = own <= limit && (own <= 0.25 * limit || own + static_cast<double>(halo_count(box)) * points_per_sample <= limit);
+    const bool fits = own <= limit &&
+                      (own <= 0.25 * limit || own + static_cast<double>(halo_count(box)) * points_per_sample <= limit);
     if (fits || rows.size() < 2) {
       plan.cells[static_cast<std::size_t>(index)].region = static_cast<std::int32_t>(plan.region_cell.size());
       plan.region_cell.push_back(index);
@@ -81,7 +82,8 @@ struct Planner {
 
 std::int32_t RegionPlan::region_of(const Eigen::Vector3d& x) const {
   std::size_t c = 0;
-  while (cells[c].left >= 0) c = static_cast<std::size_t>(x(cells[c].axis) < cells[c].split ? cells[c].left : cells[c].right);
+  while (cells[c].left >= 0)
+    c = static_cast<std::size_t>(x(cells[c].axis) < cells[c].split ? cells[c].left : cells[c].right);
   return cells[c].region;
 }
 
@@ -111,7 +113,8 @@ RegionPlan plan_regions(const Points& sample, std::uint64_t total_points, const 
   if (options.max_points < 1) throw OptionError("a region must hold at least one point");
   if (!(options.halo_spacings >= 0) || !std::isfinite(options.halo_spacings))
     throw OptionError("the region halo must be a finite number of point spacings >= 0");
-  if (!(point_spacing >= 0) || !std::isfinite(point_spacing)) throw OptionError("the point spacing must be finite and >= 0");
+  if (!(point_spacing >= 0) || !std::isfinite(point_spacing))
+    throw OptionError("the point spacing must be finite and >= 0");
   if (bbox.empty()) throw OptionError("cannot plan regions of an empty cloud");
   RegionPlan plan;
   plan.point_spacing = point_spacing;

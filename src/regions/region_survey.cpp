@@ -1,10 +1,10 @@
 // What each region measures for the cloud's scale, and the scale the regions share.
 
-#include <clustersurf/spatial/cloud_stats.hpp>
-#include <clustersurf/core/errors.hpp>
 #include <clustersurf/cluster/noise.hpp>
-#include <clustersurf/spatial/outliers.hpp>
+#include <clustersurf/core/errors.hpp>
 #include <clustersurf/regions/regions.hpp>
+#include <clustersurf/spatial/cloud_stats.hpp>
+#include <clustersurf/spatial/outliers.hpp>
 
 #include <algorithm>
 #include <numeric>
@@ -38,7 +38,8 @@ double weighted_median(std::span<const RegionSurvey> surveys, Member value) {
 
 RegionSurvey survey_region(const RegionCloud& region, const BuildOptions& options) {
   const Points& points = region.points.positions;
-  if (region.own > static_cast<std::size_t>(points.rows())) throw OptionError("a region cannot own more points than it holds");
+  if (region.own > static_cast<std::size_t>(points.rows()))
+    throw OptionError("a region cannot own more points than it holds");
   RegionSurvey survey;
   survey.points = region.own;
   if (region.own == 0) return survey;
@@ -68,9 +69,11 @@ RegionSurvey survey_region(const RegionCloud& region, const BuildOptions& option
   if (options.threshold_mode == ThresholdMode::Auto && options.noise_factor > 0) {
     // As build_cluster_tree(): the input normals keep facing sheets apart.
     const Points& normals = region.points.normals;
-    const bool facing = options.use_normals && options.noise.facing_normals && normals.rows() == points.rows() && points.rows() > 0;
+    const bool facing =
+        options.use_normals && options.noise.facing_normals && normals.rows() == points.rows() && points.rows() > 0;
     const Points clustered_normals = facing ? Points(normals(kept, Eigen::all)) : Points();
-    survey.noise_sigma = estimate_noise(clustered, KdTree(clustered), options.noise, facing ? &clustered_normals : nullptr);
+    survey.noise_sigma =
+        estimate_noise(clustered, KdTree(clustered), options.noise, facing ? &clustered_normals : nullptr);
   }
   return survey;
 }

@@ -1,10 +1,10 @@
 // A region's subtree, built at the whole cloud's scale.
 
-#include <clustersurf/spatial/cloud_index.hpp>
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/surface/orientation.hpp>
-#include <clustersurf/spatial/outliers.hpp>
 #include <clustersurf/regions/regions.hpp>
+#include <clustersurf/spatial/cloud_index.hpp>
+#include <clustersurf/spatial/outliers.hpp>
+#include <clustersurf/surface/orientation.hpp>
 
 #include "cluster/build_state.hpp"
 
@@ -25,7 +25,8 @@ ClusterTree build_region_tree(const RegionCloud& region, const RegionPlan& plan,
   const PointCloud& cloud = region.points;
   if (region_index < 0 || static_cast<std::size_t>(region_index) >= plan.regions())
     throw OptionError("region " + std::to_string(region_index) + " is not in the plan");
-  if (region.own > static_cast<std::size_t>(cloud.size())) throw OptionError("a region cannot own more points than it holds");
+  if (region.own > static_cast<std::size_t>(cloud.size()))
+    throw OptionError("a region cannot own more points than it holds");
   ClusterTree tree;
   if (region.own == 0) return tree;  // nothing of the cloud lies in this region
   const CloudIndex index(cloud);
@@ -58,14 +59,16 @@ ClusterTree build_region_tree(const RegionCloud& region, const RegionPlan& plan,
   const bool subset = kept.size() != static_cast<std::size_t>(cloud.size());
   const Points subset_normals = normals && subset ? Points(cloud.normals(kept, Eigen::all)) : Points();
   const Points* support_normals = !normals ? nullptr : subset ? &subset_normals : &cloud.normals;
-  tree = detail::build_tree(cloud, std::move(ids), clustered, support.positions, support_normals, support.index, build_scale, build,
-                            progress);
+  tree = detail::build_tree(cloud, std::move(ids), clustered, support.positions, support_normals, support.index,
+                            build_scale, build, progress);
   const OrientationReport oriented = orient_tree(tree, index, options.use_normals);
   if (orientation != nullptr) *orientation = oriented;
   // The tree of the region's own points: the halo belongs to the neighbours' trees.
   tree.input_points = region.own;
-  if (options.keep_point_leaves) tree.point_leaf.resize(region.own);
-  else tree.point_leaf.clear();
+  if (options.keep_point_leaves)
+    tree.point_leaf.resize(region.own);
+  else
+    tree.point_leaf.clear();
   return tree;
 }
 

@@ -1,8 +1,8 @@
 // The regions' subtrees as one tree under the plan's cells.
 
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/regions/regions.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 
 #include "cluster/build_state.hpp"
 
@@ -22,7 +22,7 @@ struct Merger {
   ClusterTree& out;
   std::vector<std::int32_t> region_root;  // each region's root in `out` (-1: empty)
   std::vector<std::uint64_t> cell_points;
-  std::vector<BoundingBox> cell_box;      // of the clustered points below each cell
+  std::vector<BoundingBox> cell_box;  // of the clustered points below each cell
 
   void measure(std::size_t c) {
     const RegionPlan::Cell& cell = plan.cells[c];
@@ -116,7 +116,8 @@ struct Merger {
 /// proxies' gradients are compared midway between overlapping leaves of two regions, and a
 /// maximum spanning tree over the regions (weighted by how much they overlap) carries the
 /// orientation of the largest region of each group to the others. Returns the flipped regions.
-std::vector<std::uint8_t> align_regions(ClusterTree& tree, const std::vector<std::int32_t>& region_root, bool propagated) {
+std::vector<std::uint8_t> align_regions(ClusterTree& tree, const std::vector<std::int32_t>& region_root,
+                                        bool propagated) {
   std::vector<std::int32_t> region_of(tree.nodes.size(), -1);
   for (std::size_t r = 0; r < region_root.size(); ++r) {
     if (region_root[r] < 0) continue;
@@ -183,7 +184,8 @@ std::vector<std::uint8_t> align_regions(ClusterTree& tree, const std::vector<std
   std::vector<std::int32_t> extreme(n, -1);  // the +x-most leaf of each region
   for (const std::int32_t leaf : leaves) {
     const std::int32_t r = region_of[static_cast<std::size_t>(leaf)];
-    if (r >= 0 && (extreme[static_cast<std::size_t>(r)] < 0 || reach(leaf) > reach(extreme[static_cast<std::size_t>(r)])))
+    if (r >= 0 &&
+        (extreme[static_cast<std::size_t>(r)] < 0 || reach(leaf) > reach(extreme[static_cast<std::size_t>(r)])))
       extreme[static_cast<std::size_t>(r)] = leaf;
   }
   std::vector<int> flip(n, -1);
@@ -226,14 +228,16 @@ struct Assembly {
 
 Assembly assemble(const RegionPlan& plan, std::vector<ClusterTree>& regions) {
   if (regions.size() != plan.regions())
-    throw OptionError("the plan has " + std::to_string(plan.regions()) + " regions, not " + std::to_string(regions.size()));
+    throw OptionError("the plan has " + std::to_string(plan.regions()) + " regions, not " +
+                      std::to_string(regions.size()));
   const ClusterTree* first = nullptr;
   std::size_t nodes = 0;
   for (const ClusterTree& t : regions) {
     nodes += t.nodes.size();
     if (t.nodes.empty()) continue;
     if (first == nullptr) first = &t;
-    if (!(t.parameters == first->parameters) || t.error_threshold != first->error_threshold || t.origin != first->origin || t.up != first->up)
+    if (!(t.parameters == first->parameters) || t.error_threshold != first->error_threshold ||
+        t.origin != first->origin || t.up != first->up)
       throw OptionError("the region trees were not built with the same options and scale");
   }
   if (first == nullptr) throw OptionError("every region is empty: there is no surface");
@@ -251,8 +255,13 @@ Assembly assemble(const RegionPlan& plan, std::vector<ClusterTree>& regions) {
     out.input_points += t.input_points;
     point_leaves = point_leaves && t.point_leaf.size() == t.input_points;
   }
-  Merger merger{plan, regions, out.parameters, out, std::vector<std::int32_t>(regions.size(), -1),
-                std::vector<std::uint64_t>(plan.cells.size(), 0), std::vector<BoundingBox>(plan.cells.size())};
+  Merger merger{plan,
+                regions,
+                out.parameters,
+                out,
+                std::vector<std::int32_t>(regions.size(), -1),
+                std::vector<std::uint64_t>(plan.cells.size(), 0),
+                std::vector<BoundingBox>(plan.cells.size())};
   merger.measure(0);
   merger.emit(0, -1, 0);
   out.bbox = merger.cell_box[0];
@@ -278,7 +287,8 @@ ClusterTree merge_region_trees(const RegionPlan& plan, std::vector<ClusterTree> 
   record.flipped = align_regions(a.tree, a.region_root, propagated);
   record.bbox = a.tree.bbox;
   record.point_spacing = a.tree.point_spacing;
-  record.leaves = static_cast<std::size_t>(std::count_if(a.tree.nodes.begin(), a.tree.nodes.end(), [](const ClusterNode& n) { return n.is_leaf(); }));
+  record.leaves = static_cast<std::size_t>(
+      std::count_if(a.tree.nodes.begin(), a.tree.nodes.end(), [](const ClusterNode& n) { return n.is_leaf(); }));
   return std::move(a.tree);
 }
 

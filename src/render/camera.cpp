@@ -1,7 +1,7 @@
 // Pinhole camera and automatic framing.
 
-#include <clustersurf/render/camera.hpp>
 #include <clustersurf/core/errors.hpp>
+#include <clustersurf/render/camera.hpp>
 
 #include <Eigen/Geometry>
 

@@ -45,7 +45,8 @@ void draw_text(Image& image, int x, int y, std::string_view text, Rgba8 color, i
   std::string s = printable(text);
   // stb_easy_font: 4 vertices of 16 bytes per quad; ~270 bytes per character is plenty.
   std::vector<float> buffer(std::max<std::size_t>(s.size(), 1) * 70 * 4);
-  const int quads = stb_easy_font_print(0, 0, s.data(), nullptr, buffer.data(), static_cast<int>(buffer.size() * sizeof(float)));
+  const int quads =
+      stb_easy_font_print(0, 0, s.data(), nullptr, buffer.data(), static_cast<int>(buffer.size() * sizeof(float)));
   for (int q = 0; q < quads; ++q) {
     const float* v = &buffer[static_cast<std::size_t>(q) * 16];  // 4 vertices × (x, y, z, color)
     float qx0 = v[0], qy0 = v[1], qx1 = v[0], qy1 = v[1];

@@ -19,8 +19,9 @@ Image compose_grid(std::span<const Image> cells, std::span<const std::string> la
   const int scale = std::max(1, h / 300);
   const int label_h = labels.empty() ? 0 : 14 * scale;
   Image out(cols * w, rows * (h + label_h), background);
-  const Rgba8 ink = (background.r + background.g + background.b) / 3 < 128 && background.a > 0 ? Rgba8{235, 235, 235, 255}
-                                                                                               : Rgba8{30, 30, 30, 255};
+  const Rgba8 ink = (background.r + background.g + background.b) / 3 < 128 && background.a > 0
+                        ? Rgba8{235, 235, 235, 255}
+                        : Rgba8{30, 30, 30, 255};
   for (int k = 0; k < n; ++k) {
     const int ox = (k % cols) * w, oy = (k / cols) * (h + label_h);
     for (int y = 0; y < h; ++y)

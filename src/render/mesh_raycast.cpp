@@ -2,9 +2,9 @@
 // the same camera as a tree. Ray casting uses Embree (Debian's libembree-dev): its BVHs are
 // the well-kept choice for triangles, and its oriented-disc and sphere points draw splats.
 
-#include <clustersurf/spatial/cloud_stats.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/render/render.hpp>
+#include <clustersurf/spatial/cloud_stats.hpp>
 
 #include "core/embree_scene.hpp"
 #include "render/pixel_loop.hpp"
@@ -39,7 +39,8 @@ class Splatter {
     double occlusion = 1;
     if (options_.ambient_occlusion) {
       const Eigen::Vector3d facing = n.dot(ray.direction) > 0 ? Eigen::Vector3d(-n) : n;
-      const Eigen::Vector3d x = ray.origin + static_cast<double>(rh.ray.tfar) * ray.direction + render::kOcclusionOffset * diagonal_ * facing;
+      const Eigen::Vector3d x =
+          ray.origin + static_cast<double>(rh.ray.tfar) * ray.direction + render::kOcclusionOffset * diagonal_ * facing;
       occlusion = render::ambient_occlusion(facing, seed, [&](const Eigen::Vector3d& d) {
         return scene_.occluded({x, d}, static_cast<float>(render::kOcclusionReach * diagonal_));
       });
@@ -56,7 +57,8 @@ class Splatter {
 
 }  // namespace
 
-Image render_mesh(const TriangleMesh& mesh, const RenderOptions& options, RenderStats* stats, const ProgressCallback& progress) {
+Image render_mesh(const TriangleMesh& mesh, const RenderOptions& options, RenderStats* stats,
+                  const ProgressCallback& progress) {
   render::check_common_options(options);
   if (mesh.triangles.rows() == 0) throw OptionError("cannot render a mesh without triangles");
   const Camera camera = render::scene_camera(options, bounding_box(mesh.vertices), mesh.origin, mesh.up);
@@ -75,14 +77,20 @@ Image render_mesh(const TriangleMesh& mesh, const RenderOptions& options, Render
     }
     if (colored)
       base = (b0 * mesh.colors.row(tri(0)).cast<double>() + b1 * mesh.colors.row(tri(1)).cast<double>() +
-              b2 * mesh.colors.row(tri(2)).cast<double>()).transpose() / 255.0;
+              b2 * mesh.colors.row(tri(2)).cast<double>())
+                 .transpose() /
+             255.0;
   };
-  return render::trace_image(camera, options, [&](int, int, int, int) {
-    return [&](const Ray& ray, std::uint64_t seed) { return splatter.trace(ray, seed, color_at); };
-  }, stats, progress);
+  return render::trace_image(
+      camera, options,
+      [&](int, int, int, int) {
+        return [&](const Ray& ray, std::uint64_t seed) { return splatter.trace(ray, seed, color_at); };
+      },
+      stats, progress);
 }
 
-Image render_points(const PointCloud& cloud, const RenderOptions& options, RenderStats* stats, const ProgressCallback& progress) {
+Image render_points(const PointCloud& cloud, const RenderOptions& options, RenderStats* stats,
+                    const ProgressCallback& progress) {
   render::check_common_options(options);
   if (cloud.empty()) throw OptionError("cannot render an empty point cloud");
   const Camera camera = render::scene_camera(options, bounding_box(cloud.positions), cloud.origin, cloud.up);
@@ -93,16 +101,20 @@ Image render_points(const PointCloud& cloud, const RenderOptions& options, Rende
   }
   EmbreeScene scene;
   const bool oriented = cloud.has_normals();
-  RTCGeometry geometry = rtcNewGeometry(scene.device(), oriented ? RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT : RTC_GEOMETRY_TYPE_SPHERE_POINT);
+  RTCGeometry geometry =
+      rtcNewGeometry(scene.device(), oriented ? RTC_GEOMETRY_TYPE_ORIENTED_DISC_POINT : RTC_GEOMETRY_TYPE_SPHERE_POINT);
   const auto n = static_cast<std::size_t>(cloud.size());
-  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), n));
+  auto* v = static_cast<float*>(
+      rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), n));
   if (v == nullptr) throw std::bad_alloc();
   for (std::size_t i = 0; i < n; ++i) {
-    for (int k = 0; k < 3; ++k) v[4 * i + static_cast<std::size_t>(k)] = static_cast<float>(cloud.positions(static_cast<Eigen::Index>(i), k));
+    for (int k = 0; k < 3; ++k)
+      v[4 * i + static_cast<std::size_t>(k)] = static_cast<float>(cloud.positions(static_cast<Eigen::Index>(i), k));
     v[4 * i + 3] = static_cast<float>(radius);
   }
   if (oriented) {
-    auto* nb = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), n));
+    auto* nb = static_cast<float*>(
+        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_NORMAL, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), n));
     if (nb == nullptr) throw std::bad_alloc();
     for (std::size_t i = 0; i < n; ++i) {
       Eigen::Vector3d nn = cloud.normals.row(static_cast<Eigen::Index>(i)).transpose();
@@ -116,9 +128,12 @@ Image render_points(const PointCloud& cloud, const RenderOptions& options, Rende
   const auto color_at = [&](unsigned prim, float, float, Color& base, Eigen::Vector3d&) {
     if (cloud.has_colors()) base = cloud.colors.row(prim).cast<double>().transpose() / 255.0;
   };
-  return render::trace_image(camera, options, [&](int, int, int, int) {
-    return [&](const Ray& ray, std::uint64_t seed) { return splatter.trace(ray, seed, color_at); };
-  }, stats, progress);
+  return render::trace_image(
+      camera, options,
+      [&](int, int, int, int) {
+        return [&](const Ray& ray, std::uint64_t seed) { return splatter.trace(ray, seed, color_at); };
+      },
+      stats, progress);
 }
 
 }  // namespace clustersurf

@@ -31,8 +31,8 @@ void check_common_options(const RenderOptions& options);
 Camera scene_camera(const RenderOptions& options, const BoundingBox& own, const Eigen::Vector3d& origin, UpAxis up);
 
 /// Traces options.samples rays per pixel of `camera`. `make_tracer(x0, y0, x1, y1)` is called
-/// once per tile (pixels [x0, x1) × [y0, y1)) and returns a callable (const Ray&, std::uint64_t seed) → SampleResult owning its scratch
-/// memory. The picture does not depend on the thread count.
+/// once per tile (pixels [x0, x1) × [y0, y1)) and returns a callable (const Ray&, std::uint64_t seed) → SampleResult
+/// owning its scratch memory. The picture does not depend on the thread count.
 template <class MakeTracer>
 Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer&& make_tracer, RenderStats* stats,
                   const ProgressCallback& progress_callback) {
@@ -40,7 +40,8 @@ Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer
   Image image(w, h);
   const Color background = to_color({options.background.r, options.background.g, options.background.b});
   const double background_alpha = options.background.a / 255.0;
-  detail::ProgressReporter progress(progress_callback, "ray tracing", static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h));
+  detail::ProgressReporter progress(progress_callback, "ray tracing",
+                                    static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h));
   std::atomic<std::uint64_t> hits{0};
   const auto start = std::chrono::steady_clock::now();
   constexpr int kTile = 16;
@@ -50,13 +51,16 @@ Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer
     std::uint64_t tile_hits = 0;
     for (int y = tile.rows().begin(); y != tile.rows().end(); ++y) {
       for (int x = tile.cols().begin(); x != tile.cols().end(); ++x) {
-        const std::uint64_t pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(w) + static_cast<std::uint64_t>(x);
+        const std::uint64_t pixel =
+            static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(w) + static_cast<std::uint64_t>(x);
         Color sum = Color::Zero();  // premultiplied
         double coverage = 0;
         for (int k = 0; k < samples; ++k) {
           const std::uint64_t seed = detail::splitmix64(pixel * 1024 + static_cast<std::uint64_t>(k));
           double jx = 0.5, jy = 0.5;
-          if (samples > 1) jx = unit_interval(detail::splitmix64(seed ^ 0x1234)), jy = unit_interval(detail::splitmix64(seed ^ 0x5678));
+          if (samples > 1)
+            jx = unit_interval(detail::splitmix64(seed ^ 0x1234)),
+            jy = unit_interval(detail::splitmix64(seed ^ 0x5678));
           const SampleResult r = trace(camera.ray(x + jx, y + jy), seed);
           sum += r.alpha * r.rgb;
           coverage += r.alpha;

@@ -1,8 +1,8 @@
 // Supports along a ray: ray–sphere tests down the hierarchy (or over every blended node) and
 // each proxy restricted to the ray.
 
-#include "core/overloaded.hpp"
 #include "render/ray_support.hpp"
+#include "core/overloaded.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -46,7 +46,8 @@ void restrict_proxy(const Proxy& proxy, const Ray& ray, SupportSpan& span) {
                    const auto& c = p.coeffs;
                    const double ou = ol.x(), ov = ol.y(), du = dl.x(), dv = dl.y();
                    const double f0 = p.height(ou, ov);
-                   const double f1 = c[1] * du + c[2] * dv + 2 * c[3] * ou * du + c[4] * (ou * dv + ov * du) + 2 * c[5] * ov * dv;
+                   const double f1 =
+                       c[1] * du + c[2] * dv + 2 * c[3] * ou * du + c[4] * (ou * dv + ov * du) + 2 * c[5] * ov * dv;
                    const double f2 = c[3] * du * du + c[4] * du * dv + c[5] * dv * dv;
                    span.n0 = ol.z() - f0;
                    span.n1 = dl.z() - f1;
@@ -128,7 +129,8 @@ SupportIndex::SupportIndex(const ClusterTree& tree, const LevelOfDetail& lod) : 
 namespace {
 
 /// Whether a sphere may meet the cone (apex, unit axis, half-angle), conservatively.
-bool sphere_meets_cone(const Sphere& sphere, const Eigen::Vector3d& apex, const Eigen::Vector3d& axis, double half_angle) {
+bool sphere_meets_cone(const Sphere& sphere, const Eigen::Vector3d& apex, const Eigen::Vector3d& axis,
+                       double half_angle) {
   const Eigen::Vector3d v = sphere.center - apex;
   const double dist = v.norm();
   if (dist <= sphere.radius) return true;
@@ -150,7 +152,8 @@ void SupportIndex::collect_in_cone(const Eigen::Vector3d& eye, const Eigen::Vect
   if (tree().nodes.empty()) return;
   surface_.walk([&](const Sphere& bound) { return sphere_meets_cone(bound, eye, axis, half_angle); },
                 [&](std::int32_t i) {
-                  if (sphere_meets_cone(tree().nodes[static_cast<std::size_t>(i)].support, eye, axis, half_angle)) out.push_back(i);
+                  if (sphere_meets_cone(tree().nodes[static_cast<std::size_t>(i)].support, eye, axis, half_angle))
+                    out.push_back(i);
                 });
 }
 
@@ -188,7 +191,8 @@ void SupportIndex::collect_from(const Ray& ray, double t_min, double t_max, cons
     const double t0 = -b - root, t1 = -b + root;
     if (t1 > t_min && t0 < t_max) {
       const std::int32_t i = set.nodes[k];
-      out.push_back(make_span(tree().nodes[static_cast<std::size_t>(i)], i, ray, std::max(t0, t_min), std::min(t1, t_max)));
+      out.push_back(
+          make_span(tree().nodes[static_cast<std::size_t>(i)], i, ray, std::max(t0, t_min), std::min(t1, t_max)));
     }
   }
   sort_spans(out);

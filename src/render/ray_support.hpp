@@ -67,14 +67,15 @@ class SupportIndex {
   void gather(std::span<const std::int32_t> nodes, SupportSet& out) const;
   /// As collect(), testing only the supports of the set (every blended node when it holds the
   /// whole cut: the brute-force search).
-  void collect_from(const Ray& ray, double t_min, double t_max, const SupportSet& set, std::vector<SupportSpan>& out) const;
+  void collect_from(const Ray& ray, double t_min, double t_max, const SupportSet& set,
+                    std::vector<SupportSpan>& out) const;
 
   const ClusterTree& tree() const { return surface_.tree(); }
   const std::vector<std::int32_t>& cut() const { return surface_.cut(); }
   bool in_cut(std::int32_t node) const { return surface_.in_cut(node); }
 
  private:
-  ImplicitSurface surface_;  // the cut and the walk down the bounding spheres
+  ImplicitSurface surface_;                // the cut and the walk down the bounding spheres
   std::vector<Eigen::Vector4d> supports_;  // per node: support center and squared radius (cache-friendly)
 };
 

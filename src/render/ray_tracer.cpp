@@ -2,9 +2,9 @@
 // error, traced through the hierarchy of support spheres.
 
 #include <clustersurf/core/errors.hpp>
+#include <clustersurf/render/render.hpp>
 #include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/surface/palette.hpp>
-#include <clustersurf/render/render.hpp>
 
 #include "render/color_legend.hpp"
 #include "render/pixel_loop.hpp"
@@ -48,7 +48,8 @@ struct Scene {
 
 /// The node's ancestor at `depth` (the node itself when it is shallower).
 std::int32_t ancestor_at(const ClusterTree& tree, std::int32_t node, std::uint32_t depth) {
-  while (node > 0 && tree.nodes[static_cast<std::size_t>(node)].depth > depth) node = tree.nodes[static_cast<std::size_t>(node)].parent;
+  while (node > 0 && tree.nodes[static_cast<std::size_t>(node)].depth > depth)
+    node = tree.nodes[static_cast<std::size_t>(node)].parent;
   return node;
 }
 
@@ -94,15 +95,20 @@ class TreeTracer {
   SampleResult operator()(const Ray& ray, std::uint64_t seed) {
     s_.index.collect_from(ray, 0, kInfinity, tile_supports_, spans_);
     switch (s_.options.show) {
-      case ShowMode::Spheres: return spheres(ray);
-      case ShowMode::Proxies: return proxies(ray);
-      default: return surface(ray, seed);
+      case ShowMode::Spheres:
+        return spheres(ray);
+      case ShowMode::Proxies:
+        return proxies(ray);
+      default:
+        return surface(ray, seed);
     }
   }
 
  private:
-  std::optional<SurfaceHit> surface_hit(const Ray& ray, const std::vector<SupportSpan>& spans, double t_min, double t_max) {
-    if (s_.options.mode == IntersectMode::HitBlend) return render::blended_hit(s_.tree, spans, ray, t_min, t_max, s_.march.min_weight);
+  std::optional<SurfaceHit> surface_hit(const Ray& ray, const std::vector<SupportSpan>& spans, double t_min,
+                                        double t_max) {
+    if (s_.options.mode == IntersectMode::HitBlend)
+      return render::blended_hit(s_.tree, spans, ray, t_min, t_max, s_.march.min_weight);
     return render::first_zero(s_.tree, spans, ray, t_min, t_max, s_.march);
   }
 
@@ -134,12 +140,15 @@ class TreeTracer {
         }
         case ShowMode::Error: {
           const auto nb = s_.points->knn(hit->position, 1);
-          base = render::to_color(distance_color(nb.empty() ? 1.0 : std::sqrt(nb[0].distance_squared) / s_.error_scale));
+          base =
+              render::to_color(distance_color(nb.empty() ? 1.0 : std::sqrt(nb[0].distance_squared) / s_.error_scale));
           break;
         }
-        default: break;
+        default:
+          break;
       }
-      if (s_.options.highlight) base = hit->dominant >= 0 && in_subtree(s_.tree, hit->dominant, *s_.options.highlight) ? kRed : kGrey;
+      if (s_.options.highlight)
+        base = hit->dominant >= 0 && in_subtree(s_.tree, hit->dominant, *s_.options.highlight) ? kRed : kGrey;
       const double occlusion = s_.options.ambient_occlusion ? openness(*hit, ray, seed) : 1.0;
       out = {render::shade(s_.lights, hit->normal, ray.direction, base, occlusion), 1.0};
     }
@@ -190,42 +199,56 @@ class TreeTracer {
 
 std::optional<RayHit> intersect_surface(const ClusterTree& tree, const Ray& ray, const RenderOptions& options) {
   const render::SupportIndex index(tree, options.lod);
-  const auto search = options.mode == IntersectMode::BruteForce ? render::SupportSearch::BruteForce : render::SupportSearch::Hierarchy;
+  const auto search =
+      options.mode == IntersectMode::BruteForce ? render::SupportSearch::BruteForce : render::SupportSearch::Hierarchy;
   std::vector<SupportSpan> spans;
   index.collect(ray, 0, kInfinity, search, spans);
   render::MarchSettings march;
   march.min_weight = options.min_weight;
   march.tolerance = 1e-6 * (tree.bbox.diagonal() > 0 ? tree.bbox.diagonal() : 1.0);
-  const auto hit = options.mode == IntersectMode::HitBlend ? render::blended_hit(tree, spans, ray, 0, kInfinity, options.min_weight)
-                                                           : render::first_zero(tree, spans, ray, 0, kInfinity, march);
+  const auto hit = options.mode == IntersectMode::HitBlend
+                       ? render::blended_hit(tree, spans, ray, 0, kInfinity, options.min_weight)
+                       : render::first_zero(tree, spans, ray, 0, kInfinity, march);
   if (!hit) return std::nullopt;
   return RayHit{hit->t, hit->position, hit->normal, hit->dominant};
 }
 
-Image render_tree(const ClusterTree& tree, const RenderOptions& options, RenderStats* stats, const ProgressCallback& progress) {
+Image render_tree(const ClusterTree& tree, const RenderOptions& options, RenderStats* stats,
+                  const ProgressCallback& progress) {
   render::check_common_options(options);
   if (tree.nodes.empty()) throw OptionError("cannot render an empty tree");
-  if (options.highlight && (*options.highlight < 0 || static_cast<std::size_t>(*options.highlight) >= tree.nodes.size()))
+  if (options.highlight &&
+      (*options.highlight < 0 || static_cast<std::size_t>(*options.highlight) >= tree.nodes.size()))
     throw OptionError("--highlight: node " + std::to_string(*options.highlight) + " does not exist (the tree has " +
                       std::to_string(tree.nodes.size()) + " nodes)");
   if (options.show == ShowMode::Error && (options.reference_points == nullptr || options.reference_points->rows() == 0))
     throw OptionError("the error view needs the input points (--points FILE)");
 
   const Camera camera = render::scene_camera(options, tree.bbox, tree.origin, tree.up);
-  Scene scene{tree, options, render::SupportIndex(tree, options.lod),
-              options.mode == IntersectMode::BruteForce ? render::SupportSearch::BruteForce : render::SupportSearch::Hierarchy,
-              {}, render::camera_lighting(camera), {}, {}, {}, {}};
+  Scene scene{
+      tree,
+      options,
+      render::SupportIndex(tree, options.lod),
+      options.mode == IntersectMode::BruteForce ? render::SupportSearch::BruteForce : render::SupportSearch::Hierarchy,
+      {},
+      render::camera_lighting(camera),
+      {},
+      {},
+      {},
+      {}};
   scene.diagonal = tree.bbox.diagonal() > 0 ? tree.bbox.diagonal() : 1.0;
   scene.march.min_weight = options.min_weight;
   scene.march.tolerance = 1e-6 * scene.diagonal;
   if (options.show == ShowMode::Spheres) {
     std::vector<std::int32_t> order = scene.index.cut();
     std::stable_sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
-      return tree.nodes[static_cast<std::size_t>(a)].support.radius < tree.nodes[static_cast<std::size_t>(b)].support.radius;
+      return tree.nodes[static_cast<std::size_t>(a)].support.radius <
+             tree.nodes[static_cast<std::size_t>(b)].support.radius;
     });
     scene.radius_rank.assign(tree.nodes.size(), 0.0);
     for (std::size_t k = 0; k < order.size(); ++k)
-      scene.radius_rank[static_cast<std::size_t>(order[k])] = order.size() > 1 ? static_cast<double>(k) / static_cast<double>(order.size() - 1) : 0.5;
+      scene.radius_rank[static_cast<std::size_t>(order[k])] =
+          order.size() > 1 ? static_cast<double>(k) / static_cast<double>(order.size() - 1) : 0.5;
   }
   if (options.show == ShowMode::Error) {
     scene.points = std::make_unique<KdTree>(*options.reference_points);

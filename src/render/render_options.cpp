@@ -12,20 +12,28 @@ namespace clustersurf {
 
 const char* to_string(IntersectMode mode) {
   switch (mode) {
-    case IntersectMode::Implicit: return "implicit";
-    case IntersectMode::HitBlend: return "hit-blend";
-    case IntersectMode::BruteForce: return "brute-force";
+    case IntersectMode::Implicit:
+      return "implicit";
+    case IntersectMode::HitBlend:
+      return "hit-blend";
+    case IntersectMode::BruteForce:
+      return "brute-force";
   }
   return "unknown";
 }
 
 const char* to_string(ShowMode mode) {
   switch (mode) {
-    case ShowMode::Surface: return "surface";
-    case ShowMode::Clusters: return "clusters";
-    case ShowMode::Spheres: return "spheres";
-    case ShowMode::Proxies: return "proxies";
-    case ShowMode::Error: return "error";
+    case ShowMode::Surface:
+      return "surface";
+    case ShowMode::Clusters:
+      return "clusters";
+    case ShowMode::Spheres:
+      return "spheres";
+    case ShowMode::Proxies:
+      return "proxies";
+    case ShowMode::Error:
+      return "error";
   }
   return "unknown";
 }
@@ -61,12 +69,14 @@ void check_common_options(const RenderOptions& options) {
   if (options.samples < 1 || options.samples > 1024) throw OptionError("samples per pixel must be in [1, 1024]");
   if (!(options.min_weight >= 0) || !std::isfinite(options.min_weight)) throw OptionError("min_weight must be >= 0");
   if (options.error_scale && !(*options.error_scale > 0)) throw OptionError("the error scale must be positive");
-  if (!(options.point_radius >= 0) || !std::isfinite(options.point_radius)) throw OptionError("point radius must be >= 0");
+  if (!(options.point_radius >= 0) || !std::isfinite(options.point_radius))
+    throw OptionError("point radius must be >= 0");
 }
 
 Camera scene_camera(const RenderOptions& options, const BoundingBox& own, const Eigen::Vector3d& origin, UpAxis up) {
   BoundingBox box = own;
-  if (options.framing && !options.framing->empty()) box = BoundingBox{options.framing->min - origin, options.framing->max - origin};
+  if (options.framing && !options.framing->empty())
+    box = BoundingBox{options.framing->min - origin, options.framing->max - origin};
   CameraOptions camera = options.camera;
   if (camera.eye) *camera.eye -= origin;
   if (camera.target) *camera.target -= origin;

@@ -115,8 +115,8 @@ std::optional<SurfaceHit> first_zero(const ClusterTree& tree, std::span<const Su
       continue;
     }
     const double r = prev.r_min;
-    const double h = defined(prev) ? std::clamp(kDistanceFactor * std::abs(prev.f), kMinStep * r, kMaxStep * r)
-                                   : kUndefinedStep * r;
+    const double h =
+        defined(prev) ? std::clamp(kDistanceFactor * std::abs(prev.f), kMinStep * r, kMaxStep * r) : kUndefinedStep * r;
     const double t_next = std::min(t + h, t_end);
     const RayFunction::Sample cur = f.at(t_next);
     if (defined(prev) && defined(cur) && (prev.f > 0) != (cur.f > 0)) {
@@ -177,7 +177,8 @@ std::optional<SurfaceHit> blended_hit(const ClusterTree& tree, std::span<const S
     const double om = 1 - s;
     hits.push_back({*t, om * om * om, sp.radius, sp.node});
   }
-  std::sort(hits.begin(), hits.end(), [](const ProxyHit& a, const ProxyHit& b) { return a.t < b.t || (a.t == b.t && a.node < b.node); });
+  std::sort(hits.begin(), hits.end(),
+            [](const ProxyHit& a, const ProxyHit& b) { return a.t < b.t || (a.t == b.t && a.node < b.node); });
   for (std::size_t k = 0; k < hits.size(); ++k) {
     const double window = 0.25 * hits[k].radius;
     double w_sum = 0, tw = 0, best_w = -1;

@@ -14,7 +14,7 @@ struct SurfaceHit {
   double t = 0;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< unit; direction of ∇f (outside)
-  std::int32_t dominant = -1;  ///< blended node of largest weight at the hit
+  std::int32_t dominant = -1;                         ///< blended node of largest weight at the hit
 };
 
 /// Settings of the root finder.

@@ -46,7 +46,8 @@ OutlierReport CloudIndex::outliers(const OutlierOptions& options) const {
 CloudIndex::Subset CloudIndex::rows(std::span<const std::uint32_t> kept) const {
   if (kept.size() == static_cast<std::size_t>(impl_->cloud.size())) return {impl_->cloud.positions, points()};
   const std::lock_guard lock(impl_->subset_mutex);
-  if (!impl_->subset_index || !std::equal(kept.begin(), kept.end(), impl_->subset_rows.begin(), impl_->subset_rows.end())) {
+  if (!impl_->subset_index ||
+      !std::equal(kept.begin(), kept.end(), impl_->subset_rows.begin(), impl_->subset_rows.end())) {
     impl_->subset_index.reset();  // it references the positions it replaces
     impl_->subset_rows.assign(kept.begin(), kept.end());
     impl_->subset_positions = std::make_unique<Points>(impl_->cloud.positions(impl_->subset_rows, Eigen::all));
@@ -54,6 +55,5 @@ CloudIndex::Subset CloudIndex::rows(std::span<const std::uint32_t> kept) const {
   }
   return {*impl_->subset_positions, *impl_->subset_index};
 }
-
 
 }  // namespace clustersurf

@@ -24,8 +24,8 @@ struct PointsAdaptor {
   }
 };
 
-using Index = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>, PointsAdaptor,
-                                                  3, std::uint32_t>;
+using Index = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>, PointsAdaptor, 3,
+                                                  std::uint32_t>;
 
 bool closer(const Neighbor& a, const Neighbor& b) {
   return a.distance_squared < b.distance_squared || (a.distance_squared == b.distance_squared && a.index < b.index);
@@ -38,7 +38,8 @@ struct KdTree::Impl {
   Index index;
   Impl(const Points& points, int leaf_size)
       : adaptor{&points},
-        index(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(static_cast<std::size_t>(std::max(1, leaf_size)))) {}
+        index(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(static_cast<std::size_t>(std::max(1, leaf_size)))) {
+  }
 
   /// Every point with squared distance <= r2 (inclusive), sorted by distance then index.
   void within(const Eigen::Vector3d& query, double r2, std::vector<Neighbor>& out) const {
@@ -91,9 +92,12 @@ void KdTree::knn(const Eigen::Vector3d& query, std::size_t k, std::vector<Neighb
 
 void KdTree::neighbors_of(Eigen::Index row, std::size_t k, std::vector<Neighbor>& out) const {
   knn(points().row(row).transpose(), k + 1, out);
-  const auto self = std::find_if(out.begin(), out.end(), [&](const Neighbor& n) { return n.index == static_cast<std::uint32_t>(row); });
-  if (self != out.end()) out.erase(self);
-  else if (out.size() > k) out.pop_back();  // the point is among more than k duplicates of itself
+  const auto self = std::find_if(out.begin(), out.end(),
+                                 [&](const Neighbor& n) { return n.index == static_cast<std::uint32_t>(row); });
+  if (self != out.end())
+    out.erase(self);
+  else if (out.size() > k)
+    out.pop_back();  // the point is among more than k duplicates of itself
 }
 
 std::vector<Neighbor> KdTree::knn(const Eigen::Vector3d& query, std::size_t k) const {

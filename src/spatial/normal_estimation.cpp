@@ -10,12 +10,15 @@
 
 namespace clustersurf {
 
-Eigen::Vector3d unoriented_normal(const KdTree& index, const Eigen::Vector3d& at, std::size_t k, std::vector<Neighbor>& scratch) {
+Eigen::Vector3d unoriented_normal(const KdTree& index, const Eigen::Vector3d& at, std::size_t k,
+                                  std::vector<Neighbor>& scratch) {
   index.knn(at, k, scratch);
   if (scratch.size() < 3) return Eigen::Vector3d::Zero();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(detail::neighborhood_shape(index.points(), scratch).covariance);  // ascending
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(
+      detail::neighborhood_shape(index.points(), scratch).covariance);  // ascending
   // A line (or a point) spans no plane: its two smaller spreads are both about zero.
-  if (eig.info() != Eigen::Success || !(eig.eigenvalues()(1) > 1e-12 * eig.eigenvalues()(2))) return Eigen::Vector3d::Zero();
+  if (eig.info() != Eigen::Success || !(eig.eigenvalues()(1) > 1e-12 * eig.eigenvalues()(2)))
+    return Eigen::Vector3d::Zero();
   Eigen::Vector3d n = eig.eigenvectors().col(0);
   Eigen::Index largest = 0;
   n.cwiseAbs().maxCoeff(&largest);

@@ -30,7 +30,8 @@ double median_of(std::vector<double>& values) {
 /// Whether point `row` lies on the plane of its `k` nearest other points, and they on it
 /// (OutlierOptions::global_ratio): their spread across the plane, and the point's distance from
 /// it, at most kSparseSurfaceFlatness times their spread along it.
-bool on_a_plane(const Points& points, const KdTree& index, Eigen::Index row, std::size_t k, std::vector<Neighbor>& near) {
+bool on_a_plane(const Points& points, const KdTree& index, Eigen::Index row, std::size_t k,
+                std::vector<Neighbor>& near) {
   index.neighbors_of(row, k, near);
   if (near.size() < 3) return false;
   const detail::NeighborhoodShape shape = detail::neighborhood_shape(points, near);
@@ -50,12 +51,14 @@ OutlierReport nothing_flagged(std::size_t n) {
 }
 
 /// find_outliers() against `median_spread`, or the points' own median spread when null.
-OutlierReport flag_outliers(const Points& points, const KdTree& index, const OutlierOptions& options, const double* median_spread);
+OutlierReport flag_outliers(const Points& points, const KdTree& index, const OutlierOptions& options,
+                            const double* median_spread);
 
 }  // namespace
 
 OutlierReport find_outliers(const Points& points, const OutlierOptions& options) {
-  if (points.rows() < static_cast<Eigen::Index>(std::max(options.min_points, options.neighbors + 2))) return nothing_flagged(static_cast<std::size_t>(points.rows()));
+  if (points.rows() < static_cast<Eigen::Index>(std::max(options.min_points, options.neighbors + 2)))
+    return nothing_flagged(static_cast<std::size_t>(points.rows()));
   return find_outliers(points, KdTree(points), options);
 }
 
@@ -63,14 +66,17 @@ OutlierReport find_outliers(const Points& points, const KdTree& index, const Out
   return flag_outliers(points, index, options, nullptr);
 }
 
-OutlierReport find_outliers(const Points& points, const KdTree& index, const OutlierOptions& options, double median_spread) {
-  if (!(median_spread >= 0) || !std::isfinite(median_spread)) throw OptionError("outlier test: the median spread must be finite and >= 0");
+OutlierReport find_outliers(const Points& points, const KdTree& index, const OutlierOptions& options,
+                            double median_spread) {
+  if (!(median_spread >= 0) || !std::isfinite(median_spread))
+    throw OptionError("outlier test: the median spread must be finite and >= 0");
   return flag_outliers(points, index, options, &median_spread);
 }
 
 namespace {
 
-OutlierReport flag_outliers(const Points& points, const KdTree& index, const OutlierOptions& options, const double* median_spread) {
+OutlierReport flag_outliers(const Points& points, const KdTree& index, const OutlierOptions& options,
+                            const double* median_spread) {
   if (options.neighbors < 1) throw OptionError("outlier test: neighbors must be at least 1");
   if (options.plane_neighbors < 3) throw OptionError("outlier test: plane_neighbors must be at least 3");
   if (!(options.local_ratio >= 0) || !(options.global_ratio >= 0) || !std::isfinite(options.local_ratio) ||
@@ -124,7 +130,8 @@ OutlierReport flag_outliers(const Points& points, const KdTree& index, const Out
                              !on_a_plane(points, index, static_cast<Eigen::Index>(i), options.plane_neighbors, near));
     }
   });
-  for (std::size_t i = 0; i < n; ++i) (outlier[i] ? report.outliers : report.kept).push_back(static_cast<Eigen::Index>(i));
+  for (std::size_t i = 0; i < n; ++i)
+    (outlier[i] ? report.outliers : report.kept).push_back(static_cast<Eigen::Index>(i));
   return report;
 }
 

@@ -33,9 +33,8 @@ PointCloud voxel_downsample(const PointCloud& cloud, double voxel_size) {
   std::vector<std::pair<Key, Eigen::Index>> keyed(static_cast<std::size_t>(n));
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::Vector3d c = ((cloud.positions.row(i).transpose() - box.min) / voxel_size).array().floor();
-    keyed[static_cast<std::size_t>(i)] = {Key{static_cast<std::int64_t>(c.z()), static_cast<std::int64_t>(c.y()),
-                                              static_cast<std::int64_t>(c.x())},
-                                          i};
+    keyed[static_cast<std::size_t>(i)] = {
+        Key{static_cast<std::int64_t>(c.z()), static_cast<std::int64_t>(c.y()), static_cast<std::int64_t>(c.x())}, i};
   }
   std::sort(keyed.begin(), keyed.end());
   PointCloud out;
@@ -71,7 +70,9 @@ PointCloud voxel_downsample(const PointCloud& cloud, double voxel_size) {
   const auto m = static_cast<Eigen::Index>(pos.size() / 3);
   out.positions = Eigen::Map<Points>(pos.data(), m, 3);
   if (cloud.has_normals()) out.normals = Eigen::Map<Points>(nrm.data(), m, 3);
-  if (cloud.has_colors()) out.colors = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(col.data(), m, 3).cast<std::uint8_t>();
+  if (cloud.has_colors())
+    out.colors =
+        Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(col.data(), m, 3).cast<std::uint8_t>();
   out.origin = cloud.origin;
   out.up = cloud.up;
   for (std::size_t k = 0; k < attr.size(); ++k)

@@ -45,8 +45,9 @@ std::vector<std::uint32_t> morton_order(std::size_t count, const Position& posit
 }  // namespace
 
 std::vector<std::uint32_t> spatial_order(const Points& points) {
-  return morton_order(static_cast<std::size_t>(points.rows()),
-                      [&](std::size_t k) -> Eigen::Vector3d { return points.row(static_cast<Eigen::Index>(k)).transpose(); });
+  return morton_order(static_cast<std::size_t>(points.rows()), [&](std::size_t k) -> Eigen::Vector3d {
+    return points.row(static_cast<Eigen::Index>(k)).transpose();
+  });
 }
 
 std::vector<std::uint32_t> spatial_order(const Points& points, std::span<const Eigen::Index> rows) {

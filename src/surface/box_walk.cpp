@@ -38,7 +38,8 @@ Reach reach(const Sphere& sphere, const BoundingBox& box) {
 
 }  // namespace
 
-ImplicitSurface::BoxWalk::BoxWalk(const ImplicitSurface& surface, const BoundingBox& box) : surface_(&surface), box_(box) {
+ImplicitSurface::BoxWalk::BoxWalk(const ImplicitSurface& surface, const BoundingBox& box)
+    : surface_(&surface), box_(box) {
   if (surface.walk_nodes_.empty() || box.empty()) return;
   // The walk's pre-order (left subtree first). A negative entry −1 − k closes the subtree of
   // step k: a point outside its bounding sphere goes on after it.

@@ -1,8 +1,8 @@
 // The harmonic fill of ClosedSurface: f sampled on a coarse grid, Laplace's equation solved at
 // the nodes where f is undefined (fill_solver.cpp), and F, f faded into the fill.
 
-#include <clustersurf/surface/closed_surface.hpp>
 #include <clustersurf/core/errors.hpp>
+#include <clustersurf/surface/closed_surface.hpp>
 
 #include "core/progress_reporter.hpp"
 #include "surface/fill_solver.hpp"
@@ -21,7 +21,8 @@ ClosedSurface::ClosedSurface(const ImplicitSurface& surface, const ClosingOption
     : surface_(&surface), min_weight_(min_weight) {
   if (options.resolution < 8 || options.resolution > 1024)
     throw OptionError("the fill grid's resolution must be from 8 to 1024 cells");
-  if (!(min_weight >= 0) || !std::isfinite(min_weight)) throw OptionError("the blend's confidence floor must be a finite weight >= 0");
+  if (!(min_weight >= 0) || !std::isfinite(min_weight))
+    throw OptionError("the blend's confidence floor must be a finite weight >= 0");
   const BoundingBox box = surface.tree().bbox;
   const double longest = box.extent().maxCoeff();
   if (!(longest > 0) || !std::isfinite(longest))
@@ -29,7 +30,8 @@ ClosedSurface::ClosedSurface(const ImplicitSurface& surface, const ClosingOption
   cell_ = longest / options.resolution;
   constexpr int kMarginCells = 3;
   corner_ = box.min - Eigen::Vector3d::Constant(kMarginCells * cell_);
-  for (int a = 0; a < 3; ++a) dims_[a] = static_cast<std::int64_t>(std::ceil(box.extent()(a) / cell_)) + 2 * kMarginCells + 1;
+  for (int a = 0; a < 3; ++a)
+    dims_[a] = static_cast<std::int64_t>(std::ceil(box.extent()(a) / cell_)) + 2 * kMarginCells + 1;
   outside_ = kMarginCells * cell_;
   const auto nx = dims_[0], ny = dims_[1], nz = dims_[2];
   const auto count = static_cast<std::size_t>(nx * ny * nz);
@@ -50,7 +52,8 @@ ClosedSurface::ClosedSurface(const ImplicitSurface& surface, const ClosingOption
     for (std::int64_t k = lo[2]; k <= hi[2]; ++k)
       for (std::int64_t j = lo[1]; j <= hi[1]; ++j)
         for (std::int64_t i = lo[0]; i <= hi[0]; ++i)
-          if ((Eigen::Vector3d(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k)) - c).squaredNorm() < rad * rad)
+          if ((Eigen::Vector3d(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k)) - c)
+                  .squaredNorm() < rad * rad)
             reached[static_cast<std::size_t>((k * ny + j) * nx + i)] = 1;
   }
   std::vector<std::uint8_t> known(count, 0);
@@ -60,7 +63,8 @@ ClosedSurface::ClosedSurface(const ImplicitSurface& surface, const ClosingOption
       for (std::int64_t i = 0; i < nx; ++i) {
         const auto n = static_cast<std::size_t>((k * ny + j) * nx + i);
         if (!reached[n]) continue;
-        const Eigen::Vector3d x = corner_ + cell_ * Eigen::Vector3d(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k));
+        const Eigen::Vector3d x =
+            corner_ + cell_ * Eigen::Vector3d(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k));
         if (const auto f = surface.value(x, min_weight)) {
           // The fill takes the side, not the size: f clamped to the border's value, so that
           // inside and outside pull on a hole alike (an unclamped blend is large only where
@@ -82,13 +86,15 @@ ClosedSurface::ClosedSurface(const ImplicitSurface& surface, const ClosingOption
 
 double ClosedSurface::fill_value(const Eigen::Vector3d& x) const {
   const Eigen::Vector3d g = (x - corner_) / cell_;
-  const Eigen::Vector3d last(static_cast<double>(dims_[0] - 1), static_cast<double>(dims_[1] - 1), static_cast<double>(dims_[2] - 1));
+  const Eigen::Vector3d last(static_cast<double>(dims_[0] - 1), static_cast<double>(dims_[1] - 1),
+                             static_cast<double>(dims_[2] - 1));
   if (!g.allFinite()) return std::numeric_limits<double>::quiet_NaN();
   if ((g.array() < 0).any() || (g.array() > last.array()).any())
     return outside_ + cell_ * (g.cwiseMax(Eigen::Vector3d::Zero()).cwiseMin(last) - g).norm();
   const Eigen::Vector3d c = g.cwiseMin(last - Eigen::Vector3d::Constant(1e-9)).array().floor();
   const Eigen::Vector3d t = g - c;
-  const auto i = static_cast<std::int64_t>(c.x()), j = static_cast<std::int64_t>(c.y()), k = static_cast<std::int64_t>(c.z());
+  const auto i = static_cast<std::int64_t>(c.x()), j = static_cast<std::int64_t>(c.y()),
+             k = static_cast<std::int64_t>(c.z());
   double v = 0;
   for (int d = 0; d < 8; ++d) {
     const int di = d & 1, dj = (d >> 1) & 1, dk = (d >> 2) & 1;
@@ -100,7 +106,8 @@ double ClosedSurface::fill_value(const Eigen::Vector3d& x) const {
 
 bool ClosedSurface::in_grid(const Eigen::Vector3d& x) const {
   const Eigen::Vector3d g = (x - corner_) / cell_;
-  const Eigen::Vector3d last(static_cast<double>(dims_[0] - 1), static_cast<double>(dims_[1] - 1), static_cast<double>(dims_[2] - 1));
+  const Eigen::Vector3d last(static_cast<double>(dims_[0] - 1), static_cast<double>(dims_[1] - 1),
+                             static_cast<double>(dims_[2] - 1));
   return (g.array() >= 0).all() && (g.array() <= last.array()).all();
 }
 

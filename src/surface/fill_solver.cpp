@@ -60,7 +60,9 @@ struct Level {
   std::vector<std::uint8_t> degree;                     // neighbours inside the grid
 
   std::size_t size() const { return unknown.size(); }
-  std::size_t node(std::int64_t i, std::int64_t j, std::int64_t k) const { return static_cast<std::size_t>((k * ny + j) * nx + i); }
+  std::size_t node(std::int64_t i, std::int64_t j, std::int64_t k) const {
+    return static_cast<std::size_t>((k * ny + j) * nx + i);
+  }
 
   void apply(const Vector& in, Vector& out) const {
     tbb::parallel_for(std::size_t{0}, size(), [&](std::size_t e) {
@@ -101,7 +103,8 @@ Level coarsen(const Level& fine) {
     for (std::int64_t j = 0; j < cy; ++j)
       for (std::int64_t i = 0; i < cx; ++i)
         known[static_cast<std::size_t>((k * cy + j) * cx + i)] =
-            fine.id[fine.node(std::min(2 * i, fine.nx - 1), std::min(2 * j, fine.ny - 1), std::min(2 * k, fine.nz - 1))] < 0;
+            fine.id[fine.node(std::min(2 * i, fine.nx - 1), std::min(2 * j, fine.ny - 1),
+                              std::min(2 * k, fine.nz - 1))] < 0;
   return make_level(cx, cy, cz, known);
 }
 
@@ -119,7 +122,8 @@ class Multigrid {
  public:
   explicit Multigrid(Level finest) {
     levels_.push_back(std::move(finest));
-    while (levels_.back().size() > kCoarsestUnknowns && std::max({levels_.back().nx, levels_.back().ny, levels_.back().nz}) > kCoarsestSide)
+    while (levels_.back().size() > kCoarsestUnknowns &&
+           std::max({levels_.back().nx, levels_.back().ny, levels_.back().nz}) > kCoarsestSide)
       levels_.push_back(coarsen(levels_.back()));
     work_.resize(levels_.size());
   }
@@ -133,7 +137,8 @@ class Multigrid {
   static void smooth(const Level& l, const Vector& r, Vector& z, int sweeps, Vector& scratch) {
     for (int s = 0; s < sweeps; ++s) {
       l.apply(z, scratch);
-      tbb::parallel_for(std::size_t{0}, l.size(), [&](std::size_t e) { z[e] += kDamping * (r[e] - scratch[e]) / l.degree[e]; });
+      tbb::parallel_for(std::size_t{0}, l.size(),
+                        [&](std::size_t e) { z[e] += kDamping * (r[e] - scratch[e]) / l.degree[e]; });
     }
   }
 
@@ -220,15 +225,18 @@ std::size_t solve(FillGrid& g, ProgressReporter* reporter, bool advance) {
       for (std::int64_t j = 0; j < coarse.ny; ++j)
         for (std::int64_t i = 0; i < coarse.nx; ++i) {
           const auto c = static_cast<std::size_t>((k * coarse.ny + j) * coarse.nx + i);
-          const auto f = static_cast<std::size_t>((std::min(2 * k, nz - 1) * ny + std::min(2 * j, ny - 1)) * nx + std::min(2 * i, nx - 1));
+          const auto f = static_cast<std::size_t>((std::min(2 * k, nz - 1) * ny + std::min(2 * j, ny - 1)) * nx +
+                                                  std::min(2 * i, nx - 1));
           coarse.values[c] = g.values[f];
           coarse.known[c] = g.known[f];
         }
     solve(coarse, reporter, false);
     tbb::parallel_for(std::size_t{0}, m, [&](std::size_t e) {
       const auto n = static_cast<std::int64_t>(unknown[e]);
-      const double x = static_cast<double>(n % nx) / 2, y = static_cast<double>((n / nx) % ny) / 2, z = static_cast<double>(n / (nx * ny)) / 2;
-      const std::int64_t i = std::min(static_cast<std::int64_t>(x), coarse.nx - 1), j = std::min(static_cast<std::int64_t>(y), coarse.ny - 1),
+      const double x = static_cast<double>(n % nx) / 2, y = static_cast<double>((n / nx) % ny) / 2,
+                   z = static_cast<double>(n / (nx * ny)) / 2;
+      const std::int64_t i = std::min(static_cast<std::int64_t>(x), coarse.nx - 1),
+                         j = std::min(static_cast<std::int64_t>(y), coarse.ny - 1),
                          k = std::min(static_cast<std::int64_t>(z), coarse.nz - 1);
       const double tx = x - static_cast<double>(i), ty = y - static_cast<double>(j), tz = z - static_cast<double>(k);
       double v = 0;

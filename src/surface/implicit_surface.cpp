@@ -20,7 +20,8 @@ std::vector<std::int32_t> lod_cut(const ClusterTree& tree, const LevelOfDetail& 
     stack.pop_back();
     const ClusterNode& n = tree.nodes[static_cast<std::size_t>(i)];
     const double e = metric == ErrorMetric::Rms ? n.rms_error : n.max_error;
-    const bool stop = n.is_leaf() || (lod.max_depth && n.depth >= *lod.max_depth) || (lod.error_limit && e <= *lod.error_limit);
+    const bool stop =
+        n.is_leaf() || (lod.max_depth && n.depth >= *lod.max_depth) || (lod.error_limit && e <= *lod.error_limit);
     if (stop) {
       cut.push_back(i);
     } else {
@@ -31,7 +32,8 @@ std::vector<std::int32_t> lod_cut(const ClusterTree& tree, const LevelOfDetail& 
   return cut;
 }
 
-LevelOfDetail level_of_detail(const ClusterTree& tree, std::optional<std::uint32_t> depth, std::optional<double> error_fraction) {
+LevelOfDetail level_of_detail(const ClusterTree& tree, std::optional<std::uint32_t> depth,
+                              std::optional<double> error_fraction) {
   LevelOfDetail lod;
   lod.max_depth = depth;
   if (error_fraction) {
@@ -93,7 +95,8 @@ std::optional<double> defined_value(const std::pair<double, double>& sums, doubl
 
 /// f and ∇f at x over the supports `for_each_support` enumerates.
 template <class ForEachSupport>
-SurfaceSample blend_sample(const ImplicitSurface& surface, const Eigen::Vector3d& x, ForEachSupport&& for_each_support) {
+SurfaceSample blend_sample(const ImplicitSurface& surface, const Eigen::Vector3d& x,
+                           ForEachSupport&& for_each_support) {
   // f = A / W with A = Σ w Q and W = Σ w; ∇f = (∇A − f ∇W) / W.
   double a = 0, w_sum = 0;
   Eigen::Vector3d grad_a = Eigen::Vector3d::Zero(), grad_w = Eigen::Vector3d::Zero();
@@ -139,14 +142,16 @@ std::optional<double> ImplicitSurface::value(const Eigen::Vector3d& x, double mi
 
 std::optional<double> ImplicitSurface::value(const Eigen::Vector3d& x, double min_weight, const BoxWalk& near) const {
   require_built_for(near, *this);
-  return defined_value(blend(*tree_, x, [&near](const Eigen::Vector3d& y, auto&& visit) { near.for_each_support(y, visit); }),
-                       min_weight);
+  return defined_value(
+      blend(*tree_, x, [&near](const Eigen::Vector3d& y, auto&& visit) { near.for_each_support(y, visit); }),
+      min_weight);
 }
 
 std::vector<SurfaceSample> ImplicitSurface::sample_all(const Points& points) const {
   std::vector<SurfaceSample> out(static_cast<std::size_t>(points.rows()));
   tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, points.rows(), 256), [&](const auto& r) {
-    for (Eigen::Index i = r.begin(); i != r.end(); ++i) out[static_cast<std::size_t>(i)] = sample(Eigen::Vector3d(points.row(i).transpose()));
+    for (Eigen::Index i = r.begin(); i != r.end(); ++i)
+      out[static_cast<std::size_t>(i)] = sample(Eigen::Vector3d(points.row(i).transpose()));
   });
   return out;
 }

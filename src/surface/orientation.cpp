@@ -61,7 +61,8 @@ OrientationReport orient_by_normals(ClusterTree& tree, const PointCloud& cloud) 
   // it is skipped rather than allowed to poison its leaf's sum.
   for (std::size_t p = 0; p < tree.point_leaf.size(); ++p) {
     const auto normal = cloud.normals.row(static_cast<Eigen::Index>(p));
-    if (tree.point_leaf[p] >= 0 && normal.allFinite()) sum[static_cast<std::size_t>(tree.point_leaf[p])] += normal.transpose();
+    if (tree.point_leaf[p] >= 0 && normal.allFinite())
+      sum[static_cast<std::size_t>(tree.point_leaf[p])] += normal.transpose();
   }
   for (std::size_t i = tree.nodes.size(); i-- > 0;) {
     ClusterNode& n = tree.nodes[i];
@@ -80,7 +81,8 @@ OrientationReport orient_by_scanners(ClusterTree& tree, const PointCloud& cloud)
   for (std::size_t p = 0; p < tree.point_leaf.size(); ++p) {
     if (tree.point_leaf[p] < 0) continue;
     const std::uint32_t scan = cloud.scanner_of_point[p];
-    const Eigen::Vector3d towards = cloud.scanner_positions.row(scan) - cloud.positions.row(static_cast<Eigen::Index>(p));
+    const Eigen::Vector3d towards =
+        cloud.scanner_positions.row(scan) - cloud.positions.row(static_cast<Eigen::Index>(p));
     const double length = towards.norm();
     if (length > 0 && std::isfinite(length)) sum[static_cast<std::size_t>(tree.point_leaf[p])] += towards / length;
   }
@@ -98,13 +100,16 @@ struct Edge {
   double weight;
   std::uint32_t a, b;
   int agree;
-  bool operator<(const Edge& o) const { return weight < o.weight || (weight == o.weight && (a < o.a || (a == o.a && b < o.b))); }
+  bool operator<(const Edge& o) const {
+    return weight < o.weight || (weight == o.weight && (a < o.a || (a == o.a && b < o.b)));
+  }
 };
 
 /// Edges between leaves whose clusters touch: some point of one has one of its k nearest
 /// neighbours in the other. The proxies are compared where they meet (at the midpoints of such
 /// point pairs), not at their centers, so strongly curved parts orient correctly.
-std::vector<Edge> cluster_adjacency(const ClusterTree& tree, const KdTree& index, const std::vector<std::uint32_t>& leaf_slot) {
+std::vector<Edge> cluster_adjacency(const ClusterTree& tree, const KdTree& index,
+                                    const std::vector<std::uint32_t>& leaf_slot) {
   constexpr std::size_t k = 8;
   constexpr double kPriorPairs = 5;
   const Points& points = index.points();
@@ -133,14 +138,16 @@ std::vector<Edge> cluster_adjacency(const ClusterTree& tree, const KdTree& index
         const Eigen::Vector3d gb = tree.nodes[static_cast<std::size_t>(lq)].proxy.gradient(mid);
         const double na = ga.norm(), nb_ = gb.norm();
         if (!(na > 0) || !(nb_ > 0)) continue;
-        found[p].push_back({leaf_slot[static_cast<std::size_t>(lp)], leaf_slot[static_cast<std::size_t>(lq)], ga.dot(gb) / (na * nb_)});
+        found[p].push_back({leaf_slot[static_cast<std::size_t>(lp)], leaf_slot[static_cast<std::size_t>(lq)],
+                            ga.dot(gb) / (na * nb_)});
       }
     }
   });
   // Aggregate per leaf pair in a fixed order (independent of the thread count).
   std::vector<Pair> all;
   for (auto& f : found) all.insert(all.end(), f.begin(), f.end());
-  std::sort(all.begin(), all.end(), [](const Pair& x, const Pair& y) { return x.a < y.a || (x.a == y.a && x.b < y.b); });
+  std::sort(all.begin(), all.end(),
+            [](const Pair& x, const Pair& y) { return x.a < y.a || (x.a == y.a && x.b < y.b); });
   std::vector<Edge> edges;
   for (std::size_t i = 0; i < all.size();) {
     std::size_t j = i;
@@ -149,7 +156,8 @@ std::vector<Edge> cluster_adjacency(const ClusterTree& tree, const KdTree& index
     // 1 − |mean dot|, with the evidence shrunk towards 0 when few point pairs support it: a
     // single pair across a thin part must not outweigh a well-attested boundary.
     const double shrunk = sum / (static_cast<double>(j - i) + kPriorPairs);
-    edges.push_back({1 - std::abs(shrunk), std::min(all[i].a, all[i].b), std::max(all[i].a, all[i].b), sum >= 0 ? 1 : -1});
+    edges.push_back(
+        {1 - std::abs(shrunk), std::min(all[i].a, all[i].b), std::max(all[i].a, all[i].b), sum >= 0 ? 1 : -1});
     i = j;
   }
   return edges;
@@ -178,7 +186,8 @@ std::vector<Edge> support_overlap(const ClusterTree& tree, const std::vector<std
       const ClusterNode& nj = tree.nodes[static_cast<std::size_t>(leaves[nb.index])];
       const double d = std::sqrt(nb.distance_squared);
       if (d >= nk.support.radius + nj.support.radius) continue;
-      const Eigen::Vector3d dir = d > 0 ? Eigen::Vector3d((nj.support.center - nk.support.center) / d) : Eigen::Vector3d::Zero();
+      const Eigen::Vector3d dir =
+          d > 0 ? Eigen::Vector3d((nj.support.center - nk.support.center) / d) : Eigen::Vector3d::Zero();
       const double dot = normal[k].dot(normal[nb.index]);
       const double w = 1 - std::abs(dot) + 0.5 * (std::abs(dir.dot(normal[k])) + std::abs(dir.dot(normal[nb.index])));
       edges.push_back({w, static_cast<std::uint32_t>(k), nb.index, dot >= 0 ? 1 : -1});
@@ -193,8 +202,10 @@ OrientationReport orient_by_propagation(ClusterTree& tree, const CloudIndex& clo
   const std::size_t m = leaves.size();
   std::vector<std::uint32_t> leaf_slot(tree.nodes.size(), 0);
   for (std::size_t k = 0; k < m; ++k) leaf_slot[static_cast<std::size_t>(leaves[k])] = static_cast<std::uint32_t>(k);
-  const bool have_points = !tree.point_leaf.empty() && static_cast<std::uint64_t>(cloud.cloud().size()) == tree.point_leaf.size();
-  std::vector<Edge> edges = have_points ? cluster_adjacency(tree, cloud.points(), leaf_slot) : support_overlap(tree, leaves);
+  const bool have_points =
+      !tree.point_leaf.empty() && static_cast<std::uint64_t>(cloud.cloud().size()) == tree.point_leaf.size();
+  std::vector<Edge> edges =
+      have_points ? cluster_adjacency(tree, cloud.points(), leaf_slot) : support_overlap(tree, leaves);
 
   // Minimum spanning forest (Kruskal).
   std::sort(edges.begin(), edges.end());
@@ -250,14 +261,17 @@ OrientationReport orient_by_propagation(ClusterTree& tree, const CloudIndex& clo
     }
     if (!changed) break;
   }
-  for (std::size_t k = 0; k < m; ++k) flip_if(tree.nodes[static_cast<std::size_t>(leaves[k])], sign[k] < 0, report.flipped);
+  for (std::size_t k = 0; k < m; ++k)
+    flip_if(tree.nodes[static_cast<std::size_t>(leaves[k])], sign[k] < 0, report.flipped);
   orient_internal_nodes(tree, report.flipped);
   return report;
 }
 
 }  // namespace
 
-OrientationReport orient_tree(ClusterTree& tree, const PointCloud& cloud) { return orient_tree(tree, CloudIndex(cloud)); }
+OrientationReport orient_tree(ClusterTree& tree, const PointCloud& cloud) {
+  return orient_tree(tree, CloudIndex(cloud));
+}
 
 OrientationReport orient_tree(ClusterTree& tree, const CloudIndex& index, bool use_normals) {
   const PointCloud& cloud = index.cloud();

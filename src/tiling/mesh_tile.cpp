@@ -1,8 +1,8 @@
 // One tile of a tiled mesh: the lattice around a region, meshed, trimmed and cut to the region.
 
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/mesh/mesh_colors.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/tiling/tiling.hpp>
 
 #include "mesh/clipped_extraction.hpp"
@@ -56,7 +56,9 @@ MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::
   std::vector<std::uint8_t> owned(static_cast<std::size_t>(mesh.triangles.rows()));
   for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
     const Eigen::Vector3d c = (mesh.vertices.row(mesh.triangles(t, 0)) + mesh.vertices.row(mesh.triangles(t, 1)) +
-                               mesh.vertices.row(mesh.triangles(t, 2))).transpose() / 3.0;
+                               mesh.vertices.row(mesh.triangles(t, 2)))
+                                  .transpose() /
+                              3.0;
     owned[static_cast<std::size_t>(t)] = plan.region_of(c) == region_index;
   }
   // The votes of the region's own points for their nearest vertex of the trimmed mesh (kept
@@ -91,7 +93,8 @@ MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::
   for (Eigen::Index v = 0; v < votes.size(); ++v) used[static_cast<std::size_t>(v)] |= votes(v) > 0;
   std::vector<Eigen::Index> keep_rows, remap(static_cast<std::size_t>(mesh.vertices.rows()), -1);
   for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v)
-    if (used[static_cast<std::size_t>(v)]) remap[static_cast<std::size_t>(v)] = static_cast<Eigen::Index>(keep_rows.size()), keep_rows.push_back(v);
+    if (used[static_cast<std::size_t>(v)])
+      remap[static_cast<std::size_t>(v)] = static_cast<Eigen::Index>(keep_rows.size()), keep_rows.push_back(v);
   tile.mesh.vertices = mesh.vertices(keep_rows, Eigen::all);
   if (mesh.normals.rows() == mesh.vertices.rows()) tile.mesh.normals = mesh.normals(keep_rows, Eigen::all);
   tile.mesh.triangles.resize(kept.rows(), 3);
@@ -111,7 +114,8 @@ std::vector<std::int32_t> tile_regions(const RegionPlan& plan, const RegionMerge
   if (region_index < 0 || static_cast<std::size_t>(region_index) >= plan.regions())
     throw OptionError("region " + std::to_string(region_index) + " is not in the plan");
   if (merge.reach.size() != plan.regions()) throw OptionError("the merge record does not match the plan");
-  if (!grid.voxel_size || !(*grid.voxel_size > 0)) throw OptionError("a tile needs the lattice's cell size (a positive voxel size)");
+  if (!grid.voxel_size || !(*grid.voxel_size > 0))
+    throw OptionError("a tile needs the lattice's cell size (a positive voxel size)");
   const double h = *grid.voxel_size;
   // Every leaf's support centre lies in its region's cell (the centroid of its own points), so
   // its support, grown by the fill band, lies in the cell grown by the region's reach and band.

@@ -30,11 +30,16 @@ std::uint64_t parse_memory_size(std::string_view text) {
   for (const char* tail : {"iB", "B"})
     if (suffix.size() > 1 && suffix.ends_with(tail)) suffix.resize(suffix.size() - std::strlen(tail));
   double scale = 1;
-  if (suffix == "K" || suffix == "k") scale = 1024.0;
-  else if (suffix == "M" || suffix == "m") scale = 1024.0 * 1024;
-  else if (suffix == "G" || suffix == "g") scale = 1024.0 * 1024 * 1024;
-  else if (suffix == "T" || suffix == "t") scale = 1024.0 * 1024 * 1024 * 1024;
-  else if (!suffix.empty()) used = 0;
+  if (suffix == "K" || suffix == "k")
+    scale = 1024.0;
+  else if (suffix == "M" || suffix == "m")
+    scale = 1024.0 * 1024;
+  else if (suffix == "G" || suffix == "g")
+    scale = 1024.0 * 1024 * 1024;
+  else if (suffix == "T" || suffix == "t")
+    scale = 1024.0 * 1024 * 1024 * 1024;
+  else if (!suffix.empty())
+    used = 0;
   const double bytes = value * scale;
   if (used == 0 || !(bytes >= 1) || !(bytes < 1.8e19))
     throw OptionError("a memory size is a number with an optional K, M, G or T (e.g. 4G), not \"" + s + "\"");
@@ -56,7 +61,8 @@ std::filesystem::path default_work_directory(const std::filesystem::path& output
 OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& input, const ReconstructOptions& options,
                                                 const OutOfCoreOptions& out_of_core, const ProgressCallback& progress) {
   if (out_of_core.work_directory.empty()) throw OptionError("an out-of-core run needs a work directory");
-  if (options.mesh && out_of_core.mesh_output.empty()) throw OptionError("an out-of-core run writes its mesh to a file: give one");
+  if (options.mesh && out_of_core.mesh_output.empty())
+    throw OptionError("an out-of-core run writes its mesh to a file: give one");
   if (options.mesh) require_tiled_meshing(options.meshing);
   const auto start = std::chrono::steady_clock::now();
   PartitionOptions partition;
@@ -66,7 +72,8 @@ OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& inp
   // for the region files' buffers, a sixteenth for a block of points (48 bytes each).
   const std::uint64_t working = out_of_core.memory_limit - kProcessBytes;
   partition.buffer_bytes = static_cast<std::size_t>(std::min<std::uint64_t>(partition.buffer_bytes, working / 8));
-  partition.block_points = static_cast<std::size_t>(std::clamp<std::uint64_t>(working / 16 / 48, 4096, partition.block_points));
+  partition.block_points =
+      static_cast<std::size_t>(std::clamp<std::uint64_t>(working / 16 / 48, 4096, partition.block_points));
   OutOfCoreReconstruction out;
   auto lap = std::chrono::steady_clock::now();
   const auto timed = [&](const char* name) {

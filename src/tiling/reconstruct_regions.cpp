@@ -1,8 +1,8 @@
 // The pipeline over the regions of a plan: survey, build, merge, mesh by tiles.
 
-#include <clustersurf/spatial/cloud_stats.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/mesh/mesh_colors.hpp>
+#include <clustersurf/spatial/cloud_stats.hpp>
 #include <clustersurf/tiling/tiling.hpp>
 
 #include "core/progress_reporter.hpp"
@@ -17,7 +17,8 @@ namespace {
 /// Regions cut from a cloud in memory.
 class CloudRegions final : public RegionSource {
  public:
-  CloudRegions(const PointCloud& cloud, const RegionPlan& plan) : cloud_(cloud), own_(plan.regions()), halo_(plan.regions()) {
+  CloudRegions(const PointCloud& cloud, const RegionPlan& plan)
+      : cloud_(cloud), own_(plan.regions()), halo_(plan.regions()) {
     std::vector<std::int32_t> near;
     for (Eigen::Index i = 0; i < cloud.size(); ++i) {
       const Eigen::Vector3d x = cloud.positions.row(i).transpose();
@@ -52,7 +53,8 @@ double spacing_from_sample(const Points& sample, std::uint64_t total_points) {
 }
 
 void require_tiled_meshing(const SurfaceMeshOptions& meshing) {
-  if (meshing.lod_depth || meshing.lod_error) throw OptionError("a tiled mesh is of the leaves: levels of detail are not available");
+  if (meshing.lod_depth || meshing.lod_error)
+    throw OptionError("a tiled mesh is of the leaves: levels of detail are not available");
   if (meshing.closing.enabled) throw OptionError("a tiled mesh cannot be closed (watertight) yet");
   if (meshing.coloring == MeshColoring::ByDistance) throw OptionError("a tiled mesh cannot be colored by distance");
   if (meshing.coloring == MeshColoring::FromIntensity)
@@ -72,7 +74,8 @@ double cell_size(const BoundingBox& bbox, double point_spacing, const SurfaceMes
 }  // namespace
 
 double tiled_cell_size(const ClusterTree& tree, const SurfaceMeshOptions& options) {
-  if (!options.grid.voxel_size && options.auto_resolution && tree.point_spacing > 0) return auto_cell_size(ImplicitSurface(tree));
+  if (!options.grid.voxel_size && options.auto_resolution && tree.point_spacing > 0)
+    return auto_cell_size(ImplicitSurface(tree));
   return cell_size(tree.bbox, tree.point_spacing, options);
 }
 
@@ -80,8 +83,8 @@ double tiled_cell_size(const RegionMerge& merge, const SurfaceMeshOptions& optio
   return cell_size(merge.bbox, merge.point_spacing, options);
 }
 
-Reconstruction reconstruct_regions(const RegionPlan& plan, const RegionSource& source, const ReconstructOptions& options,
-                                   const ProgressCallback& progress) {
+Reconstruction reconstruct_regions(const RegionPlan& plan, const RegionSource& source,
+                                   const ReconstructOptions& options, const ProgressCallback& progress) {
   const SurfaceMeshOptions& meshing = options.meshing;
   if (options.mesh) require_tiled_meshing(meshing);
   const auto start = std::chrono::steady_clock::now();
@@ -127,7 +130,8 @@ Reconstruction reconstruct_regions(const RegionPlan& plan, const RegionSource& s
     report("meshing tiles", r);
     RegionCloud region = source.load(r);
     if (options.build.remove_outliers) mark_outliers(region, scale, options.build.outliers);
-    tiles.push_back(mesh_tile(surface, plan, r, region, grid, meshing.trim, meshing.coloring == MeshColoring::FromInput));
+    tiles.push_back(
+        mesh_tile(surface, plan, r, region, grid, meshing.trim, meshing.coloring == MeshColoring::FromInput));
     mesh.grid.voxel_size = tiles.back().grid.voxel_size;
     mesh.grid.evaluated_corners += tiles.back().grid.evaluated_corners;
     mesh.grid.surface_cells += tiles.back().grid.surface_cells;
@@ -143,8 +147,8 @@ Reconstruction reconstruct_regions(const RegionPlan& plan, const RegionSource& s
   return out;
 }
 
-Reconstruction reconstruct_tiled(const PointCloud& cloud, const RegionOptions& regions, const ReconstructOptions& options,
-                                 const ProgressCallback& progress) {
+Reconstruction reconstruct_tiled(const PointCloud& cloud, const RegionOptions& regions,
+                                 const ReconstructOptions& options, const ProgressCallback& progress) {
   require_surface_extent(cloud);
   if (cloud.empty()) throw OptionError("cannot build a tree from an empty point cloud");
   // An even sample of the cloud places the cuts and measures the halo.
@@ -154,7 +158,8 @@ Reconstruction reconstruct_tiled(const PointCloud& cloud, const RegionOptions& r
   for (Eigen::Index i = 0; i < cloud.size(); i += step) rows.push_back(i);
   const Points sample = cloud.positions(rows, Eigen::all);
   const auto total = static_cast<std::uint64_t>(cloud.size());
-  const RegionPlan plan = plan_regions(sample, total, bounding_box(cloud.positions), spacing_from_sample(sample, total), regions);
+  const RegionPlan plan =
+      plan_regions(sample, total, bounding_box(cloud.positions), spacing_from_sample(sample, total), regions);
   const CloudRegions source(cloud, plan);
   Reconstruction out = reconstruct_regions(plan, source, options, progress);
   // The point-leaf table in the cloud's row order.
@@ -162,7 +167,8 @@ Reconstruction reconstruct_tiled(const PointCloud& cloud, const RegionOptions& r
     std::vector<std::int32_t> by_row(out.tree.point_leaf.size(), -1);
     std::size_t k = 0;
     for (std::size_t r = 0; r < plan.regions(); ++r)
-      for (const Eigen::Index row : source.own_rows(r)) by_row[static_cast<std::size_t>(row)] = out.tree.point_leaf[k++];
+      for (const Eigen::Index row : source.own_rows(r))
+        by_row[static_cast<std::size_t>(row)] = out.tree.point_leaf[k++];
     out.tree.point_leaf = std::move(by_row);
   }
   return out;

@@ -30,7 +30,8 @@ std::pair<std::uintmax_t, std::int64_t> file_identity(const std::filesystem::pat
   if (ec) throw IoError(file.string() + ": cannot open: " + ec.message());
   const auto time = std::filesystem::last_write_time(file, ec);
   if (ec) throw IoError(file.string() + ": cannot stat: " + ec.message());
-  return {size, static_cast<std::int64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(time.time_since_epoch()).count())};
+  return {size, static_cast<std::int64_t>(
+                    std::chrono::duration_cast<std::chrono::nanoseconds>(time.time_since_epoch()).count())};
 }
 
 /// Appends doubles to a region file, buffered.
@@ -66,7 +67,9 @@ class RegionWriter {
 int missing_levels(const std::filesystem::path& directory) {
   int levels = 0;
   std::error_code ec;
-  for (std::filesystem::path p = directory; p.has_relative_path() && !std::filesystem::exists(p, ec); p = p.parent_path()) ++levels;
+  for (std::filesystem::path p = directory; p.has_relative_path() && !std::filesystem::exists(p, ec);
+       p = p.parent_path())
+    ++levels;
   return levels;
 }
 
@@ -85,7 +88,8 @@ detail::RunRecord open_work_directory(const std::filesystem::path& directory, st
     throw OptionError("the work directory " + directory.string() + " is not a directory");
   if (std::filesystem::exists(status)) {
     if (std::optional<detail::RunRecord> record = detail::read_run_record(canonical)) return *record;
-    for (auto it = std::filesystem::directory_iterator(canonical, ec); !ec && it != std::filesystem::directory_iterator(); it.increment(ec))
+    for (auto it = std::filesystem::directory_iterator(canonical, ec);
+         !ec && it != std::filesystem::directory_iterator(); it.increment(ec))
       if (detail::is_run_file_name(it->path()))
         throw OptionError("the work directory " + directory.string() + " holds " + it->path().filename().string() +
                           ", which is not a clustersurf run's file: use another work directory");
@@ -117,7 +121,8 @@ TiledRun TiledRun::partition(const std::filesystem::path& input, const std::file
     const detail::PartitionRecord old = detail::read_partition(plan_file);
     if (old.input_size != r.input_size || old.input_mtime != r.input_mtime || old.max_points != r.max_points ||
         old.halo_spacings != r.halo_spacings)
-      throw OptionError(dir.string() + " holds a run of another input, or of the input before it changed, or of other "
+      throw OptionError(dir.string() +
+                        " holds a run of another input, or of the input before it changed, or of other "
                         "region options: remove it, or use another work directory");
     impl->record = old;
     return TiledRun(std::move(impl));
@@ -129,7 +134,8 @@ TiledRun TiledRun::partition(const std::filesystem::path& input, const std::file
   const std::uint64_t declared = stream.size();
   const std::uint64_t stride = std::max<std::uint64_t>(1, declared / kPlanSample);
   const auto report = [&](std::string_view stage, double done) {
-    if (progress && !progress(stage, declared == 0 ? 1.0 : std::min(1.0, done / static_cast<double>(declared)))) throw Cancelled();
+    if (progress && !progress(stage, declared == 0 ? 1.0 : std::min(1.0, done / static_cast<double>(declared))))
+      throw Cancelled();
   };
   BoundingBox box;
   std::vector<Eigen::Vector3d> sampled;
@@ -151,7 +157,8 @@ TiledRun TiledRun::partition(const std::filesystem::path& input, const std::file
   r.up = stream.up();
   r.origin = origin_shift(box);
   Points sample(static_cast<Eigen::Index>(sampled.size()), 3);
-  for (std::size_t i = 0; i < sampled.size(); ++i) sample.row(static_cast<Eigen::Index>(i)) = (sampled[i] - r.origin).transpose();
+  for (std::size_t i = 0; i < sampled.size(); ++i)
+    sample.row(static_cast<Eigen::Index>(i)) = (sampled[i] - r.origin).transpose();
   BoundingBox relative;
   relative.extend(box.min - r.origin);
   relative.extend(box.max - r.origin);
@@ -186,7 +193,8 @@ TiledRun TiledRun::partition(const std::filesystem::path& input, const std::file
       own[k].add(values, record);
       ++r.own[k];
       r.plan.halo_regions(x, near);
-      for (const std::int32_t h : near) halo[static_cast<std::size_t>(h)].add(values, record), ++r.halo[static_cast<std::size_t>(h)];
+      for (const std::int32_t h : near)
+        halo[static_cast<std::size_t>(h)].add(values, record), ++r.halo[static_cast<std::size_t>(h)];
     }
     seen += static_cast<std::uint64_t>(block.size());
   }

@@ -16,19 +16,21 @@ TriangleMesh join_tiles(std::span<const MeshTile> tiles, const TrimOptions& trim
   Eigen::Index vertices = 0, triangles = 0;
   for (const MeshTile& tile : tiles) {
     const TriangleMesh& m = tile.mesh;
-    if (m.attributes.size() != 1 || m.attributes[0].name != "votes" || m.attributes[0].values.size() != m.vertices.rows() ||
-        m.normals.rows() != m.vertices.rows())
+    if (m.attributes.size() != 1 || m.attributes[0].name != "votes" ||
+        m.attributes[0].values.size() != m.vertices.rows() || m.normals.rows() != m.vertices.rows())
       throw OptionError("a mesh tile must carry a normal and a \"votes\" value per vertex");
     order.push_back(&tile);
     vertices += m.vertices.rows();
     triangles += m.triangles.rows();
   }
-  std::stable_sort(order.begin(), order.end(), [](const MeshTile* a, const MeshTile* b) { return a->region < b->region; });
+  std::stable_sort(order.begin(), order.end(),
+                   [](const MeshTile* a, const MeshTile* b) { return a->region < b->region; });
   TriangleMesh mesh;
   if (!order.empty()) mesh.origin = order.front()->mesh.origin, mesh.up = order.front()->mesh.up;
   mesh.vertices.resize(vertices, 3);
   mesh.normals.resize(vertices, 3);
-  const bool colors = std::any_of(order.begin(), order.end(), [](const MeshTile* t) { return t->mesh.colors.rows() > 0; });
+  const bool colors =
+      std::any_of(order.begin(), order.end(), [](const MeshTile* t) { return t->mesh.colors.rows() > 0; });
   if (colors) mesh.colors.setConstant(vertices, 3, 128);  // grey for a tile without colors
   mesh.triangles.resize(triangles, 3);
   Eigen::VectorXf votes(vertices);
@@ -58,11 +60,13 @@ TriangleMesh join_tiles(std::span<const MeshTile> tiles, const TrimOptions& trim
     const std::vector<std::int32_t> component = detail::vertex_components(mesh, &keep);
     std::vector<double> support(component.size(), 0);
     for (std::size_t v = 0; v < component.size(); ++v)
-      if (component[v] >= 0) support[static_cast<std::size_t>(component[v])] += welded_votes(static_cast<Eigen::Index>(v));
+      if (component[v] >= 0)
+        support[static_cast<std::size_t>(component[v])] += welded_votes(static_cast<Eigen::Index>(v));
     const double best = *std::max_element(support.begin(), support.end());
     const double needed = std::min(static_cast<double>(trim.min_component_points), best);
     for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
-      keep[static_cast<std::size_t>(t)] = support[static_cast<std::size_t>(component[static_cast<std::size_t>(mesh.triangles(t, 0))])] >= needed;
+      keep[static_cast<std::size_t>(t)] =
+          support[static_cast<std::size_t>(component[static_cast<std::size_t>(mesh.triangles(t, 0))])] >= needed;
   }
   return detail::with_triangles(mesh, keep);
 }

@@ -48,7 +48,8 @@ class Numbering {
       const double inside = std::min((x - box.min).minCoeff(), (box.max - x).minCoeff());  // < 0 outside
       std::uint32_t g = next_;
       if (inside <= reach) {
-        const PositionKey key{std::bit_cast<std::uint64_t>(x.x()), std::bit_cast<std::uint64_t>(x.y()), std::bit_cast<std::uint64_t>(x.z())};
+        const PositionKey key{std::bit_cast<std::uint64_t>(x.x()), std::bit_cast<std::uint64_t>(x.y()),
+                              std::bit_cast<std::uint64_t>(x.z())};
         g = border_.try_emplace(key, next_).first->second;  // a replay finds every one it made
       }
       created[static_cast<std::size_t>(i)] = g == next_;
@@ -67,15 +68,17 @@ class Numbering {
 
 }  // namespace
 
-JoinedMesh join_tiles_to_ply(const std::function<MeshTile(std::int32_t)>& tile_of, const RegionPlan& plan, const TrimOptions& trim,
-                             const std::filesystem::path& file, const ImplicitSurface* colors) {
+JoinedMesh join_tiles_to_ply(const std::function<MeshTile(std::int32_t)>& tile_of, const RegionPlan& plan,
+                             const TrimOptions& trim, const std::filesystem::path& file,
+                             const ImplicitSurface* colors) {
   const auto n = static_cast<std::int32_t>(plan.regions());
   const auto get = [&](std::int32_t k) {
     MeshTile t = tile_of(k);
     const TriangleMesh& m = t.mesh;
     if (t.region != k || m.attributes.size() != 1 || m.attributes[0].values.size() != m.vertices.rows() ||
         m.normals.rows() != m.vertices.rows())
-      throw OptionError("tile " + std::to_string(k) + " is not region " + std::to_string(k) + "'s tile with normals and votes");
+      throw OptionError("tile " + std::to_string(k) + " is not region " + std::to_string(k) +
+                        "'s tile with normals and votes");
     return t;
   };
   // Pass 1: numbers, votes, components (union-find), which vertices have triangles.
@@ -120,7 +123,9 @@ JoinedMesh join_tiles_to_ply(const std::function<MeshTile(std::int32_t)>& tile_o
   float best = 0;
   for (std::uint32_t v = 0; v < total; ++v)
     if (flags[v] & 1) best = std::max(best, support[root(v)]);
-  const double needed = trim.min_component_points > 0 ? std::min(static_cast<double>(trim.min_component_points), static_cast<double>(best)) : 0;
+  const double needed = trim.min_component_points > 0
+                            ? std::min(static_cast<double>(trim.min_component_points), static_cast<double>(best))
+                            : 0;
   // Pass 2: the kept triangles and the vertices they use.
   JoinedMesh out;
   numbering.restart();
@@ -160,9 +165,12 @@ JoinedMesh join_tiles_to_ply(const std::function<MeshTile(std::int32_t)>& tile_o
     TriangleMesh part;
     part.vertices = t.mesh.vertices(rows, Eigen::all);
     part.normals = t.mesh.normals(rows, Eigen::all);
-    if (colors != nullptr) part.colors = colors_by_node(part, *colors);
-    else if (with_colors && t.mesh.colors.rows() == t.mesh.vertices.rows()) part.colors = t.mesh.colors(rows, Eigen::all);
-    else if (with_colors) part.colors.setConstant(part.vertices.rows(), 3, 128);  // a tile without colors
+    if (colors != nullptr)
+      part.colors = colors_by_node(part, *colors);
+    else if (with_colors && t.mesh.colors.rows() == t.mesh.vertices.rows())
+      part.colors = t.mesh.colors(rows, Eigen::all);
+    else if (with_colors)
+      part.colors.setConstant(part.vertices.rows(), 3, 128);  // a tile without colors
     ply.add_vertices(part.vertices, part.normals, part.colors);
   }
   numbering.restart();
@@ -174,7 +182,8 @@ JoinedMesh join_tiles_to_ply(const std::function<MeshTile(std::int32_t)>& tile_o
     for (Eigen::Index f = 0; f < t.mesh.triangles.rows(); ++f) {
       const std::uint32_t a = id[static_cast<std::size_t>(t.mesh.triangles(f, 0))];
       if (!(flags[a] & 2)) continue;  // kept with its component, whose vertices are then all used
-      for (int c = 0; c < 3; ++c) kept(count, c) = static_cast<std::int32_t>(index[id[static_cast<std::size_t>(t.mesh.triangles(f, c))]]);
+      for (int c = 0; c < 3; ++c)
+        kept(count, c) = static_cast<std::int32_t>(index[id[static_cast<std::size_t>(t.mesh.triangles(f, c))]]);
       ++count;
     }
     kept.conservativeResize(count, 3);

@@ -1,10 +1,10 @@
 // A tiled reconstruction's work directory: each stage's task per region, reading and writing
 // files only (the partition: region_partition.cpp).
 
+#include <clustersurf/cluster/tree_file.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/mesh/mesh_colors.hpp>
 #include <clustersurf/tiling/tiled_run.hpp>
-#include <clustersurf/cluster/tree_file.hpp>
 
 #include "tiling/tiled_run_files.hpp"
 #include "tiling/tiled_run_impl.hpp"
@@ -28,18 +28,20 @@ std::string describe(const ReconstructOptions& o) {
   std::ostringstream out;
   out << std::setprecision(17);
   const BuildOptions& b = o.build;
-  out << "build " << static_cast<int>(b.proxy) << " " << static_cast<int>(b.splitter) << " " << static_cast<int>(b.metric) << " "
-      << static_cast<int>(b.threshold_mode) << " " << b.tolerance << " " << b.noise_factor << " " << b.min_points << " " << b.max_depth
-      << " " << b.alpha << " " << b.kstep << " " << b.lloyd_restarts << " " << b.proxy_lloyd_iterations << " " << b.seed << " "
-      << b.support_factor << " " << b.remove_outliers << " " << b.use_normals << " " << b.frames_from_normals << " " << b.fit_normals << " " << b.creases
-      << "\noutliers " << b.outliers.neighbors << " " << b.outliers.local_ratio << " " << b.outliers.global_ratio << " "
-      << b.outliers.min_points << "\nnoise " << b.noise.neighbors << " " << b.noise.samples << " " << b.noise.min_width_ratio << " "
-      << b.noise.detail_ratio << " " << b.noise.noisy_width_ratio << " " << b.noise.residual_differences << " "
-      << b.noise.facing_normals << "\n";
+  out << "build " << static_cast<int>(b.proxy) << " " << static_cast<int>(b.splitter) << " "
+      << static_cast<int>(b.metric) << " " << static_cast<int>(b.threshold_mode) << " " << b.tolerance << " "
+      << b.noise_factor << " " << b.min_points << " " << b.max_depth << " " << b.alpha << " " << b.kstep << " "
+      << b.lloyd_restarts << " " << b.proxy_lloyd_iterations << " " << b.seed << " " << b.support_factor << " "
+      << b.remove_outliers << " " << b.use_normals << " " << b.frames_from_normals << " " << b.fit_normals << " "
+      << b.creases << "\noutliers " << b.outliers.neighbors << " " << b.outliers.local_ratio << " "
+      << b.outliers.global_ratio << " " << b.outliers.min_points << "\nnoise " << b.noise.neighbors << " "
+      << b.noise.samples << " " << b.noise.min_width_ratio << " " << b.noise.detail_ratio << " "
+      << b.noise.noisy_width_ratio << " " << b.noise.residual_differences << " " << b.noise.facing_normals << "\n";
   const SurfaceMeshOptions& m = o.meshing;
-  out << "mesh " << m.grid.resolution << " " << (m.grid.voxel_size ? *m.grid.voxel_size : 0.0) << " " << m.grid.newton_steps << " "
-      << m.grid.min_weight << " " << m.grid.fill_cells << " " << m.auto_resolution << "\ntrim " << m.trim.spread_factor << " "
-      << m.trim.neighbors << " " << m.trim.min_component_points << "\ncolors " << (m.coloring == MeshColoring::FromInput) << "\n";
+  out << "mesh " << m.grid.resolution << " " << (m.grid.voxel_size ? *m.grid.voxel_size : 0.0) << " "
+      << m.grid.newton_steps << " " << m.grid.min_weight << " " << m.grid.fill_cells << " " << m.auto_resolution
+      << "\ntrim " << m.trim.spread_factor << " " << m.trim.neighbors << " " << m.trim.min_component_points
+      << "\ncolors " << (m.coloring == MeshColoring::FromInput) << "\n";
   return out.str();
 }
 
@@ -87,15 +89,17 @@ RegionCloud TiledRun::load(std::int32_t region) const {
     const std::uintmax_t size = std::filesystem::file_size(f, ec);
     if (ec) throw IoError(f.string() + ": cannot open: " + ec.message());
     if (size != expected)
-      throw InputError(f, FileLocation{std::nullopt, std::min<std::uint64_t>(size, expected)},
-                       "region file holds " + std::to_string(size) + " bytes, the plan says " + std::to_string(expected));
+      throw InputError(
+          f, FileLocation{std::nullopt, std::min<std::uint64_t>(size, expected)},
+          "region file holds " + std::to_string(size) + " bytes, the plan says " + std::to_string(expected));
     std::FILE* in = std::fopen(f.c_str(), "rb");
     if (in == nullptr) throw IoError(f.string() + ": cannot open: " + std::strerror(errno));
     std::vector<double> chunk(record * 65536);
     const auto points = static_cast<Eigen::Index>(expected / (record * sizeof(double)));
     for (Eigen::Index done = 0; done < points;) {
       const auto m = std::min<Eigen::Index>(65536, points - done);
-      if (std::fread(chunk.data(), sizeof(double) * record, static_cast<std::size_t>(m), in) != static_cast<std::size_t>(m)) {
+      if (std::fread(chunk.data(), sizeof(double) * record, static_cast<std::size_t>(m), in) !=
+          static_cast<std::size_t>(m)) {
         std::fclose(in);
         throw IoError(f.string() + ": read failed");
       }
@@ -138,8 +142,10 @@ void remove_tiled_run(const std::filesystem::path& directory) {
 
 void TiledRun::check_output(const std::filesystem::path& file) const {
   std::error_code ec;
-  if (detail::is_run_file_name(file) && std::filesystem::equivalent(file.parent_path().empty() ? "." : file.parent_path(), impl_->dir, ec))
-    throw OptionError("the output file " + file.string() + " has the name of one of the work directory's own files: choose another name");
+  if (detail::is_run_file_name(file) &&
+      std::filesystem::equivalent(file.parent_path().empty() ? "." : file.parent_path(), impl_->dir, ec))
+    throw OptionError("the output file " + file.string() +
+                      " has the name of one of the work directory's own files: choose another name");
 }
 
 bool TiledRun::done(std::string_view stage, std::int32_t region) const {
@@ -155,7 +161,8 @@ void TiledRun::claim(const ReconstructOptions& options) const {
   const std::string text = describe(options);
   if (std::filesystem::exists(f)) {
     if (detail::read_text(f) != text)
-      throw OptionError(impl_->dir.string() + " holds a run made with other options: remove it, or use another work directory");
+      throw OptionError(impl_->dir.string() +
+                        " holds a run made with other options: remove it, or use another work directory");
     return;
   }
   detail::write_text(f, text);
@@ -193,8 +200,10 @@ ClusterTree TiledRun::merge() const {
   bool propagated = false;
   for (std::int32_t k = 0; k < static_cast<std::int32_t>(regions()); ++k) {
     bool empty = false;
-    const OrientationReport o = detail::read_orientation(impl_->need(impl_->file("orientation", k, "txt"), "every region's build"), empty);
-    trees.push_back(empty ? ClusterTree{} : load_tree(impl_->need(impl_->file("tree", k, "cstree"), "every region's build")));
+    const OrientationReport o =
+        detail::read_orientation(impl_->need(impl_->file("orientation", k, "txt"), "every region's build"), empty);
+    trees.push_back(empty ? ClusterTree{}
+                          : load_tree(impl_->need(impl_->file("tree", k, "cstree"), "every region's build")));
     propagated = propagated || (!empty && !o.used_normals && !o.used_scanners);
   }
   RegionMerge record;
@@ -211,7 +220,8 @@ OrientationReport TiledRun::orientation() const {
   sum.used_normals = sum.used_scanners = true;
   for (std::int32_t k = 0; k < static_cast<std::int32_t>(regions()); ++k) {
     bool empty = false;
-    const OrientationReport o = detail::read_orientation(impl_->need(impl_->file("orientation", k, "txt"), "every region's build"), empty);
+    const OrientationReport o =
+        detail::read_orientation(impl_->need(impl_->file("orientation", k, "txt"), "every region's build"), empty);
     if (empty) continue;
     sum.used_normals = sum.used_normals && o.used_normals;
     sum.used_scanners = sum.used_scanners && o.used_scanners;
@@ -227,11 +237,13 @@ void TiledRun::mesh(std::int32_t region, const ReconstructOptions& options) cons
   impl_->need(impl_->dir / "tree.cstree", "the merge");
   // The tile's tree from the region trees its leaves may come from, never the whole tree.
   const RegionMerge merge = impl_->merge_record();
-  if (merge.reach.size() != regions()) throw InputError(impl_->dir / "merge.txt", {}, "the merge record does not match the plan");
+  if (merge.reach.size() != regions())
+    throw InputError(impl_->dir / "merge.txt", {}, "the merge record does not match the plan");
   MeshOptions grid = options.meshing.grid;
   grid.voxel_size = tiled_cell_size(merge, options.meshing);
   std::vector<ClusterTree> trees(regions());
-  for (const std::int32_t k : tile_regions(plan(), merge, region, grid)) trees[static_cast<std::size_t>(k)] = impl_->region_tree(k);
+  for (const std::int32_t k : tile_regions(plan(), merge, region, grid))
+    trees[static_cast<std::size_t>(k)] = impl_->region_tree(k);
   RegionCloud points = load(region);
   if (options.build.remove_outliers) mark_outliers(points, scale(), options.build.outliers);
   MeshTile tile;
@@ -269,11 +281,13 @@ SurfaceMesh TiledRun::join(const SurfaceMeshOptions& options) const {
   return out;
 }
 
-WrittenMesh TiledRun::write_mesh(const std::filesystem::path& file, const SurfaceMeshOptions& options, const PlyWriteOptions& ply) const {
+WrittenMesh TiledRun::write_mesh(const std::filesystem::path& file, const SurfaceMeshOptions& options,
+                                 const PlyWriteOptions& ply) const {
   require_tiled_meshing(options);
   check_output(file);
   std::string extension = file.extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   WrittenMesh out;
   out.file = file;
   if (extension != ".ply" || !ply.binary || ply.double_precision || options.decimation.enabled()) {
@@ -305,8 +319,7 @@ WrittenMesh TiledRun::write_mesh(const std::filesystem::path& file, const Surfac
     }
     return t;
   };
-  const JoinedMesh joined = join_tiles_to_ply(tile, plan(), options.trim, file,
-                                              surface ? &*surface : nullptr);
+  const JoinedMesh joined = join_tiles_to_ply(tile, plan(), options.trim, file, surface ? &*surface : nullptr);
   out.vertices = joined.vertices;
   out.triangles = joined.triangles;
   out.removed_components = joined.removed_components;

@@ -8,10 +8,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <cstring>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 #include <unordered_set>
 #include <utility>
@@ -47,7 +47,9 @@ class Lines {
   void read(std::istringstream& fields, const char* what, T&... values) {
     if (!(fields >> ... >> values)) fail(std::string("malformed ") + what);
   }
-  [[noreturn]] void fail(const std::string& message) const { throw InputError(file_, FileLocation{line_, std::nullopt}, message); }
+  [[noreturn]] void fail(const std::string& message) const {
+    throw InputError(file_, FileLocation{line_, std::nullopt}, message);
+  }
 
  private:
   std::filesystem::path file_;
@@ -73,15 +75,17 @@ std::filesystem::path region_file(const std::filesystem::path& dir, std::string_
 namespace {
 
 /// The files of a run: one of each kind per region ("tile-000003.bin"), and the run's own.
-constexpr std::pair<std::string_view, std::string_view> kRegionFiles[] = {
-    {"region", "own"}, {"region", "halo"}, {"survey", "txt"}, {"tree", "cstree"}, {"orientation", "txt"}, {"tile", "bin"}};
+constexpr std::pair<std::string_view, std::string_view> kRegionFiles[] = {{"region", "own"},      {"region", "halo"},
+                                                                          {"survey", "txt"},      {"tree", "cstree"},
+                                                                          {"orientation", "txt"}, {"tile", "bin"}};
 constexpr std::string_view kRunFiles[] = {"tree.cstree", "merge.txt", "options.txt", "plan.txt"};
 
 /// The name of the file a write is for: `name` itself, or NAME for the temporary file
 /// ".NAME.tmpXXXXXX" of an atomic write (io::AtomicFile) that a killed task left behind.
 std::string written_name(const std::string& name) {
   const std::size_t tmp = name.rfind(".tmp");
-  if (name.starts_with(".") && tmp != std::string::npos && tmp > 1 && name.size() == tmp + 10) return name.substr(1, tmp - 1);
+  if (name.starts_with(".") && tmp != std::string::npos && tmp > 1 && name.size() == tmp + 10)
+    return name.substr(1, tmp - 1);
   return name;
 }
 
@@ -98,10 +102,12 @@ std::vector<std::filesystem::path> run_files(const std::filesystem::path& dir, s
   std::unordered_set<std::string> names;
   for (const std::string_view name : kRunFiles) names.emplace(name);
   for (std::uint64_t k = 0; k < regions; ++k)
-    for (const auto& [kind, ext] : kRegionFiles) names.insert(region_file({}, kind, static_cast<std::int32_t>(k), ext).string());
+    for (const auto& [kind, ext] : kRegionFiles)
+      names.insert(region_file({}, kind, static_cast<std::int32_t>(k), ext).string());
   std::vector<std::filesystem::path> out;
   std::error_code ec;
-  for (auto it = std::filesystem::directory_iterator(dir, ec); !ec && it != std::filesystem::directory_iterator(); it.increment(ec))
+  for (auto it = std::filesystem::directory_iterator(dir, ec); !ec && it != std::filesystem::directory_iterator();
+       it.increment(ec))
     if (it->is_regular_file() && !it->is_symlink() && names.count(written_name(it->path().filename().string())))
       out.push_back(it->path());
   if (ec) throw IoError(dir.string() + ": cannot list the work directory: " + ec.message());
@@ -131,7 +137,8 @@ std::optional<RunRecord> read_run_record(const std::filesystem::path& dir) {
     std::istringstream f = lines.next("", "the header");
     std::string word, version;
     f >> word >> version;
-    if (word + " " + version != kRunMagic) lines.fail("not a clustersurf run record (expected \"" + std::string(kRunMagic) + "\")");
+    if (word + " " + version != kRunMagic)
+      lines.fail("not a clustersurf run record (expected \"" + std::string(kRunMagic) + "\")");
   }
   RunRecord r;
   auto f = lines.next("created-levels", "the created directories");
@@ -166,10 +173,12 @@ void write_partition(const std::filesystem::path& file, const PartitionRecord& r
   out << "spacing " << r.plan.point_spacing << " " << r.plan.halo << "\n";
   out << "cells " << r.plan.cells.size() << "\n";
   for (const RegionPlan::Cell& c : r.plan.cells)
-    out << "cell " << c.left << " " << c.right << " " << c.axis << " " << c.split << " " << c.region << " " << c.box.min.x()
-        << " " << c.box.min.y() << " " << c.box.min.z() << " " << c.box.max.x() << " " << c.box.max.y() << " " << c.box.max.z() << "\n";
+    out << "cell " << c.left << " " << c.right << " " << c.axis << " " << c.split << " " << c.region << " "
+        << c.box.min.x() << " " << c.box.min.y() << " " << c.box.min.z() << " " << c.box.max.x() << " " << c.box.max.y()
+        << " " << c.box.max.z() << "\n";
   out << "regions " << r.plan.regions() << "\n";
-  for (std::size_t k = 0; k < r.plan.regions(); ++k) out << "region " << r.plan.region_cell[k] << " " << r.own[k] << " " << r.halo[k] << "\n";
+  for (std::size_t k = 0; k < r.plan.regions(); ++k)
+    out << "region " << r.plan.region_cell[k] << " " << r.own[k] << " " << r.halo[k] << "\n";
   write_text(file, out.str());
 }
 
@@ -181,7 +190,8 @@ PartitionRecord read_partition(const std::filesystem::path& file) {
     std::istringstream f = lines.next("", "the header");
     std::string word, version;
     f >> word >> version;
-    if (word + " " + version != kPlanMagic) lines.fail("not a clustersurf tile plan (expected \"" + std::string(kPlanMagic) + "\")");
+    if (word + " " + version != kPlanMagic)
+      lines.fail("not a clustersurf tile plan (expected \"" + std::string(kPlanMagic) + "\")");
   }
   int normals = 0, colors = 0;
   std::string up;
@@ -206,8 +216,8 @@ PartitionRecord read_partition(const std::filesystem::path& file) {
   r.plan.cells.resize(cells);
   for (RegionPlan::Cell& c : r.plan.cells) {
     f = lines.next("cell", "a cell");
-    lines.read(f, "cell", c.left, c.right, c.axis, c.split, c.region, c.box.min.x(), c.box.min.y(), c.box.min.z(), c.box.max.x(),
-               c.box.max.y(), c.box.max.z());
+    lines.read(f, "cell", c.left, c.right, c.axis, c.split, c.region, c.box.min.x(), c.box.min.y(), c.box.min.z(),
+               c.box.max.x(), c.box.max.y(), c.box.max.z());
   }
   f = lines.next("regions", "the region count");
   lines.read(f, "region count", regions);
@@ -223,12 +233,13 @@ PartitionRecord read_partition(const std::filesystem::path& file) {
   if (r.input_points == 0 || r.input_points > kMaxPoints) lines.fail("input point count out of range");
   std::uint64_t owned = 0;
   for (std::size_t k = 0; k < regions; ++k) {
-    if (r.own[k] > r.input_points || r.halo[k] > r.input_points) lines.fail("region " + std::to_string(k) + ": point counts out of range");
+    if (r.own[k] > r.input_points || r.halo[k] > r.input_points)
+      lines.fail("region " + std::to_string(k) + ": point counts out of range");
     owned += r.own[k];
   }
   if (owned != r.input_points) lines.fail("the regions' own points do not add up to the input's");
-  if (!r.origin.allFinite() || !(r.plan.point_spacing >= 0) || !std::isfinite(r.plan.point_spacing) || !(r.plan.halo >= 0) ||
-      !std::isfinite(r.plan.halo))
+  if (!r.origin.allFinite() || !(r.plan.point_spacing >= 0) || !std::isfinite(r.plan.point_spacing) ||
+      !(r.plan.halo >= 0) || !std::isfinite(r.plan.halo))
     lines.fail("origin, spacing or halo is not a finite number (spacing and halo >= 0)");
   // The cells must form the tree region_of() walks: children after their parent, leaves naming
   // their region, regions naming their leaf.
@@ -253,10 +264,11 @@ PartitionRecord read_partition(const std::filesystem::path& file) {
 
 void write_merge(const std::filesystem::path& file, const RegionMerge& m) {
   std::ostringstream out = text_stream();
-  out << "merge " << m.leaves << " " << m.point_spacing << " " << m.bbox.min.x() << " " << m.bbox.min.y() << " " << m.bbox.min.z() << " " << m.bbox.max.x()
-      << " " << m.bbox.max.y() << " " << m.bbox.max.z() << "\n";
+  out << "merge " << m.leaves << " " << m.point_spacing << " " << m.bbox.min.x() << " " << m.bbox.min.y() << " "
+      << m.bbox.min.z() << " " << m.bbox.max.x() << " " << m.bbox.max.y() << " " << m.bbox.max.z() << "\n";
   out << "regions " << m.reach.size() << "\n";
-  for (std::size_t r = 0; r < m.reach.size(); ++r) out << "region " << static_cast<int>(m.flipped[r]) << " " << m.reach[r] << "\n";
+  for (std::size_t r = 0; r < m.reach.size(); ++r)
+    out << "region " << static_cast<int>(m.flipped[r]) << " " << m.reach[r] << "\n";
   write_text(file, out.str());
 }
 
@@ -265,10 +277,12 @@ RegionMerge read_merge(const std::filesystem::path& file) {
   Lines lines(file, text);
   RegionMerge m;
   auto head = lines.next("merge", "the merge");
-  lines.read(head, "merge", m.leaves, m.point_spacing, m.bbox.min.x(), m.bbox.min.y(), m.bbox.min.z(), m.bbox.max.x(), m.bbox.max.y(), m.bbox.max.z());
+  lines.read(head, "merge", m.leaves, m.point_spacing, m.bbox.min.x(), m.bbox.min.y(), m.bbox.min.z(), m.bbox.max.x(),
+             m.bbox.max.y(), m.bbox.max.z());
   if (!m.bbox.min.allFinite() || !m.bbox.max.allFinite() || (m.bbox.min.array() > m.bbox.max.array()).any())
     lines.fail("the merged box must be finite, its minimum below its maximum");
-  if (!(m.point_spacing >= 0) || !std::isfinite(m.point_spacing)) lines.fail("the point spacing must be finite and >= 0");
+  if (!(m.point_spacing >= 0) || !std::isfinite(m.point_spacing))
+    lines.fail("the point spacing must be finite and >= 0");
   auto count_line = lines.next("regions", "the region count");
   std::uint64_t count = 0;
   lines.read(count_line, "region count", count);
@@ -288,10 +302,13 @@ RegionMerge read_merge(const std::filesystem::path& file) {
 
 void write_survey(const std::filesystem::path& file, const RegionSurvey& s) {
   std::ostringstream out = text_stream();
-  out << "survey " << s.points << " " << s.median_spacing << " " << s.median_spread << " " << s.noise_sigma << " " << s.outliers;
-  if (s.bbox.empty()) out << " empty\n";
-  else out << " " << s.bbox.min.x() << " " << s.bbox.min.y() << " " << s.bbox.min.z() << " " << s.bbox.max.x() << " "
-           << s.bbox.max.y() << " " << s.bbox.max.z() << "\n";
+  out << "survey " << s.points << " " << s.median_spacing << " " << s.median_spread << " " << s.noise_sigma << " "
+      << s.outliers;
+  if (s.bbox.empty())
+    out << " empty\n";
+  else
+    out << " " << s.bbox.min.x() << " " << s.bbox.min.y() << " " << s.bbox.min.z() << " " << s.bbox.max.x() << " "
+        << s.bbox.max.y() << " " << s.bbox.max.z() << "\n";
   write_text(file, out.str());
 }
 
@@ -305,7 +322,8 @@ RegionSurvey read_survey(const std::filesystem::path& file) {
   std::string rest;
   if (f >> rest && rest != "empty") {
     std::istringstream box(rest + " " + std::string(std::istreambuf_iterator<char>(f), {}));
-    lines.read(box, "survey box", s.bbox.min.x(), s.bbox.min.y(), s.bbox.min.z(), s.bbox.max.x(), s.bbox.max.y(), s.bbox.max.z());
+    lines.read(box, "survey box", s.bbox.min.x(), s.bbox.min.y(), s.bbox.min.z(), s.bbox.max.x(), s.bbox.max.y(),
+               s.bbox.max.z());
   }
   return s;
 }
@@ -333,8 +351,11 @@ void write_tile(const std::filesystem::path& file, const MeshTile& tile) {
   io::AtomicFile out(file);
   out.write(kTileMagic, sizeof kTileMagic);
   const bool colors = m.colors.rows() == m.vertices.rows() && m.vertices.rows() > 0;
-  const std::int64_t header[6] = {tile.region, static_cast<std::int64_t>(m.vertices.rows()), static_cast<std::int64_t>(m.triangles.rows()),
-                                  static_cast<std::int64_t>(tile.grid.surface_cells), static_cast<std::int64_t>(tile.grid.evaluated_corners),
+  const std::int64_t header[6] = {tile.region,
+                                  static_cast<std::int64_t>(m.vertices.rows()),
+                                  static_cast<std::int64_t>(m.triangles.rows()),
+                                  static_cast<std::int64_t>(tile.grid.surface_cells),
+                                  static_cast<std::int64_t>(tile.grid.evaluated_corners),
                                   (colors ? kTileColors : 0) | (m.up == UpAxis::Z ? kTileZUp : 0)};
   out.write(header, sizeof header);
   out.write(&tile.grid.voxel_size, sizeof(double));
@@ -352,13 +373,15 @@ MeshTile read_tile(const std::filesystem::path& file) {
   std::size_t at = 0;
   const auto take = [&](void* out, std::size_t n, const char* what) {
     if (n > bytes.size() - at)
-      throw InputError(file, FileLocation{std::nullopt, at}, std::string("file ends inside ") + what + " (not a whole mesh tile)");
+      throw InputError(file, FileLocation{std::nullopt, at},
+                       std::string("file ends inside ") + what + " (not a whole mesh tile)");
     if (n > 0) std::memcpy(out, bytes.data() + at, n);  // an empty matrix has no storage
     at += n;
   };
   char magic[sizeof kTileMagic];
   take(magic, sizeof magic, "the signature");
-  if (std::memcmp(magic, kTileMagic, sizeof magic) != 0) throw InputError(file, FileLocation{std::nullopt, 0}, "not a clustersurf mesh tile");
+  if (std::memcmp(magic, kTileMagic, sizeof magic) != 0)
+    throw InputError(file, FileLocation{std::nullopt, 0}, "not a clustersurf mesh tile");
   std::int64_t header[6];
   take(header, sizeof header, "the header");
   const std::int64_t nv = header[1], nt = header[2];
@@ -366,9 +389,12 @@ MeshTile read_tile(const std::filesystem::path& file) {
   if (header[0] < 0 || header[0] > std::numeric_limits<std::int32_t>::max() || header[3] < 0 || header[4] < 0)
     throw InputError(file, FileLocation{std::nullopt, sizeof kTileMagic}, "region or cell counts out of range");
   if ((header[5] & ~(kTileColors | kTileZUp)) != 0)
-    throw InputError(file, FileLocation{std::nullopt, sizeof kTileMagic + 5 * sizeof(std::int64_t)}, "unknown tile flags");
-  if (nv < 0 || nt < 0 || static_cast<std::uint64_t>(nv) > bytes.size() / per_vertex || static_cast<std::uint64_t>(nt) > bytes.size() / per_triangle)
-    throw InputError(file, FileLocation{std::nullopt, sizeof kTileMagic + 8}, "vertex or triangle count out of range for the file's size");
+    throw InputError(file, FileLocation{std::nullopt, sizeof kTileMagic + 5 * sizeof(std::int64_t)},
+                     "unknown tile flags");
+  if (nv < 0 || nt < 0 || static_cast<std::uint64_t>(nv) > bytes.size() / per_vertex ||
+      static_cast<std::uint64_t>(nt) > bytes.size() / per_triangle)
+    throw InputError(file, FileLocation{std::nullopt, sizeof kTileMagic + 8},
+                     "vertex or triangle count out of range for the file's size");
   MeshTile tile;
   tile.region = static_cast<std::int32_t>(header[0]);
   tile.grid.surface_cells = static_cast<std::size_t>(header[3]);
@@ -395,14 +421,18 @@ MeshTile read_tile(const std::filesystem::path& file) {
   m.up = (header[5] & kTileZUp) != 0 ? UpAxis::Z : UpAxis::Y;
   const std::size_t triangles_at = at;
   take(m.triangles.data(), static_cast<std::size_t>(nt) * 3 * sizeof(std::int32_t), "the triangles");
-  if (at != bytes.size()) throw InputError(file, FileLocation{std::nullopt, at}, "unexpected bytes after the triangles");
+  if (at != bytes.size())
+    throw InputError(file, FileLocation{std::nullopt, at}, "unexpected bytes after the triangles");
   if (!m.vertices.allFinite() || !m.normals.allFinite() || !votes.allFinite() || (nv > 0 && votes.minCoeff() < 0))
-    throw InputError(file, FileLocation{std::nullopt, sizeof kTileMagic}, "a vertex, normal or vote is not a finite number (votes >= 0)");
+    throw InputError(file, FileLocation{std::nullopt, sizeof kTileMagic},
+                     "a vertex, normal or vote is not a finite number (votes >= 0)");
   for (Eigen::Index t = 0; t < nt; ++t)
     for (int k = 0; k < 3; ++k)
       if (m.triangles(t, k) < 0 || m.triangles(t, k) >= nv)
-        throw InputError(file, FileLocation{std::nullopt, triangles_at + static_cast<std::size_t>(3 * t + k) * sizeof(std::int32_t)},
-                         "triangle " + std::to_string(t) + " names vertex " + std::to_string(m.triangles(t, k)) + " of " + std::to_string(nv));
+        throw InputError(
+            file, FileLocation{std::nullopt, triangles_at + static_cast<std::size_t>(3 * t + k) * sizeof(std::int32_t)},
+            "triangle " + std::to_string(t) + " names vertex " + std::to_string(m.triangles(t, k)) + " of " +
+                std::to_string(nv));
   m.attributes.push_back({"votes", std::move(votes)});
   return tile;
 }

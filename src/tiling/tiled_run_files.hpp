@@ -29,14 +29,17 @@ struct PartitionRecord {
 
 /// Doubles per point in a region file: the position, the normal when the input has normals, and
 /// the color (pack_color()) when it has colors.
-inline std::size_t region_record_values(const PartitionRecord& r) { return 3 + (r.normals ? 3 : 0) + (r.colors ? 1 : 0); }
+inline std::size_t region_record_values(const PartitionRecord& r) {
+  return 3 + (r.normals ? 3 : 0) + (r.colors ? 1 : 0);
+}
 
 /// An 8-bit RGB color as one double, exactly: red * 65536 + green * 256 + blue.
 inline double pack_color(const Eigen::Matrix<std::uint8_t, 1, 3>& c) { return c(0) * 65536.0 + c(1) * 256.0 + c(2); }
 /// The color pack_color() packed (values outside its range clamped to it).
 inline Eigen::Matrix<std::uint8_t, 1, 3> unpack_color(double packed) {
   const auto v = static_cast<std::uint32_t>(std::clamp(packed, 0.0, 16777215.0));
-  return {static_cast<std::uint8_t>(v >> 16), static_cast<std::uint8_t>((v >> 8) & 0xFF), static_cast<std::uint8_t>(v & 0xFF)};
+  return {static_cast<std::uint8_t>(v >> 16), static_cast<std::uint8_t>((v >> 8) & 0xFF),
+          static_cast<std::uint8_t>(v & 0xFF)};
 }
 
 /// "dir/name-000012.ext": a region's file.

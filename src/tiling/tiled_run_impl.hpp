@@ -1,9 +1,9 @@
 #pragma once
 // What a TiledRun holds: its directory and partition, and the paths of its files.
 
+#include <clustersurf/cluster/tree_file.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/tiling/tiled_run.hpp>
-#include <clustersurf/cluster/tree_file.hpp>
 
 #include "tiling/tiled_run_files.hpp"
 
@@ -21,7 +21,8 @@ struct TiledRun::Impl {
   }
   void check(std::int32_t region) const {
     if (region < 0 || static_cast<std::size_t>(region) >= record.plan.regions())
-      throw OptionError("region " + std::to_string(region) + " is not in the plan (it has " + std::to_string(record.plan.regions()) + ")");
+      throw OptionError("region " + std::to_string(region) + " is not in the plan (it has " +
+                        std::to_string(record.plan.regions()) + ")");
   }
   /// A stage's input file, or InputError saying which stage must run first.
   std::filesystem::path need(const std::filesystem::path& f, const char* stage) const {
@@ -37,6 +38,5 @@ struct TiledRun::Impl {
     return empty ? ClusterTree{} : load_tree(need(file("tree", region, "cstree"), "every region's build"));
   }
 };
-
 
 }  // namespace clustersurf

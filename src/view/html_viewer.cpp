@@ -12,8 +12,8 @@
 
 #include <algorithm>
 #include <bit>
-#include <cmath>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -39,10 +39,14 @@ struct Blob {
 
 template <class T>
 constexpr const char* type_name() {
-  if constexpr (std::is_same_v<T, float>) return "f32";
-  else if constexpr (std::is_same_v<T, double>) return "f64";
-  else if constexpr (std::is_same_v<T, std::int32_t>) return "i32";
-  else if constexpr (std::is_same_v<T, std::uint32_t>) return "u32";
+  if constexpr (std::is_same_v<T, float>)
+    return "f32";
+  else if constexpr (std::is_same_v<T, double>)
+    return "f64";
+  else if constexpr (std::is_same_v<T, std::int32_t>)
+    return "i32";
+  else if constexpr (std::is_same_v<T, std::uint32_t>)
+    return "u32";
   else {
     static_assert(std::is_same_v<T, std::uint8_t>);
     return "u8";
@@ -54,7 +58,8 @@ Blob make_blob(std::string name, const std::vector<T>& values) {
   Blob b{std::move(name), type_name<T>(), values.size(), std::vector<unsigned char>(values.size() * sizeof(T))};
   if (!values.empty()) std::memcpy(b.bytes.data(), values.data(), b.bytes.size());
   if constexpr (std::endian::native == std::endian::big && sizeof(T) > 1)
-    for (std::size_t i = 0; i < b.bytes.size(); i += sizeof(T)) std::reverse(b.bytes.begin() + i, b.bytes.begin() + i + sizeof(T));
+    for (std::size_t i = 0; i < b.bytes.size(); i += sizeof(T))
+      std::reverse(b.bytes.begin() + i, b.bytes.begin() + i + sizeof(T));
   return b;
 }
 
@@ -133,7 +138,8 @@ std::vector<Extent> cluster_extents(const ClusterTree& tree, const Points& posit
     std::vector<Extent>& extents = partial.local();
     for (Eigen::Index p = r.begin(); p != r.end(); ++p) {
       const Eigen::Vector3d x = positions.row(p).transpose();
-      for (std::int32_t i = tree.point_leaf[static_cast<std::size_t>(p)]; i >= 0; i = tree.nodes[static_cast<std::size_t>(i)].parent) {
+      for (std::int32_t i = tree.point_leaf[static_cast<std::size_t>(p)]; i >= 0;
+           i = tree.nodes[static_cast<std::size_t>(i)].parent) {
         const auto& f = frames[static_cast<std::size_t>(i)];
         if (!f) continue;
         const Eigen::Vector3d d = x - f->origin;
@@ -194,7 +200,8 @@ GlbSummary check_glb(const GlbMesh& glb) {
     return InputError(glb.file, FileLocation{std::nullopt, at}, why);
   };
   const auto u32 = [&](std::size_t at) {
-    return std::uint32_t{b[at]} | std::uint32_t{b[at + 1]} << 8 | std::uint32_t{b[at + 2]} << 16 | std::uint32_t{b[at + 3]} << 24;
+    return std::uint32_t{b[at]} | std::uint32_t{b[at + 1]} << 8 | std::uint32_t{b[at + 2]} << 16 |
+           std::uint32_t{b[at + 3]} << 24;
   };
   if (b.size() < 20 || u32(0) != 0x46546C67) throw fail(0, "not a glTF binary (.glb) file: no \"glTF\" header");
   if (u32(4) != 2) throw fail(4, "glTF version " + std::to_string(u32(4)) + ", the viewer reads version 2");
@@ -209,16 +216,19 @@ GlbSummary check_glb(const GlbMesh& glb) {
     for (const char* list : {"buffers", "images"})
       for (const auto& item : json.value(list, nlohmann::json::array()))
         if (item.contains("uri") && !item.at("uri").get<std::string>().starts_with("data:"))
-          throw fail(20, std::string("it refers to an external file (") + list + " uri \"" + item.at("uri").get<std::string>() +
-                             "\"): only self-contained .glb files can be embedded");
+          throw fail(20, std::string("it refers to an external file (") + list + " uri \"" +
+                             item.at("uri").get<std::string>() + "\"): only self-contained .glb files can be embedded");
     const auto& accessors = json.value("accessors", nlohmann::json::array());
-    const auto count = [&](const nlohmann::json& index) { return accessors.at(index.get<std::size_t>()).at("count").get<std::size_t>(); };
+    const auto count = [&](const nlohmann::json& index) {
+      return accessors.at(index.get<std::size_t>()).at("count").get<std::size_t>();
+    };
     for (const auto& m : json.value("meshes", nlohmann::json::array()))
       for (const auto& primitive : m.at("primitives")) {
         const auto& attributes = primitive.at("attributes");
         const std::size_t vertices = attributes.contains("POSITION") ? count(attributes.at("POSITION")) : 0;
         summary.vertices += vertices;
-        if (primitive.value("mode", 4) == 4) summary.triangles += (primitive.contains("indices") ? count(primitive.at("indices")) : vertices) / 3;
+        if (primitive.value("mode", 4) == 4)
+          summary.triangles += (primitive.contains("indices") ? count(primitive.at("indices")) : vertices) / 3;
       }
   } catch (const nlohmann::json::exception& e) {
     throw fail(20, std::string("malformed glTF JSON chunk: ") + e.what());
@@ -234,13 +244,15 @@ ViewerStats write_page(const std::filesystem::path& file, const ClusterTree& tre
   if (cloud != nullptr) {
     require_tree_input(tree, cloud->positions);
     if (tree.point_leaf.size() != static_cast<std::size_t>(cloud->size()))
-      throw OptionError("the tree holds no point-to-leaf table (it was built with --no-point-leaves): rebuild it without");
+      throw OptionError(
+          "the tree holds no point-to-leaf table (it was built with --no-point-leaves): rebuild it without");
   }
   const std::string_view page = view::viewer_template();
   const std::size_t marker = page.find(view::kDataMarker);
   if (marker == std::string_view::npos) throw IoError("internal error: the viewer template has no data marker");
 
-  const Eigen::Vector3d center = tree.bbox.empty() ? Eigen::Vector3d::Zero() : Eigen::Vector3d(0.5 * (tree.bbox.min + tree.bbox.max));
+  const Eigen::Vector3d center =
+      tree.bbox.empty() ? Eigen::Vector3d::Zero() : Eigen::Vector3d(0.5 * (tree.bbox.min + tree.bbox.max));
   const std::size_t n = tree.nodes.size();
   std::vector<Blob> blobs;
   ViewerStats stats;
@@ -255,7 +267,8 @@ ViewerStats write_page(const std::filesystem::path& file, const ClusterTree& tre
     leaves.resize(keep.size());
     for (std::size_t k = 0; k < keep.size(); ++k) {
       for (int c = 0; c < 3; ++c)
-        positions[3 * k + static_cast<std::size_t>(c)] = static_cast<float>(cloud->positions(static_cast<Eigen::Index>(keep[k]), c) - center[c]);
+        positions[3 * k + static_cast<std::size_t>(c)] =
+            static_cast<float>(cloud->positions(static_cast<Eigen::Index>(keep[k]), c) - center[c]);
       leaves[k] = tree.point_leaf[keep[k]];
     }
     stats.points = keep.size();
@@ -271,7 +284,8 @@ ViewerStats write_page(const std::filesystem::path& file, const ClusterTree& tre
   for (std::size_t i = 0; i < n; ++i) {
     const ClusterNode& node = tree.nodes[i];
     ints[5 * i] = node.parent, ints[5 * i + 1] = node.left, ints[5 * i + 2] = node.right;
-    ints[5 * i + 3] = static_cast<std::int32_t>(node.depth), ints[5 * i + 4] = static_cast<std::int32_t>(node.point_count);
+    ints[5 * i + 3] = static_cast<std::int32_t>(node.depth),
+                 ints[5 * i + 4] = static_cast<std::int32_t>(node.point_count);
     kinds[i] = static_cast<std::uint8_t>(node.proxy.kind());
     const Eigen::Vector3d c = node.support.center - center;
     const double values[6] = {node.rms_error, node.max_error, c.x(), c.y(), c.z(), node.support.radius};
@@ -325,14 +339,18 @@ ViewerStats write_page(const std::filesystem::path& file, const ClusterTree& tre
     std::vector<float> vertices(3 * static_cast<std::size_t>(mesh->vertices.rows()));
     for (Eigen::Index v = 0; v < mesh->vertices.rows(); ++v)
       for (int c = 0; c < 3; ++c)
-        vertices[3 * static_cast<std::size_t>(v) + static_cast<std::size_t>(c)] = static_cast<float>(mesh->vertices(v, c) + offset[c]);
+        vertices[3 * static_cast<std::size_t>(v) + static_cast<std::size_t>(c)] =
+            static_cast<float>(mesh->vertices(v, c) + offset[c]);
     std::vector<std::uint32_t> triangles(3 * static_cast<std::size_t>(mesh->triangles.rows()));
     for (Eigen::Index t = 0; t < mesh->triangles.rows(); ++t)
-      for (int c = 0; c < 3; ++c) triangles[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(c)] = static_cast<std::uint32_t>(mesh->triangles(t, c));
+      for (int c = 0; c < 3; ++c)
+        triangles[3 * static_cast<std::size_t>(t) + static_cast<std::size_t>(c)] =
+            static_cast<std::uint32_t>(mesh->triangles(t, c));
     blobs.push_back(make_blob("mesh_vertices", vertices));
     blobs.push_back(make_blob("mesh_triangles", triangles));
     if (mesh->colors.rows() == mesh->vertices.rows() && mesh->vertices.rows() > 0)  // a scan's colors, or the leaves'
-      blobs.push_back(make_blob("mesh_colors", std::vector<std::uint8_t>(mesh->colors.data(), mesh->colors.data() + mesh->colors.size())));
+      blobs.push_back(make_blob(
+          "mesh_colors", std::vector<std::uint8_t>(mesh->colors.data(), mesh->colors.data() + mesh->colors.size())));
     mesh_info = {{"format", "arrays"}, {"vertices", mesh->vertices.rows()}, {"triangles", mesh->triangles.rows()}};
     stats.triangles = static_cast<std::size_t>(mesh->triangles.rows());
   } else if (glb != nullptr) {

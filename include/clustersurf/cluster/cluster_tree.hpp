@@ -2,12 +2,12 @@
 // The cluster tree: a binary tree of point clusters, each with a fitted proxy and support
 // sphere (thesis ch. 3).
 
-#include <clustersurf/spatial/cloud_index.hpp>
 #include <clustersurf/cluster/noise.hpp>
-#include <clustersurf/spatial/outliers.hpp>
 #include <clustersurf/core/point_cloud.hpp>
 #include <clustersurf/core/progress.hpp>
 #include <clustersurf/proxy/proxy.hpp>
+#include <clustersurf/spatial/cloud_index.hpp>
+#include <clustersurf/spatial/outliers.hpp>
 
 #include <cstdint>
 #include <optional>
@@ -44,9 +44,9 @@ std::uint32_t parse_min_points(std::string_view text);
 /// Options of build_cluster_tree(); the defaults are the recommended settings. Plain values:
 /// progress and cancellation are build_cluster_tree()'s own argument.
 struct BuildOptions {
-  ProxyKind proxy = ProxyKind::Poly;             ///< proxy fitted to every node
+  ProxyKind proxy = ProxyKind::Poly;  ///< proxy fitted to every node
   SplitterKind splitter = SplitterKind::SplitPlane;
-  ErrorMetric metric = ErrorMetric::Rms;         ///< RMS: max never drops below scanner noise
+  ErrorMetric metric = ErrorMetric::Rms;  ///< RMS: max never drops below scanner noise
   ThresholdMode threshold_mode = ThresholdMode::Auto;
   /// The error a leaf may keep on top of the noise; relative (fraction of the diagonal) or
   /// absolute. A cluster is a leaf when its error is ≤ hypot(tolerance, noise) (the noise with
@@ -60,12 +60,12 @@ struct BuildOptions {
   /// leaf of that size whose quadratic misses the threshold is split into halves of two thirds
   /// of it when they resolve the misfit (relief finer than the clusters).
   std::uint32_t min_points = 0;
-  std::uint32_t max_depth = 200;                 ///< nodes at this depth are leaves (root: 0)
-  double alpha = 0.75;                           ///< support radius = alpha × cluster bbox diagonal
-  std::uint32_t kstep = 0;                       ///< split-plane sweep step; 0: ≤ 64 candidates
-  std::uint32_t lloyd_restarts = 4;              ///< Lloyd splitter: 2-means restarts
-  std::uint32_t proxy_lloyd_iterations = 0;      ///< Lloyd splitter: proxy refinement rounds
-  std::uint64_t seed = 1;                        ///< seeds every random choice (Lloyd seeding)
+  std::uint32_t max_depth = 200;             ///< nodes at this depth are leaves (root: 0)
+  double alpha = 0.75;                       ///< support radius = alpha × cluster bbox diagonal
+  std::uint32_t kstep = 0;                   ///< split-plane sweep step; 0: ≤ 64 candidates
+  std::uint32_t lloyd_restarts = 4;          ///< Lloyd splitter: 2-means restarts
+  std::uint32_t proxy_lloyd_iterations = 0;  ///< Lloyd splitter: proxy refinement rounds
+  std::uint64_t seed = 1;                    ///< seeds every random choice (Lloyd seeding)
   /// A leaf must also fit the input points inside its support sphere: the RMS of |Q| over
   /// them, weighted by the blending weight, must be at most hypot(noise, support_factor ×
   /// tolerance) (MPU's rule). Polynomial proxies are refitted to those weighted points (MPU's
@@ -99,9 +99,9 @@ struct BuildOptions {
   /// threshold, becomes a leaf whose proxy is the crease of two planes (CreaseProxy) when that
   /// fits: edges and corners of machined parts stay sharp instead of rounded and lumpy.
   bool creases = true;
-  OutlierOptions outliers;                       ///< the outlier test
-  NoiseOptions noise;                            ///< the noise estimate of the Auto threshold
-  bool keep_point_leaves = true;                 ///< store the leaf of every input point
+  OutlierOptions outliers;        ///< the outlier test
+  NoiseOptions noise;             ///< the noise estimate of the Auto threshold
+  bool keep_point_leaves = true;  ///< store the leaf of every input point
 };
 
 /// A sphere by center and radius.
@@ -132,10 +132,10 @@ struct ClusterNode {
   /// trimmed as outliers of the local surface)
   double rms_error = 0;
   double max_error = 0;
-  double extent = 0;     ///< diagonal of the cluster's bounding box
-  Sphere support;        ///< center = cluster mean, radius ≥ alpha × extent (grown to cover
-                         ///< enough input points, shrunk where the proxy fails over it)
-  Sphere bound;          ///< encloses `support` and every support in the subtree
+  double extent = 0;  ///< diagonal of the cluster's bounding box
+  Sphere support;     ///< center = cluster mean, radius ≥ alpha × extent (grown to cover
+                      ///< enough input points, shrunk where the proxy fails over it)
+  Sphere bound;       ///< encloses `support` and every support in the subtree
 
   bool is_leaf() const noexcept { return left < 0; }
 };
@@ -169,15 +169,15 @@ struct ClusterTree {
   /// Median distance from an input point to its nearest other point (compute_stats()'s); 0 when
   /// unknown (trees from version-1 files).
   double point_spacing = 0;
-  BoundingBox bbox;                      ///< of the clustered points (the input without outliers)
+  BoundingBox bbox;  ///< of the clustered points (the input without outliers)
   /// The input's origin (PointCloud::origin): nodes, bbox and meshes are relative to it, and
   /// meshes of the tree are written back at it.
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   /// The input's up axis (PointCloud::up): what pictures and the viewer of the tree take as up,
   /// and what its meshes carry.
   UpAxis up = UpAxis::Y;
-  std::uint64_t input_points = 0;        ///< all input points; the root holds those not outliers
-  std::vector<ClusterNode> nodes;        ///< pre-order, nodes[0] is the root
+  std::uint64_t input_points = 0;  ///< all input points; the root holds those not outliers
+  std::vector<ClusterNode> nodes;  ///< pre-order, nodes[0] is the root
   /// Node index of each input point's leaf (-1 for an outlier), or empty.
   std::vector<std::int32_t> point_leaf;
 
@@ -237,9 +237,9 @@ struct TreeSummary {
   std::size_t leaves = 0;
   std::uint32_t depth = 0;
   std::array<std::size_t, kProxyKinds> proxy_histogram{};  ///< leaves per ProxyKind
-  std::array<double, 5> leaf_size_percentiles{};  ///< 0, 25, 50, 75, 100 %
-  std::array<double, 5> leaf_rms_percentiles{};   ///< 0, 25, 50, 75, 100 %
-  std::size_t leaves_over_threshold = 0;          ///< leaves whose error exceeds cluster_error_threshold()
+  std::array<double, 5> leaf_size_percentiles{};           ///< 0, 25, 50, 75, 100 %
+  std::array<double, 5> leaf_rms_percentiles{};            ///< 0, 25, 50, 75, 100 %
+  std::size_t leaves_over_threshold = 0;                   ///< leaves whose error exceeds cluster_error_threshold()
 };
 
 TreeSummary summarize(const ClusterTree& tree);

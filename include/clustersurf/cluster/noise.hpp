@@ -1,15 +1,15 @@
 #pragma once
 // Estimating the noise level of a scan, for the automatic error threshold.
 
-#include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/core/point_cloud.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 
 namespace clustersurf {
 
 /// Options of estimate_noise().
 struct NoiseOptions {
-  std::size_t neighbors = 96;     ///< points per local fit: enough that the fit cannot follow the noise
-  std::size_t samples = 4000;     ///< local fits (evenly strided points, deterministic)
+  std::size_t neighbors = 96;  ///< points per local fit: enough that the fit cannot follow the noise
+  std::size_t samples = 4000;  ///< local fits (evenly strided points, deterministic)
   /// A neighbourhood narrower than this many times the estimated noise lets the fit follow the
   /// noise (the estimate then falls short); the estimate is repeated on every 4th point (twice
   /// as wide neighbourhoods) until the neighbourhoods are this wide.

@@ -16,8 +16,8 @@ inline constexpr std::uint32_t kTreeFileVersion = 3;
 
 /// The file's bytes for `tree`.
 std::string serialize_tree(const ClusterTree& tree);
-/// Parses and validates bytes produced by serialize_tree() (any version up to the current); `file` names them in errors.
-/// Throws InputError (with the byte offset) on any corruption or inconsistency.
+/// Parses and validates bytes produced by serialize_tree() (any version up to the current); `file` names them in
+/// errors. Throws InputError (with the byte offset) on any corruption or inconsistency.
 ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path& file = "<memory>");
 
 /// Writes the tree atomically. Throws IoError.

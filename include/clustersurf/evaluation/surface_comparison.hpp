@@ -2,8 +2,8 @@
 // Accuracy of a reconstruction against a reference surface: the figures reconstruction papers
 // report (Chamfer, Hausdorff, normal consistency, F-score), measured to the true surfaces.
 
-#include <clustersurf/mesh/mesh_extraction.hpp>
 #include <clustersurf/core/point_cloud.hpp>
+#include <clustersurf/mesh/mesh_extraction.hpp>
 
 #include <cstdint>
 #include <vector>
@@ -65,6 +65,6 @@ struct SurfaceComparison {
 /// it has no triangles (its vertices, with normals when present). Deterministic for a seed.
 /// Throws OptionError when either surface is empty.
 SurfaceComparison compare_surfaces(const TriangleMesh& reconstruction, const TriangleMesh& reference,
-                             const ComparisonOptions& options = {});
+                                   const ComparisonOptions& options = {});
 
 }  // namespace clustersurf

@@ -2,8 +2,8 @@
 // Is a mesh ready to print? Closed and edge-manifold, consistently oriented, enclosing a positive
 // volume, and free of self-intersections; with its components, Euler characteristic and genus.
 
-#include <clustersurf/mesh/mesh_extraction.hpp>
 #include <clustersurf/core/point_cloud.hpp>
+#include <clustersurf/mesh/mesh_extraction.hpp>
 
 #include <Eigen/Core>
 
@@ -28,8 +28,8 @@ struct MeshCheckOptions {
 
 /// Triangle pairs that intersect other than where the mesh connects them.
 struct SelfIntersections {
-  std::size_t count = 0;                             ///< intersecting pairs
-  std::vector<std::array<std::int32_t, 2>> pairs;    ///< the first max_pairs of them, i < j, sorted
+  std::size_t count = 0;                           ///< intersecting pairs
+  std::vector<std::array<std::int32_t, 2>> pairs;  ///< the first max_pairs of them, i < j, sorted
 };
 
 /// What check_mesh() found.
@@ -50,7 +50,7 @@ struct MeshCheck {
   /// find_self_intersections()).
   std::size_t self_intersections = 0;
   std::vector<std::array<std::int32_t, 2>> intersecting_pairs;  ///< the first MeshCheckOptions::max_pairs
-  bool watertight = false;             ///< is_watertight(topology): closed and edge-manifold
+  bool watertight = false;                                      ///< is_watertight(topology): closed and edge-manifold
   bool consistently_oriented = false;  ///< no interior edge traversed twice in the same direction
   /// watertight && consistently_oriented && no self-intersections && volume > 0.
   bool printable = false;

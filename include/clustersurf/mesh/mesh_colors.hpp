@@ -2,10 +2,10 @@
 // Per-vertex colors: the input's own (from a scan's RGB), or ones that show how a mesh relates to
 // the tree and to the input.
 
-#include <clustersurf/surface/implicit_surface.hpp>
-#include <clustersurf/spatial/kd_tree.hpp>
-#include <clustersurf/surface/palette.hpp>
 #include <clustersurf/core/point_cloud.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
+#include <clustersurf/surface/palette.hpp>
 
 namespace clustersurf {
 

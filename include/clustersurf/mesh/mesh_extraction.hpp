@@ -1,10 +1,10 @@
 #pragma once
 // Triangle mesh of the zero set of an ImplicitSurface (or of its closed extension).
 
-#include <clustersurf/surface/closed_surface.hpp>
-#include <clustersurf/surface/implicit_surface.hpp>
 #include <clustersurf/core/point_cloud.hpp>
 #include <clustersurf/core/progress.hpp>
+#include <clustersurf/surface/closed_surface.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
 
 #include <cmath>
 #include <cstdint>
@@ -73,8 +73,8 @@ struct MeshReport {
 /// Meshes f = 0 on a sparse grid that follows the surface from seeds on every blended proxy:
 /// only cells crossed by the surface (and their corners) are visited, so the cost follows the
 /// surface area. Cells with a corner where f is undefined (or below min_weight), beyond the
-/// fill band, are not meshed, so missing data gives a hole with a boundary, never a wall. Polygons come from OpenVDB's volumeToMesh (manifold,
-/// one or more vertices per cell); vertices are then moved onto f = 0 by Newton steps along ∇f
+/// fill band, are not meshed, so missing data gives a hole with a boundary, never a wall. Polygons come from OpenVDB's
+/// volumeToMesh (manifold, one or more vertices per cell); vertices are then moved onto f = 0 by Newton steps along ∇f
 /// and get ∇f as normal; quads are split along their shorter diagonal; degenerate triangles
 /// and unused vertices are removed. Triangles face outward (towards f > 0). Deterministic.
 /// Throws OptionError for invalid options, Cancelled when `progress` says stop.
@@ -130,8 +130,8 @@ struct MeshTopology {
   std::size_t components = 0;          ///< connected components (triangles sharing a vertex)
   /// Components with less than kSmallComponentShare of the area (loose fragments).
   std::size_t small_components = 0;
-  double signed_volume = 0;            ///< > 0 for closed outward-facing meshes
-  double area = 0;                     ///< total triangle area
+  double signed_volume = 0;  ///< > 0 for closed outward-facing meshes
+  double area = 0;           ///< total triangle area
   /// Total length of the boundary edges. Divided by √area it does not depend on the mesh's
   /// scale: how much rim a surface has (0 for a closed one). A finer grid makes a ragged rim
   /// longer, so compare meshes of similar resolution.

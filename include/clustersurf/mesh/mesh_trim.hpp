@@ -5,8 +5,8 @@
 // a small inner shell between two scan layers) is debris, not surface: it goes too. On request,
 // a small hole the data covers (the mesher's, not the scan's) is closed.
 
-#include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/core/point_cloud.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 
 #include <cstddef>
 

@@ -3,15 +3,15 @@
 // trimmed (and colored) mesh of its surface; a loaded tree is meshed the same way. The CLI and
 // the Python module call these and only map their arguments to the options.
 
-#include <clustersurf/spatial/cloud_index.hpp>
 #include <clustersurf/cluster/cluster_tree.hpp>
-#include <clustersurf/surface/implicit_surface.hpp>
+#include <clustersurf/core/progress.hpp>
 #include <clustersurf/mesh/mesh_check.hpp>
 #include <clustersurf/mesh/mesh_decimation.hpp>
 #include <clustersurf/mesh/mesh_extraction.hpp>
 #include <clustersurf/mesh/mesh_trim.hpp>
+#include <clustersurf/spatial/cloud_index.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
 #include <clustersurf/surface/orientation.hpp>
-#include <clustersurf/core/progress.hpp>
 
 #include <optional>
 #include <string_view>
@@ -63,16 +63,16 @@ struct SurfaceMeshOptions {
 
 /// What closing the mesh did (SurfaceMeshOptions::closing).
 struct ClosingReport {
-  bool closed = false;                ///< the mesh was closed (the option was on)
-  std::size_t filled_vertices = 0;    ///< vertices marked "filled": invented, not fitted
-  std::size_t filled_triangles = 0;   ///< triangles with a filled vertex
-  std::size_t opened_holes = 0;       ///< filled patches wider than max_hole_size, left open
+  bool closed = false;                      ///< the mesh was closed (the option was on)
+  std::size_t filled_vertices = 0;          ///< vertices marked "filled": invented, not fitted
+  std::size_t filled_triangles = 0;         ///< triangles with a filled vertex
+  std::size_t opened_holes = 0;             ///< filled patches wider than max_hole_size, left open
   std::size_t untangled_intersections = 0;  ///< self-intersecting triangle pairs smoothed away
   /// Print readiness of the closed mesh (check_mesh(): edges, genus, volume, self-intersections
   /// left, 0 unless the smoothing gave up).
   MeshCheck check;
-  double fill_cell = 0;               ///< the fill grid's cell size
-  std::size_t fill_nodes = 0;         ///< grid nodes the fill solved for
+  double fill_cell = 0;        ///< the fill grid's cell size
+  std::size_t fill_nodes = 0;  ///< grid nodes the fill solved for
 };
 
 /// A mesh of a tree's surface and what made it.
@@ -92,8 +92,8 @@ struct SurfaceMesh {
 /// trim; distance colors then throw OptionError). Throws OptionError when `input` is not the
 /// tree's input (require_tree_input()) or an option is invalid; Cancelled when `progress` says
 /// stop.
-SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options = {}, const CloudIndex* input = nullptr,
-                      const ProgressCallback& progress = {});
+SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options = {},
+                      const CloudIndex* input = nullptr, const ProgressCallback& progress = {});
 
 /// Options of reconstruct(); the defaults are those of `clustersurf reconstruct --mesh`.
 struct ReconstructOptions {
@@ -107,7 +107,7 @@ struct ReconstructOptions {
 struct Reconstruction {
   ClusterTree tree;  ///< built and oriented
   OrientationReport orientation;
-  double build_seconds = 0;  ///< wall time of the build and the orientation
+  double build_seconds = 0;         ///< wall time of the build and the orientation
   std::optional<SurfaceMesh> mesh;  ///< when ReconstructOptions::mesh
 };
 

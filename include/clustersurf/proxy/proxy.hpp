@@ -97,8 +97,7 @@ class Proxy {
   Proxy() = default;
   /// Implicit from any of the proxy types (and from Variant).
   template <class T>
-    requires std::is_constructible_v<Variant, T>
-  Proxy(T p) : v_(std::move(p)) {}  // NOLINT(google-explicit-constructor)
+  requires std::is_constructible_v<Variant, T> Proxy(T p) : v_(std::move(p)) {}  // NOLINT(google-explicit-constructor)
 
   ProxyKind kind() const noexcept { return static_cast<ProxyKind>(v_.index()); }
   const Variant& variant() const noexcept { return v_; }

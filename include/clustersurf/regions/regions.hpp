@@ -46,7 +46,9 @@ struct RegionPlan {
   /// The region whose cell holds x (points outside the root box go to the nearest cell).
   std::int32_t region_of(const Eigen::Vector3d& x) const;
   /// The cell of region r.
-  const BoundingBox& region_box(std::int32_t r) const { return cells[static_cast<std::size_t>(region_cell[static_cast<std::size_t>(r)])].box; }
+  const BoundingBox& region_box(std::int32_t r) const {
+    return cells[static_cast<std::size_t>(region_cell[static_cast<std::size_t>(r)])].box;
+  }
   /// The regions other than region_of(x) whose cell lies within `halo` of x, increasing.
   void halo_regions(const Eigen::Vector3d& x, std::vector<std::int32_t>& out) const;
 };
@@ -70,12 +72,12 @@ struct RegionCloud {
 
 /// What a region measures of its own points for the cloud's scale (combine_surveys()).
 struct RegionSurvey {
-  std::uint64_t points = 0;   ///< own points
-  double median_spacing = 0;  ///< median distance to the nearest other point (PointSpacing::median)
-  double median_spread = 0;   ///< median mean distance to the outlier test's k neighbours
-  double noise_sigma = 0;     ///< estimate_noise() of its points without their outliers
-  BoundingBox bbox;           ///< of its own points without their outliers
-  std::uint64_t outliers = 0; ///< own points its own outlier test flags
+  std::uint64_t points = 0;    ///< own points
+  double median_spacing = 0;   ///< median distance to the nearest other point (PointSpacing::median)
+  double median_spread = 0;    ///< median mean distance to the outlier test's k neighbours
+  double noise_sigma = 0;      ///< estimate_noise() of its points without their outliers
+  BoundingBox bbox;            ///< of its own points without their outliers
+  std::uint64_t outliers = 0;  ///< own points its own outlier test flags
 };
 
 /// The survey of one region (its halo serves as the neighbourhood of its own points). Measures
@@ -100,11 +102,10 @@ CloudScale combine_surveys(std::span<const RegionSurvey> surveys);
 void mark_outliers(RegionCloud& region, const CloudScale& scale, const OutlierOptions& options = {});
 
 /// The subtree of one region's own points at the cloud's scale: its marked outliers left out
-/// (mark_outliers(); a region whose own points are all marked keeps them), its support checks over its own and halo points, and its proxies
-/// oriented (orient_tree() over the region's rows: by normals,
-/// scanners, or propagation within the region; merge_region_trees() makes regions agree). The
-/// point-leaf table covers the region's own rows (with BuildOptions::keep_point_leaves), and
-/// input_points counts them. An empty region gives an empty tree. Deterministic.
+/// (mark_outliers(); a region whose own points are all marked keeps them), its support checks over its own and halo
+/// points, and its proxies oriented (orient_tree() over the region's rows: by normals, scanners, or propagation within
+/// the region; merge_region_trees() makes regions agree). The point-leaf table covers the region's own rows (with
+/// BuildOptions::keep_point_leaves), and input_points counts them. An empty region gives an empty tree. Deterministic.
 ClusterTree build_region_tree(const RegionCloud& region, const RegionPlan& plan, std::int32_t region_index,
                               const CloudScale& scale, const BuildOptions& options = {},
                               OrientationReport* orientation = nullptr, const ProgressCallback& progress = {});
@@ -115,9 +116,9 @@ ClusterTree build_region_tree(const RegionCloud& region, const RegionPlan& plan,
 /// Regions are flipped to agree with their neighbours where their leaves' supports overlap;
 /// `propagated`: the regions were oriented by propagation (build_region_tree()'s report), so
 /// each group of agreeing regions is then turned to face +x at its leaf reaching farthest in +x
-/// (orient_tree()'s rule, which a region's piece of the surface cannot apply alone). The point-leaf table, when every region
-/// kept one, is the regions' tables concatenated in region order. Throws OptionError when the
-/// trees do not match the plan, were built with different options or scales, or are all empty.
+/// (orient_tree()'s rule, which a region's piece of the surface cannot apply alone). The point-leaf table, when every
+/// region kept one, is the regions' tables concatenated in region order. Throws OptionError when the trees do not match
+/// the plan, were built with different options or scales, or are all empty.
 ClusterTree merge_region_trees(const RegionPlan& plan, std::vector<ClusterTree> regions, bool propagated = false);
 
 /// What a tile needs of the merged tree besides its neighbours' region trees, so that no task

@@ -15,9 +15,9 @@ namespace clustersurf {
 struct CameraOptions {
   /// Turn around `up`, from the front axis (+z for +y up, +x for +z up) toward up × front.
   double azimuth = 30;
-  double elevation = 20;  ///< above the horizontal plane through the target
-  std::optional<double> distance;  ///< eye–target distance; default: the nearest with the whole box in view
-  double fov = 35;        ///< vertical field of view
+  double elevation = 20;                  ///< above the horizontal plane through the target
+  std::optional<double> distance;         ///< eye–target distance; default: the nearest with the whole box in view
+  double fov = 35;                        ///< vertical field of view
   std::optional<Eigen::Vector3d> eye;     ///< explicit eye (overrides azimuth/elevation/distance)
   std::optional<Eigen::Vector3d> target;  ///< default: center of the box
   /// Default: the scene's up axis (ClusterTree::up, TriangleMesh::up, PointCloud::up) in the
@@ -32,7 +32,7 @@ struct Camera {
   Eigen::Vector3d forward = -Eigen::Vector3d::UnitZ();  ///< unit, toward the target
   Eigen::Vector3d right = Eigen::Vector3d::UnitX();     ///< unit
   Eigen::Vector3d up = Eigen::Vector3d::UnitY();        ///< unit, orthogonal to forward and right
-  double fov = 35;  ///< vertical, degrees
+  double fov = 35;                                      ///< vertical, degrees
   int width = 1;
   int height = 1;
 

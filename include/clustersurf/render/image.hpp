@@ -24,9 +24,14 @@ struct Image {
 
   Image() = default;
   /// A picture filled with `fill`.
-  Image(int w, int h, Rgba8 fill = {}) : width(w), height(h), pixels(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), fill) {}
-  Rgba8& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)]; }
-  const Rgba8& at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)]; }
+  Image(int w, int h, Rgba8 fill = {})
+      : width(w), height(h), pixels(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), fill) {}
+  Rgba8& at(int x, int y) {
+    return pixels[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)];
+  }
+  const Rgba8& at(int x, int y) const {
+    return pixels[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x)];
+  }
 };
 
 /// Writes `image` as a PNG file, atomically (temporary file, then rename). Throws IoError.
@@ -45,6 +50,7 @@ int text_width(std::string_view text, int scale = 1);
 
 /// Places `cells` (all of the same size) in a grid of `columns` columns (0: as square as
 /// possible), each with its label centered under it, on `background`.
-Image compose_grid(std::span<const Image> cells, std::span<const std::string> labels, Rgba8 background, int columns = 0);
+Image compose_grid(std::span<const Image> cells, std::span<const std::string> labels, Rgba8 background,
+                   int columns = 0);
 
 }  // namespace clustersurf

@@ -2,11 +2,11 @@
 // Pictures of a cluster tree's surface (thesis ch. 5–6), and of meshes and point clouds with
 // the same camera: a tiled, multi-threaded ray tracer over the hierarchy of support spheres.
 
-#include <clustersurf/render/camera.hpp>
 #include <clustersurf/cluster/cluster_tree.hpp>
+#include <clustersurf/core/progress.hpp>
+#include <clustersurf/render/camera.hpp>
 #include <clustersurf/render/image.hpp>
 #include <clustersurf/surface/implicit_surface.hpp>
-#include <clustersurf/core/progress.hpp>
 
 #include <cstdint>
 #include <optional>
@@ -54,30 +54,30 @@ struct RenderOptions {
   /// Surface defined only where the total weight exceeds this (as MeshOptions::min_weight, so
   /// the picture matches the mesh).
   double min_weight = kMinWeight;
-  std::optional<std::uint32_t> level;    ///< Clusters: color by the ancestor at this depth
-  std::optional<std::int32_t> highlight;  ///< draw this node's cluster and proxy in red
+  std::optional<std::uint32_t> level;        ///< Clusters: color by the ancestor at this depth
+  std::optional<std::int32_t> highlight;     ///< draw this node's cluster and proxy in red
   const Points* reference_points = nullptr;  ///< Error: the input points (required)
-  std::optional<double> error_scale;  ///< Error: distance shown full red; default 0.005 × diagonal
-  bool ambient_occlusion = false;     ///< darken creases (8 short occlusion rays per hit)
+  std::optional<double> error_scale;         ///< Error: distance shown full red; default 0.005 × diagonal
+  bool ambient_occlusion = false;            ///< darken creases (8 short occlusion rays per hit)
   Rgba8 background{255, 255, 255, 255};
   double point_radius = 0;  ///< point clouds: splat radius; 0: 0.75 × mean spacing
 };
 
 /// Figures of one rendering.
 struct RenderStats {
-  double seconds = 0;           ///< wall time of the ray tracing (without setup)
-  std::uint64_t rays = 0;       ///< primary rays
-  std::uint64_t hits = 0;       ///< primary rays that hit
+  double seconds = 0;      ///< wall time of the ray tracing (without setup)
+  std::uint64_t rays = 0;  ///< primary rays
+  std::uint64_t hits = 0;  ///< primary rays that hit
   double rays_per_second = 0;
-  double error_scale = 0;       ///< Error mode: distance shown full red
+  double error_scale = 0;  ///< Error mode: distance shown full red
 };
 
 /// A surface point found along one ray.
 struct RayHit {
-  double t = 0;                                      ///< ray parameter (unit direction: distance)
+  double t = 0;  ///< ray parameter (unit direction: distance)
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< unit, direction of ∇f (outside)
-  std::int32_t node = -1;                            ///< blended node of largest weight there
+  std::int32_t node = -1;                             ///< blended node of largest weight there
 };
 
 /// The first point of `tree`'s surface along `ray` (unit direction, t ≥ 0) as render_tree()

@@ -4,9 +4,9 @@
 // a tree clusters, and one measure of the spacing (from the outlier test's neighbour pass when
 // that runs first), each computed on first request.
 
+#include <clustersurf/core/point_cloud.hpp>
 #include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/spatial/outliers.hpp>
-#include <clustersurf/core/point_cloud.hpp>
 
 #include <cstdint>
 #include <memory>

@@ -1,8 +1,8 @@
 #pragma once
 // Summary figures of a point cloud (the `stats` command).
 
-#include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/core/point_cloud.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 
 #include <span>
 

@@ -1,8 +1,8 @@
 #pragma once
 // Finding isolated points (scanner strays, points in the air) before the tree is built.
 
-#include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/core/point_cloud.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 
 #include <cstdint>
 #include <vector>
@@ -53,6 +53,7 @@ OutlierReport find_outliers(const Points& points, const OutlierOptions& options 
 OutlierReport find_outliers(const Points& points, const KdTree& index, const OutlierOptions& options = {});
 /// The same judged against a given median spread instead of the points' own (the whole
 /// cloud's, for a region of it with a halo); report.median_spread is that value.
-OutlierReport find_outliers(const Points& points, const KdTree& index, const OutlierOptions& options, double median_spread);
+OutlierReport find_outliers(const Points& points, const KdTree& index, const OutlierOptions& options,
+                            double median_spread);
 
 }  // namespace clustersurf

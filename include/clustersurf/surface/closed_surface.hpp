@@ -12,8 +12,8 @@
 // weight falls below its confidence floor, f fades into the fill, so F has no seam (a jump
 // there would be a zero crossing of its own: sheets along the rims, handles).
 
-#include <clustersurf/surface/implicit_surface.hpp>
 #include <clustersurf/core/progress.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
 
 #include <cstdint>
 #include <vector>
@@ -73,11 +73,11 @@ class ClosedSurface {
   bool in_grid(const Eigen::Vector3d& x) const;
 
   double min_weight_;
-  Eigen::Vector3d corner_;       // the grid's first node
+  Eigen::Vector3d corner_;  // the grid's first node
   double cell_ = 0;
   std::int64_t dims_[3] = {0, 0, 0};  // nodes per axis
-  std::vector<float> grid_;      // F at the nodes, x fastest
-  double outside_ = 0;           // the value on the grid's border
+  std::vector<float> grid_;           // F at the nodes, x fastest
+  double outside_ = 0;                // the value on the grid's border
   std::size_t unknowns_ = 0;
 };
 

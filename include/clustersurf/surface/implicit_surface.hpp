@@ -147,8 +147,10 @@ void ImplicitSurface::walk(Meets&& meets, Visit&& visit) const {
     }
     if (n.left < 0) continue;
     for (std::int32_t c : {n.right, n.left}) {
-      if (top < 256) stack[top++] = c;
-      else overflow.push_back(c);
+      if (top < 256)
+        stack[top++] = c;
+      else
+        overflow.push_back(c);
     }
   }
 }

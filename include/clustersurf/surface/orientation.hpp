@@ -8,10 +8,10 @@ namespace clustersurf {
 
 /// What orient_tree() did.
 struct OrientationReport {
-  bool used_normals = false;     ///< oriented by the input normals
-  bool used_scanners = false;    ///< oriented towards the scanners that saw the points
-  std::size_t flipped = 0;       ///< nodes whose proxy was flipped
-  std::size_t components = 0;    ///< connected groups of overlapping leaves (propagation only)
+  bool used_normals = false;   ///< oriented by the input normals
+  bool used_scanners = false;  ///< oriented towards the scanners that saw the points
+  std::size_t flipped = 0;     ///< nodes whose proxy was flipped
+  std::size_t components = 0;  ///< connected groups of overlapping leaves (propagation only)
 };
 
 /// Flips proxies so that all agree on the outside. `cloud` is the tree's input.

@@ -55,7 +55,7 @@ struct WrittenMesh {
   /// Joined straight into the file (binary PLY without decimation), never whole in memory.
   bool streamed = false;
   std::size_t blended_nodes = 0;
-  MeshReport grid;                     ///< the tiles' cells and corners, summed
+  MeshReport grid;  ///< the tiles' cells and corners, summed
   DecimationReport decimation;
   double seconds = 0;
 };
@@ -66,8 +66,8 @@ struct WrittenMesh {
 /// missing. Tasks of one stage are independent of each other; a stage needs the results of
 /// the one before (InputError naming the missing file otherwise).
 ///
-/// Files: clustersurf-run.txt (the run record, first), plan.txt (the partition, written last), region-R.own / region-R.halo (points),
-/// survey-R.txt, tree-R.cstree and orientation-R.txt, merge.txt and tree.cstree (merged),
+/// Files: clustersurf-run.txt (the run record, first), plan.txt (the partition, written last), region-R.own /
+/// region-R.halo (points), survey-R.txt, tree-R.cstree and orientation-R.txt, merge.txt and tree.cstree (merged),
 /// tile-R.bin.
 class TiledRun {
  public:
@@ -122,8 +122,8 @@ class TiledRun {
   OrientationReport orientation() const;
   /// Stage 4, per region: mesh_tile() → tile-R.bin, of the tile's tree (tile_tree() of the
   /// region trees tile_regions() names: the merged tree's tile, to the bit, without holding
-  /// the merged tree), the region's outliers marked as its build did (options.build). The lattice's cell: options.meshing.grid's voxel
-  /// size, else from the tree's spacing (auto resolution), else its resolution along the
+  /// the merged tree), the region's outliers marked as its build did (options.build). The lattice's cell:
+  /// options.meshing.grid's voxel size, else from the tree's spacing (auto resolution), else its resolution along the
   /// longest side.
   void mesh(std::int32_t region, const ReconstructOptions& options) const;
   /// Stage 5, once: join_tiles(), decimated and colored as mesh_tree() does, with the tree's
@@ -132,7 +132,8 @@ class TiledRun {
   /// Stage 5 into a file (format by extension): a binary PLY without decimation is joined
   /// straight into it, tile by tile (join_tiles_to_ply(): the same bytes as join() written,
   /// never the whole mesh in memory); any other mesh is join()'s, written with `ply`.
-  WrittenMesh write_mesh(const std::filesystem::path& file, const SurfaceMeshOptions& options, const PlyWriteOptions& ply = {}) const;
+  WrittenMesh write_mesh(const std::filesystem::path& file, const SurfaceMeshOptions& options,
+                         const PlyWriteOptions& ply = {}) const;
 
   /// OptionError when `file`, an output of the run, would be one of the run's own files in its
   /// directory (the clean-up would remove it); write_mesh() checks its file so.
@@ -197,6 +198,7 @@ struct OutOfCoreReconstruction {
 /// the mesh equal reconstruct_tiled()'s of the same cloud and plan. Resumes a run interrupted
 /// in the same work directory. Throws IoError, InputError, OptionError, Cancelled.
 OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& input, const ReconstructOptions& options,
-                                                const OutOfCoreOptions& out_of_core, const ProgressCallback& progress = {});
+                                                const OutOfCoreOptions& out_of_core,
+                                                const ProgressCallback& progress = {});
 
 }  // namespace clustersurf

@@ -83,7 +83,8 @@ struct JoinedMesh {
 /// a binary PLY file tile by tile, with colors by node from `colors` when given, else the
 /// tiles' own colors when they have them: the bytes write_ply() writes of join_tiles()'s mesh,
 /// never the whole mesh in memory. Each tile is asked for four times; memory holds one tile, 13
-/// bytes per vertex and the vertices near region borders (welded by position). Atomic. Throws OptionError for tiles that do not match the plan.
+/// bytes per vertex and the vertices near region borders (welded by position). Atomic. Throws OptionError for tiles
+/// that do not match the plan.
 JoinedMesh join_tiles_to_ply(const std::function<MeshTile(std::int32_t)>& tile, const RegionPlan& plan,
                              const TrimOptions& trim, const std::filesystem::path& file,
                              const ImplicitSurface* colors = nullptr);

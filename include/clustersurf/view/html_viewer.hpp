@@ -40,10 +40,10 @@ GlbMesh read_glb_file(const std::filesystem::path& file);
 
 /// What write_viewer_html() wrote.
 struct ViewerStats {
-  std::size_t points = 0;        ///< points embedded
-  std::size_t nodes = 0;         ///< tree nodes embedded
-  std::size_t triangles = 0;     ///< mesh triangles embedded
-  std::uintmax_t bytes = 0;      ///< size of the HTML file
+  std::size_t points = 0;     ///< points embedded
+  std::size_t nodes = 0;      ///< tree nodes embedded
+  std::size_t triangles = 0;  ///< mesh triangles embedded
+  std::uintmax_t bytes = 0;   ///< size of the HTML file
 };
 
 /// Writes the viewer page for `tree` atomically (temporary file, then rename).
@@ -53,10 +53,10 @@ struct ViewerStats {
 /// hold its point→leaf table; otherwise OptionError is thrown. `mesh` may be null; it is placed
 /// by its origin (TriangleMesh::origin) in the tree's frame. Positions are stored as float32
 /// relative to the center of the tree's bounding box (itself relative to tree.origin, which the
-/// page also holds); node figures (errors, support spheres) as float64. Each proxy patch covers the extent of its cluster's points (all of them, not
-/// only the embedded ones) in the proxy's frame: poly proxies their height field, planes a
-/// flat rectangle, quadrics their zero set along the frame's normal where it lies within the
-/// support radius. Deterministic: the same inputs give the same bytes. Throws IoError.
+/// page also holds); node figures (errors, support spheres) as float64. Each proxy patch covers the extent of its
+/// cluster's points (all of them, not only the embedded ones) in the proxy's frame: poly proxies their height field,
+/// planes a flat rectangle, quadrics their zero set along the frame's normal where it lies within the support radius.
+/// Deterministic: the same inputs give the same bytes. Throws IoError.
 ViewerStats write_viewer_html(const std::filesystem::path& file, const ClusterTree& tree, const PointCloud* cloud,
                               const TriangleMesh* mesh, const ViewerOptions& options = {});
 
