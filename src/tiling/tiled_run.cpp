@@ -10,6 +10,7 @@
 #include "tiling/tiled_run_impl.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <chrono>
@@ -17,32 +18,48 @@
 #include <cstdio>
 #include <cstring>
 #include <iomanip>
+#include <optional>
 #include <sstream>
+#include <string_view>
+#include <type_traits>
 
 namespace clustersurf {
 
 namespace {
 
-/// The options that decide a run's results, as text (options.txt).
-std::string describe(const ReconstructOptions& o) {
-  std::ostringstream out;
-  out << std::setprecision(17);
-  const BuildOptions& b = o.build;
-  out << "build " << static_cast<int>(b.proxy) << " " << static_cast<int>(b.splitter) << " "
-      << static_cast<int>(b.metric) << " " << static_cast<int>(b.threshold_mode) << " " << b.tolerance << " "
-      << b.noise_factor << " " << b.min_points << " " << b.max_depth << " " << b.alpha << " " << b.kstep << " "
-      << b.lloyd_restarts << " " << b.proxy_lloyd_iterations << " " << b.seed << " " << b.support_factor << " "
-      << b.remove_outliers << " " << b.use_normals << " " << b.frames_from_normals << " " << b.fit_normals << " "
-      << b.creases << "\noutliers " << b.outliers.neighbors << " " << b.outliers.local_ratio << " "
-      << b.outliers.global_ratio << " " << b.outliers.min_points << "\nnoise " << b.noise.neighbors << " "
-      << b.noise.samples << " " << b.noise.min_width_ratio << " " << b.noise.detail_ratio << " "
-      << b.noise.noisy_width_ratio << " " << b.noise.residual_differences << " " << b.noise.facing_normals << "\n";
-  const SurfaceMeshOptions& m = o.meshing;
-  out << "mesh " << m.grid.resolution << " " << (m.grid.voxel_size ? *m.grid.voxel_size : 0.0) << " "
-      << m.grid.newton_steps << " " << m.grid.min_weight << " " << m.grid.fill_cells << " " << m.auto_resolution
-      << "\ntrim " << m.trim.spread_factor << " " << m.trim.neighbors << " " << m.trim.min_component_points
-      << "\ncolors " << (m.coloring == MeshColoring::FromInput) << "\n";
-  return out.str();
+/// Fields of ReconstructOptions that decide nothing a run stores: whether to mesh at all, the
+/// walk's memory guard, and what the join applies to the welded tiles.
+constexpr std::array<std::string_view, 5> kNotStored = {"mesh", "meshing.grid.memory_limit", "meshing.closing",
+                                                        "meshing.decimation", "meshing.distance_scale"};
+
+template <class T>
+constexpr bool kIsOptional = false;
+template <class T>
+constexpr bool kIsOptional<std::optional<T>> = true;
+
+/// One line "name value" per field of `o` (nested option structs by their fields, names joined
+/// by dots), but the kNotStored ones.
+template <class Options>
+void write_fields(std::ostream& out, const Options& o, const std::string& prefix) {
+  for_each_field(o, [&](std::string_view name, const auto& value) {
+    using V = std::remove_cvref_t<decltype(value)>;
+    const std::string key = prefix + std::string(name);
+    if (std::find(kNotStored.begin(), kNotStored.end(), key) != kNotStored.end()) return;
+    if constexpr (std::is_enum_v<V>) {
+      out << key << ' ' << static_cast<long long>(value) << '\n';
+    } else if constexpr (std::is_arithmetic_v<V>) {
+      out << key << ' ' << +value << '\n';
+    } else if constexpr (kIsOptional<V>) {
+      out << key << ' ';
+      if (value)
+        out << +*value;
+      else
+        out << "none";
+      out << '\n';
+    } else {
+      write_fields(out, value, key + '.');
+    }
+  });
 }
 
 /// A tile's own colors (its points', made by the mesh task) go only into a mesh that asks for
@@ -52,6 +69,13 @@ void keep_tile_colors(MeshTile& tile, const SurfaceMeshOptions& options) {
 }
 
 }  // namespace
+
+std::string options_fingerprint(const ReconstructOptions& options) {
+  std::ostringstream out;
+  out << std::setprecision(17);
+  write_fields(out, options, "");
+  return out.str();
+}
 
 TiledRun::TiledRun(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 TiledRun::TiledRun(const std::filesystem::path& directory) : impl_(std::make_unique<Impl>()) {
@@ -158,7 +182,7 @@ bool TiledRun::done(std::string_view stage, std::int32_t region) const {
 
 void TiledRun::claim(const ReconstructOptions& options) const {
   const std::filesystem::path f = impl_->dir / "options.txt";
-  const std::string text = describe(options);
+  const std::string text = options_fingerprint(options);
   if (std::filesystem::exists(f)) {
     if (detail::read_text(f) != text)
       throw OptionError(impl_->dir.string() +

@@ -3,6 +3,7 @@
 // sphere (thesis ch. 3).
 
 #include <clustersurf/cluster/noise.hpp>
+#include <clustersurf/core/option_fields.hpp>
 #include <clustersurf/core/point_cloud.hpp>
 #include <clustersurf/core/progress.hpp>
 #include <clustersurf/proxy/proxy.hpp>
@@ -103,6 +104,33 @@ struct BuildOptions {
   NoiseOptions noise;             ///< the noise estimate of the Auto threshold
   bool keep_point_leaves = true;  ///< store the leaf of every input point
 };
+
+/// Calls f(name, field) for every field of `o`, in declaration order.
+template <OptionsOf<BuildOptions> Options, class F>
+void for_each_field(Options& o, F&& f) {
+  f("proxy", o.proxy);
+  f("splitter", o.splitter);
+  f("metric", o.metric);
+  f("threshold_mode", o.threshold_mode);
+  f("tolerance", o.tolerance);
+  f("noise_factor", o.noise_factor);
+  f("min_points", o.min_points);
+  f("max_depth", o.max_depth);
+  f("alpha", o.alpha);
+  f("kstep", o.kstep);
+  f("lloyd_restarts", o.lloyd_restarts);
+  f("proxy_lloyd_iterations", o.proxy_lloyd_iterations);
+  f("seed", o.seed);
+  f("support_factor", o.support_factor);
+  f("remove_outliers", o.remove_outliers);
+  f("use_normals", o.use_normals);
+  f("frames_from_normals", o.frames_from_normals);
+  f("fit_normals", o.fit_normals);
+  f("creases", o.creases);
+  f("outliers", o.outliers);
+  f("noise", o.noise);
+  f("keep_point_leaves", o.keep_point_leaves);
+}
 
 /// A sphere by center and radius.
 struct Sphere {

@@ -1,6 +1,7 @@
 #pragma once
 // Estimating the noise level of a scan, for the automatic error threshold.
 
+#include <clustersurf/core/option_fields.hpp>
 #include <clustersurf/core/point_cloud.hpp>
 #include <clustersurf/spatial/kd_tree.hpp>
 
@@ -48,6 +49,18 @@ struct NoiseOptions {
   /// noisy layer (two clean sheets 4 spacings apart read as noise of 2 spacings without it).
   bool facing_normals = true;
 };
+
+/// Calls f(name, field) for every field of `o`, in declaration order.
+template <OptionsOf<NoiseOptions> Options, class F>
+void for_each_field(Options& o, F&& f) {
+  f("neighbors", o.neighbors);
+  f("samples", o.samples);
+  f("min_width_ratio", o.min_width_ratio);
+  f("detail_ratio", o.detail_ratio);
+  f("noisy_width_ratio", o.noisy_width_ratio);
+  f("residual_differences", o.residual_differences);
+  f("facing_normals", o.facing_normals);
+}
 
 /// Robust estimate of the standard deviation of the points' normal-direction noise: the median
 /// over sampled neighbourhoods of the RMS residual of a local quadratic height-field fit,

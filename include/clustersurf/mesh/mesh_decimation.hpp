@@ -2,6 +2,7 @@
 // Reducing a mesh to fewer triangles (meshoptimizer's edge collapses, which keep a subset of
 // the vertices in place): a triangle budget, a distance bound, or both.
 
+#include <clustersurf/core/option_fields.hpp>
 #include <clustersurf/core/point_cloud.hpp>
 
 #include <cstddef>
@@ -22,6 +23,14 @@ struct DecimationOptions {
   /// Whether any reduction was asked for.
   bool enabled() const noexcept { return target_triangles > 0 || max_deviation > 0; }
 };
+
+/// Calls f(name, field) for every field of `o`, in declaration order.
+template <OptionsOf<DecimationOptions> Options, class F>
+void for_each_field(Options& o, F&& f) {
+  f("target_triangles", o.target_triangles);
+  f("max_deviation", o.max_deviation);
+  f("lock_boundary", o.lock_boundary);
+}
 
 /// What decimate() did.
 struct DecimationReport {

@@ -5,6 +5,7 @@
 // a small inner shell between two scan layers) is debris, not surface: it goes too. On request,
 // a small hole the data covers (the mesher's, not the scan's) is closed.
 
+#include <clustersurf/core/option_fields.hpp>
 #include <clustersurf/core/point_cloud.hpp>
 #include <clustersurf/spatial/kd_tree.hpp>
 
@@ -33,6 +34,15 @@ struct TrimOptions {
   /// the flat fans cost 0–7 % of Chamfer distance on the benchmark (docs/benchmarks.md).
   bool close_pinholes = false;
 };
+
+/// Calls f(name, field) for every field of `o`, in declaration order.
+template <OptionsOf<TrimOptions> Options, class F>
+void for_each_field(Options& o, F&& f) {
+  f("spread_factor", o.spread_factor);
+  f("neighbors", o.neighbors);
+  f("min_component_points", o.min_component_points);
+  f("close_pinholes", o.close_pinholes);
+}
 
 /// What trim_to_points() removed.
 struct TrimReport {

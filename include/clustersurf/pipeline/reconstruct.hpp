@@ -4,6 +4,7 @@
 // the Python module call these and only map their arguments to the options.
 
 #include <clustersurf/cluster/cluster_tree.hpp>
+#include <clustersurf/core/option_fields.hpp>
 #include <clustersurf/core/progress.hpp>
 #include <clustersurf/mesh/mesh_check.hpp>
 #include <clustersurf/mesh/mesh_decimation.hpp>
@@ -61,6 +62,20 @@ struct SurfaceMeshOptions {
   double distance_scale = 0.005;
 };
 
+/// Calls f(name, field) for every field of `o`, in declaration order.
+template <OptionsOf<SurfaceMeshOptions> Options, class F>
+void for_each_field(Options& o, F&& f) {
+  f("lod_depth", o.lod_depth);
+  f("lod_error", o.lod_error);
+  f("grid", o.grid);
+  f("auto_resolution", o.auto_resolution);
+  f("trim", o.trim);
+  f("closing", o.closing);
+  f("decimation", o.decimation);
+  f("coloring", o.coloring);
+  f("distance_scale", o.distance_scale);
+}
+
 /// What closing the mesh did (SurfaceMeshOptions::closing).
 struct ClosingReport {
   bool closed = false;                      ///< the mesh was closed (the option was on)
@@ -102,6 +117,14 @@ struct ReconstructOptions {
   bool mesh = true;
   SurfaceMeshOptions meshing;
 };
+
+/// Calls f(name, field) for every field of `o`, in declaration order.
+template <OptionsOf<ReconstructOptions> Options, class F>
+void for_each_field(Options& o, F&& f) {
+  f("build", o.build);
+  f("mesh", o.mesh);
+  f("meshing", o.meshing);
+}
 
 /// What reconstruct() made.
 struct Reconstruction {

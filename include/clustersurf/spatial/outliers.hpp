@@ -1,6 +1,7 @@
 #pragma once
 // Finding isolated points (scanner strays, points in the air) before the tree is built.
 
+#include <clustersurf/core/option_fields.hpp>
 #include <clustersurf/core/point_cloud.hpp>
 #include <clustersurf/spatial/kd_tree.hpp>
 
@@ -29,6 +30,16 @@ struct OutlierOptions {
   /// Clouds with fewer points are left whole: too few for the statistics.
   std::size_t min_points = 100;
 };
+
+/// Calls f(name, field) for every field of `o`, in declaration order.
+template <OptionsOf<OutlierOptions> Options, class F>
+void for_each_field(Options& o, F&& f) {
+  f("neighbors", o.neighbors);
+  f("local_ratio", o.local_ratio);
+  f("global_ratio", o.global_ratio);
+  f("plane_neighbors", o.plane_neighbors);
+  f("min_points", o.min_points);
+}
 
 /// OutlierOptions::global_ratio's plane: the spread across it (the square root of the least
 /// eigenvalue of the points' covariance) at most this fraction of the spread along it (of the

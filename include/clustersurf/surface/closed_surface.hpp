@@ -12,6 +12,7 @@
 // weight falls below its confidence floor, f fades into the fill, so F has no seam (a jump
 // there would be a zero crossing of its own: sheets along the rims, handles).
 
+#include <clustersurf/core/option_fields.hpp>
 #include <clustersurf/core/progress.hpp>
 #include <clustersurf/surface/implicit_surface.hpp>
 
@@ -32,6 +33,14 @@ struct ClosingOptions {
   /// so a coarse grid serves; the surface where f is defined keeps the mesher's resolution.
   std::uint32_t resolution = 128;
 };
+
+/// Calls f(name, field) for every field of `o`, in declaration order.
+template <OptionsOf<ClosingOptions> Options, class F>
+void for_each_field(Options& o, F&& f) {
+  f("enabled", o.enabled);
+  f("max_hole_size", o.max_hole_size);
+  f("resolution", o.resolution);
+}
 
 /// F: the blend where it is defined (total weight above min_weight), the harmonic fill where
 /// no support reaches, and between them the two mixed by smoothstep(weight / min_weight): with

@@ -46,6 +46,13 @@ std::string format_memory_size(std::uint64_t bytes);
 /// OutOfCoreOptions::work_directory is not given: the output's name + ".work".
 std::filesystem::path default_work_directory(const std::filesystem::path& output);
 
+/// The options that decide what a tiled run stores, as text, one "name value" line per field
+/// (TiledRun::claim() keeps it in options.txt): every field of `options`, found through the
+/// structs' for_each_field(), but whether to mesh, the walk's memory guard and what the join
+/// applies to the welded tiles (closing, decimation, the distance colors' scale). A field added
+/// to an option struct is in it without more code.
+std::string options_fingerprint(const ReconstructOptions& options);
+
 /// A mesh a tiled run wrote to a file, and what made it.
 struct WrittenMesh {
   std::filesystem::path file;
