@@ -131,6 +131,42 @@ TEST(TiledRun, OutOfCoreRunCleansUpAndEqualsTheTiledPipeline) {
   EXPECT_TRUE(r.orientation.used_normals);
 }
 
+// The driver with its tasks run elsewhere (as Dask runs them): each task reopens the run from
+// its directory, the regions in reverse order; the tree and the mesh are the same bytes as the
+// run whose tasks ran here, and a runner that leaves a task undone is an error.
+TEST(TiledRun, TasksRunByARunnerInAnyOrderGiveTheSameResult) {
+  const TorusFile torus(12000);
+  OutOfCoreOptions here;
+  here.max_region_points = 5000;
+  here.work_directory = torus.dir / "here";
+  here.mesh_output = torus.dir / "here.ply";
+  const OutOfCoreReconstruction a = reconstruct_out_of_core(torus.file, {}, here);
+  OutOfCoreOptions elsewhere = here;
+  elsewhere.work_directory = torus.dir / "elsewhere";
+  elsewhere.mesh_output = torus.dir / "elsewhere.ply";
+  std::vector<std::string> stages;
+  elsewhere.run_tasks = [&](std::string_view stage, std::span<const std::int32_t> regions, const ProgressCallback&) {
+    stages.emplace_back(stage);
+    const TiledRun run(elsewhere.work_directory);
+    const ReconstructOptions options;
+    for (auto k = regions.rbegin(); k != regions.rend(); ++k) {
+      if (stage == "survey") run.survey(*k, options.build);
+      if (stage == "build") run.build(*k, options.build);
+      if (stage == "mesh") run.mesh(*k, options);
+    }
+  };
+  const OutOfCoreReconstruction b = reconstruct_out_of_core(torus.file, {}, elsewhere);
+  EXPECT_GT(b.regions, 1u);
+  EXPECT_EQ(stages, (std::vector<std::string>{"survey", "build", "mesh"}));
+  EXPECT_EQ(serialize_tree(a.tree), serialize_tree(b.tree));
+  EXPECT_EQ(test::read_file(here.mesh_output), test::read_file(elsewhere.mesh_output));
+  OutOfCoreOptions lazy = here;
+  lazy.work_directory = torus.dir / "lazy";
+  lazy.mesh_output = torus.dir / "lazy.ply";
+  lazy.run_tasks = [](std::string_view, std::span<const std::int32_t>, const ProgressCallback&) {};
+  EXPECT_THROW(reconstruct_out_of_core(torus.file, {}, lazy), Error);
+}
+
 // A survey's LAS file is read in place (PointStream) and gives the tiled pipeline's result on
 // the same points read whole.
 TEST(TiledRun, LasInputIsReadInPlaceAndTiled) {

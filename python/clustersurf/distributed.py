@@ -9,9 +9,10 @@ are removed (and the directory, when the run created it and that leaves it empty
 survey, build and mesh are then Dask tasks that pass the directory and the region's number,
 never points; each writes its result atomically and does nothing when the result is already
 there, so a task lost with its worker is simply run again, and a run started again redoes only
-what is missing. The merge and the final weld run here, in the client. The C++ work releases
-the GIL. The mesh is the one ``clustersurf reconstruct IN --mesh OUT --memory-limit ...`` makes
-from the same regions.
+what is missing. The library's driver of tiled runs (reconstruct_out_of_core, the one
+``clustersurf reconstruct IN --mesh OUT --memory-limit ...`` runs) sequences the stages here, in
+the client, and runs the merge and the final weld; only the region tasks go to the workers. The
+C++ work releases the GIL. The mesh is the one the command line makes from the same regions.
 """
 
 from __future__ import annotations
@@ -27,7 +28,6 @@ from . import _clustersurf as _cs
 
 Progress = Callable[[str, float], Any]
 
-_STAGES = ("survey", "build", "mesh")
 
 
 def _task(stage: str, directory: str, region: int, options: Dict[str, Any]) -> int:
@@ -37,25 +37,26 @@ def _task(stage: str, directory: str, region: int, options: Dict[str, Any]) -> i
     return region
 
 
-def _run_stage(client: Any, run: Any, stage: str, options: Dict[str, Any], progress: Optional[Progress],
-               retries: int) -> int:
-    """Submits the stage's missing regions and waits for them; returns how many ran."""
-    from distributed import as_completed
+def _dask_runner(client: Any, directory: str, options: Dict[str, Any], retries: int) -> Callable:
+    """The library driver's task runner on ``client``: submits a stage's regions and waits."""
 
-    todo = [r for r in range(run.regions) if not run.done(stage, r)]
-    futures = [
-        client.submit(_task, stage, os.fspath(run.directory), r, options, retries=retries, pure=False,
-                      key=f"clustersurf-{stage}-{r}-{os.getpid()}-{time.monotonic_ns()}")
-        for r in todo
-    ]
-    done = run.regions - len(todo)
-    for future in as_completed(futures):
-        future.result()  # raises the task's error (after its retries)
-        done += 1
-        if progress is not None and progress(f"{stage} regions", done / run.regions) is False:
-            client.cancel(futures)  # finished tasks' files stay: a run started again resumes
-            raise _cs.Cancelled("cancelled")
-    return len(todo)
+    def run_tasks(stage: str, regions: list, report: Callable[[float], bool]) -> None:
+        from distributed import as_completed
+
+        futures = [
+            client.submit(_task, stage, directory, r, options, retries=retries, pure=False,
+                          key=f"clustersurf-{stage}-{r}-{os.getpid()}-{time.monotonic_ns()}")
+            for r in regions
+        ]
+        done = 0
+        for future in as_completed(futures):
+            future.result()  # raises the task's error (after its retries)
+            done += 1
+            if report(done / len(futures)) is False:
+                client.cancel(futures)  # finished tasks' files stay: a run started again resumes
+                raise _cs.Cancelled("cancelled")
+
+    return run_tasks
 
 
 def reconstruct_distributed(input: str | os.PathLike, *, client: Any, work_dir: str | os.PathLike,
@@ -64,43 +65,26 @@ def reconstruct_distributed(input: str | os.PathLike, *, client: Any, work_dir: 
                             progress: Optional[Progress] = None, retries: int = 3, **options: Any) -> Dict[str, Any]:
     """Reconstructs the point file ``input`` with the tasks of a tiled run on ``client``
     (a distributed.Client); writes the mesh to ``mesh`` and the tree to ``tree`` when given.
+    The library's driver runs the run (the one ``clustersurf reconstruct --memory-limit`` runs);
+    only its region tasks go to Dask.
     ``progress(stage, fraction)`` returning False raises Cancelled, the finished tasks' files kept.
     ``options`` are reconstruct()'s and Tree.mesh()'s keyword options. Returns a report: regions,
     points, triangles, the tasks each stage ran and its seconds."""
     if mesh is None and tree is None:
         raise _cs.OptionError("nothing to write: give a mesh and/or a tree file")
-    report: Dict[str, Any] = {"input": os.fspath(input), "seconds": {}, "tasks": {}}
     start = time.monotonic()
-    run = _cs.TiledRun.partition(input, work_dir, max_region_points=max_region_points, progress=progress)
-    run.claim(**options)
+    runner = _dask_runner(client, os.fspath(work_dir), options, retries)
+    merged, run_report = _cs._run_regions(input, mesh=mesh, max_region_points=max_region_points, work_dir=work_dir,
+                                          keep_work_dir=keep_work_dir, run_tasks=runner, progress=progress, **options)
+    report: Dict[str, Any] = {"input": os.fspath(input), "regions": run_report["regions"],
+                              "points": run_report["points"], "seconds": dict(run_report["seconds"]),
+                              "tasks": dict(run_report["tasks"]), "leaves": merged.info()["leaves"],
+                              "work_bytes": run_report["work_bytes"]}
     if mesh is not None:
-        run.check_output(mesh)  # before any task runs
-    report["regions"] = run.regions
-    report["points"] = run.input_points
-    report["seconds"]["partition"] = time.monotonic() - start
-    for stage in ("survey", "build"):
-        t = time.monotonic()
-        report["tasks"][stage] = _run_stage(client, run, stage, options, progress, retries)
-        report["seconds"][stage] = time.monotonic() - t
-    t = time.monotonic()
-    # Not held while the tiles are meshed: the mesh tasks read the region trees they meet.
-    report["leaves"] = run.merge().info()["leaves"]
-    report["seconds"]["merge"] = time.monotonic() - t
-    if mesh is not None:
-        t = time.monotonic()
-        report["tasks"]["mesh"] = _run_stage(client, run, "mesh", options, progress, retries)
-        report["seconds"]["mesh"] = time.monotonic() - t
-        t = time.monotonic()
-        written = run.write_mesh(mesh, **options)  # a PLY is joined straight into the file
-        report["seconds"]["join"] = time.monotonic() - t
         report["mesh"] = os.fspath(mesh)
-        report["vertices"] = written["vertices"]
-        report["triangles"] = written["triangles"]
-    merged = run.merge() if tree is not None else None  # read back from the work directory
-    report["work_bytes"] = run.file_bytes
-    if not keep_work_dir:
-        run.remove_files()  # the run's own files only, and the directory when the run created it
-    if merged is not None:
+        report["vertices"] = run_report["mesh"]["vertices"]
+        report["triangles"] = run_report["mesh"]["triangles"]
+    if tree is not None:
         merged.save(tree)  # after the cleanup, which would remove a tree saved as the run's own tree.cstree
         report["tree"] = os.fspath(tree)
     report["seconds"]["total"] = time.monotonic() - start

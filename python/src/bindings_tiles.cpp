@@ -32,21 +32,41 @@ namespace {
 
 /// reconstruct_file(), the work directory's default name, the memory rule of the regions.
 void bind_run_functions(py::module_& m) {
+  // The one driver of a tiled run (reconstruct_out_of_core()): its tasks here, or through a
+  // Python runner (clustersurf.distributed: Dask).
+  const auto run = [](const std::filesystem::path& input, const std::optional<std::filesystem::path>& mesh,
+                      const std::string& memory_limit, std::uint64_t max_region_points,
+                      const std::filesystem::path& work_dir, bool keep_work_dir, const py::object& run_tasks,
+                      const py::object& progress, const py::kwargs& kwargs) {
+    ReconstructOptions o = reconstruct_options(kwargs);
+    o.mesh = mesh.has_value();
+    OutOfCoreOptions out_of_core;
+    out_of_core.memory_limit = parse_memory_size(memory_limit);
+    out_of_core.max_region_points = max_region_points;
+    out_of_core.work_directory = work_dir;
+    out_of_core.remove_work_directory = !keep_work_dir;
+    if (mesh) out_of_core.mesh_output = *mesh;
+    if (!run_tasks.is_none())
+      out_of_core.run_tasks = [run_tasks](std::string_view stage, std::span<const std::int32_t> regions,
+                                          const ProgressCallback& report) {
+        py::gil_scoped_acquire hold;
+        const py::cpp_function fraction([report, name = std::string(stage)](double done) {
+          py::gil_scoped_release release;
+          return !report || report(name, done);
+        });
+        run_tasks(std::string(stage), std::vector<std::int32_t>(regions.begin(), regions.end()), fraction);
+      };
+    return run_released(progress, [&](const ProgressCallback& callback) {
+      return reconstruct_out_of_core(input, o, out_of_core, callback);
+    });
+  };
   m.def(
       "reconstruct_file",
-      [](const std::filesystem::path& input, const std::optional<std::filesystem::path>& mesh,
-         const std::string& memory_limit, const std::filesystem::path& work_dir, bool keep_work_dir,
-         const py::object& progress, const py::kwargs& kwargs) {
-        ReconstructOptions o = reconstruct_options(kwargs);
-        o.mesh = mesh.has_value();
-        OutOfCoreOptions out_of_core;
-        out_of_core.memory_limit = parse_memory_size(memory_limit);
-        out_of_core.work_directory = work_dir;
-        out_of_core.remove_work_directory = !keep_work_dir;
-        if (mesh) out_of_core.mesh_output = *mesh;
-        OutOfCoreReconstruction r = run_released(progress, [&](const ProgressCallback& callback) {
-          return reconstruct_out_of_core(input, o, out_of_core, callback);
-        });
+      [run](const std::filesystem::path& input, const std::optional<std::filesystem::path>& mesh,
+            const std::string& memory_limit, const std::filesystem::path& work_dir, bool keep_work_dir,
+            const py::object& progress, const py::kwargs& kwargs) {
+        OutOfCoreReconstruction r =
+            run(input, mesh, memory_limit, 0, work_dir, keep_work_dir, py::none(), progress, kwargs);
         py::object tree = py::cast(TreeRef{std::make_shared<const ClusterTree>(std::move(r.tree))});
         return py::make_tuple(tree, r.mesh ? written_mesh_dict(*r.mesh) : py::object(py::none()));
       },
@@ -64,6 +84,30 @@ removed at the end unless ``keep_work_dir``. Other keyword options are reconstru
 Tree.mesh()'s (tolerance, min_points, ..., resolution, voxel_size, trim, color, decimate);
 levels of detail, watertight and distance colors are not available out of core.
 ``progress`` as in reconstruct(); the GIL is released.)doc");
+
+  m.def(
+      "_run_regions",
+      [run](const std::filesystem::path& input, const std::optional<std::filesystem::path>& mesh,
+            std::uint64_t max_region_points, const std::filesystem::path& work_dir, bool keep_work_dir,
+            const py::object& run_tasks, const py::object& progress, const py::kwargs& kwargs) {
+        OutOfCoreReconstruction r = run(input, mesh, format_memory_size(OutOfCoreOptions{}.memory_limit),
+                                        max_region_points, work_dir, keep_work_dir, run_tasks, progress, kwargs);
+        py::dict seconds, tasks;
+        for (const auto& [stage, s] : r.stage_seconds) seconds[py::str(stage)] = s;
+        for (const auto& [stage, n] : r.stage_tasks) tasks[py::str(stage)] = n;
+        py::dict report("regions"_a = r.regions, "points"_a = r.input_points, "seconds"_a = seconds, "tasks"_a = tasks,
+                        "work_bytes"_a = r.work_bytes);
+        if (r.mesh) report["mesh"] = written_mesh_dict(*r.mesh);
+        py::object tree = py::cast(TreeRef{std::make_shared<const ClusterTree>(std::move(r.tree))});
+        return py::make_tuple(tree, report);
+      },
+      py::arg("input"), py::kw_only(), py::arg("mesh") = py::none(), py::arg("max_region_points"), py::arg("work_dir"),
+      py::arg("keep_work_dir") = false, py::arg("run_tasks") = py::none(), py::arg("progress") = py::none(), R"doc(
+The driver of clustersurf.distributed: reconstruct_file() with regions of at most
+``max_region_points`` points, each stage's missing tasks run by ``run_tasks(stage, regions,
+report)`` (each task: TiledRun(work_dir).<stage>(region, **options); ``report(fraction)`` as
+they finish returns False to cancel). Returns (Tree, report): regions, points, seconds and tasks
+per stage, work_bytes, and the mesh written.)doc");
 
   m.def("default_work_directory", &default_work_directory, py::arg("output"),
         "Where a run writing ``output`` keeps its files when no work directory is given: its name + \".work\".");

@@ -108,7 +108,7 @@ def test_a_failed_or_cancelled_run_keeps_the_users_files(cloud_file, serial_mesh
     assert (precious / "thesis.txt").read_text() == "my thesis\n"
 
     def cancel(stage, fraction):
-        return stage != "build regions"
+        return stage != "building regions"
 
     other = _users_folder(tmp_path / "other")
     with pytest.raises(clustersurf.Cancelled):
@@ -143,7 +143,7 @@ def test_a_worker_killed_mid_run_changes_nothing(cloud_file, serial_mesh, client
     def kill_a_worker(stage, fraction):
         # Once the first build task is back, kill a worker process outright: its running task
         # is lost with it and must be run again elsewhere.
-        if stage == "build regions" and not killed:
+        if stage == "building regions" and not killed:
             pids = client.run(os.getpid)
             victim = sorted(pids.values())[0]
             os.kill(victim, signal.SIGKILL)

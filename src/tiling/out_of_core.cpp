@@ -9,6 +9,8 @@
 #include <chrono>
 #include <cstring>
 #include <string>
+#include <string_view>
+#include <vector>
 
 namespace clustersurf {
 
@@ -66,7 +68,8 @@ OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& inp
   if (options.mesh) require_tiled_meshing(options.meshing);
   const auto start = std::chrono::steady_clock::now();
   PartitionOptions partition;
-  partition.regions.max_points = region_points_for_memory(out_of_core.memory_limit);
+  partition.regions.max_points = out_of_core.max_region_points > 0 ? out_of_core.max_region_points
+                                                                   : region_points_for_memory(out_of_core.memory_limit);
   partition.read = out_of_core.read;
   // The partition's buffers and blocks within the limit too: an eighth of the working memory
   // for the region files' buffers, a sixteenth for a block of points (48 bytes each).
@@ -87,12 +90,40 @@ OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& inp
   timed("partition");
   const auto n = static_cast<std::int32_t>(run.regions());
   out.regions = run.regions();
-  const auto stage = [&](std::string_view name, std::int32_t done) {
-    if (progress && !progress(name, static_cast<double>(done) / static_cast<double>(n))) throw Cancelled();
+  out.input_points = run.input_points();
+  // Each stage's missing tasks, through the runner or one after another here.
+  const auto stage = [&](const char* name, const char* label) {
+    std::vector<std::int32_t> todo;
+    for (std::int32_t k = 0; k < n; ++k)
+      if (!run.done(name, k)) todo.push_back(k);
+    out.stage_tasks.emplace_back(name, todo.size());
+    const auto report = [&](std::string_view, double fraction) {
+      const double done =
+          static_cast<double>(n - static_cast<std::int32_t>(todo.size())) + fraction * static_cast<double>(todo.size());
+      return !progress || progress(label, done / static_cast<double>(n));
+    };
+    if (out_of_core.run_tasks) {
+      out_of_core.run_tasks(name, todo, report);
+      for (const std::int32_t k : todo)
+        if (!run.done(name, k))
+          throw Error(std::string("the ") + name + " task of region " + std::to_string(k) + " did not finish");
+      return;
+    }
+    for (std::size_t i = 0; i < todo.size(); ++i) {
+      if (!report(name, static_cast<double>(i) / static_cast<double>(todo.size()))) throw Cancelled();
+      const std::int32_t k = todo[i];
+      const std::string_view which = name;
+      if (which == "survey")
+        run.survey(k, options.build);
+      else if (which == "build")
+        run.build(k, options.build);
+      else
+        run.mesh(k, options);
+    }
   };
-  for (std::int32_t k = 0; k < n; ++k) stage("surveying regions", k), run.survey(k, options.build);
+  stage("survey", "surveying regions");
   timed("survey");
-  for (std::int32_t k = 0; k < n; ++k) stage("building regions", k), run.build(k, options.build);
+  stage("build", "building regions");
   timed("build");
   run.merge();  // not held while the tiles are meshed: the tasks read the region trees
   out.orientation = run.orientation();
@@ -100,9 +131,9 @@ OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& inp
   out.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (options.mesh) {
     const auto mesh_start = std::chrono::steady_clock::now();
-    for (std::int32_t k = 0; k < n; ++k) stage("meshing tiles", k), run.mesh(k, options);
+    stage("mesh", "meshing tiles");
     timed("mesh");
-    stage("joining tiles", n);
+    if (progress && !progress("joining tiles", 1)) throw Cancelled();
     out.mesh = run.write_mesh(out_of_core.mesh_output, options.meshing, out_of_core.ply);
     timed("join");
     out.mesh->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - mesh_start).count();

@@ -6,6 +6,7 @@
 #include <clustersurf/tiling/tiling.hpp>
 
 #include "core/progress_reporter.hpp"
+#include "tiling/region_stages.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -85,13 +86,14 @@ double tiled_cell_size(const RegionMerge& merge, const SurfaceMeshOptions& optio
 
 Reconstruction reconstruct_regions(const RegionPlan& plan, const RegionSource& source,
                                    const ReconstructOptions& options, const ProgressCallback& progress) {
-  const SurfaceMeshOptions& meshing = options.meshing;
-  if (options.mesh) require_tiled_meshing(meshing);
+  if (options.mesh) require_tiled_meshing(options.meshing);
   const auto start = std::chrono::steady_clock::now();
   const auto n = static_cast<std::int32_t>(plan.regions());
   const auto report = [&](std::string_view stage, std::int32_t done) {
     if (progress && !progress(stage, static_cast<double>(done) / static_cast<double>(n))) throw Cancelled();
   };
+  // The stages of a tiled run (detail::build_region, mesh_region, join_region_tiles), their
+  // results kept in memory instead of the work directory's files.
   std::vector<RegionSurvey> surveys;
   for (std::int32_t r = 0; r < n; ++r) {
     report("surveying regions", r);
@@ -99,48 +101,33 @@ Reconstruction reconstruct_regions(const RegionPlan& plan, const RegionSource& s
   }
   const CloudScale scale = combine_surveys(surveys);
   std::vector<ClusterTree> trees;
-  Reconstruction out;
-  bool propagated = false, first = true;
+  std::vector<OrientationReport> oriented(plan.regions());
+  std::vector<std::uint8_t> empty(plan.regions(), 0);
   for (std::int32_t r = 0; r < n; ++r) {
     report("building regions", r);
-    RegionCloud region = source.load(r);
-    if (options.build.remove_outliers) mark_outliers(region, scale, options.build.outliers);
-    OrientationReport oriented;
-    trees.push_back(build_region_tree(region, plan, r, scale, options.build, &oriented));
-    if (trees.back().nodes.empty()) continue;
-    propagated = propagated || (!oriented.used_normals && !oriented.used_scanners);
-    out.orientation.used_normals = (first || out.orientation.used_normals) && oriented.used_normals;
-    out.orientation.used_scanners = (first || out.orientation.used_scanners) && oriented.used_scanners;
-    first = false;
-    out.orientation.flipped += oriented.flipped;
-    out.orientation.components += oriented.components;
+    const auto k = static_cast<std::size_t>(r);
+    trees.push_back(detail::build_region(source.load(r), plan, r, scale, options.build, oriented[k]));
+    empty[k] = trees.back().nodes.empty() ? 1 : 0;
   }
-  out.tree = merge_region_trees(plan, std::move(trees), propagated);
+  Reconstruction out;
+  out.orientation = detail::combine_orientations(oriented, empty);
+  RegionMerge merge;
+  out.tree = merge_region_trees(plan, trees, detail::propagated(oriented, empty), merge);
   out.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!options.mesh) return out;
 
   const auto mesh_start = std::chrono::steady_clock::now();
-  SurfaceMesh mesh;
-  MeshOptions grid = meshing.grid;
-  grid.voxel_size = tiled_cell_size(out.tree, meshing);
-  const ImplicitSurface surface(out.tree);
-  mesh.blended_nodes = surface.cut().size();
+  // Each tile's tree is cut from the region trees as built (tile_tree() flips them as the merge did).
   std::vector<MeshTile> tiles;
   for (std::int32_t r = 0; r < n; ++r) {
     report("meshing tiles", r);
-    RegionCloud region = source.load(r);
-    if (options.build.remove_outliers) mark_outliers(region, scale, options.build.outliers);
-    tiles.push_back(
-        mesh_tile(surface, plan, r, region, grid, meshing.trim, meshing.coloring == MeshColoring::FromInput));
-    mesh.grid.voxel_size = tiles.back().grid.voxel_size;
-    mesh.grid.evaluated_corners += tiles.back().grid.evaluated_corners;
-    mesh.grid.surface_cells += tiles.back().grid.surface_cells;
+    tiles.push_back(detail::mesh_region(plan, merge, r, source.load(r), scale, options,
+                                        [&](std::int32_t k) { return trees[static_cast<std::size_t>(k)]; }));
   }
   report("joining tiles", n);
-  mesh.mesh = join_tiles(tiles, meshing.trim);
-  if (meshing.decimation.enabled()) mesh.mesh = decimate(mesh.mesh, meshing.decimation, &mesh.decimation);
-  if (meshing.coloring == MeshColoring::ByNode) mesh.mesh.colors = colors_by_node(mesh.mesh, surface);
-  mesh.mesh.origin = out.tree.origin;
+  trees.clear();
+  SurfaceMesh mesh =
+      detail::join_region_tiles(std::move(tiles), merge, out.tree.origin, options.meshing, [&] { return out.tree; });
   mesh.mesh.up = out.tree.up;
   mesh.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - mesh_start).count();
   out.mesh = std::move(mesh);

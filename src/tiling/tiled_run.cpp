@@ -6,6 +6,7 @@
 #include <clustersurf/mesh/mesh_colors.hpp>
 #include <clustersurf/tiling/tiled_run.hpp>
 
+#include "tiling/region_stages.hpp"
 #include "tiling/tiled_run_files.hpp"
 #include "tiling/tiled_run_impl.hpp"
 
@@ -60,12 +61,6 @@ void write_fields(std::ostream& out, const Options& o, const std::string& prefix
       write_fields(out, value, key + '.');
     }
   });
-}
-
-/// A tile's own colors (its points', made by the mesh task) go only into a mesh that asks for
-/// them: a join with other colors, or none, drops them.
-void keep_tile_colors(MeshTile& tile, const SurfaceMeshOptions& options) {
-  if (options.coloring != MeshColoring::FromInput) tile.mesh.colors.resize(0, 3);
 }
 
 }  // namespace
@@ -206,13 +201,10 @@ CloudScale TiledRun::scale() const {
 
 void TiledRun::build(std::int32_t region, const BuildOptions& options) const {
   if (done("build", region)) return;
-  const CloudScale scale = this->scale();
-  RegionCloud points = load(region);
-  if (options.remove_outliers) mark_outliers(points, scale, options.outliers);
   BuildOptions build = options;
   build.keep_point_leaves = false;
   OrientationReport oriented;
-  const ClusterTree tree = build_region_tree(points, plan(), region, scale, build, &oriented);
+  const ClusterTree tree = detail::build_region(load(region), plan(), region, scale(), build, oriented);
   if (!tree.nodes.empty()) save_tree(impl_->file("tree", region, "cstree"), tree);
   detail::write_orientation(impl_->file("orientation", region, "txt"), oriented, tree.nodes.empty());
 }
@@ -221,17 +213,14 @@ ClusterTree TiledRun::merge() const {
   const std::filesystem::path f = impl_->dir / "tree.cstree";
   if (std::filesystem::exists(f)) return impl_->merged_tree();
   std::vector<ClusterTree> trees;
-  bool propagated = false;
+  std::vector<OrientationReport> oriented(regions());
+  std::vector<std::uint8_t> empty(regions(), 0);
   for (std::int32_t k = 0; k < static_cast<std::int32_t>(regions()); ++k) {
-    bool empty = false;
-    const OrientationReport o =
-        detail::read_orientation(impl_->need(impl_->file("orientation", k, "txt"), "every region's build"), empty);
-    trees.push_back(empty ? ClusterTree{}
-                          : load_tree(impl_->need(impl_->file("tree", k, "cstree"), "every region's build")));
-    propagated = propagated || (!empty && !o.used_normals && !o.used_scanners);
+    oriented[static_cast<std::size_t>(k)] = impl_->orientation(k, empty[static_cast<std::size_t>(k)]);
+    trees.push_back(empty[static_cast<std::size_t>(k)] ? ClusterTree{} : impl_->region_tree(k));
   }
   RegionMerge record;
-  ClusterTree merged = merge_region_trees(plan(), std::move(trees), propagated, record);
+  ClusterTree merged = merge_region_trees(plan(), std::move(trees), detail::propagated(oriented, empty), record);
   detail::write_merge(impl_->dir / "merge.txt", record);
   save_tree(f, merged);  // last: the merge is done
   return merged;
@@ -240,19 +229,11 @@ ClusterTree TiledRun::merge() const {
 RegionMerge TiledRun::merge_record() const { return impl_->merge_record(); }
 
 OrientationReport TiledRun::orientation() const {
-  OrientationReport sum;
-  sum.used_normals = sum.used_scanners = true;
-  for (std::int32_t k = 0; k < static_cast<std::int32_t>(regions()); ++k) {
-    bool empty = false;
-    const OrientationReport o =
-        detail::read_orientation(impl_->need(impl_->file("orientation", k, "txt"), "every region's build"), empty);
-    if (empty) continue;
-    sum.used_normals = sum.used_normals && o.used_normals;
-    sum.used_scanners = sum.used_scanners && o.used_scanners;
-    sum.flipped += o.flipped;
-    sum.components += o.components;
-  }
-  return sum;
+  std::vector<OrientationReport> oriented(regions());
+  std::vector<std::uint8_t> empty(regions(), 0);
+  for (std::int32_t k = 0; k < static_cast<std::int32_t>(regions()); ++k)
+    oriented[static_cast<std::size_t>(k)] = impl_->orientation(k, empty[static_cast<std::size_t>(k)]);
+  return detail::combine_orientations(oriented, empty);
 }
 
 void TiledRun::mesh(std::int32_t region, const ReconstructOptions& options) const {
@@ -263,46 +244,18 @@ void TiledRun::mesh(std::int32_t region, const ReconstructOptions& options) cons
   const RegionMerge merge = impl_->merge_record();
   if (merge.reach.size() != regions())
     throw InputError(impl_->dir / "merge.txt", {}, "the merge record does not match the plan");
-  MeshOptions grid = options.meshing.grid;
-  grid.voxel_size = tiled_cell_size(merge, options.meshing);
-  std::vector<ClusterTree> trees(regions());
-  for (const std::int32_t k : tile_regions(plan(), merge, region, grid))
-    trees[static_cast<std::size_t>(k)] = impl_->region_tree(k);
-  RegionCloud points = load(region);
-  if (options.build.remove_outliers) mark_outliers(points, scale(), options.build.outliers);
-  MeshTile tile;
-  tile.region = region;
-  if (std::any_of(trees.begin(), trees.end(), [](const ClusterTree& t) { return !t.nodes.empty(); })) {
-    const ClusterTree tree = tile_tree(plan(), std::move(trees), merge);
-    tile = mesh_tile(ImplicitSurface(tree), plan(), region, points, grid, options.meshing.trim,
-                     options.meshing.coloring == MeshColoring::FromInput);
-  }
+  const MeshTile tile = detail::mesh_region(plan(), merge, region, load(region), scale(), options,
+                                            [&](std::int32_t k) { return impl_->region_tree(k); });
   detail::write_tile(impl_->file("tile", region, "bin"), tile);
 }
 
 SurfaceMesh TiledRun::join(const SurfaceMeshOptions& options) const {
   require_tiled_meshing(options);
-  const auto start = std::chrono::steady_clock::now();
-  SurfaceMesh out;
   std::vector<MeshTile> tiles;
-  for (std::int32_t k = 0; k < static_cast<std::int32_t>(regions()); ++k) {
+  for (std::int32_t k = 0; k < static_cast<std::int32_t>(regions()); ++k)
     tiles.push_back(detail::read_tile(impl_->need(impl_->file("tile", k, "bin"), "every region's mesh")));
-    out.grid.voxel_size = tiles.back().grid.voxel_size;
-    out.grid.evaluated_corners += tiles.back().grid.evaluated_corners;
-    out.grid.surface_cells += tiles.back().grid.surface_cells;
-  }
-  for (MeshTile& t : tiles) keep_tile_colors(t, options);
-  out.mesh = join_tiles(tiles, options.trim);
-  tiles.clear();
-  out.blended_nodes = impl_->merge_record().leaves;
-  if (options.decimation.enabled()) out.mesh = decimate(out.mesh, options.decimation, &out.decimation);
-  if (options.coloring == MeshColoring::ByNode) {
-    const ClusterTree tree = impl_->merged_tree();  // the colors need every leaf
-    out.mesh.colors = colors_by_node(out.mesh, ImplicitSurface(tree));
-  }
-  out.mesh.origin = origin();
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return out;
+  return detail::join_region_tiles(std::move(tiles), impl_->merge_record(), origin(), options,
+                                   [&] { return impl_->merged_tree(); });
 }
 
 WrittenMesh TiledRun::write_mesh(const std::filesystem::path& file, const SurfaceMeshOptions& options,
@@ -335,12 +288,8 @@ WrittenMesh TiledRun::write_mesh(const std::filesystem::path& file, const Surfac
   std::vector<std::uint8_t> counted(regions(), 0);  // the join reads every tile several times
   const auto tile = [&](std::int32_t k) {
     MeshTile t = detail::read_tile(impl_->need(impl_->file("tile", k, "bin"), "every region's mesh"));
-    keep_tile_colors(t, options);
-    if (!counted[static_cast<std::size_t>(k)]++) {
-      out.grid.voxel_size = t.grid.voxel_size;
-      out.grid.evaluated_corners += t.grid.evaluated_corners;
-      out.grid.surface_cells += t.grid.surface_cells;
-    }
+    if (options.coloring != MeshColoring::FromInput) t.mesh.colors.resize(0, 3);  // as join_region_tiles()
+    if (!counted[static_cast<std::size_t>(k)]++) detail::add_tile_grid(out.grid, t);
     return t;
   };
   const JoinedMesh joined = join_tiles_to_ply(tile, plan(), options.trim, file, surface ? &*surface : nullptr);

@@ -31,6 +31,14 @@ struct TiledRun::Impl {
   }
   ClusterTree merged_tree() const { return load_tree(need(dir / "tree.cstree", "the merge")); }
   RegionMerge merge_record() const { return detail::read_merge(need(dir / "merge.txt", "the merge")); }
+  /// How a region's build oriented its tree, and whether the region is empty.
+  OrientationReport orientation(std::int32_t region, std::uint8_t& empty) const {
+    bool none = false;
+    OrientationReport o =
+        detail::read_orientation(need(file("orientation", region, "txt"), "every region's build"), none);
+    empty = none ? 1 : 0;
+    return o;
+  }
   /// A region's tree as its build wrote it (empty for an empty region).
   ClusterTree region_tree(std::int32_t region) const {
     bool empty = false;

@@ -9,9 +9,12 @@
 #include <clustersurf/tiling/tiling.hpp>
 
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -170,6 +173,15 @@ class TiledRun {
 /// removal fails, InputError when the run record is malformed.
 void remove_tiled_run(const std::filesystem::path& directory);
 
+/// Runs the missing tasks of one stage of a tiled run ("survey", "build" or "mesh"), one per
+/// region listed: each opens the run from its directory (TiledRun(directory)) and calls the
+/// stage with the run's options, so the tasks may run in any order, at once, on any machine
+/// that sees the directory (clustersurf.distributed submits them to Dask). Returns when every
+/// task is done and rethrows a task's error; reports progress(stage, fraction) as tasks finish
+/// (false: cancel).
+using RegionTaskRunner = std::function<void(std::string_view stage, std::span<const std::int32_t> regions,
+                                            const ProgressCallback& progress)>;
+
 /// Options of reconstruct_out_of_core().
 struct OutOfCoreOptions {
   /// Memory for one region's build and tile, in bytes: sets the regions' size
@@ -177,6 +189,10 @@ struct OutOfCoreOptions {
   /// point), and the join 13 bytes per output vertex: 100 M points within 4G peaked at 3.8 GB
   /// (docs/benchmarks.md).
   std::uint64_t memory_limit = std::uint64_t{4} << 30;
+  /// The most points a region holds with its halo; 0: region_points_for_memory(memory_limit).
+  std::uint64_t max_region_points = 0;
+  /// Runs the region tasks of each stage; empty: one after another in this process.
+  RegionTaskRunner run_tasks;
   /// The work directory (required).
   std::filesystem::path work_directory;
   /// The mesh file (required when the options ask for a mesh), and how a PLY is written.
@@ -197,13 +213,18 @@ struct OutOfCoreReconstruction {
   /// Wall time of each stage, in order: partition, survey, build, merge, mesh (the tiles), join.
   std::vector<std::pair<std::string, double>> stage_seconds;
   std::size_t regions = 0;
+  std::uint64_t input_points = 0;
+  /// The tasks each stage ran, in order: survey, build, mesh (a run resumed runs fewer).
+  std::vector<std::pair<std::string, std::size_t>> stage_tasks;
   std::uintmax_t work_bytes = 0;  ///< the work directory's files at their largest (before the cleanup)
 };
 
-/// The whole pipeline out of core: TiledRun::partition() and every stage, one region at a
-/// time, the mesh written to out_of_core.mesh_output (TiledRun::write_mesh()); the tree and
-/// the mesh equal reconstruct_tiled()'s of the same cloud and plan. Resumes a run interrupted
-/// in the same work directory. Throws IoError, InputError, OptionError, Cancelled.
+/// The whole pipeline over the regions of a work directory, the one driver of every tiled run:
+/// TiledRun::partition(), then each stage's tasks (out_of_core.run_tasks, or one region at a
+/// time here), the merge, and the mesh written to out_of_core.mesh_output
+/// (TiledRun::write_mesh()); the tree and the mesh equal reconstruct_tiled()'s of the same cloud
+/// and plan, however the tasks ran. Resumes a run interrupted in the same work directory.
+/// Throws IoError, InputError, OptionError, Cancelled.
 OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& input, const ReconstructOptions& options,
                                                 const OutOfCoreOptions& out_of_core,
                                                 const ProgressCallback& progress = {});

@@ -55,8 +55,8 @@ inline constexpr double kTileMarginCells = 4;
 /// trim_to_points() does. The result does not depend on the order of the tiles.
 TriangleMesh join_tiles(std::span<const MeshTile> tiles, const TrimOptions& trim = {});
 
-/// Where a tiled reconstruction reads its regions: from a cloud in memory
-/// (reconstruct_tiled()) or from region files on disk (the out-of-core path).
+/// Where reconstruct_regions() reads its regions (reconstruct_tiled(): a cloud in memory).
+/// A run on disk reads its region files instead (TiledRun::load()).
 class RegionSource {
  public:
   virtual ~RegionSource() = default;
@@ -64,11 +64,14 @@ class RegionSource {
   virtual RegionCloud load(std::int32_t region) const = 0;
 };
 
-/// The pipeline over regions: every region surveyed (survey_region(), combine_surveys()),
-/// its outliers marked and its subtree built (build_region_tree()), the subtrees merged
-/// (merge_region_trees()) and, on request, meshed tile by tile (mesh_tile(), join_tiles()),
-/// decimated and colored as mesh_tree() does. Holds one region's points at a time. Throws
-/// OptionError for what tiles cannot do: levels of detail, closing, distance colors.
+/// The pipeline over regions in memory, by the stages of a run on disk (TiledRun's tasks, the
+/// same functions): every region surveyed (survey_region(), combine_surveys()), its outliers
+/// marked and its subtree built (build_region_tree()), the subtrees merged
+/// (merge_region_trees()) and, on request, meshed tile by tile (mesh_tile() on tile_tree(),
+/// join_tiles()), decimated and colored as mesh_tree() does: the tree and the mesh of a
+/// TiledRun of the same plan, to the byte. Holds one region's points at a time and every
+/// region tree. Throws OptionError for what tiles cannot do: levels of detail, closing,
+/// distance colors.
 Reconstruction reconstruct_regions(const RegionPlan& plan, const RegionSource& source,
                                    const ReconstructOptions& options = {}, const ProgressCallback& progress = {});
 

@@ -1,0 +1,87 @@
+// The stages of a tiled run (region_stages.hpp).
+
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/mesh/mesh_colors.hpp>
+
+#include "tiling/region_stages.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+namespace clustersurf::detail {
+
+ClusterTree build_region(RegionCloud points, const RegionPlan& plan, std::int32_t region, const CloudScale& scale,
+                         const BuildOptions& options, OrientationReport& oriented) {
+  if (options.remove_outliers) mark_outliers(points, scale, options.outliers);
+  return build_region_tree(points, plan, region, scale, options, &oriented);
+}
+
+OrientationReport combine_orientations(const std::vector<OrientationReport>& oriented,
+                                       const std::vector<std::uint8_t>& empty) {
+  OrientationReport sum;
+  sum.used_normals = sum.used_scanners = true;
+  for (std::size_t k = 0; k < oriented.size(); ++k) {
+    if (empty[k]) continue;
+    sum.used_normals = sum.used_normals && oriented[k].used_normals;
+    sum.used_scanners = sum.used_scanners && oriented[k].used_scanners;
+    sum.flipped += oriented[k].flipped;
+    sum.components += oriented[k].components;
+  }
+  return sum;
+}
+
+bool propagated(const std::vector<OrientationReport>& oriented, const std::vector<std::uint8_t>& empty) {
+  for (std::size_t k = 0; k < oriented.size(); ++k)
+    if (!empty[k] && !oriented[k].used_normals && !oriented[k].used_scanners) return true;
+  return false;
+}
+
+MeshTile mesh_region(const RegionPlan& plan, const RegionMerge& merge, std::int32_t region, RegionCloud points,
+                     const CloudScale& scale, const ReconstructOptions& options,
+                     const std::function<ClusterTree(std::int32_t)>& region_tree) {
+  require_tiled_meshing(options.meshing);
+  MeshOptions grid = options.meshing.grid;
+  grid.voxel_size = tiled_cell_size(merge, options.meshing);
+  std::vector<ClusterTree> trees(plan.regions());
+  for (const std::int32_t k : tile_regions(plan, merge, region, grid))
+    trees[static_cast<std::size_t>(k)] = region_tree(k);
+  if (options.build.remove_outliers) mark_outliers(points, scale, options.build.outliers);
+  MeshTile tile;
+  tile.region = region;
+  if (std::none_of(trees.begin(), trees.end(), [](const ClusterTree& t) { return !t.nodes.empty(); })) return tile;
+  const ClusterTree tree = tile_tree(plan, std::move(trees), merge);
+  return mesh_tile(ImplicitSurface(tree), plan, region, points, grid, options.meshing.trim,
+                   options.meshing.coloring == MeshColoring::FromInput);
+}
+
+void add_tile_grid(MeshReport& grid, const MeshTile& tile) {
+  grid.voxel_size = tile.grid.voxel_size;
+  grid.evaluated_corners += tile.grid.evaluated_corners;
+  grid.surface_cells += tile.grid.surface_cells;
+}
+
+SurfaceMesh join_region_tiles(std::vector<MeshTile> tiles, const RegionMerge& merge, const Eigen::Vector3d& origin,
+                              const SurfaceMeshOptions& options, const std::function<ClusterTree()>& merged_tree) {
+  require_tiled_meshing(options);
+  const auto start = std::chrono::steady_clock::now();
+  SurfaceMesh out;
+  for (MeshTile& t : tiles) {
+    add_tile_grid(out.grid, t);
+    // A tile's own colors (its points', made by the mesh task) go only into a mesh that asks
+    // for them.
+    if (options.coloring != MeshColoring::FromInput) t.mesh.colors.resize(0, 3);
+  }
+  out.mesh = join_tiles(tiles, options.trim);
+  tiles.clear();
+  out.blended_nodes = merge.leaves;
+  if (options.decimation.enabled()) out.mesh = decimate(out.mesh, options.decimation, &out.decimation);
+  if (options.coloring == MeshColoring::ByNode) {
+    const ClusterTree tree = merged_tree();  // the colors need every leaf
+    out.mesh.colors = colors_by_node(out.mesh, ImplicitSurface(tree));
+  }
+  out.mesh.origin = origin;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace clustersurf::detail
