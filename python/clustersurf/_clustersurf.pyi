@@ -134,10 +134,23 @@ def reconstruct_file(
     progress: _Progress = None,
     **kwargs: Any,
 ) -> Tuple[Tree, Optional[Dict[str, Any]]]: ...
+def _run_regions(
+    input: _Path,
+    *,
+    mesh: Optional[_Path] = None,
+    max_region_points: int,
+    work_dir: _Path,
+    keep_work_dir: bool = False,
+    run_tasks: Optional[Callable[[str, List[int], Callable[[float], bool]], None]] = None,
+    progress: _Progress = None,
+    **kwargs: Any,
+) -> Tuple[Tree, Dict[str, Any]]: ...
+def _origin_shift(lo: ArrayLike, hi: ArrayLike) -> NDArray[np.float64]: ...
 def region_points_for_memory(memory_limit: str) -> int: ...
 def default_work_directory(output: _Path) -> pathlib.Path: ...
 
 DEFAULT_MEMORY_LIMIT: str
+DEFAULT_MAX_REGION_POINTS: int
 
 class TiledRun:
     """The work directory of a tiled reconstruction (TiledRun(directory) opens one); its tasks are

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any, Tuple, Union
 
 import numpy as np
 
+from . import _clustersurf as _cs
 from ._types import Mesh, PointCloud
 
 if TYPE_CHECKING:
@@ -63,15 +64,13 @@ def cloud_to_open3d(cloud: PointCloud) -> "open3d.geometry.PointCloud":
 
 
 def _shift_to_origin(positions: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
-    """(positions - shift, shift) by the readers' rule (shift_to_origin() in C++): along each axis
-    whose bounding-box center is farther from zero than the box is wide, the center moves to zero.
-    Both the subtraction and adding the shift back are then exact."""
-    shift = np.zeros(3)
+    """(positions - shift, shift) by the readers' rule, the library's own (origin_shift() in C++):
+    along each axis whose bounding-box center lies more than 16 diagonals and more than the box's
+    width from zero, the center moves to zero. Both the subtraction and adding the shift back
+    are then exact."""
     if len(positions) == 0 or not np.isfinite(positions).all():
-        return positions, shift
-    lo, hi = positions.min(axis=0), positions.max(axis=0)
-    center = 0.5 * (lo + hi)
-    shift = np.where(np.abs(center) > hi - lo, center, 0.0)
+        return positions, np.zeros(3)
+    shift = np.asarray(_cs._origin_shift(positions.min(axis=0), positions.max(axis=0)))
     if not shift.any():
         return positions, np.zeros(3)
     return positions - shift, shift

@@ -61,7 +61,7 @@ def _dask_runner(client: Any, directory: str, options: Dict[str, Any], retries: 
 
 def reconstruct_distributed(input: str | os.PathLike, *, client: Any, work_dir: str | os.PathLike,
                             mesh: Optional[str | os.PathLike] = None, tree: Optional[str | os.PathLike] = None,
-                            max_region_points: int = 4_000_000, keep_work_dir: bool = False,
+                            max_region_points: int = _cs.DEFAULT_MAX_REGION_POINTS, keep_work_dir: bool = False,
                             progress: Optional[Progress] = None, retries: int = 3, **options: Any) -> Dict[str, Any]:
     """Reconstructs the point file ``input`` with the tasks of a tiled run on ``client``
     (a distributed.Client); writes the mesh to ``mesh`` and the tree to ``tree`` when given.

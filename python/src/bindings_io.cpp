@@ -91,6 +91,17 @@ py::dict topology_dict(const MeshTopology& t) {
 /// Reading points and meshes, writing them.
 void bind_files(py::module_& m) {
   m.def(
+      "_origin_shift",
+      [](const std::array<double, 3>& lo, const std::array<double, 3>& hi) {
+        BoundingBox box;
+        box.min = Eigen::Vector3d(lo[0], lo[1], lo[2]);
+        box.max = Eigen::Vector3d(hi[0], hi[1], hi[2]);
+        return vector_array(origin_shift(box));
+      },
+      py::arg("lo"), py::arg("hi"),
+      "The readers' shift of a cloud whose bounding box is [lo, hi] (origin_shift() in C++): the box's center along "
+      "each axis where it lies more than 16 diagonals and more than the box's width from zero, else 0.");
+  m.def(
       "read_points",
       [](const std::filesystem::path& file, bool drop_non_finite, std::size_t mesh_samples) {
         ReadOptions options;

@@ -112,6 +112,7 @@ per stage, work_bytes, and the mesh written.)doc");
   m.def("default_work_directory", &default_work_directory, py::arg("output"),
         "Where a run writing ``output`` keeps its files when no work directory is given: its name + \".work\".");
   m.attr("DEFAULT_MEMORY_LIMIT") = format_memory_size(OutOfCoreOptions{}.memory_limit);
+  m.attr("DEFAULT_MAX_REGION_POINTS") = RegionOptions{}.max_points;
 
   m.def(
       "region_points_for_memory",

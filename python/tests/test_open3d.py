@@ -67,16 +67,32 @@ def test_tree_mesh_round_trip(sphere_tree):
 
 @needs_open3d
 def test_mesh_away_from_zero_comes_back_shifted_exactly():
-    # As read_points() does with clouds, from_open3d moves a mesh whose box lies beside zero
+    # As read_points() does with clouds, from_open3d moves a mesh whose box lies far from zero
     # (along y and z here) next to it; the coordinates stay bit for bit in vertices + origin.
     mesh = colored_mesh()
-    mesh.vertices = mesh.vertices * [1, 1e-3, 1e-3] + [0.0, 3.7, -12.25]
+    mesh.vertices = mesh.vertices * [1, 1e-3, 1e-3] + [0.0, 370.0, -1225.0]
     back = clustersurf.from_open3d(mesh.to_open3d())
-    assert back.origin[0] == 0 and back.origin[1] > 3 and back.origin[2] < -12
+    assert back.origin[0] == 0 and back.origin[1] > 300 and back.origin[2] < -1200
     np.testing.assert_array_equal(back.world_vertices, mesh.vertices)
     again = clustersurf.from_open3d(back.to_open3d())  # the shift's own output is left as it is
     np.testing.assert_array_equal(bits(again.vertices), bits(back.vertices))
     np.testing.assert_array_equal(again.origin, back.origin)
+
+
+@needs_open3d
+def test_the_shift_is_the_readers(tmp_path):
+    # Geometry a few diagonals from zero stays where it is, far geometry moves, for from_open3d
+    # as for read_points() of the same points in a file.
+    import open3d as o3d
+    base = colored_mesh().vertices
+    for offset, moved in (([0.0, 3.7, -6.0], False), ([0.0, 3.7, -12.25], True), ([0.0, 370.0, -1225.0], True)):
+        points = base + offset
+        pcd = o3d.geometry.PointCloud(o3d.utility.Vector3dVector(points))
+        o3d.io.write_point_cloud(str(tmp_path / "p.ply"), pcd)
+        read = clustersurf.read_points(tmp_path / "p.ply")
+        back = clustersurf.from_open3d(pcd)
+        np.testing.assert_array_equal(back.origin, read.origin)
+        assert bool(back.origin.any()) == moved
 
 
 @needs_open3d

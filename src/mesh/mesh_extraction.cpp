@@ -166,7 +166,7 @@ double checked_cell_size(const ImplicitSurface& surface, const detail::MeshClip*
   if (!(longest > 0) && !options.voxel_size)
     throw OptionError("the surface has no extent (all input points coincide): there is nothing to mesh");
   if (!(h > 0) || !std::isfinite(h))
-    throw OptionError("mesh voxel size must be positive (check --resolution/--voxel-size)");
+    throw OptionError("the mesh cell size must be positive (MeshOptions::voxel_size, or resolution)");
   if (!(options.min_weight >= 0) || !std::isfinite(options.min_weight))
     throw OptionError("mesh min_weight must be >= 0");
   if (longest / h > 500000) throw OptionError("mesh grid too fine: more than 500000 cells along the bounding box");

@@ -219,10 +219,10 @@ Image render_tree(const ClusterTree& tree, const RenderOptions& options, RenderS
   if (tree.nodes.empty()) throw OptionError("cannot render an empty tree");
   if (options.highlight &&
       (*options.highlight < 0 || static_cast<std::size_t>(*options.highlight) >= tree.nodes.size()))
-    throw OptionError("--highlight: node " + std::to_string(*options.highlight) + " does not exist (the tree has " +
+    throw OptionError("highlight: node " + std::to_string(*options.highlight) + " does not exist (the tree has " +
                       std::to_string(tree.nodes.size()) + " nodes)");
   if (options.show == ShowMode::Error && (options.reference_points == nullptr || options.reference_points->rows() == 0))
-    throw OptionError("the error view needs the input points (--points FILE)");
+    throw OptionError("the error view needs the input points (RenderOptions::reference_points)");
 
   const Camera camera = render::scene_camera(options, tree.bbox, tree.origin, tree.up);
   Scene scene{

@@ -245,7 +245,8 @@ ViewerStats write_page(const std::filesystem::path& file, const ClusterTree& tre
     require_tree_input(tree, cloud->positions);
     if (tree.point_leaf.size() != static_cast<std::size_t>(cloud->size()))
       throw OptionError(
-          "the tree holds no point-to-leaf table (it was built with --no-point-leaves): rebuild it without");
+          "the tree holds no point-to-leaf table (it was built without BuildOptions::keep_point_leaves): rebuild it "
+          "with them");
   }
   const std::string_view page = view::viewer_template();
   const std::size_t marker = page.find(view::kDataMarker);
