@@ -15,21 +15,6 @@ std::string plural(std::size_t n, const char* one, const char* many) {
 
 }  // namespace
 
-std::vector<std::string> mesh_check_problems(const MeshCheck& c) {
-  const MeshTopology& t = c.topology;
-  std::vector<std::string> out;
-  if (t.triangles == 0) out.emplace_back("no triangles");
-  if (t.boundary_edges > 0) out.push_back(plural(t.boundary_edges, "boundary edge", "boundary edges"));
-  if (t.non_manifold_edges > 0) out.push_back(plural(t.non_manifold_edges, "non-manifold edge", "non-manifold edges"));
-  if (t.inconsistent_edges > 0)
-    out.push_back(plural(t.inconsistent_edges, "inconsistently oriented edge", "inconsistently oriented edges"));
-  if (c.self_intersections > 0)
-    out.push_back(plural(c.self_intersections, "self-intersecting triangle pair", "self-intersecting triangle pairs"));
-  if (c.watertight && !(c.volume > 0))
-    out.emplace_back(c.volume < 0 ? "negative volume (the triangles face inward)" : "no volume enclosed");
-  return out;
-}
-
 nlohmann::json mesh_check_json(const MeshCheck& c) {
   const MeshTopology& t = c.topology;
   nlohmann::json pairs = nlohmann::json::array();
@@ -49,7 +34,7 @@ nlohmann::json mesh_check_json(const MeshCheck& c) {
           {"watertight", c.watertight},
           {"consistently_oriented", c.consistently_oriented},
           {"printable", c.printable},
-          {"problems", mesh_check_problems(c)}};
+          {"problems", printing_problems(c)}};
 }
 
 std::vector<std::string> mesh_check_lines(const MeshCheck& c) {
@@ -80,7 +65,7 @@ std::vector<std::string> mesh_check_lines(const MeshCheck& c) {
       fmt::format("self-intersect  {}{}", plural(c.self_intersections, "triangle pair", "triangle pairs"), pairs));
   out.push_back(fmt::format("watertight      {}", c.watertight ? "yes" : "no"));
   out.push_back(fmt::format("oriented        {}", c.consistently_oriented ? "yes" : "no"));
-  const std::vector<std::string> problems = mesh_check_problems(c);
+  const std::vector<std::string> problems = printing_problems(c);
   out.push_back(c.printable ? std::string("printable       yes")
                             : fmt::format("printable       no: {}", fmt::join(problems, ", ")));
   return out;

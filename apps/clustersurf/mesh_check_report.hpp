@@ -11,8 +11,6 @@
 
 namespace clustersurf::cli {
 
-/// Why the mesh is not printable, one phrase each ("12 boundary edges", ...); empty when it is.
-std::vector<std::string> mesh_check_problems(const MeshCheck& check);
 /// JSON object: vertices, triangles, edges, boundary_edges, non_manifold_edges,
 /// inconsistent_edges, components, euler_characteristic, genus (null when not defined), volume
 /// (null when not closed), self_intersections, intersecting_pairs (the first ones, [i, j]),

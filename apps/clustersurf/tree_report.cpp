@@ -4,49 +4,7 @@
 
 namespace clustersurf::cli {
 
-nlohmann::json tree_report_json(const ClusterTree& tree) {
-  const TreeSummary s = summarize(tree);
-  const TreeParameters& p = tree.parameters;
-  nlohmann::json hist;
-  for (std::size_t k = 0; k < kProxyKinds; ++k) hist[to_string(static_cast<ProxyKind>(k))] = s.proxy_histogram[k];
-  auto pct = [](const std::array<double, 5>& a) {
-    return nlohmann::json{{"min", a[0]}, {"p25", a[1]}, {"median", a[2]}, {"p75", a[3]}, {"max", a[4]}};
-  };
-  return {
-      {"nodes", s.nodes},
-      {"leaves", s.leaves},
-      {"depth", s.depth},
-      {"input_points", tree.input_points},
-      {"outliers", tree.outliers()},
-      {"has_point_leaves", !tree.point_leaf.empty()},
-      {"bbox_min", {tree.bbox.min.x(), tree.bbox.min.y(), tree.bbox.min.z()}},
-      {"bbox_max", {tree.bbox.max.x(), tree.bbox.max.y(), tree.bbox.max.z()}},
-      {"diagonal", tree.bbox.diagonal()},
-      {"leaf_proxies", hist},
-      {"leaf_size", pct(s.leaf_size_percentiles)},
-      {"leaf_rms_error", pct(s.leaf_rms_percentiles)},
-      {"leaves_over_threshold", s.leaves_over_threshold},
-      {"noise_sigma", tree.noise_sigma},
-      {"error_threshold", tree.error_threshold},
-      {"point_spacing", tree.point_spacing},
-      {"parameters",
-       {{"proxy", to_string(p.proxy)},
-        {"splitter", to_string(p.splitter)},
-        {"error_metric", to_string(p.metric)},
-        {"threshold_mode", to_string(p.threshold_mode)},
-        {"tolerance", p.tolerance},
-        {"creases", p.creases},
-        {"noise_factor", p.noise_factor},
-        {"min_points", p.min_points},
-        {"max_depth", p.max_depth},
-        {"alpha", p.alpha},
-        {"kstep", p.kstep},
-        {"lloyd_restarts", p.lloyd_restarts},
-        {"proxy_lloyd_iterations", p.proxy_lloyd_iterations},
-        {"support_factor", p.support_factor},
-        {"seed", p.seed}}},
-  };
-}
+nlohmann::json tree_report_json(const ClusterTree& tree) { return nlohmann::json::parse(tree_info_json(tree)); }
 
 std::vector<std::string> tree_report_lines(const ClusterTree& tree) {
   const TreeSummary s = summarize(tree);

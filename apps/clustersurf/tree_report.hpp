@@ -10,7 +10,7 @@
 
 namespace clustersurf::cli {
 
-/// JSON object with the tree's figures and parameters (keys: nodes, leaves, depth, ...).
+/// The library's report of the tree (tree_info_json()), as JSON to add to.
 nlohmann::json tree_report_json(const ClusterTree& tree);
 /// The same as human-readable lines.
 std::vector<std::string> tree_report_lines(const ClusterTree& tree);

@@ -211,6 +211,7 @@ indices) or IoError.)doc");
         out["intersecting_pairs"] = c.intersecting_pairs;
         out["consistently_oriented"] = c.consistently_oriented;
         out["printable"] = c.printable;
+        out["problems"] = printing_problems(c);
         return out;
       },
       py::arg("vertices"), py::arg("faces") = py::none(), R"doc(
@@ -219,7 +220,7 @@ or a mesh object in place of both. Returns a dict: the topology (vertices, faces
 boundary_edges, non_manifold_edges, inconsistent_edges, euler_characteristic, components,
 small_components, area, boundary_length, boundary_per_sqrt_area, signed_volume, watertight), genus and volume (None when not closed), self_intersections (pairs
 of triangles crossing other than where they connect) with the first intersecting_pairs,
-consistently_oriented and printable.)doc");
+consistently_oriented, printable and problems (why not, one phrase each, as ``clustersurf check``).)doc");
 }
 
 /// Benchmark inputs: points sampled on a mesh, virtual scans.

@@ -23,31 +23,9 @@ namespace {
 
 using namespace pybind11::literals;
 
-py::dict percentiles(const std::array<double, 5>& a) {
-  return py::dict("min"_a = a[0], "p25"_a = a[1], "median"_a = a[2], "p75"_a = a[3], "max"_a = a[4]);
-}
-
-/// The figures of `clustersurf --json info`, same keys.
+/// The library's report of the tree (tree_info_json(), the CLI's `--json info`) as a dict.
 py::dict info_dict(const ClusterTree& tree) {
-  const TreeSummary s = summarize(tree);
-  const TreeParameters& p = tree.parameters;
-  py::dict hist;
-  for (std::size_t k = 0; k < kProxyKinds; ++k) hist[to_string(static_cast<ProxyKind>(k))] = s.proxy_histogram[k];
-  const auto vec = [](const Eigen::Vector3d& v) { return py::make_tuple(v.x(), v.y(), v.z()); };
-  py::dict parameters("proxy"_a = to_string(p.proxy), "splitter"_a = to_string(p.splitter),
-                      "error_metric"_a = to_string(p.metric), "threshold_mode"_a = to_string(p.threshold_mode),
-                      "tolerance"_a = p.tolerance, "noise_factor"_a = p.noise_factor, "min_points"_a = p.min_points,
-                      "max_depth"_a = p.max_depth, "alpha"_a = p.alpha, "kstep"_a = p.kstep,
-                      "lloyd_restarts"_a = p.lloyd_restarts, "proxy_lloyd_iterations"_a = p.proxy_lloyd_iterations,
-                      "support_factor"_a = p.support_factor, "seed"_a = p.seed, "creases"_a = p.creases);
-  return py::dict(
-      "nodes"_a = s.nodes, "leaves"_a = s.leaves, "depth"_a = s.depth, "input_points"_a = tree.input_points,
-      "outliers"_a = tree.outliers(), "has_point_leaves"_a = !tree.point_leaf.empty(),
-      "bbox_min"_a = vec(tree.bbox.min), "bbox_max"_a = vec(tree.bbox.max), "diagonal"_a = tree.bbox.diagonal(),
-      "leaf_proxies"_a = hist, "leaf_size"_a = percentiles(s.leaf_size_percentiles),
-      "leaf_rms_error"_a = percentiles(s.leaf_rms_percentiles), "leaves_over_threshold"_a = s.leaves_over_threshold,
-      "noise_sigma"_a = tree.noise_sigma, "error_threshold"_a = tree.error_threshold,
-      "point_spacing"_a = tree.point_spacing, "parameters"_a = parameters);
+  return py::module_::import("json").attr("loads")(tree_info_json(tree)).cast<py::dict>();
 }
 
 /// f (or ∇f) at every row of xyz, NaN where undefined or not above min_weight.

@@ -30,8 +30,10 @@ def test_watertight_mesh_is_closed_and_marks_the_fill():
     assert filled.any()
     assert (closed.vertices[filled > 0, 2] > 0.5).all()  # only the cap was invented
     report = clustersurf.check_mesh(closed)
-    assert report["watertight"] and report["printable"] and report["genus"] == 0
-    assert not clustersurf.check_mesh(tree.mesh())["printable"]
+    assert report["watertight"] and report["printable"] and report["genus"] == 0 and report["problems"] == []
+    open_report = clustersurf.check_mesh(tree.mesh())
+    assert not open_report["printable"]
+    assert any(p.endswith("boundary edges") for p in open_report["problems"])  # the CLI's words
     smaller = tree.mesh(watertight=True, decimate=len(closed.faces) // 4)
     assert len(smaller.faces) <= len(closed.faces) // 4 and edges_with_one_face(smaller.faces) == 0
     # An opening wider than the limit stays open.

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -271,5 +272,12 @@ struct TreeSummary {
 };
 
 TreeSummary summarize(const ClusterTree& tree);
+
+/// The report of a tree as a JSON object, the one both front ends give (`clustersurf --json
+/// info`, Python's Tree.info()): nodes, leaves, depth, input_points, outliers, has_point_leaves,
+/// bbox_min, bbox_max, diagonal, leaf_proxies (leaves per proxy kind), leaf_size and
+/// leaf_rms_error (min, p25, median, p75, max), leaves_over_threshold, noise_sigma,
+/// error_threshold, point_spacing and the build's parameters; numbers that read back exactly.
+std::string tree_info_json(const ClusterTree& tree);
 
 }  // namespace clustersurf

@@ -10,6 +10,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace clustersurf {
@@ -55,6 +56,10 @@ struct MeshCheck {
   /// watertight && consistently_oriented && no self-intersections && volume > 0.
   bool printable = false;
 };
+
+/// Why the mesh is not printable, one phrase each ("12 boundary edges", "negative volume (the
+/// triangles face inward)", ...), as both front ends report it; empty when it is.
+std::vector<std::string> printing_problems(const MeshCheck& check);
 
 /// Topology (mesh_topology()), genus, volume and self-intersections of `mesh`. Deterministic,
 /// and the same whatever the number of threads.
