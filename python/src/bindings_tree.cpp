@@ -316,25 +316,16 @@ void bind_tree_mesh(py::class_<TreeRef>& tree_class) {
              const py::object& points, double trim, std::size_t min_component_points, bool close_pinholes,
              const std::string& color, bool watertight, double fill_holes, std::size_t decimate,
              double decimate_tolerance, const py::object& progress) {
-            SurfaceMeshOptions o;
-            o.closing.enabled = watertight;
-            o.closing.max_hole_size = fill_holes;
-            o.decimation.target_triangles = decimate;
-            o.decimation.max_deviation = decimate_tolerance;
+            // The keywords of reconstruct() and TiledRun's stages, read by the one parser.
             const auto* number = std::get_if<std::int64_t>(&resolution);
-            if (const auto cells =
-                    parse_resolution(number ? std::to_string(*number) : std::get<std::string>(resolution))) {
-              o.auto_resolution = false;
-              o.grid.resolution = *cells;
-            }
-            if (voxel_size && !(*voxel_size > 0)) throw OptionError("voxel_size must be positive");
-            o.grid.voxel_size = voxel_size;
-            if (lod_depth) o.lod_depth = to_uint32(*lod_depth, "lod_depth");
-            o.lod_error = lod_error;
-            o.trim.spread_factor = trim;
-            o.trim.min_component_points = min_component_points;
-            o.trim.close_pinholes = close_pinholes;
-            o.coloring = parse_mesh_coloring(color);
+            const py::dict keywords("resolution"_a = number ? py::object(py::int_(*number))
+                                                            : py::object(py::str(std::get<std::string>(resolution))),
+                                    "voxel_size"_a = voxel_size, "lod_depth"_a = lod_depth, "lod_error"_a = lod_error,
+                                    "trim"_a = trim, "min_component_points"_a = min_component_points,
+                                    "close_pinholes"_a = close_pinholes, "color"_a = color, "watertight"_a = watertight,
+                                    "fill_holes"_a = fill_holes, "decimate"_a = decimate,
+                                    "decimate_tolerance"_a = decimate_tolerance);
+            const SurfaceMeshOptions o = reconstruct_options(keywords).meshing;
             PointCloud given;
             if (!points.is_none()) {
               PointCloud cloud = cloud_argument(points, py::none(), py::none(), py::none(), "points");

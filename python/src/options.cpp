@@ -98,6 +98,10 @@ ReconstructOptions reconstruct_options(const py::dict& options) {
         if (!(h > 0) || !std::isfinite(h)) throw OptionError("voxel_size must be positive");
         m.grid.voxel_size = h;
       }
+    } else if (key == "lod_depth") {
+      if (!value.is_none()) m.lod_depth = to_uint32(as<std::int64_t>(value, key), "lod_depth");
+    } else if (key == "lod_error") {
+      if (!value.is_none()) m.lod_error = as<double>(value, key);
     } else if (key == "trim")
       m.trim.spread_factor = as<double>(value, key);
     else if (key == "min_component_points")
