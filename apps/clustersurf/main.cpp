@@ -1,15 +1,12 @@
-// Entry point of the `clustersurf` command-line tool: argument parsing (CLI11) and the single
-// place where errors become messages and exit codes.
+// Entry point of the `clustersurf` command-line tool: the command line parsed
+// (command_line.cpp), the subcommand run, and the single place where errors become messages
+// and exit codes.
 
+#include "command_line.hpp"
 #include "commands.hpp"
 #include "interrupt.hpp"
 
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/mesh/mesh_extraction.hpp>
-#include <clustersurf/version.hpp>
-
-#include <CLI/CLI.hpp>
-#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
@@ -27,324 +24,6 @@ constexpr int kExitIo = 4;
 constexpr int kExitMemory = 5;
 constexpr int kExitCancelled = 130;
 constexpr int kExitInternal = 70;
-
-/// The arguments of every subcommand (CLI11 binds to them; the one parsed is run).
-struct Commands {
-  clustersurf::cli::ConvertArgs convert;
-  clustersurf::cli::StatsArgs stats;
-  clustersurf::cli::ReconstructArgs reconstruct;
-  clustersurf::cli::InfoArgs info;
-  clustersurf::cli::MeshCommandArgs mesh;
-  clustersurf::cli::SampleArgs sample;
-  clustersurf::cli::EvalArgs eval;
-  clustersurf::cli::CheckArgs check;
-  clustersurf::cli::RenderArgs render;
-  clustersurf::cli::ViewArgs view;
-};
-
-void add_input(CLI::App& cmd, clustersurf::cli::InputArgs& in) {
-  cmd.add_option("input", in.file, "Point cloud (.ply, .xyz/.pts/.txt/.csv, .obj, .las, .e57, .ptx, .pcd)")->required();
-  cmd.add_flag("--drop-non-finite", in.drop_non_finite,
-               "Drop points with NaN/Inf coordinates (counted in a warning) instead of failing");
-  cmd.add_option("--mesh-samples", in.mesh_samples,
-                 "A mesh input (PLY/OBJ with faces) with fewer vertices than this is read as this many points drawn "
-                 "uniformly on its faces (seeded); 0 reads every mesh's vertices")
-      ->capture_default_str();
-}
-
-void add_mesh_options(CLI::App& cmd, clustersurf::cli::MeshArgs& m) {
-  auto& o = m.options;
-  cmd.add_option("--resolution", m.resolution,
-                 "Mesh grid cells along the longest bbox side, or \"auto\": cells two median point spacings of the "
-                 "input wide, coarser where clumped points would give over 4 surface cells per point (stored in the "
-                 "tree; a version-1 tree file without --points gets " +
-                     std::to_string(o.grid.resolution) + " cells)")
-      ->check(CLI::Range(2, 100000) | CLI::IsMember({"auto"}))
-      ->capture_default_str();
-  cmd.add_option("--voxel-size", o.grid.voxel_size, "Mesh grid cell size (overrides --resolution)")
-      ->check(CLI::PositiveNumber);
-  cmd.add_option("--lod-depth", o.lod_depth, "Blend the tree cut at this depth instead of the leaves");
-  cmd.add_option("--lod-error", o.lod_error, "Blend the shallowest nodes with error <= this fraction of the diagonal")
-      ->check(CLI::NonNegativeNumber);
-  cmd.add_option("--color", m.color,
-                 "Vertex colors: input (the input points' own colors, when they have them: a scan's RGB), none, "
-                 "leaf (per blended node), distance (to the input points) or intensity (the scanner's intensity "
-                 "as grey; in core only)")
-      ->check(CLI::IsMember({"input", "none", "leaf", "distance", "intensity"}))
-      ->capture_default_str();
-  cmd.add_option("--trim", o.trim.spread_factor,
-                 "Drop triangles farther from the input points than this x the nearest point's spread "
-                 "(mean distance to its 8 neighbours), where the data stops (up to 1.5x that where the data "
-                 "lies all around: a gap between samples); needs the points "
-                 "(reconstruct: always; mesh: --points). 0 keeps every triangle")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  cmd.add_option("--min-component-points", o.trim.min_component_points,
-                 "Drop loose fragments on which fewer than this many input points lie nearest (needs the points "
-                 "as --trim does). 0 keeps every fragment")
-      ->capture_default_str();
-  cmd.add_flag("--close-pinholes", o.trim.close_pinholes,
-               "Close the small holes the input points cover with a fan each (fewer boundary edges, a little less "
-               "accuracy; needs the points as --trim does)");
-  cmd.add_option("--decimate", o.decimation.target_triangles,
-                 "Reduce the mesh to at most this many triangles (edge collapses that keep vertices in place and "
-                 "the mesh's rims fixed). 0 keeps them all")
-      ->capture_default_str();
-  cmd.add_option("--decimate-tolerance", o.decimation.max_deviation,
-                 "Reduce the mesh while the surface moves by at most this distance (input units); with --decimate, "
-                 "stop at whichever comes first")
-      ->check(CLI::NonNegativeNumber);
-  cmd.add_flag("--watertight", o.closing.enabled,
-               "A closed, manifold mesh whatever holes the data has: where the leaves define the surface it is "
-               "the same; elsewhere the surface is filled smoothly and its vertices are marked (\"filled\")");
-  cmd.add_option("--fill-holes", o.closing.max_hole_size,
-                 "With --watertight: fill only holes up to this size (input units); larger openings stay open")
-      ->check(CLI::NonNegativeNumber);
-  cmd.add_flag("--mesh-ascii", m.ascii, "Write the mesh as ascii PLY instead of binary");
-}
-
-/// The `convert` subcommand, its arguments bound to `args`.
-CLI::App* add_convert_command(CLI::App& app, clustersurf::cli::ConvertArgs& args) {
-  CLI::App* c = app.add_subcommand("convert", "Convert a point cloud between formats, optionally reduced");
-  add_input(*c, args.input);
-  c->add_option("output", args.output, "Output file (.ply, .xyz, .obj)")->required();
-  c->add_option("--subsample", args.subsample, "Keep N points chosen uniformly at random")->check(CLI::PositiveNumber);
-  c->add_option("--voxel", args.voxel, "Average the points in each cube of this side")->check(CLI::PositiveNumber);
-  c->add_option("--seed", args.seed, "Random seed for --subsample")->default_val(1);
-  c->add_flag("--ascii", args.ascii, "Write ascii PLY instead of binary");
-  c->add_flag("--double", args.double_precision, "Store PLY coordinates as double (bit-exact)");
-  return c;
-}
-
-/// The `stats` subcommand, its arguments bound to `args`.
-CLI::App* add_stats_command(CLI::App& app, clustersurf::cli::StatsArgs& args) {
-  CLI::App* s = app.add_subcommand("stats", "Point count, bounding box, spacing, attributes of a cloud");
-  add_input(*s, args.input);
-  return s;
-}
-
-/// The `reconstruct` subcommand, its arguments bound to `args`.
-CLI::App* add_reconstruct_command(CLI::App& app, clustersurf::cli::ReconstructArgs& args) {
-  CLI::App* r = app.add_subcommand("reconstruct", "Build the cluster tree of a point cloud (and save it)");
-  add_input(*r, args.input);
-  r->add_option("-o,--output", args.tree_output, "Tree file to write (.cstree)");
-  r->add_option("--mesh", args.mesh_output, "Also mesh the surface into this file (.ply, .obj, .off, .stl or .glb)");
-  add_mesh_options(*r, args.mesh);
-  r->add_flag("--ignore-normals", args.ignore_normals, "Orient by propagation even when the input has normals");
-  r->add_flag("--no-creases", args.no_creases,
-              "No crease leaves: a cluster on the two faces of a sharp edge is split like any other instead of "
-              "fitted by two planes meeting at the edge");
-  r->add_option("--proxy", args.proxy, "Proxy per cluster: plane, poly (bivariate quadratic) or quadric")
-      ->check(CLI::IsMember({"plane", "poly", "quadric"}))
-      ->capture_default_str();
-  r->add_option("--splitter", args.splitter, "Cluster splitting: split-plane or lloyd")
-      ->check(CLI::IsMember({"split-plane", "lloyd"}))
-      ->capture_default_str();
-  r->add_option("--tolerance,--max-error", args.tolerance,
-                "The error a leaf may keep beyond the estimated scanner noise, as a fraction of the bbox diagonal (a "
-                "leaf's RMS error must be <= hypot(tolerance, noise)); \"auto\" = " +
-                    fmt::format("{}", clustersurf::BuildOptions{}.tolerance))
-      ->capture_default_str();
-  r->add_option("--absolute-tolerance,--absolute-error", args.absolute_tolerance,
-                "Leaf error threshold in the input's units, noise included (overrides --tolerance)")
-      ->check(CLI::NonNegativeNumber);
-  r->add_option("--error", args.error_metric, "Error compared with the threshold: rms or max")
-      ->check(CLI::IsMember({"rms", "max"}))
-      ->capture_default_str();
-  r->add_option(
-       "--min-points", args.min_points,
-       "No cluster below this many points, or \"auto\": from the estimated noise against the point spacing (12 "
-       "for clean or sparse data up to 20 for noise of half a spacing or more), and two thirds of that where relief "
-       "finer than the clusters needs it")
-      ->check(CLI::Range(1, 1 << 30) | CLI::IsMember({"auto"}))
-      ->capture_default_str();
-  auto& b = args.build;
-  r->add_option("--max-depth", b.max_depth, "Maximum tree depth")->capture_default_str();
-  r->add_option("--alpha", b.alpha, "Support radius = alpha x cluster bbox diagonal")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  r->add_option("--kstep", b.kstep, "Split-plane sweep step (0: at most 64 candidates per split)")
-      ->capture_default_str();
-  r->add_option("--lloyd-restarts", b.lloyd_restarts, "Lloyd splitter: 2-means restarts")
-      ->check(CLI::Range(1, 1000))
-      ->capture_default_str();
-  r->add_option("--proxy-lloyd", b.proxy_lloyd_iterations, "Lloyd splitter: proxy-Lloyd refinement rounds")
-      ->capture_default_str();
-  r->add_option("--noise-factor", b.noise_factor,
-                "Noise counted in the threshold = this x the estimated noise (0: ignore the noise, no estimate)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  r->add_option("--support-factor", b.support_factor,
-                "A leaf's weighted RMS error over the points in its support sphere must be <= this x the threshold "
-                "(0: no check)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  r->add_option("--seed", b.seed, "Seed for every random choice")->capture_default_str();
-  r->add_flag("--keep-outliers", args.keep_outliers,
-              "Cluster every input point; by default isolated points (mean distance to their 8 nearest "
-              "neighbours over 3x their neighbours' or 6x the cloud's median) are left out");
-  r->add_flag("--no-point-leaves", args.no_point_leaves, "Do not store each point's leaf in the tree file");
-  r->add_option("--memory-limit", args.memory_limit,
-                "Build and mesh out of core within about this much memory (e.g. 4G): the input is split into "
-                "regions on disk, each built and meshed in turn, the tiles welded into one mesh");
-  r->add_option("--work-dir", args.work_dir,
-                "Where an out-of-core run keeps its files (default: the mesh or tree file's name + .work); a run "
-                "interrupted and started again resumes there. A folder holding other files is used alongside them: "
-                "only the run's "
-                "own files are removed when it is done, and the folder only if the run created it");
-  r->add_flag("--keep-work-dir", args.keep_work_dir, "Keep an out-of-core run's files when it is done");
-  return r;
-}
-
-/// The `info` subcommand, its arguments bound to `args`.
-CLI::App* add_info_command(CLI::App& app, clustersurf::cli::InfoArgs& args) {
-  CLI::App* i = app.add_subcommand("info", "Describe a tree file: sizes, depth, proxies, errors, parameters");
-  i->add_option("tree", args.tree, "Tree file (.cstree)")->required();
-  return i;
-}
-
-/// The `mesh` subcommand, its arguments bound to `args`.
-CLI::App* add_mesh_command(CLI::App& app, clustersurf::cli::MeshCommandArgs& args) {
-  CLI::App* m = app.add_subcommand("mesh", "Mesh the implicit surface of a tree file");
-  m->add_option("tree", args.tree, "Tree file (.cstree)")->required();
-  m->add_option("-o,--output", args.output, "Mesh file to write (.ply, .obj, .off, .stl or .glb)")->required();
-  m->add_option("--points", args.mesh.points, "The tree's input cloud, for --trim and --color distance or input");
-  add_mesh_options(*m, args.mesh);
-  return m;
-}
-
-/// The `sample` subcommand, its arguments bound to `args`.
-CLI::App* add_sample_command(CLI::App& app, clustersurf::cli::SampleArgs& args) {
-  CLI::App* sm = app.add_subcommand("sample",
-                                    "Draw area-uniform random points (with normals) from a triangle mesh, or scan it "
-                                    "with a virtual range scanner (--scanner)");
-  sm->add_option("mesh", args.mesh, "Triangle mesh (.ply or .obj)")->required();
-  sm->add_option("-o,--output", args.output, "Point cloud to write (.ply, .xyz)")->required();
-  sm->add_option("-n,--n", args.count, "Number of surface points (--scanner: about this many)")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  sm->add_option("--noise", args.noise,
-                 "Gaussian noise sigma as a fraction of the bbox diagonal (--scanner: along the line of sight)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  sm->add_option("--outliers", args.outliers, "Uniform outliers in the bbox, as a fraction of N")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  sm->add_option("--seed", args.seed, "Random seed")->capture_default_str();
-  sm->add_flag("--ascii", args.ascii, "Write ascii PLY instead of binary");
-  sm->add_flag("--no-normals", args.no_normals, "Do not write the normals");
-  sm->add_option("--scanner", args.scanner,
-                 "Scan from N viewpoints around the mesh instead: occlusion holes, grazing returns dropped, normals "
-                 "from each scan's grid towards its scanner")
-      ->check(CLI::PositiveNumber);
-  sm->add_option("--registration", args.registration,
-                 "--scanner: each scan's rigid misregistration, sigma as a fraction of the bbox diagonal")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  sm->add_option("--flip-normals", args.flipped_normals,
-                 "--scanner: fraction of the returns whose normal points away from its scanner (orientation errors)")
-      ->check(CLI::Range(0.0, 1.0))
-      ->capture_default_str();
-  sm->add_option("--scanner-distance", args.scanner_distance, "--scanner: distance to the bbox center, in diagonals")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  return sm;
-}
-
-/// The `eval` subcommand, its arguments bound to `args`.
-CLI::App* add_eval_command(CLI::App& app, clustersurf::cli::EvalArgs& args) {
-  CLI::App* ev = app.add_subcommand("eval", "Accuracy of a reconstruction against a reference surface (mesh or cloud)");
-  ev->add_option("reconstruction", args.reconstruction, "Reconstructed mesh or cloud (.ply, .obj, .xyz)")->required();
-  ev->add_option("-r,--reference", args.reference, "Reference mesh or cloud (the ground truth)")->required();
-  ev->add_option("--samples", args.samples, "Points sampled on each mesh surface")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  ev->add_option("--seed", args.seed, "Random seed for the samples")->capture_default_str();
-  return ev;
-}
-
-/// The `check` subcommand, its arguments bound to `args`.
-CLI::App* add_check_command(CLI::App& app, clustersurf::cli::CheckArgs& args) {
-  CLI::App* ck = app.add_subcommand("check",
-                                    "Is a mesh ready to print: boundary and non-manifold edges, orientation, "
-                                    "components, Euler characteristic and genus, volume, self-intersections");
-  ck->add_option("mesh", args.mesh, "Triangle mesh (.ply or .obj)")->required();
-  return ck;
-}
-
-/// The `render` subcommand, its arguments bound to `args`.
-CLI::App* add_render_command(CLI::App& app, clustersurf::cli::RenderArgs& args) {
-  CLI::App* v = app.add_subcommand("render", "Ray-trace a picture of a tree's surface (or of meshes and point clouds)");
-  v->add_option("input", args.inputs, "Tree file (.cstree), mesh or point cloud; several with --grid")->required();
-  v->add_option("-o,--output", args.output, "Picture to write (.png)")->required();
-  v->add_option("--width", args.width, "Picture width in pixels")->check(CLI::Range(1, 32768))->capture_default_str();
-  v->add_option("--height", args.height, "Picture height in pixels")
-      ->check(CLI::Range(1, 32768))
-      ->capture_default_str();
-  v->add_option("--samples", args.samples, "Rays per pixel (anti-aliasing)")
-      ->check(CLI::Range(1, 1024))
-      ->capture_default_str();
-  v->add_option("--mode", args.mode,
-                "Intersection: implicit (first zero of f), hit-blend (blend the proxies' hits, thesis 5.1) or "
-                "brute-force (implicit without the hierarchy)")
-      ->check(CLI::IsMember({"implicit", "hit-blend", "brute-force"}))
-      ->capture_default_str();
-  v->add_option("--show", args.show, "What to draw: surface, clusters, spheres, proxies or error")
-      ->check(CLI::IsMember({"surface", "clusters", "spheres", "proxies", "error"}))
-      ->capture_default_str();
-  v->add_option("--level", args.level, "clusters: color by the ancestor at this depth instead of the leaf");
-  v->add_option("--highlight", args.highlight, "Draw this node's cluster and proxy in red over the grey surface")
-      ->check(CLI::NonNegativeNumber);
-  v->add_option("--points", args.points, "The input cloud, for --show error");
-  v->add_option("--error-scale", args.error_scale, "error: distance drawn full red (default 0.005 x diagonal)")
-      ->check(CLI::PositiveNumber);
-  v->add_option("--azimuth", args.azimuth, "Camera turn around the up axis, degrees")->capture_default_str();
-  v->add_option("--elevation", args.elevation, "Camera elevation, degrees")
-      ->check(CLI::Range(-89.9, 89.9))
-      ->capture_default_str();
-  v->add_option("--distance", args.distance, "Camera distance to the target (default: the model fills the view)")
-      ->check(CLI::PositiveNumber);
-  v->add_option("--fov", args.fov, "Vertical field of view, degrees")
-      ->check(CLI::Range(1.0, 170.0))
-      ->capture_default_str();
-  v->add_option("--eye", args.eye, "Explicit camera position x,y,z")->delimiter(',')->expected(3);
-  v->add_option("--target", args.target, "Point looked at x,y,z (default: bbox center)")->delimiter(',')->expected(3);
-  v->add_option("--up", args.up,
-                "Up direction x,y,z (default: the input's up axis: 0,0,1 for LAS, E57 and PTX surveys and what was "
-                "made from them, else 0,1,0)")
-      ->delimiter(',')
-      ->expected(3);
-  v->add_option("--background", args.background, "transparent, white, black or #rrggbb")->default_val("white");
-  v->add_flag("--ao", args.ambient_occlusion, "Ambient occlusion (8 short rays per hit)");
-  v->add_option("--lod-depth", args.lod_depth, "Blend the tree cut at this depth instead of the leaves");
-  v->add_option("--lod-error", args.lod_error, "Blend the shallowest nodes with error <= this fraction of the diagonal")
-      ->check(CLI::NonNegativeNumber);
-  v->add_option("--min-weight", args.min_weight, "Surface only where the total weight exceeds this (as the mesher)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  v->add_option("--point-radius", args.point_radius, "Point clouds: splat radius (0: 0.75 x mean spacing)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  v->add_flag("--grid", args.grid, "Render every input with the same camera into one labelled picture");
-  v->add_option("--columns", args.columns, "--grid: pictures per row (0: as square as possible)")
-      ->check(CLI::NonNegativeNumber);
-  return v;
-}
-
-/// The `view` subcommand, its arguments bound to `args`.
-CLI::App* add_view_command(CLI::App& app, clustersurf::cli::ViewArgs& args) {
-  CLI::App* vw =
-      app.add_subcommand("view", "Write an interactive HTML viewer of a tree: clusters, proxies, spheres, mesh");
-  vw->add_option("tree", args.tree, "Tree file (.cstree)")->required();
-  vw->add_option("-o,--output", args.output, "Page to write (.html, self-contained: open it in a browser)")->required();
-  vw->add_option("--points", args.points, "The cloud the tree was built from (tree files do not hold the positions)");
-  vw->add_option("--mesh", args.mesh, "A mesh to show as well (.ply, .obj or .glb)");
-  vw->add_option("--max-points", args.max_points,
-                 "Embed at most this many points, evenly spread over the input (0: all)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  return vw;
-}
 
 /// The exit code of the exception in flight, its message logged: the one place where errors
 /// become messages and exit codes.
@@ -379,51 +58,25 @@ int report_failure(clustersurf::cli::Console& console) {
 
 int main(int argc, char** argv) {
   using namespace clustersurf::cli;
-  CLI::App app{"clustersurf: surfaces from point clouds by hierarchical clustering"};
-  app.set_version_flag("--version", std::string("clustersurf ") + clustersurf::kVersion);
-  app.require_subcommand(1);
-  app.fallthrough();  // global options may also follow the subcommand (inherited by subcommands)
-  GlobalOptions global;
-  app.add_option("--threads", global.threads, "Worker threads (0: all cores); results do not depend on it")
-      ->check(CLI::NonNegativeNumber)
-      ->default_val(0);
-  app.add_flag("-q,--quiet", global.quiet, "No progress, no human output; errors only");
-  app.add_flag("--json", global.json, "Machine-readable JSON on stdout");
-
-  Commands commands;
-  CLI::App* c = add_convert_command(app, commands.convert);
-  CLI::App* s = add_stats_command(app, commands.stats);
-  CLI::App* r = add_reconstruct_command(app, commands.reconstruct);
-  CLI::App* i = add_info_command(app, commands.info);
-  CLI::App* m = add_mesh_command(app, commands.mesh);
-  CLI::App* sm = add_sample_command(app, commands.sample);
-  CLI::App* ev = add_eval_command(app, commands.eval);
-  CLI::App* ck = add_check_command(app, commands.check);
-  CLI::App* v = add_render_command(app, commands.render);
-  CLI::App* vw = add_view_command(app, commands.view);
-
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);  // prints help, version or the usage error
-    return code == 0 ? 0 : kExitUsage;
-  }
-
-  const int threads = global.threads > 0 ? global.threads : static_cast<int>(tbb::info::default_concurrency());
+  const CommandLine line = parse_command_line(argc, argv, kExitUsage);
+  if (line.exit) return *line.exit;
+  const Commands& c = line.commands;
+  const int threads =
+      line.global.threads > 0 ? line.global.threads : static_cast<int>(tbb::info::default_concurrency());
   tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
-  Console console(global);
+  Console console(line.global);
   install_interrupt_handlers();
   try {
-    if (c->parsed()) return run_convert(console, commands.convert);
-    if (s->parsed()) return run_stats(console, commands.stats);
-    if (r->parsed()) return run_reconstruct(console, commands.reconstruct);
-    if (i->parsed()) return run_info(console, commands.info);
-    if (m->parsed()) return run_mesh(console, commands.mesh);
-    if (sm->parsed()) return run_sample(console, commands.sample);
-    if (ev->parsed()) return run_eval(console, commands.eval);
-    if (ck->parsed()) return run_check(console, commands.check);
-    if (v->parsed()) return run_render(console, commands.render);
-    if (vw->parsed()) return run_view(console, commands.view);
+    if (line.command == "convert") return run_convert(console, c.convert);
+    if (line.command == "stats") return run_stats(console, c.stats);
+    if (line.command == "reconstruct") return run_reconstruct(console, c.reconstruct);
+    if (line.command == "info") return run_info(console, c.info);
+    if (line.command == "mesh") return run_mesh(console, c.mesh);
+    if (line.command == "sample") return run_sample(console, c.sample);
+    if (line.command == "eval") return run_eval(console, c.eval);
+    if (line.command == "check") return run_check(console, c.check);
+    if (line.command == "render") return run_render(console, c.render);
+    if (line.command == "view") return run_view(console, c.view);
     return kExitUsage;
   } catch (...) {
     return report_failure(console);
