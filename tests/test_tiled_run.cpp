@@ -297,7 +297,7 @@ TEST(TiledRun, DamagedFilesAreClearErrors) {
   EXPECT_THROW(run.join(options.meshing), InputError);
   // A merge record whose region line is broken: the line is named, no tile is made.
   std::filesystem::remove(work / "tile-000001.bin");
-  test::write_file(work / "merge.txt", "merge 10 0.01 0 0 0 1 1 1\nregions 2\nregion 0 0.5\nregion 2 0.5\n");
+  test::write_file(work / "merge.txt", "merge 10 0.01 0 0 0 1 1 1 0.02\nregions 2\nregion 0 0.5\nregion 2 0.5\n");
   try {
     run.mesh(1, options);
     FAIL() << "a broken merge record was read";

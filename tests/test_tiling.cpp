@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <random>
 #include <set>
 
 #include "test_support.hpp"
@@ -138,4 +139,25 @@ TEST(Tiling, RefusesWhatTilesCannotDo) {
   options.meshing.closing.enabled = true;
   EXPECT_THROW(reconstruct_tiled(cloud, regions_of(1000), options), OptionError);
   EXPECT_THROW(plan_regions(cloud.positions, 3000, bounding_box(cloud.positions), 0.01, regions_of(0)), OptionError);
+}
+
+// Points in tight clumps (3,000 clumps of 10, a thirtieth of their distance apart): the median
+// spacing is the clumps' own. The tiles take the in-core automatic cell, coarsened for the clumps
+// (auto_cell_size() of the merged tree), not twice that spacing, a grid of some hundred surface
+// cells per point.
+TEST(Tiling, ClumpedPointsGetTheInCoreAutomaticCell) {
+  std::mt19937_64 rng(4);
+  std::normal_distribution<double> g(0, 1);
+  PointCloud c;
+  c.positions.resize(30000, 3);
+  for (Eigen::Index row = 0; row < c.positions.rows();) {
+    const Eigen::Vector3d centre = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+    for (int p = 0; p < 10; ++p)
+      c.positions.row(row++) = (centre + 0.002 * Eigen::Vector3d(g(rng), g(rng), g(rng))).normalized().transpose();
+  }
+  c.normals = c.positions;  // the unit sphere's outward normals
+  const Reconstruction tiled = reconstruct_tiled(c, regions_of(12000));
+  ASSERT_TRUE(tiled.mesh);
+  EXPECT_DOUBLE_EQ(tiled.mesh->grid.voxel_size, auto_cell_size(ImplicitSurface(tiled.tree)));
+  EXPECT_GT(tiled.mesh->grid.voxel_size, 4 * tiled.tree.point_spacing);
 }

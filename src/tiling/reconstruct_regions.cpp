@@ -81,6 +81,7 @@ double tiled_cell_size(const ClusterTree& tree, const SurfaceMeshOptions& option
 }
 
 double tiled_cell_size(const RegionMerge& merge, const SurfaceMeshOptions& options) {
+  if (!options.grid.voxel_size && options.auto_resolution && merge.auto_cell > 0) return merge.auto_cell;
   return cell_size(merge.bbox, merge.point_spacing, options);
 }
 
@@ -113,6 +114,7 @@ Reconstruction reconstruct_regions(const RegionPlan& plan, const RegionSource& s
   out.orientation = detail::combine_orientations(oriented, empty);
   RegionMerge merge;
   out.tree = merge_region_trees(plan, trees, detail::propagated(oriented, empty), merge);
+  merge.auto_cell = detail::merged_auto_cell(out.tree);
   out.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!options.mesh) return out;
 

@@ -54,6 +54,10 @@ MeshTile mesh_region(const RegionPlan& plan, const RegionMerge& merge, std::int3
                    options.meshing.coloring == MeshColoring::FromInput);
 }
 
+double merged_auto_cell(const ClusterTree& merged) {
+  return merged.point_spacing > 0 && !merged.nodes.empty() ? auto_cell_size(ImplicitSurface(merged)) : 0.0;
+}
+
 void add_tile_grid(MeshReport& grid, const MeshTile& tile) {
   grid.voxel_size = tile.grid.voxel_size;
   grid.evaluated_corners += tile.grid.evaluated_corners;

@@ -24,6 +24,10 @@ OrientationReport combine_orientations(const std::vector<OrientationReport>& ori
 /// Whether some region was oriented by propagation (the merge then makes the regions agree).
 bool propagated(const std::vector<OrientationReport>& oriented, const std::vector<std::uint8_t>& empty);
 
+/// The merged tree's automatic lattice cell (auto_cell_size(), coarsened for clumps as in
+/// core), for RegionMerge::auto_cell; 0 for a tree without a point spacing.
+double merged_auto_cell(const ClusterTree& merged);
+
 /// The tile of region `region` on the merged tree's lattice: meshed from the region trees its
 /// leaves may meet (tile_regions(); `region_tree(k)` gives tree k), trimmed to its points, their
 /// outliers marked as the build marked them. An empty tile where no leaf reaches it.

@@ -221,6 +221,7 @@ ClusterTree TiledRun::merge() const {
   }
   RegionMerge record;
   ClusterTree merged = merge_region_trees(plan(), std::move(trees), detail::propagated(oriented, empty), record);
+  record.auto_cell = detail::merged_auto_cell(merged);
   detail::write_merge(impl_->dir / "merge.txt", record);
   save_tree(f, merged);  // last: the merge is done
   return merged;

@@ -265,7 +265,8 @@ PartitionRecord read_partition(const std::filesystem::path& file) {
 void write_merge(const std::filesystem::path& file, const RegionMerge& m) {
   std::ostringstream out = text_stream();
   out << "merge " << m.leaves << " " << m.point_spacing << " " << m.bbox.min.x() << " " << m.bbox.min.y() << " "
-      << m.bbox.min.z() << " " << m.bbox.max.x() << " " << m.bbox.max.y() << " " << m.bbox.max.z() << "\n";
+      << m.bbox.min.z() << " " << m.bbox.max.x() << " " << m.bbox.max.y() << " " << m.bbox.max.z() << " " << m.auto_cell
+      << "\n";
   out << "regions " << m.reach.size() << "\n";
   for (std::size_t r = 0; r < m.reach.size(); ++r)
     out << "region " << static_cast<int>(m.flipped[r]) << " " << m.reach[r] << "\n";
@@ -278,11 +279,12 @@ RegionMerge read_merge(const std::filesystem::path& file) {
   RegionMerge m;
   auto head = lines.next("merge", "the merge");
   lines.read(head, "merge", m.leaves, m.point_spacing, m.bbox.min.x(), m.bbox.min.y(), m.bbox.min.z(), m.bbox.max.x(),
-             m.bbox.max.y(), m.bbox.max.z());
+             m.bbox.max.y(), m.bbox.max.z(), m.auto_cell);
   if (!m.bbox.min.allFinite() || !m.bbox.max.allFinite() || (m.bbox.min.array() > m.bbox.max.array()).any())
     lines.fail("the merged box must be finite, its minimum below its maximum");
   if (!(m.point_spacing >= 0) || !std::isfinite(m.point_spacing))
     lines.fail("the point spacing must be finite and >= 0");
+  if (!(m.auto_cell >= 0) || !std::isfinite(m.auto_cell)) lines.fail("the automatic cell must be finite and >= 0");
   auto count_line = lines.next("regions", "the region count");
   std::uint64_t count = 0;
   lines.read(count_line, "region count", count);

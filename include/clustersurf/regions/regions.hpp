@@ -130,6 +130,9 @@ struct RegionMerge {
   std::size_t leaves = 0;
   std::vector<std::uint8_t> flipped;  ///< per region: 1 where the merge flipped every proxy
   std::vector<double> reach;          ///< per region: its leaves' largest support radius (0: empty)
+  /// The automatic lattice cell of the merged tree, coarsened where clumped points would give
+  /// too many cells (auto_cell_size(), set by the tiled runs, which mesh); 0: not measured.
+  double auto_cell = 0;
 };
 
 /// merge_region_trees(), and how it merged (`record`).

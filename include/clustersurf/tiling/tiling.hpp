@@ -99,8 +99,9 @@ void require_tiled_meshing(const SurfaceMeshOptions& options);
 /// The lattice cell of a tiled mesh of `tree`: options.grid's voxel size, else the tree's
 /// (auto resolution, auto_cell_size() of its leaves), else its resolution along the longest side.
 double tiled_cell_size(const ClusterTree& tree, const SurfaceMeshOptions& options);
-/// The same from the merge record (its box and spacing), without the tree: the spacing's cell
-/// (cell_size_for_spacing()), not coarsened for clumps.
+/// The same from the merge record, without the tree: its automatic cell (RegionMerge::auto_cell,
+/// which the merge of a tiled run measures on the merged tree), else its spacing's cell
+/// (cell_size_for_spacing()), else the resolution along its box's longest side.
 double tiled_cell_size(const RegionMerge& merge, const SurfaceMeshOptions& options);
 
 /// reconstruct_regions() of a cloud in memory, split by plan_regions() of an even sample of
