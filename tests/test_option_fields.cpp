@@ -25,11 +25,6 @@ std::size_t listed_fields() {
   return n;
 }
 
-template <class T>
-constexpr bool kIsOptional = false;
-template <class T>
-constexpr bool kIsOptional<std::optional<T>> = true;
-
 /// Calls f(path, field) for every field that is no option struct, through the nested ones.
 template <class Options, class F>
 void for_each_leaf(Options& o, const std::string& prefix, F&& f) {

@@ -77,7 +77,7 @@ void add_mesh_options(CLI::App& cmd, MeshArgs& m) {
 }
 
 /// The `convert` subcommand, its arguments bound to `args`.
-CLI::App* add_convert_command(CLI::App& app, ConvertArgs& args) {
+void add_convert_command(CLI::App& app, ConvertArgs& args) {
   CLI::App* c = app.add_subcommand("convert", "Convert a point cloud between formats, optionally reduced");
   add_input(*c, args.input);
   c->add_option("output", args.output, "Output file (.ply, .xyz, .obj)")->required();
@@ -86,18 +86,16 @@ CLI::App* add_convert_command(CLI::App& app, ConvertArgs& args) {
   c->add_option("--seed", args.seed, "Random seed for --subsample")->default_val(1);
   c->add_flag("--ascii", args.ascii, "Write ascii PLY instead of binary");
   c->add_flag("--double", args.double_precision, "Store PLY coordinates as double (bit-exact)");
-  return c;
 }
 
 /// The `stats` subcommand, its arguments bound to `args`.
-CLI::App* add_stats_command(CLI::App& app, StatsArgs& args) {
+void add_stats_command(CLI::App& app, StatsArgs& args) {
   CLI::App* s = app.add_subcommand("stats", "Point count, bounding box, spacing, attributes of a cloud");
   add_input(*s, args.input);
-  return s;
 }
 
 /// The `reconstruct` subcommand, its arguments bound to `args`.
-CLI::App* add_reconstruct_command(CLI::App& app, ReconstructArgs& args) {
+void add_reconstruct_command(CLI::App& app, ReconstructArgs& args) {
   CLI::App* r = app.add_subcommand("reconstruct", "Build the cluster tree of a point cloud (and save it)");
   add_input(*r, args.input);
   r->add_option("-o,--output", args.tree_output, "Tree file to write (.cstree)");
@@ -166,28 +164,25 @@ CLI::App* add_reconstruct_command(CLI::App& app, ReconstructArgs& args) {
                 "only the run's "
                 "own files are removed when it is done, and the folder only if the run created it");
   r->add_flag("--keep-work-dir", args.keep_work_dir, "Keep an out-of-core run's files when it is done");
-  return r;
 }
 
 /// The `info` subcommand, its arguments bound to `args`.
-CLI::App* add_info_command(CLI::App& app, InfoArgs& args) {
+void add_info_command(CLI::App& app, InfoArgs& args) {
   CLI::App* i = app.add_subcommand("info", "Describe a tree file: sizes, depth, proxies, errors, parameters");
   i->add_option("tree", args.tree, "Tree file (.cstree)")->required();
-  return i;
 }
 
 /// The `mesh` subcommand, its arguments bound to `args`.
-CLI::App* add_mesh_command(CLI::App& app, MeshCommandArgs& args) {
+void add_mesh_command(CLI::App& app, MeshCommandArgs& args) {
   CLI::App* m = app.add_subcommand("mesh", "Mesh the implicit surface of a tree file");
   m->add_option("tree", args.tree, "Tree file (.cstree)")->required();
   m->add_option("-o,--output", args.output, "Mesh file to write (.ply, .obj, .off, .stl or .glb)")->required();
   m->add_option("--points", args.mesh.points, "The tree's input cloud, for --trim and --color distance or input");
   add_mesh_options(*m, args.mesh);
-  return m;
 }
 
 /// The `sample` subcommand, its arguments bound to `args`.
-CLI::App* add_sample_command(CLI::App& app, SampleArgs& args) {
+void add_sample_command(CLI::App& app, SampleArgs& args) {
   CLI::App* sm = app.add_subcommand("sample",
                                     "Draw area-uniform random points (with normals) from a triangle mesh, or scan it "
                                     "with a virtual range scanner (--scanner)");
@@ -221,11 +216,10 @@ CLI::App* add_sample_command(CLI::App& app, SampleArgs& args) {
   sm->add_option("--scanner-distance", args.scanner_distance, "--scanner: distance to the bbox center, in diagonals")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  return sm;
 }
 
 /// The `eval` subcommand, its arguments bound to `args`.
-CLI::App* add_eval_command(CLI::App& app, EvalArgs& args) {
+void add_eval_command(CLI::App& app, EvalArgs& args) {
   CLI::App* ev = app.add_subcommand("eval", "Accuracy of a reconstruction against a reference surface (mesh or cloud)");
   ev->add_option("reconstruction", args.reconstruction, "Reconstructed mesh or cloud (.ply, .obj, .xyz)")->required();
   ev->add_option("-r,--reference", args.reference, "Reference mesh or cloud (the ground truth)")->required();
@@ -233,20 +227,18 @@ CLI::App* add_eval_command(CLI::App& app, EvalArgs& args) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   ev->add_option("--seed", args.seed, "Random seed for the samples")->capture_default_str();
-  return ev;
 }
 
 /// The `check` subcommand, its arguments bound to `args`.
-CLI::App* add_check_command(CLI::App& app, CheckArgs& args) {
+void add_check_command(CLI::App& app, CheckArgs& args) {
   CLI::App* ck = app.add_subcommand("check",
                                     "Is a mesh ready to print: boundary and non-manifold edges, orientation, "
                                     "components, Euler characteristic and genus, volume, self-intersections");
   ck->add_option("mesh", args.mesh, "Triangle mesh (.ply or .obj)")->required();
-  return ck;
 }
 
 /// The `render` subcommand, its arguments bound to `args`.
-CLI::App* add_render_command(CLI::App& app, RenderArgs& args) {
+void add_render_command(CLI::App& app, RenderArgs& args) {
   CLI::App* v = app.add_subcommand("render", "Ray-trace a picture of a tree's surface (or of meshes and point clouds)");
   v->add_option("input", args.inputs, "Tree file (.cstree), mesh or point cloud; several with --grid")->required();
   v->add_option("-o,--output", args.output, "Picture to write (.png)")->required();
@@ -301,11 +293,10 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& args) {
   v->add_flag("--grid", args.grid, "Render every input with the same camera into one labelled picture");
   v->add_option("--columns", args.columns, "--grid: pictures per row (0: as square as possible)")
       ->check(CLI::NonNegativeNumber);
-  return v;
 }
 
 /// The `view` subcommand, its arguments bound to `args`.
-CLI::App* add_view_command(CLI::App& app, ViewArgs& args) {
+void add_view_command(CLI::App& app, ViewArgs& args) {
   CLI::App* vw =
       app.add_subcommand("view", "Write an interactive HTML viewer of a tree: clusters, proxies, spheres, mesh");
   vw->add_option("tree", args.tree, "Tree file (.cstree)")->required();
@@ -316,7 +307,6 @@ CLI::App* add_view_command(CLI::App& app, ViewArgs& args) {
                  "Embed at most this many points, evenly spread over the input (0: all)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  return vw;
 }
 
 }  // namespace

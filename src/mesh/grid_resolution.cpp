@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <span>
 #include <string>
 
 namespace clustersurf {
@@ -27,11 +28,14 @@ double cell_size_for_points(const PointCloud& cloud, double spacing_factor) {
   return cell_size_for_spacing(compute_stats(cloud).median_spacing, spacing_factor);
 }
 
-MeshEstimate detail::estimate_mesh_within(const ImplicitSurface& surface, double cell_size, const BoundingBox* box) {
+namespace {
+
+/// estimate_mesh() of the blended nodes `cut` of `tree` whose supports meet `box` (all when null).
+MeshEstimate estimate_cut(const ClusterTree& tree, std::span<const std::int32_t> cut, double cell_size,
+                          const BoundingBox* box) {
   if (!(cell_size > 0) || !std::isfinite(cell_size)) throw OptionError("mesh voxel size must be positive");
-  const ClusterTree& tree = surface.tree();
   MeshEstimate out;
-  for (const std::int32_t n : surface.cut()) {
+  for (const std::int32_t n : cut) {
     const ClusterNode& node = tree.nodes[static_cast<std::size_t>(n)];
     if (box != nullptr && !detail::sphere_meets_box(node.support, *box)) continue;
     // A support grown beyond alpha × extent to hold MPU's N_min points (sparse or clumped
@@ -45,19 +49,29 @@ MeshEstimate detail::estimate_mesh_within(const ImplicitSurface& surface, double
   return out;
 }
 
-MeshEstimate estimate_mesh(const ImplicitSurface& surface, double cell_size) {
-  return detail::estimate_mesh_within(surface, cell_size, nullptr);
-}
-
-double auto_cell_size(const ImplicitSurface& surface) {
-  const ClusterTree& tree = surface.tree();
+/// auto_cell_size() of the blended nodes `cut` of `tree`.
+double auto_cell_of(const ClusterTree& tree, std::span<const std::int32_t> cut) {
   const double h = cell_size_for_spacing(tree.point_spacing);
   const double points = tree.nodes.empty() ? 0.0 : static_cast<double>(tree.nodes[0].point_count);
-  const double cells = estimate_mesh(surface, h).surface_cells;
+  const double cells = estimate_cut(tree, cut, h, nullptr).surface_cells;
   const double most = kMaxSurfaceCellsPerPoint * points;
   // The estimate falls with the square of the cell size.
   return cells > most && most > 0 ? h * std::sqrt(cells / most) : h;
 }
+
+}  // namespace
+
+MeshEstimate detail::estimate_mesh_within(const ImplicitSurface& surface, double cell_size, const BoundingBox* box) {
+  return estimate_cut(surface.tree(), surface.cut(), cell_size, box);
+}
+
+MeshEstimate estimate_mesh(const ImplicitSurface& surface, double cell_size) {
+  return detail::estimate_mesh_within(surface, cell_size, nullptr);
+}
+
+double auto_cell_size(const ImplicitSurface& surface) { return auto_cell_of(surface.tree(), surface.cut()); }
+
+double auto_cell_size(const ClusterTree& tree) { return auto_cell_of(tree, tree.leaves()); }
 
 std::optional<std::uint32_t> parse_resolution(std::string_view text) {
   if (text == "auto") return std::nullopt;

@@ -75,8 +75,7 @@ double cell_size(const BoundingBox& bbox, double point_spacing, const SurfaceMes
 }  // namespace
 
 double tiled_cell_size(const ClusterTree& tree, const SurfaceMeshOptions& options) {
-  if (!options.grid.voxel_size && options.auto_resolution && tree.point_spacing > 0)
-    return auto_cell_size(ImplicitSurface(tree));
+  if (!options.grid.voxel_size && options.auto_resolution && tree.point_spacing > 0) return auto_cell_size(tree);
   return cell_size(tree.bbox, tree.point_spacing, options);
 }
 

@@ -55,7 +55,11 @@ MeshTile mesh_region(const RegionPlan& plan, const RegionMerge& merge, std::int3
 }
 
 double merged_auto_cell(const ClusterTree& merged) {
-  return merged.point_spacing > 0 && !merged.nodes.empty() ? auto_cell_size(ImplicitSurface(merged)) : 0.0;
+  return merged.point_spacing > 0 && !merged.nodes.empty() ? auto_cell_size(merged) : 0.0;
+}
+
+void keep_tile_colors(MeshTile& tile, const SurfaceMeshOptions& options) {
+  if (options.coloring != MeshColoring::FromInput) tile.mesh.colors.resize(0, 3);
 }
 
 void add_tile_grid(MeshReport& grid, const MeshTile& tile) {
@@ -71,9 +75,7 @@ SurfaceMesh join_region_tiles(std::vector<MeshTile> tiles, const RegionMerge& me
   SurfaceMesh out;
   for (MeshTile& t : tiles) {
     add_tile_grid(out.grid, t);
-    // A tile's own colors (its points', made by the mesh task) go only into a mesh that asks
-    // for them.
-    if (options.coloring != MeshColoring::FromInput) t.mesh.colors.resize(0, 3);
+    keep_tile_colors(t, options);
   }
   out.mesh = join_tiles(tiles, options.trim);
   tiles.clear();

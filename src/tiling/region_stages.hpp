@@ -35,6 +35,10 @@ MeshTile mesh_region(const RegionPlan& plan, const RegionMerge& merge, std::int3
                      const CloudScale& scale, const ReconstructOptions& options,
                      const std::function<ClusterTree(std::int32_t)>& region_tree);
 
+/// Drops a tile's own colors (its points', made by the mesh task) unless `options` color the
+/// mesh from the input: a join with other colors, or none, has no use for them.
+void keep_tile_colors(MeshTile& tile, const SurfaceMeshOptions& options);
+
 /// The tiles' lattice figures summed into `grid`.
 void add_tile_grid(MeshReport& grid, const MeshTile& tile);
 

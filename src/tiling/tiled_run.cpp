@@ -33,11 +33,6 @@ namespace {
 constexpr std::array<std::string_view, 5> kNotStored = {"mesh", "meshing.grid.memory_limit", "meshing.closing",
                                                         "meshing.decimation", "meshing.distance_scale"};
 
-template <class T>
-constexpr bool kIsOptional = false;
-template <class T>
-constexpr bool kIsOptional<std::optional<T>> = true;
-
 /// One line "name value" per field of `o` (nested option structs by their fields, names joined
 /// by dots), but the kNotStored ones.
 template <class Options>
@@ -289,7 +284,7 @@ WrittenMesh TiledRun::write_mesh(const std::filesystem::path& file, const Surfac
   std::vector<std::uint8_t> counted(regions(), 0);  // the join reads every tile several times
   const auto tile = [&](std::int32_t k) {
     MeshTile t = detail::read_tile(impl_->need(impl_->file("tile", k, "bin"), "every region's mesh"));
-    if (options.coloring != MeshColoring::FromInput) t.mesh.colors.resize(0, 3);  // as join_region_tiles()
+    detail::keep_tile_colors(t, options);
     if (!counted[static_cast<std::size_t>(k)]++) detail::add_tile_grid(out.grid, t);
     return t;
   };

@@ -7,6 +7,7 @@
 
 #include <concepts>
 #include <cstddef>
+#include <optional>
 #include <type_traits>
 
 namespace clustersurf {
@@ -27,6 +28,12 @@ consteval std::size_t field_count() {
   else
     return sizeof...(Fields);
 }
+
+/// Whether T is a std::optional (an option that may be unset).
+template <class T>
+inline constexpr bool kIsOptional = false;
+template <class T>
+inline constexpr bool kIsOptional<std::optional<T>> = true;
 
 /// `Options` is the struct T, const or not (the constraint of each for_each_field()).
 template <class Options, class T>

@@ -118,6 +118,9 @@ inline constexpr double kMaxSurfaceCellsPerPoint = 4;
 /// coarsened until estimate_mesh() finds at most kMaxSurfaceCellsPerPoint surface cells per
 /// clustered point. Throws OptionError when the tree has no spacing.
 double auto_cell_size(const ImplicitSurface& surface);
+/// auto_cell_size() of the tree's leaves, without building its surface (a merged tree's at the
+/// merge of a tiled run).
+double auto_cell_size(const ClusterTree& tree);
 
 /// cell_size_for_spacing() of `cloud`'s median spacing (compute_stats()).
 double cell_size_for_points(const PointCloud& cloud, double spacing_factor = kSpacingsPerCell);
