@@ -6,6 +6,8 @@
 #include <clustersurf/pipeline/reconstruct.hpp>
 #include <clustersurf/tiling/tiled_run.hpp>
 
+#include "option_leaves.hpp"
+
 #include <gtest/gtest.h>
 
 #include <optional>
@@ -14,6 +16,7 @@
 #include <vector>
 
 using namespace clustersurf;
+using clustersurf::test::for_each_leaf;
 
 namespace {
 
@@ -23,19 +26,6 @@ std::size_t listed_fields() {
   std::size_t n = 0;
   for_each_field(o, [&](std::string_view, auto&) { ++n; });
   return n;
-}
-
-/// Calls f(path, field) for every field that is no option struct, through the nested ones.
-template <class Options, class F>
-void for_each_leaf(Options& o, const std::string& prefix, F&& f) {
-  for_each_field(o, [&](std::string_view name, auto& value) {
-    using V = std::remove_cvref_t<decltype(value)>;
-    const std::string path = prefix + std::string(name);
-    if constexpr (std::is_arithmetic_v<V> || std::is_enum_v<V> || kIsOptional<V>)
-      f(path, value);
-    else
-      for_each_leaf(value, path + ".", f);
-  });
 }
 
 /// Another value of the same field.

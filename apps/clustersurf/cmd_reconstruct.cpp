@@ -16,27 +16,12 @@ namespace clustersurf::cli {
 
 namespace {
 
-/// The library's options with the words of `a` parsed.
+/// The library's options with those given set (set_options()).
 ReconstructOptions reconstruct_options(const ReconstructArgs& a) {
   ReconstructOptions o;
-  BuildOptions& b = o.build;
-  b = a.build;
-  b.proxy = parse_proxy_kind(a.proxy);
-  b.splitter = parse_splitter(a.splitter);
-  b.metric = parse_error_metric(a.error_metric);
-  if (a.absolute_tolerance) {
-    b.threshold_mode = ThresholdMode::Absolute;
-    b.tolerance = *a.absolute_tolerance;
-  } else if (const auto tolerance = parse_tolerance(a.tolerance)) {
-    b.tolerance = *tolerance;
-  }
-  b.min_points = parse_min_points(a.min_points);
-  b.keep_point_leaves = !a.no_point_leaves;
-  b.remove_outliers = !a.keep_outliers;
-  b.use_normals = !a.ignore_normals;
-  b.creases = !a.no_creases;
+  set_options(o, a.build, {OptionStage::Build});
+  set_options(o, a.mesh.options, {OptionStage::Mesh});
   o.mesh = !a.mesh_output.empty();
-  o.meshing = surface_mesh_options(a.mesh);
   return o;
 }
 

@@ -1,14 +1,14 @@
-// The command line of the `clustersurf` tool (command_line.hpp): CLI11 options bound to the
-// library's option structs, with the library's defaults.
+// The command line of the `clustersurf` tool (command_line.hpp): the library's option schema
+// as CLI11 options, with the other arguments of each subcommand.
 
 #include "command_line.hpp"
 
-#include <clustersurf/mesh/mesh_extraction.hpp>
+#include <clustersurf/pipeline/option_schema.hpp>
 #include <clustersurf/version.hpp>
 
 #include <CLI/CLI.hpp>
-#include <fmt/format.h>
 
+#include <algorithm>
 #include <string>
 
 namespace clustersurf::cli {
@@ -25,54 +25,35 @@ void add_input(CLI::App& cmd, InputArgs& in) {
       ->capture_default_str();
 }
 
+/// The CLI flag of a schema name: --kebab-case.
+std::string flag_name(const std::string& name) {
+  std::string flag = "--" + name;
+  std::replace(flag.begin(), flag.end(), '_', '-');
+  return flag;
+}
+
+/// The option schema's options of `stage` (reconstruct_option_schema()), each given one
+/// appended to `values` as the schema's text; the library checks them.
+void add_schema_options(CLI::App& cmd, OptionStage stage, OptionValues& values) {
+  for (const OptionSpec& spec : reconstruct_option_schema()) {
+    if (spec.stage != stage) continue;
+    const std::string names = flag_name(spec.name) + (spec.alias.empty() ? "" : "," + flag_name(spec.alias));
+    if (spec.kind == OptionKind::Flag) {
+      cmd.add_flag_function(
+          names, [&values, name = spec.name](std::int64_t) { values.emplace_back(name, "true"); }, spec.help);
+      continue;
+    }
+    CLI::Option* option = cmd.add_option_function<std::string>(
+        names, [&values, name = spec.name](const std::string& text) { values.emplace_back(name, text); }, spec.help);
+    std::string type = spec.kind == OptionKind::Whole ? "UINT" : spec.kind == OptionKind::Number ? "FLOAT" : "";
+    for (const std::string& word : spec.words) type += (type.empty() ? "" : "|") + word;
+    option->type_name(type);
+    if (const std::string value = default_text(spec); !value.empty()) option->default_str(value);
+  }
+}
+
 void add_mesh_options(CLI::App& cmd, MeshArgs& m) {
-  auto& o = m.options;
-  cmd.add_option("--resolution", m.resolution,
-                 "Mesh grid cells along the longest bbox side, or \"auto\": cells two median point spacings of the "
-                 "input wide, coarser where clumped points would give over 4 surface cells per point (stored in the "
-                 "tree; a version-1 tree file without --points gets " +
-                     std::to_string(o.grid.resolution) + " cells)")
-      ->check(CLI::Range(2, 100000) | CLI::IsMember({"auto"}))
-      ->capture_default_str();
-  cmd.add_option("--voxel-size", o.grid.voxel_size, "Mesh grid cell size (overrides --resolution)")
-      ->check(CLI::PositiveNumber);
-  cmd.add_option("--lod-depth", o.lod_depth, "Blend the tree cut at this depth instead of the leaves");
-  cmd.add_option("--lod-error", o.lod_error, "Blend the shallowest nodes with error <= this fraction of the diagonal")
-      ->check(CLI::NonNegativeNumber);
-  cmd.add_option("--color", m.color,
-                 "Vertex colors: input (the input points' own colors, when they have them: a scan's RGB), none, "
-                 "leaf (per blended node), distance (to the input points) or intensity (the scanner's intensity "
-                 "as grey; in core only)")
-      ->check(CLI::IsMember({"input", "none", "leaf", "distance", "intensity"}))
-      ->capture_default_str();
-  cmd.add_option("--trim", o.trim.spread_factor,
-                 "Drop triangles farther from the input points than this x the nearest point's spread "
-                 "(mean distance to its 8 neighbours), where the data stops (up to 1.5x that where the data "
-                 "lies all around: a gap between samples); needs the points "
-                 "(reconstruct: always; mesh: --points). 0 keeps every triangle")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  cmd.add_option("--min-component-points", o.trim.min_component_points,
-                 "Drop loose fragments on which fewer than this many input points lie nearest (needs the points "
-                 "as --trim does). 0 keeps every fragment")
-      ->capture_default_str();
-  cmd.add_flag("--close-pinholes", o.trim.close_pinholes,
-               "Close the small holes the input points cover with a fan each (fewer boundary edges, a little less "
-               "accuracy; needs the points as --trim does)");
-  cmd.add_option("--decimate", o.decimation.target_triangles,
-                 "Reduce the mesh to at most this many triangles (edge collapses that keep vertices in place and "
-                 "the mesh's rims fixed). 0 keeps them all")
-      ->capture_default_str();
-  cmd.add_option("--decimate-tolerance", o.decimation.max_deviation,
-                 "Reduce the mesh while the surface moves by at most this distance (input units); with --decimate, "
-                 "stop at whichever comes first")
-      ->check(CLI::NonNegativeNumber);
-  cmd.add_flag("--watertight", o.closing.enabled,
-               "A closed, manifold mesh whatever holes the data has: where the leaves define the surface it is "
-               "the same; elsewhere the surface is filled smoothly and its vertices are marked (\"filled\")");
-  cmd.add_option("--fill-holes", o.closing.max_hole_size,
-                 "With --watertight: fill only holes up to this size (input units); larger openings stay open")
-      ->check(CLI::NonNegativeNumber);
+  add_schema_options(cmd, OptionStage::Mesh, m.options);
   cmd.add_flag("--mesh-ascii", m.ascii, "Write the mesh as ascii PLY instead of binary");
 }
 
@@ -101,60 +82,7 @@ void add_reconstruct_command(CLI::App& app, ReconstructArgs& args) {
   r->add_option("-o,--output", args.tree_output, "Tree file to write (.cstree)");
   r->add_option("--mesh", args.mesh_output, "Also mesh the surface into this file (.ply, .obj, .off, .stl or .glb)");
   add_mesh_options(*r, args.mesh);
-  r->add_flag("--ignore-normals", args.ignore_normals, "Orient by propagation even when the input has normals");
-  r->add_flag("--no-creases", args.no_creases,
-              "No crease leaves: a cluster on the two faces of a sharp edge is split like any other instead of "
-              "fitted by two planes meeting at the edge");
-  r->add_option("--proxy", args.proxy, "Proxy per cluster: plane, poly (bivariate quadratic) or quadric")
-      ->check(CLI::IsMember({"plane", "poly", "quadric"}))
-      ->capture_default_str();
-  r->add_option("--splitter", args.splitter, "Cluster splitting: split-plane or lloyd")
-      ->check(CLI::IsMember({"split-plane", "lloyd"}))
-      ->capture_default_str();
-  r->add_option("--tolerance,--max-error", args.tolerance,
-                "The error a leaf may keep beyond the estimated scanner noise, as a fraction of the bbox diagonal (a "
-                "leaf's RMS error must be <= hypot(tolerance, noise)); \"auto\" = " +
-                    fmt::format("{}", clustersurf::BuildOptions{}.tolerance))
-      ->capture_default_str();
-  r->add_option("--absolute-tolerance,--absolute-error", args.absolute_tolerance,
-                "Leaf error threshold in the input's units, noise included (overrides --tolerance)")
-      ->check(CLI::NonNegativeNumber);
-  r->add_option("--error", args.error_metric, "Error compared with the threshold: rms or max")
-      ->check(CLI::IsMember({"rms", "max"}))
-      ->capture_default_str();
-  r->add_option(
-       "--min-points", args.min_points,
-       "No cluster below this many points, or \"auto\": from the estimated noise against the point spacing (12 "
-       "for clean or sparse data up to 20 for noise of half a spacing or more), and two thirds of that where relief "
-       "finer than the clusters needs it")
-      ->check(CLI::Range(1, 1 << 30) | CLI::IsMember({"auto"}))
-      ->capture_default_str();
-  auto& b = args.build;
-  r->add_option("--max-depth", b.max_depth, "Maximum tree depth")->capture_default_str();
-  r->add_option("--alpha", b.alpha, "Support radius = alpha x cluster bbox diagonal")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  r->add_option("--kstep", b.kstep, "Split-plane sweep step (0: at most 64 candidates per split)")
-      ->capture_default_str();
-  r->add_option("--lloyd-restarts", b.lloyd_restarts, "Lloyd splitter: 2-means restarts")
-      ->check(CLI::Range(1, 1000))
-      ->capture_default_str();
-  r->add_option("--proxy-lloyd", b.proxy_lloyd_iterations, "Lloyd splitter: proxy-Lloyd refinement rounds")
-      ->capture_default_str();
-  r->add_option("--noise-factor", b.noise_factor,
-                "Noise counted in the threshold = this x the estimated noise (0: ignore the noise, no estimate)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  r->add_option("--support-factor", b.support_factor,
-                "A leaf's weighted RMS error over the points in its support sphere must be <= this x the threshold "
-                "(0: no check)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  r->add_option("--seed", b.seed, "Seed for every random choice")->capture_default_str();
-  r->add_flag("--keep-outliers", args.keep_outliers,
-              "Cluster every input point; by default isolated points (mean distance to their 8 nearest "
-              "neighbours over 3x their neighbours' or 6x the cloud's median) are left out");
-  r->add_flag("--no-point-leaves", args.no_point_leaves, "Do not store each point's leaf in the tree file");
+  add_schema_options(*r, OptionStage::Build, args.build);
   r->add_option("--memory-limit", args.memory_limit,
                 "Build and mesh out of core within about this much memory (e.g. 4G): the input is split into "
                 "regions on disk, each built and meshed in turn, the tiles welded into one mesh");

@@ -8,6 +8,7 @@
 #include <clustersurf/evaluation/surface_comparison.hpp>
 #include <clustersurf/io/point_cloud_io.hpp>
 #include <clustersurf/io/surface_sampling.hpp>
+#include <clustersurf/pipeline/option_schema.hpp>
 #include <clustersurf/pipeline/reconstruct.hpp>
 #include <clustersurf/render/render.hpp>
 #include <clustersurf/view/html_viewer.hpp>
@@ -26,13 +27,11 @@ struct InputArgs {
   std::size_t mesh_samples = ReadOptions{}.mesh_samples;
 };
 
-/// Options of the mesh stage, shared by `mesh` and `reconstruct --mesh`: the library's
-/// SurfaceMeshOptions (defaults and all) with the words still to parse.
+/// Options of the mesh stage, shared by `mesh` and `reconstruct --mesh`: the option schema's
+/// mesh options as given (set_options()) and how to write the mesh.
 struct MeshArgs {
-  SurfaceMeshOptions options;
-  std::string resolution = "auto";                               // parse_resolution()
-  std::string color = to_string(SurfaceMeshOptions{}.coloring);  // parse_mesh_coloring()
-  std::string points;  // input cloud for --trim and --color distance (mesh command)
+  OptionValues options;  // the schema's mesh-stage options given, as text
+  std::string points;    // input cloud for the trim and the input or distance colors (mesh command)
   bool ascii = false;
 };
 
@@ -52,24 +51,14 @@ struct StatsArgs {
 };
 int run_stats(Console& console, const StatsArgs& args);
 
-/// `reconstruct`: the library's BuildOptions (numbers bound directly, defaults and all) with
-/// the words still to parse.
+/// `reconstruct`: the option schema's build options as given, the mesh stage's and the
+/// out-of-core run's.
 struct ReconstructArgs {
   InputArgs input;
   std::string tree_output;  // .cstree (optional when mesh_output is given)
   std::string mesh_output;  // .ply/.obj (optional)
   MeshArgs mesh;
-  BuildOptions build;
-  std::string proxy = to_string(BuildOptions{}.proxy);        // parse_proxy_kind()
-  std::string splitter = to_string(BuildOptions{}.splitter);  // parse_splitter()
-  std::string tolerance = "auto";                             // parse_tolerance()
-  std::optional<double> absolute_tolerance;
-  std::string error_metric = to_string(BuildOptions{}.metric);  // parse_error_metric()
-  std::string min_points = "auto";                              // parse_min_points()
-  bool no_point_leaves = false;
-  bool keep_outliers = false;
-  bool ignore_normals = false;
-  bool no_creases = !BuildOptions{}.creases;
+  OptionValues build;        // the schema's build-stage options given, as text
   std::string memory_limit;  // parse_memory_size(); empty: in core
   std::string work_dir;      // out of core: the run's files (default: the output's name + .work)
   bool keep_work_dir = false;

@@ -9,12 +9,9 @@
 namespace clustersurf::cli {
 
 SurfaceMeshOptions surface_mesh_options(const MeshArgs& args) {
-  SurfaceMeshOptions o = args.options;
-  const std::optional<std::uint32_t> cells = parse_resolution(args.resolution);
-  o.auto_resolution = !cells;
-  if (cells) o.grid.resolution = *cells;
-  o.coloring = parse_mesh_coloring(args.color);
-  return o;
+  ReconstructOptions o;
+  set_options(o, args.options, {OptionStage::Mesh});
+  return o.meshing;
 }
 
 nlohmann::json write_surface_mesh(Console& console, const SurfaceMesh& result, const MeshArgs& args,

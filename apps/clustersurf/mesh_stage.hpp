@@ -10,7 +10,7 @@
 
 namespace clustersurf::cli {
 
-/// The library's mesh options with the words of `args` parsed.
+/// The library's mesh options with those of `args` set (set_options()).
 SurfaceMeshOptions surface_mesh_options(const MeshArgs& args);
 
 /// Writes `mesh` to `output` atomically and returns its figures as JSON (also printed as text

@@ -14,6 +14,7 @@ from ._clustersurf import __version__ as __version__
 from ._clustersurf import compare_surfaces as compare_surfaces
 from ._clustersurf import compare_surfaces as evaluate
 from ._clustersurf import load as load
+from ._clustersurf import option_schema as option_schema
 from ._clustersurf import read_mesh as read_mesh
 from ._clustersurf import read_points as read_points
 from ._clustersurf import reconstruct as reconstruct
@@ -45,6 +46,7 @@ __all__ = [
     "evaluate",
     "from_open3d",
     "load",
+    "option_schema",
     "read_mesh",
     "read_points",
     "reconstruct",

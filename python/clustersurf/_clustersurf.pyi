@@ -109,11 +109,9 @@ def reconstruct(
     support_factor: float = 2.0,
     seed: int = 1,
     ignore_normals: bool = False,
-    no_point_leaves: bool = False,
+    no_creases: bool = False,
     keep_outliers: bool = False,
-    creases: bool = True,
-    max_error: Optional[Union[str, float]] = None,
-    absolute_error: Optional[float] = None,
+    no_point_leaves: bool = False,
     progress: _Progress = None,
 ) -> Tree: ...
 def reconstruct_mesh(
@@ -124,6 +122,7 @@ def reconstruct_mesh(
     **kwargs: Any,
 ) -> Mesh: ...
 def load(path: _Path) -> Tree: ...
+def option_schema() -> List[Dict[str, Any]]: ...
 def reconstruct_file(
     input: _Path,
     *,
@@ -262,19 +261,19 @@ class Tree:
     def mesh(
         self,
         *,
-        resolution: Union[int, str] = "auto",
+        resolution: Union[str, int] = "auto",
         voxel_size: Optional[float] = None,
         lod_depth: Optional[int] = None,
         lod_error: Optional[float] = None,
-        points: Optional[_Points] = None,
+        color: str = "input",
         trim: float = 2.0,
         min_component_points: int = 30,
         close_pinholes: bool = False,
-        color: str = "input",
-        watertight: bool = False,
-        fill_holes: float = 0.0,
         decimate: int = 0,
         decimate_tolerance: float = 0.0,
+        watertight: bool = False,
+        fill_holes: float = 0.0,
+        points: Optional[_Points] = None,
         progress: _Progress = None,
     ) -> Mesh: ...
     def inside(self, xyz: ArrayLike, *, resolution: int = 128) -> NDArray[np.bool_]: ...

@@ -6,6 +6,7 @@
 #include <clustersurf/cluster/cluster_tree.hpp>
 #include <clustersurf/core/point_cloud.hpp>
 #include <clustersurf/core/progress.hpp>
+#include <clustersurf/pipeline/option_schema.hpp>
 #include <clustersurf/pipeline/reconstruct.hpp>
 
 #include <pybind11/numpy.h>
@@ -15,6 +16,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace clustersurf::python {
 
@@ -124,13 +126,13 @@ NodeRef node_at(const TreeRef& t, std::int64_t index);
 /// A 3-vector as a numpy array of 3 float64.
 py::array_t<double> vector_array(const Eigen::Vector3d& v);
 
-/// The options of reconstruct() and of a mesh from keyword arguments named as the CLI's options
-/// (proxy, splitter, tolerance, absolute_tolerance, error, min_points, max_depth, alpha, kstep,
-/// lloyd_restarts, proxy_lloyd, noise_factor, support_factor, seed, ignore_normals,
-/// no_point_leaves, keep_outliers, creases; resolution, voxel_size, trim,
-/// min_component_points, close_pinholes, color, decimate, decimate_tolerance). OptionError for
-/// an unknown name or a bad value.
-ReconstructOptions reconstruct_options(const py::dict& options);
+/// The options of reconstruct() and of a mesh from keyword arguments named as the option schema's
+/// (reconstruct_option_schema()): only those of `stages`; a None value leaves the default.
+/// OptionError for an unknown name or a bad value.
+ReconstructOptions reconstruct_options(const py::dict& options,
+                                       std::vector<OptionStage> stages = {OptionStage::Build, OptionStage::Mesh});
+/// The schema's options of `stage` as docstring lines: name, Python default and help.
+std::string options_doc(OptionStage stage);
 
 /// Groups of bindings, one per source file.
 void bind_io(py::module_& m);
@@ -138,5 +140,6 @@ void bind_node(py::module_& m);
 void bind_tree(py::module_& m, py::class_<TreeRef>& tree_class);
 void bind_render(py::class_<TreeRef>& tree_class);
 void bind_tiles(py::module_& m);
+void bind_option_schema(py::module_& m);
 
 }  // namespace clustersurf::python

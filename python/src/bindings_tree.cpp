@@ -15,7 +15,6 @@
 
 #include <cmath>
 #include <limits>
-#include <variant>
 
 namespace clustersurf::python {
 
@@ -70,27 +69,10 @@ namespace {
 
 /// reconstruct(), reconstruct_mesh() and load(): a tree from points or from a file.
 void bind_reconstruct(py::module_& m) {
-  const BuildOptions defaults;
   m.def(
       "reconstruct",
-      [](const py::object& points, const py::object& normals, const std::string& proxy, const std::string& splitter,
-         const py::object& tolerance, std::optional<double> absolute_tolerance, const std::string& error,
-         const py::object& min_points, std::int64_t max_depth, double alpha, std::int64_t kstep,
-         std::int64_t lloyd_restarts, std::int64_t proxy_lloyd, double noise_factor, double support_factor,
-         std::uint64_t seed, bool ignore_normals, bool no_point_leaves, bool keep_outliers, bool creases,
-         const py::object& max_error, std::optional<double> absolute_error, const py::object& progress) {
-        if (!max_error.is_none() && !(py::isinstance<py::str>(tolerance) && tolerance.cast<std::string>() == "auto"))
-          throw OptionError("give tolerance or its old name max_error, not both");
-        if (absolute_error && absolute_tolerance)
-          throw OptionError("give absolute_tolerance or its old name absolute_error, not both");
-        py::dict options(
-            "proxy"_a = proxy, "splitter"_a = splitter, "tolerance"_a = max_error.is_none() ? tolerance : max_error,
-            "absolute_tolerance"_a = absolute_error ? absolute_error : absolute_tolerance, "error"_a = error,
-            "min_points"_a = min_points, "max_depth"_a = max_depth, "alpha"_a = alpha, "kstep"_a = kstep,
-            "lloyd_restarts"_a = lloyd_restarts, "proxy_lloyd"_a = proxy_lloyd, "noise_factor"_a = noise_factor,
-            "support_factor"_a = support_factor, "seed"_a = seed, "ignore_normals"_a = ignore_normals,
-            "no_point_leaves"_a = no_point_leaves, "keep_outliers"_a = keep_outliers, "creases"_a = creases);
-        ReconstructOptions o = reconstruct_options(options);
+      [](const py::object& points, const py::object& normals, const py::object& progress, const py::kwargs& kwargs) {
+        ReconstructOptions o = reconstruct_options(kwargs, {OptionStage::Build});
         o.mesh = false;
         PointCloud cloud = cloud_argument(points, normals, py::none(), py::none(), "points");
         auto tree = run_released(progress, [&](const ProgressCallback& callback) {
@@ -98,40 +80,23 @@ void bind_reconstruct(py::module_& m) {
         });
         return TreeRef{std::move(tree), tree_input(std::move(cloud))};
       },
-      py::arg("points"), py::arg("normals") = py::none(), py::kw_only(), py::arg("proxy") = to_string(defaults.proxy),
-      py::arg("splitter") = to_string(defaults.splitter), py::arg("tolerance") = "auto",
-      py::arg("absolute_tolerance") = py::none(), py::arg("error") = to_string(defaults.metric),
-      py::arg("min_points") = "auto", py::arg("max_depth") = defaults.max_depth, py::arg("alpha") = defaults.alpha,
-      py::arg("kstep") = defaults.kstep, py::arg("lloyd_restarts") = defaults.lloyd_restarts,
-      py::arg("proxy_lloyd") = defaults.proxy_lloyd_iterations, py::arg("noise_factor") = defaults.noise_factor,
-      py::arg("support_factor") = defaults.support_factor, py::arg("seed") = defaults.seed,
-      py::arg("ignore_normals") = !defaults.use_normals, py::arg("no_point_leaves") = !defaults.keep_point_leaves,
-      py::arg("keep_outliers") = !defaults.remove_outliers, py::arg("creases") = defaults.creases,
-      py::arg("max_error") = py::none(), py::arg("absolute_error") = py::none(), py::arg("progress") = py::none(),
-      R"doc(
+      py::arg("points"), py::arg("normals") = py::none(), py::kw_only(), py::arg("progress") = py::none(),
+      (R"doc(
 Builds and orients the cluster tree of a point cloud, as ``clustersurf reconstruct`` does
 (the library's reconstruct(): the same checks, the same tree).
 
 ``points``: (n, 3) array (float32 or float64), or a PointCloud from read_points() (its normals
 are used unless ``normals`` is given; the tree is built on its ``positions``, relative to its
-``origin``), or any object with ``.positions`` or ``.vertices``. ``normals``: optional (n, 3) array orienting the surface;
-without them the orientation propagates between touching clusters.
-
-Options mirror the CLI's (same names with ``_`` for ``-``, same defaults): ``proxy`` "plane",
-"poly" or "quadric"; ``splitter`` "split-plane" or "lloyd"; ``tolerance`` the error a leaf
-may keep beyond the estimated noise, a fraction of the bounding-box diagonal or "auto" (0.00005;
-``max_error`` is its old name); ``noise_factor`` (the noise counted; 0 ignores it);
-``absolute_tolerance`` in input units, noise included (overrides tolerance; old name
-``absolute_error``); ``error`` "rms" or "max"; ``min_points`` ("auto": from the noise against
-the point spacing, 12 to 20, and two thirds of that where finer relief needs it); ``max_depth``; ``alpha`` (support radius = alpha x cluster bbox
-diagonal); ``kstep``; ``lloyd_restarts``; ``proxy_lloyd``; ``support_factor``; ``seed``;
-``ignore_normals``; ``no_point_leaves``; ``keep_outliers`` (isolated points are left out of
-every cluster unless set; their ``point_leaf`` is -1); ``creases`` (False: no crease leaves,
-as ``--no-creases``).
-
+``origin``), or any object with ``.positions`` or ``.vertices``. ``normals``: optional (n, 3)
+array orienting the surface; without them the orientation propagates between touching clusters.
 ``progress``: optional callable (stage: str, fraction: float) -> bool; returning False raises
 Cancelled. Ctrl-C interrupts the build. The GIL is released while building. The result is
-the same tree for any thread count, byte-identical to the CLI's when saved.)doc");
+the same tree for any thread count, byte-identical to the CLI's when saved.
+
+The keyword options are the CLI's (the same names with ``_`` for ``-``, the same defaults;
+option_schema() lists them), checked by the library (OptionError):
+)doc" + options_doc(OptionStage::Build))
+          .c_str());
 
   m.def(
       "reconstruct_mesh",
@@ -311,21 +276,8 @@ void bind_tree_mesh(py::class_<TreeRef>& tree_class) {
   tree_class
       .def(
           "mesh",
-          [](const TreeRef& t, const std::variant<std::int64_t, std::string>& resolution,
-             std::optional<double> voxel_size, std::optional<std::int64_t> lod_depth, std::optional<double> lod_error,
-             const py::object& points, double trim, std::size_t min_component_points, bool close_pinholes,
-             const std::string& color, bool watertight, double fill_holes, std::size_t decimate,
-             double decimate_tolerance, const py::object& progress) {
-            // The keywords of reconstruct() and TiledRun's stages, read by the one parser.
-            const auto* number = std::get_if<std::int64_t>(&resolution);
-            const py::dict keywords("resolution"_a = number ? py::object(py::int_(*number))
-                                                            : py::object(py::str(std::get<std::string>(resolution))),
-                                    "voxel_size"_a = voxel_size, "lod_depth"_a = lod_depth, "lod_error"_a = lod_error,
-                                    "trim"_a = trim, "min_component_points"_a = min_component_points,
-                                    "close_pinholes"_a = close_pinholes, "color"_a = color, "watertight"_a = watertight,
-                                    "fill_holes"_a = fill_holes, "decimate"_a = decimate,
-                                    "decimate_tolerance"_a = decimate_tolerance);
-            const SurfaceMeshOptions o = reconstruct_options(keywords).meshing;
+          [](const TreeRef& t, const py::object& points, const py::object& progress, const py::kwargs& kwargs) {
+            const SurfaceMeshOptions o = reconstruct_options(kwargs, {OptionStage::Mesh}).meshing;
             PointCloud given;
             if (!points.is_none()) {
               PointCloud cloud = cloud_argument(points, py::none(), py::none(), py::none(), "points");
@@ -341,40 +293,24 @@ void bind_tree_mesh(py::class_<TreeRef>& tree_class) {
             });
             return mesh_object(std::move(mesh.mesh));
           },
-          py::kw_only(), py::arg("resolution") = "auto", py::arg("voxel_size") = py::none(),
-          py::arg("lod_depth") = py::none(), py::arg("lod_error") = py::none(), py::arg("points") = py::none(),
-          py::arg("trim") = TrimOptions{}.spread_factor,
-          py::arg("min_component_points") = TrimOptions{}.min_component_points,
-          py::arg("close_pinholes") = TrimOptions{}.close_pinholes,
-          py::arg("color") = to_string(SurfaceMeshOptions{}.coloring), py::arg("watertight") = ClosingOptions{}.enabled,
-          py::arg("fill_holes") = ClosingOptions{}.max_hole_size,
-          py::arg("decimate") = DecimationOptions{}.target_triangles,
-          py::arg("decimate_tolerance") = DecimationOptions{}.max_deviation, py::arg("progress") = py::none(), R"doc(
+          py::kw_only(), py::arg("points") = py::none(), py::arg("progress") = py::none(),
+          (R"doc(
 Meshes the surface f = 0, as ``clustersurf mesh`` does (the library's mesh_tree(): same
 options, same mesh). Returns a Mesh (vertices (n, 3) float64, faces (m, 3) int32, normals
 (n, 3) float64, colors (n, 3) uint8 or None), triangles facing outward. Its vertices are in
 the tree's coordinates, those of the positions it was built from; its ``origin`` is the
 tree's (a scan read far from zero), so ``world_vertices`` are the file's coordinates.
 
-``resolution``: grid cells along the longest bbox side, or ``"auto"`` (the default): cells two
-median point spacings of the input wide (the tree stores the spacing; a tree from a version-1
-file takes it from ``points``, else 256 cells); ``voxel_size`` (input units) overrides it;
-``lod_depth``: blend the cut at this depth instead of the leaves; ``lod_error``: blend the
-shallowest nodes whose error is at most this fraction of the diagonal; ``points``: the tree's
-input ((n, 3) array or PointCloud; OptionError when it is not; default: the input a tree built
-by reconstruct() keeps, none for a loaded or unpickled tree), to drop the triangles farther
-from it than ``trim`` x the local spread (up to 1.5 times that over a gap the points surround; 0: keep all) and the loose fragments on which fewer
-than ``min_component_points`` input points lie nearest (0: keep all), and to close the pinholes
-the points cover (``close_pinholes``), as ``clustersurf reconstruct --mesh`` does; ``color``:
-"input" (the default: the colors of ``points``, when they have them), "none", "leaf" (per
-blended node), "distance" (to ``points``) or "intensity" (their "intensity" attribute as grey);
-``watertight`` (default
-False): a closed, manifold mesh whatever holes the data has (``--watertight``), the filled-in
-vertices marked 1 in ``attributes["filled"]``; ``fill_holes`` (default 0: every hole): with
-``watertight``, fill only holes up to this size (input units); ``decimate`` (default 0: keep
-all): at most this many triangles, and ``decimate_tolerance`` (default 0: no bound): while the
-surface moves by at most about this distance, as ``--decimate`` / ``--decimate-tolerance``.
-``progress`` as in reconstruct().)doc")
+``points``: the tree's input ((n, 3) array or PointCloud; OptionError when it is not; default:
+the input a tree built by reconstruct() keeps, none for a loaded or unpickled tree), which the
+trim, the fragment filter, the pinholes and the input and distance colors need. A closed mesh
+(``watertight``) marks its filled-in vertices 1 in ``attributes["filled"]``. ``progress`` as in
+reconstruct().
+
+The keyword options are ``clustersurf mesh``'s (the same names with ``_`` for ``-``, the same
+defaults; option_schema() lists them), checked by the library (OptionError):
+)doc" + options_doc(OptionStage::Mesh))
+              .c_str())
       .def("__repr__", [](const TreeRef& t) {
         return "<clustersurf.Tree: " + std::to_string(t.tree->nodes.size()) + " nodes, " +
                std::to_string(t.tree->leaves().size()) + " leaves, depth " + std::to_string(t.tree->depth()) + ", " +

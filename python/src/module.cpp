@@ -77,4 +77,5 @@ reconstruct() or load(); saved bit-exactly with save(). Pickles as its .cstree b
   bind_tree(m, tree_class);
   bind_render(tree_class);
   bind_tiles(m);
+  bind_option_schema(m);
 }

@@ -1,133 +1,110 @@
-// The library's option structs from Python keyword arguments (the CLI's names with _ for -).
+// The library's options from Python keyword arguments: each value as the option schema's text
+// (reconstruct_option_schema()), checked and set by the library.
 
 #include "bindings.hpp"
 
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/mesh/mesh_extraction.hpp>
 
-#include <cmath>
+#include <pybind11/stl.h>
+
+#include <algorithm>
 
 namespace clustersurf::python {
 
 namespace {
 
-/// A tolerance given as "auto", a number, or a number as text (parse_tolerance()); nullopt: auto.
-std::optional<double> tolerance_option(const py::handle& value) {
-  if (py::isinstance<py::str>(value)) return parse_tolerance(value.cast<std::string>());
-  double number = 0;
-  try {
-    number = py::cast<double>(value);
-  } catch (const py::cast_error&) {
-    throw OptionError("tolerance must be \"auto\" or a non-negative fraction of the diagonal");
-  }
-  if (!(number >= 0) || !std::isfinite(number))
-    throw OptionError("tolerance must be \"auto\" or a non-negative fraction of the diagonal, not " +
-                      std::to_string(number));
-  return number;
+/// A keyword's value as the schema's text: True/False as "true"/"false", numbers as the shortest
+/// text that reads back the same, strings as given.
+std::string option_text(const std::string& key, const py::handle& value) {
+  if (py::isinstance<py::bool_>(value)) return value.cast<bool>() ? "true" : "false";
+  if (py::isinstance<py::int_>(value)) return py::str(value).cast<std::string>();
+  if (py::isinstance<py::float_>(value)) return number_text(value.cast<double>());
+  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  throw OptionError("option " + key + " takes a number, a bool or a word, not a " +
+                    py::str(py::type::of(value).attr("__name__")).cast<std::string>());
 }
 
-template <class T>
-T as(const py::handle& value, const std::string& key) {
-  try {
-    return value.cast<T>();
-  } catch (const py::cast_error&) {
-    throw OptionError("option " + key + " has the wrong type");
+/// The schema's default text as the Python value a keyword takes.
+py::object default_value(const OptionSpec& spec) {
+  const std::string text = default_text(spec);
+  if (text.empty()) return py::none();
+  if (std::find(spec.words.begin(), spec.words.end(), text) != spec.words.end()) return py::str(text);
+  switch (spec.kind) {
+    case OptionKind::Flag:
+      return py::bool_(text == "true");
+    case OptionKind::Whole:
+      return py::int_(std::stoull(text));
+    case OptionKind::Number:
+      return py::float_(std::stod(text));
+    case OptionKind::Word:
+      break;
   }
+  return py::str(text);
 }
 
-/// min_points given as "auto" or a whole number (parse_min_points()).
-std::uint32_t min_points_option(const py::handle& value) {
-  if (py::isinstance<py::str>(value)) return parse_min_points(value.cast<std::string>());
-  if (!py::isinstance<py::int_>(value))
-    throw OptionError("min points must be \"auto\" or a whole number from 1 to 2^30");
-  return parse_min_points(std::to_string(value.cast<std::int64_t>()));
+const char* kind_name(OptionKind kind) {
+  switch (kind) {
+    case OptionKind::Flag:
+      return "flag";
+    case OptionKind::Whole:
+      return "whole";
+    case OptionKind::Number:
+      return "number";
+    case OptionKind::Word:
+      return "word";
+  }
+  return "word";
 }
 
 }  // namespace
 
-ReconstructOptions reconstruct_options(const py::dict& options) {
-  ReconstructOptions o;
-  BuildOptions& b = o.build;
-  SurfaceMeshOptions& m = o.meshing;
-  std::optional<double> absolute;
+ReconstructOptions reconstruct_options(const py::dict& options, std::vector<OptionStage> stages) {
+  OptionValues values;
   for (const auto& [k, value] : options) {
     const std::string key = py::str(k);
-    if (key == "proxy")
-      b.proxy = parse_proxy_kind(as<std::string>(value, key));
-    else if (key == "splitter")
-      b.splitter = parse_splitter(as<std::string>(value, key));
-    else if (key == "tolerance") {
-      if (const auto t = tolerance_option(value)) b.tolerance = *t;
-    } else if (key == "absolute_tolerance") {
-      if (!value.is_none()) absolute = as<double>(value, key);
-    } else if (key == "error")
-      b.metric = parse_error_metric(as<std::string>(value, key));
-    else if (key == "min_points")
-      b.min_points = min_points_option(value);
-    else if (key == "max_depth")
-      b.max_depth = to_uint32(as<std::int64_t>(value, key), "max_depth");
-    else if (key == "alpha")
-      b.alpha = as<double>(value, key);
-    else if (key == "kstep")
-      b.kstep = to_uint32(as<std::int64_t>(value, key), "kstep");
-    else if (key == "lloyd_restarts")
-      b.lloyd_restarts = to_uint32(as<std::int64_t>(value, key), "lloyd_restarts");
-    else if (key == "proxy_lloyd")
-      b.proxy_lloyd_iterations = to_uint32(as<std::int64_t>(value, key), "proxy_lloyd");
-    else if (key == "noise_factor")
-      b.noise_factor = as<double>(value, key);
-    else if (key == "support_factor")
-      b.support_factor = as<double>(value, key);
-    else if (key == "seed")
-      b.seed = as<std::uint64_t>(value, key);
-    else if (key == "ignore_normals")
-      b.use_normals = !as<bool>(value, key);
-    else if (key == "no_point_leaves")
-      b.keep_point_leaves = !as<bool>(value, key);
-    else if (key == "keep_outliers")
-      b.remove_outliers = !as<bool>(value, key);
-    else if (key == "creases")
-      b.creases = as<bool>(value, key);
-    else if (key == "resolution") {
-      const std::string text =
-          py::isinstance<py::str>(value) ? as<std::string>(value, key) : std::to_string(as<std::int64_t>(value, key));
-      if (const auto cells = parse_resolution(text)) m.auto_resolution = false, m.grid.resolution = *cells;
-    } else if (key == "voxel_size") {
-      if (!value.is_none()) {
-        const double h = as<double>(value, key);
-        if (!(h > 0) || !std::isfinite(h)) throw OptionError("voxel_size must be positive");
-        m.grid.voxel_size = h;
-      }
-    } else if (key == "lod_depth") {
-      if (!value.is_none()) m.lod_depth = to_uint32(as<std::int64_t>(value, key), "lod_depth");
-    } else if (key == "lod_error") {
-      if (!value.is_none()) m.lod_error = as<double>(value, key);
-    } else if (key == "trim")
-      m.trim.spread_factor = as<double>(value, key);
-    else if (key == "min_component_points")
-      m.trim.min_component_points = as<std::size_t>(value, key);
-    else if (key == "close_pinholes")
-      m.trim.close_pinholes = as<bool>(value, key);
-    else if (key == "color")
-      m.coloring = parse_mesh_coloring(as<std::string>(value, key));
-    else if (key == "watertight")
-      m.closing.enabled = as<bool>(value, key);
-    else if (key == "fill_holes")
-      m.closing.max_hole_size = as<double>(value, key);
-    else if (key == "decimate")
-      m.decimation.target_triangles = as<std::size_t>(value, key);
-    else if (key == "decimate_tolerance")
-      m.decimation.max_deviation = as<double>(value, key);
-    else
-      throw OptionError("unknown option \"" + key + "\"");
+    if (!value.is_none()) values.emplace_back(key, option_text(key, value));
   }
-  if (b.lloyd_restarts < 1) throw OptionError("lloyd_restarts must be at least 1");
-  if (absolute) {
-    if (!(*absolute >= 0) || !std::isfinite(*absolute)) throw OptionError("absolute_tolerance must be >= 0");
-    b.threshold_mode = ThresholdMode::Absolute;
-    b.tolerance = *absolute;
-  }
+  ReconstructOptions o;
+  set_options(o, values, std::move(stages));
   return o;
+}
+
+std::string options_doc(OptionStage stage) {
+  std::string out;
+  for (const OptionSpec& spec : reconstruct_option_schema()) {
+    if (spec.stage != stage) continue;
+    const py::object value = default_value(spec);
+    out += "``" + spec.name + "`` (default " + py::repr(value).cast<std::string>() + "): " + spec.help;
+    if (!spec.alias.empty()) out += " (older name ``" + spec.alias + "``)";
+    out += ".\n";
+  }
+  return out;
+}
+
+void bind_option_schema(py::module_& m) {
+  m.def(
+      "option_schema",
+      [] {
+        py::list out;
+        for (const OptionSpec& spec : reconstruct_option_schema()) {
+          py::dict d;
+          d["name"] = spec.name;
+          d["alias"] = spec.alias.empty() ? py::object(py::none()) : py::object(py::str(spec.alias));
+          d["stage"] = spec.stage == OptionStage::Build ? "build" : "mesh";
+          d["kind"] = kind_name(spec.kind);
+          d["words"] = spec.words;
+          d["default"] = default_value(spec);
+          d["help"] = spec.help;
+          out.append(std::move(d));
+        }
+        return out;
+      },
+      R"doc(
+The keyword options of reconstruct(), reconstruct_mesh(), Tree.mesh() and the tiled runs, as
+the library describes them once for the CLI and this module: a list of dicts with ``name``,
+``alias`` (an older name, or None), ``stage`` ("build": the tree; "mesh": its mesh), ``kind``
+("flag", "whole", "number" or "word"), ``words`` (the words it takes: choices, "auto"),
+``default`` (None: unset) and ``help``.)doc");
 }
 
 }  // namespace clustersurf::python

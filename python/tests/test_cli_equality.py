@@ -2,6 +2,7 @@
 and error messages."""
 
 import json
+import re
 import subprocess
 
 import numpy as np
@@ -182,3 +183,27 @@ def test_scan_colors_equal_the_cli(tmp_path, cli, shared_data):
     clustersurf.write_mesh(tmp_path / "py.glb", mesh)
     assert (tmp_path / "py.glb").read_bytes() == (tmp_path / "cli.glb").read_bytes()
     assert clustersurf.reconstruct_mesh(clustersurf.read_points(tile), color="none").colors is None
+
+
+def test_both_front_ends_offer_the_schema(cli):
+    """Every option of the library's schema is a CLI flag with the schema's default and a keyword
+    of reconstruct() or Tree.mesh() documented with the same default."""
+    help_text = " ".join(run(cli, "reconstruct", "--help").stdout.split())
+    docs = {"build": clustersurf.reconstruct.__doc__, "mesh": clustersurf.Tree.mesh.__doc__}
+    for spec in clustersurf.option_schema():
+        flag = "--" + spec["name"].replace("_", "-")
+        if spec["alias"]:
+            flag += ",--" + spec["alias"].replace("_", "-")
+        assert flag in help_text, spec["name"]
+        default = spec["default"]
+        if default is not None and spec["kind"] != "flag":
+            text = format(default, "g") if isinstance(default, float) else str(default)
+            assert re.search(rf"{re.escape(flag)} \S+={re.escape(text)} ", help_text), spec["name"]
+        assert f"``{spec['name']}``" in docs[spec["stage"]], spec["name"]
+
+
+def test_an_unknown_option_is_refused_by_both_front_ends(tmp_path, cli, bunny_file):
+    result = run(cli, "reconstruct", bunny_file, "-o", tmp_path / "t.cstree", "--smoothness", "2", check=False)
+    assert result.returncode != 0 and "smoothness" in result.stderr
+    with pytest.raises(clustersurf.OptionError, match="smoothness"):
+        clustersurf.reconstruct(clustersurf.read_points(bunny_file).positions, smoothness=2)

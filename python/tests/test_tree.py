@@ -154,15 +154,18 @@ def test_point_cloud_object_and_options(sphere):
 @pytest.mark.parametrize("kwargs, message", [
     ({"proxy": "cubic"}, 'proxy must be plane, poly or quadric, not "cubic"'),
     ({"splitter": "kmeans"}, "splitter must be split-plane or lloyd"),
-    ({"tolerance": "big"}, 'tolerance must be "auto" or a non-negative fraction of the diagonal, not "big"'),
+    ({"tolerance": "big"}, 'tolerance must be "auto" or a number >= 0, not "big"'),
     ({"tolerance": -1.0}, "tolerance must be"),
-    ({"max_error": "big"}, 'tolerance must be "auto" or a non-negative fraction'),
-    ({"max_error": 0.1, "tolerance": 0.2}, "give tolerance or its old name max_error, not both"),
-    ({"min_points": 0}, 'min points must be "auto" or a whole number from 1 to 2^30, not "0"'),
-    ({"min_points": "many"}, 'min points must be "auto" or a whole number from 1 to 2^30, not "many"'),
+    ({"max_error": "big"}, 'tolerance must be "auto" or a number >= 0'),
+    ({"max_error": 0.1, "tolerance": 0.2}, "give tolerance or its older name max_error, not both"),
+    ({"min_points": 0}, 'min_points must be "auto" or a whole number from 1 to 1073741824, not "0"'),
+    ({"min_points": "many"}, 'min_points must be "auto" or a whole number from 1 to 1073741824, not "many"'),
     ({"min_points": -5}, 'not "-5"'),
-    ({"alpha": 0.0}, "alpha must be positive"),
-    ({"error": "mean"}, 'error metric must be rms or max, not "mean"'),
+    ({"alpha": 0.0}, 'alpha must be a positive number, not "0"'),
+    ({"error": "mean"}, 'error must be rms or max, not "mean"'),
+    ({"alpha": [1]}, "option alpha takes a number, a bool or a word, not a list"),
+    ({"smoothness": 1}, 'unknown option "smoothness"'),
+    ({"resolution": 64}, 'unknown option "resolution"'),
 ])
 def test_option_errors(sphere, kwargs, message):
     with pytest.raises(clustersurf.OptionError) as e:
@@ -218,7 +221,7 @@ def test_ctrl_c_interrupts_a_build(sphere):
 
 
 def test_crease_leaf_of_a_roof():
-    # Two faces meeting at a ridge: one crease leaf (two planes, max), unless creases=False.
+    # Two faces meeting at a ridge: one crease leaf (two planes, max), unless no_creases=True.
     x, y = np.meshgrid(np.linspace(-1, 1, 20), np.linspace(-1, 1, 20))
     roof = np.column_stack([x.ravel(), y.ravel(), -0.5 * np.abs(x.ravel())])
     tree = clustersurf.reconstruct(roof, noise_factor=0)
@@ -231,5 +234,5 @@ def test_crease_leaf_of_a_roof():
     # The ridge is sharp: above it f > 0 on one side, below f < 0, as the sides agree.
     above, below = tree.root.proxy_value(np.array([[0, 0, 0.1], [0, 0, -0.1]]))
     assert above * below < 0
-    smooth = clustersurf.reconstruct(roof, noise_factor=0, creases=False)
+    smooth = clustersurf.reconstruct(roof, noise_factor=0, no_creases=True)
     assert len(smooth) > 1 and "crease" not in {n.proxy_type for n in smooth.nodes}

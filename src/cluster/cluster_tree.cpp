@@ -6,7 +6,6 @@
 #include "cluster/build_state.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <string>
 
@@ -15,16 +14,6 @@ namespace clustersurf {
 namespace {
 
 std::string quoted(std::string_view text) { return "\"" + std::string(text) + "\""; }
-
-/// The whole of `text` as a number, or nullopt (no leading spaces, signs or trailing bytes
-/// accepted beyond what from_chars reads).
-template <class T>
-std::optional<T> whole_number(std::string_view text) {
-  T value{};
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (ec != std::errc{} || end != text.data() + text.size() || text.empty()) return std::nullopt;
-  return value;
-}
 
 }  // namespace
 
@@ -52,22 +41,6 @@ ErrorMetric parse_error_metric(std::string_view text) {
   for (ErrorMetric metric : {ErrorMetric::Rms, ErrorMetric::Max})
     if (text == to_string(metric)) return metric;
   throw OptionError("error metric must be rms or max, not " + quoted(text));
-}
-
-std::optional<double> parse_tolerance(std::string_view text) {
-  if (text == "auto") return std::nullopt;
-  const auto value = whole_number<double>(text);
-  if (!value || !(*value >= 0) || !std::isfinite(*value))
-    throw OptionError("tolerance must be \"auto\" or a non-negative fraction of the diagonal, not " + quoted(text));
-  return value;
-}
-
-std::uint32_t parse_min_points(std::string_view text) {
-  if (text == "auto") return 0;
-  const auto value = whole_number<std::uint64_t>(text);
-  if (!value || *value < 1 || *value > (std::uint64_t{1} << 30))
-    throw OptionError("min points must be \"auto\" or a whole number from 1 to 2^30, not " + quoted(text));
-  return static_cast<std::uint32_t>(*value);
 }
 
 std::uint32_t leaf_min_points(double noise, double spacing) {

@@ -73,14 +73,4 @@ double auto_cell_size(const ImplicitSurface& surface) { return auto_cell_of(surf
 
 double auto_cell_size(const ClusterTree& tree) { return auto_cell_of(tree, tree.leaves()); }
 
-std::optional<std::uint32_t> parse_resolution(std::string_view text) {
-  if (text == "auto") return std::nullopt;
-  std::uint64_t value = 0;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (text.empty() || ec != std::errc{} || end != text.data() + text.size() || value < 2 || value > 100000)
-    throw OptionError("resolution must be a whole number from 2 to 100000 or \"auto\", not \"" + std::string(text) +
-                      "\"");
-  return static_cast<std::uint32_t>(value);
-}
-
 }  // namespace clustersurf

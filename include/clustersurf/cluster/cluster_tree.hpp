@@ -36,12 +36,6 @@ const char* to_string(ThresholdMode mode);
 SplitterKind parse_splitter(std::string_view text);
 /// The metric named by to_string(): "rms" or "max". Throws OptionError otherwise.
 ErrorMetric parse_error_metric(std::string_view text);
-/// A tolerance as text: "auto" (nullopt: BuildOptions' default) or a non-negative number.
-/// Throws OptionError otherwise.
-std::optional<double> parse_tolerance(std::string_view text);
-/// A leaf's smallest cluster as text: "auto" (0: leaf_min_points()) or a whole number from 1
-/// to 2^30. Throws OptionError otherwise.
-std::uint32_t parse_min_points(std::string_view text);
 
 /// Options of build_cluster_tree(); the defaults are the recommended settings. Plain values:
 /// progress and cancellation are build_cluster_tree()'s own argument.

@@ -125,10 +125,6 @@ double auto_cell_size(const ClusterTree& tree);
 /// cell_size_for_spacing() of `cloud`'s median spacing (compute_stats()).
 double cell_size_for_points(const PointCloud& cloud, double spacing_factor = kSpacingsPerCell);
 
-/// A grid resolution as text: "auto" (nullopt: cells from the point spacing) or a whole number
-/// of cells from 2 to 100000. Throws OptionError otherwise.
-std::optional<std::uint32_t> parse_resolution(std::string_view text);
-
 /// A component with less than this share of a mesh's area is a loose fragment
 /// (MeshTopology::small_components): debris beside the surface, not a part of it.
 inline constexpr double kSmallComponentShare = 0.001;

@@ -1,0 +1,398 @@
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/pipeline/option_schema.hpp>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace clustersurf {
+
+std::string number_text(double value) {
+  char buffer[64];
+  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return ec == std::errc() ? std::string(buffer, end) : std::to_string(value);
+}
+
+namespace {
+
+std::string in_quotes(std::string_view text) { return "\"" + std::string(text) + "\""; }
+
+std::string word_list(const std::vector<std::string>& words) {
+  std::string out;
+  for (std::size_t i = 0; i < words.size(); ++i)
+    out += (i == 0 ? "" : i + 1 == words.size() ? " or " : ", ") + words[i];
+  return out;
+}
+
+/// A whole number from `low` to `high` as the whole text; OptionError naming `name` otherwise.
+std::uint64_t whole(std::string_view name, std::string_view text, std::uint64_t low, std::uint64_t high,
+                    std::string_view word = {}) {
+  std::uint64_t value = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size() || value < low || value > high)
+    throw OptionError(std::string(name) + " must be " + (word.empty() ? "" : in_quotes(word) + " or ") +
+                      "a whole number from " + std::to_string(low) + " to " + std::to_string(high) + ", not " +
+                      in_quotes(text));
+  return value;
+}
+
+enum class Bound : std::uint8_t { NonNegative, Positive };
+
+/// A finite real number, >= 0 or > 0, as the whole text; OptionError naming `name` otherwise.
+double real(std::string_view name, std::string_view text, Bound bound, std::string_view word = {}) {
+  double value = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  const bool in_range = bound == Bound::Positive ? value > 0 : value >= 0;
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value) || !in_range)
+    throw OptionError(std::string(name) + " must be " + (word.empty() ? "" : in_quotes(word) + " or ") + "a " +
+                      (bound == Bound::Positive ? "positive number" : "number >= 0") + ", not " + in_quotes(text));
+  return value;
+}
+
+bool flag(std::string_view name, std::string_view text) {
+  if (text == "true") return true;
+  if (text == "false") return false;
+  throw OptionError(std::string(name) + " must be true or false, not " + in_quotes(text));
+}
+
+std::string flag_text(bool on) { return on ? "true" : "false"; }
+
+constexpr std::uint32_t kMaxUint32 = std::numeric_limits<std::uint32_t>::max();
+constexpr std::uint64_t kMaxSize = std::numeric_limits<std::int64_t>::max();
+
+using Get = std::function<std::string(const ReconstructOptions&)>;
+using Set = std::function<void(ReconstructOptions&, std::string_view)>;
+
+OptionSpec spec(std::string name, OptionStage stage, OptionKind kind, std::string help, Get get, Set set) {
+  OptionSpec s;
+  s.name = std::move(name);
+  s.stage = stage;
+  s.kind = kind;
+  s.help = std::move(help);
+  s.get = std::move(get);
+  s.set = std::move(set);
+  return s;
+}
+
+OptionSpec with_words(OptionSpec s, std::vector<std::string> words) {
+  s.words = std::move(words);
+  return s;
+}
+
+OptionSpec with_alias(OptionSpec s, std::string alias) {
+  s.alias = std::move(alias);
+  return s;
+}
+
+OptionSpec unset_by_default(OptionSpec s) {
+  s.optional = true;
+  return s;
+}
+
+/// A flag bound to the bool `field` of the options; `negated`: the flag turns the field off.
+template <class Field>
+OptionSpec flag_spec(std::string name, OptionStage stage, std::string help, Field field, bool negated = false) {
+  return spec(
+      std::move(name), stage, OptionKind::Flag, std::move(help),
+      [field, negated](const ReconstructOptions& o) { return flag_text(field(o) != negated); },
+      [field, negated, n = name](ReconstructOptions& o, std::string_view text) {
+        field(o) = flag(n, text) != negated;
+      });
+}
+
+/// A word from `words` bound through a parser and to_string() of the field's enum.
+template <class Field, class Parse>
+OptionSpec word_spec(std::string name, OptionStage stage, std::vector<std::string> words, std::string help, Field field,
+                     Parse parse) {
+  auto get = [field](const ReconstructOptions& o) { return std::string(to_string(field(o))); };
+  auto set = [field, parse, n = name, words](ReconstructOptions& o, std::string_view text) {
+    if (std::find(words.begin(), words.end(), text) == words.end())
+      throw OptionError(n + " must be " + word_list(words) + ", not " + in_quotes(text));
+    field(o) = parse(text);
+  };
+  return with_words(spec(std::move(name), stage, OptionKind::Word, std::move(help), get, set), words);
+}
+
+BuildOptions& build(ReconstructOptions& o) { return o.build; }
+const BuildOptions& build(const ReconstructOptions& o) { return o.build; }
+SurfaceMeshOptions& meshing(ReconstructOptions& o) { return o.meshing; }
+const SurfaceMeshOptions& meshing(const ReconstructOptions& o) { return o.meshing; }
+
+/// A whole-number field of BuildOptions from `low` to `high`.
+template <class T>
+OptionSpec build_whole(std::string name, std::string help, T BuildOptions::*member, std::uint64_t low,
+                       std::uint64_t high) {
+  return spec(
+      name, OptionStage::Build, OptionKind::Whole, std::move(help),
+      [member](const ReconstructOptions& o) { return std::to_string(build(o).*member); },
+      [member, name, low, high](ReconstructOptions& o, std::string_view text) {
+        build(o).*member = static_cast<T>(whole(name, text, low, high));
+      });
+}
+
+/// A real field of BuildOptions within `bound`.
+OptionSpec build_real(std::string name, std::string help, double BuildOptions::*member, Bound bound) {
+  return spec(
+      name, OptionStage::Build, OptionKind::Number, std::move(help),
+      [member](const ReconstructOptions& o) { return number_text(build(o).*member); },
+      [member, name, bound](ReconstructOptions& o, std::string_view text) {
+        build(o).*member = real(name, text, bound);
+      });
+}
+
+std::vector<OptionSpec> build_options() {
+  const BuildOptions defaults;
+  std::vector<OptionSpec> out;
+  out.push_back(word_spec(
+      "proxy", OptionStage::Build, {"plane", "poly", "quadric"},
+      "Proxy per cluster: plane, poly (bivariate quadratic) or quadric",
+      [](auto& o) -> auto& { return build(o).proxy; }, parse_proxy_kind));
+  out.push_back(word_spec(
+      "splitter", OptionStage::Build, {"split-plane", "lloyd"}, "Cluster splitting: split-plane or lloyd",
+      [](auto& o) -> auto& { return build(o).splitter; }, parse_splitter));
+  out.push_back(with_alias(
+      with_words(
+          spec(
+              "tolerance", OptionStage::Build, OptionKind::Number,
+              "The error a leaf may keep beyond the estimated scanner noise, as a fraction of the bbox diagonal (a "
+              "leaf's RMS error must be <= hypot(tolerance, noise)); auto = " +
+                  number_text(defaults.tolerance),
+              [](const ReconstructOptions& o) {
+                const BuildOptions& b = build(o);
+                return b.threshold_mode == ThresholdMode::Absolute || b.tolerance == BuildOptions{}.tolerance
+                           ? std::string("auto")
+                           : number_text(b.tolerance);
+              },
+              [](ReconstructOptions& o, std::string_view text) {
+                BuildOptions& b = build(o);
+                if (text == "auto") {
+                  b.tolerance = BuildOptions{}.tolerance;
+                  return;
+                }
+                b.tolerance = real("tolerance", text, Bound::NonNegative, "auto");
+              }),
+          {"auto"}),
+      "max_error"));
+  out.push_back(with_alias(unset_by_default(spec(
+                               "absolute_tolerance", OptionStage::Build, OptionKind::Number,
+                               "Leaf error threshold in the input's units, noise included (overrides tolerance)",
+                               [](const ReconstructOptions& o) {
+                                 const BuildOptions& b = build(o);
+                                 return b.threshold_mode == ThresholdMode::Absolute ? number_text(b.tolerance)
+                                                                                    : std::string();
+                               },
+                               [](ReconstructOptions& o, std::string_view text) {
+                                 BuildOptions& b = build(o);
+                                 b.tolerance = real("absolute_tolerance", text, Bound::NonNegative);
+                                 b.threshold_mode = ThresholdMode::Absolute;
+                               })),
+                           "absolute_error"));
+  out.push_back(word_spec(
+      "error", OptionStage::Build, {"rms", "max"}, "Error compared with the threshold: rms or max",
+      [](auto& o) -> auto& { return build(o).metric; }, parse_error_metric));
+  out.push_back(with_words(
+      spec(
+          "min_points", OptionStage::Build, OptionKind::Whole,
+          "No cluster below this many points, or auto: from the estimated noise against the point spacing (12 for "
+          "clean or sparse data up to 20 for noise of half a spacing or more), and two thirds of that where relief "
+          "finer than the clusters needs it",
+          [](const ReconstructOptions& o) {
+            const std::uint32_t n = build(o).min_points;
+            return n == 0 ? std::string("auto") : std::to_string(n);
+          },
+          [](ReconstructOptions& o, std::string_view text) {
+            build(o).min_points =
+                text == "auto" ? 0 : static_cast<std::uint32_t>(whole("min_points", text, 1, 1u << 30, "auto"));
+          }),
+      {"auto"}));
+  out.push_back(build_whole("max_depth", "Maximum tree depth", &BuildOptions::max_depth, 0, kMaxUint32));
+  out.push_back(
+      build_real("alpha", "Support radius = alpha x cluster bbox diagonal", &BuildOptions::alpha, Bound::Positive));
+  out.push_back(build_whole("kstep", "Split-plane sweep step (0: at most 64 candidates per split)",
+                            &BuildOptions::kstep, 0, kMaxUint32));
+  out.push_back(
+      build_whole("lloyd_restarts", "Lloyd splitter: 2-means restarts", &BuildOptions::lloyd_restarts, 1, 1000));
+  out.push_back(build_whole("proxy_lloyd", "Lloyd splitter: proxy-Lloyd refinement rounds",
+                            &BuildOptions::proxy_lloyd_iterations, 0, kMaxUint32));
+  out.push_back(build_real("noise_factor",
+                           "Noise counted in the threshold = this x the estimated noise (0: ignore the noise, no "
+                           "estimate)",
+                           &BuildOptions::noise_factor, Bound::NonNegative));
+  out.push_back(build_real("support_factor",
+                           "A leaf's weighted RMS error over the points in its support sphere must be <= this x the "
+                           "threshold (0: no check)",
+                           &BuildOptions::support_factor, Bound::NonNegative));
+  out.push_back(build_whole("seed", "Seed for every random choice", &BuildOptions::seed, 0,
+                            std::numeric_limits<std::uint64_t>::max()));
+  out.push_back(flag_spec(
+      "ignore_normals", OptionStage::Build, "Orient by propagation even when the input has normals",
+      [](auto& o) -> auto& { return build(o).use_normals; }, true));
+  out.push_back(flag_spec(
+      "no_creases", OptionStage::Build,
+      "No crease leaves: a cluster on the two faces of a sharp edge is split like any other instead of fitted by two "
+      "planes meeting at the edge",
+      [](auto& o) -> auto& { return build(o).creases; }, true));
+  out.push_back(flag_spec(
+      "keep_outliers", OptionStage::Build,
+      "Cluster every input point; by default isolated points (mean distance to their 8 nearest neighbours over 3x "
+      "their neighbours' or 6x the cloud's median) are left out",
+      [](auto& o) -> auto& { return build(o).remove_outliers; }, true));
+  out.push_back(flag_spec(
+      "no_point_leaves", OptionStage::Build, "Do not store each point's leaf in the tree file",
+      [](auto& o) -> auto& { return build(o).keep_point_leaves; }, true));
+  return out;
+}
+
+/// An optional real field of SurfaceMeshOptions, unset by default.
+OptionSpec optional_real(std::string name, std::string help, std::optional<double>& (*field)(ReconstructOptions&),
+                         const std::optional<double>& (*read)(const ReconstructOptions&), Bound bound) {
+  return unset_by_default(spec(
+      name, OptionStage::Mesh, OptionKind::Number, std::move(help),
+      [read](const ReconstructOptions& o) {
+        const std::optional<double>& v = read(o);
+        return v ? number_text(*v) : std::string();
+      },
+      [field, name, bound](ReconstructOptions& o, std::string_view text) { field(o) = real(name, text, bound); }));
+}
+
+std::vector<OptionSpec> mesh_options() {
+  const SurfaceMeshOptions defaults;
+  std::vector<OptionSpec> out;
+  out.push_back(with_words(
+      spec(
+          "resolution", OptionStage::Mesh, OptionKind::Whole,
+          "Mesh grid cells along the longest bbox side (2 to 100000), or auto: cells two median point spacings of "
+          "the input wide, coarser where clumped points would give over 4 surface cells per point (stored in the "
+          "tree; a version-1 tree file without its points gets " +
+              std::to_string(defaults.grid.resolution) + " cells)",
+          [](const ReconstructOptions& o) {
+            const SurfaceMeshOptions& m = meshing(o);
+            return m.auto_resolution ? std::string("auto") : std::to_string(m.grid.resolution);
+          },
+          [](ReconstructOptions& o, std::string_view text) {
+            SurfaceMeshOptions& m = meshing(o);
+            m.auto_resolution = text == "auto";
+            m.grid.resolution = m.auto_resolution
+                                    ? SurfaceMeshOptions{}.grid.resolution
+                                    : static_cast<std::uint32_t>(whole("resolution", text, 2, 100000, "auto"));
+          }),
+      {"auto"}));
+  out.push_back(optional_real(
+      "voxel_size", "Mesh grid cell size (overrides resolution)",
+      [](ReconstructOptions& o) -> std::optional<double>& { return meshing(o).grid.voxel_size; },
+      [](const ReconstructOptions& o) -> const std::optional<double>& { return meshing(o).grid.voxel_size; },
+      Bound::Positive));
+  out.push_back(unset_by_default(spec(
+      "lod_depth", OptionStage::Mesh, OptionKind::Whole, "Blend the tree cut at this depth instead of the leaves",
+      [](const ReconstructOptions& o) {
+        const auto& d = meshing(o).lod_depth;
+        return d ? std::to_string(*d) : std::string();
+      },
+      [](ReconstructOptions& o, std::string_view text) {
+        meshing(o).lod_depth = static_cast<std::uint32_t>(whole("lod_depth", text, 0, kMaxUint32));
+      })));
+  out.push_back(optional_real(
+      "lod_error", "Blend the shallowest nodes with error <= this fraction of the diagonal",
+      [](ReconstructOptions& o) -> std::optional<double>& { return meshing(o).lod_error; },
+      [](const ReconstructOptions& o) -> const std::optional<double>& { return meshing(o).lod_error; },
+      Bound::NonNegative));
+  out.push_back(word_spec(
+      "color", OptionStage::Mesh, {"input", "none", "leaf", "distance", "intensity"},
+      "Vertex colors: input (the input points' own colors, when they have them: a scan's RGB), none, leaf (per "
+      "blended node), distance (to the input points) or intensity (the scanner's intensity as grey; in core only)",
+      [](auto& o) -> auto& { return meshing(o).coloring; }, parse_mesh_coloring));
+  return out;
+}
+
+/// The mesh options on the trim, the closing and the decimation.
+std::vector<OptionSpec> mesh_finishing_options() {
+  std::vector<OptionSpec> out;
+  out.push_back(spec(
+      "trim", OptionStage::Mesh, OptionKind::Number,
+      "Drop triangles farther from the input points than this x the nearest point's spread (mean distance to its 8 "
+      "neighbours), where the data stops (up to 1.5x that where the data lies all around: a gap between samples); "
+      "needs the input points. 0 keeps every triangle",
+      [](const ReconstructOptions& o) { return number_text(meshing(o).trim.spread_factor); },
+      [](ReconstructOptions& o, std::string_view text) {
+        meshing(o).trim.spread_factor = real("trim", text, Bound::NonNegative);
+      }));
+  out.push_back(spec(
+      "min_component_points", OptionStage::Mesh, OptionKind::Whole,
+      "Drop loose fragments on which fewer than this many input points lie nearest (needs the input points, as trim "
+      "does). 0 keeps every fragment",
+      [](const ReconstructOptions& o) { return std::to_string(meshing(o).trim.min_component_points); },
+      [](ReconstructOptions& o, std::string_view text) {
+        meshing(o).trim.min_component_points = whole("min_component_points", text, 0, kMaxSize);
+      }));
+  out.push_back(flag_spec(
+      "close_pinholes", OptionStage::Mesh,
+      "Close the small holes the input points cover with a fan each (fewer boundary edges, a little less accuracy; "
+      "needs the input points, as trim does)",
+      [](auto& o) -> auto& { return meshing(o).trim.close_pinholes; }));
+  out.push_back(spec(
+      "decimate", OptionStage::Mesh, OptionKind::Whole,
+      "Reduce the mesh to at most this many triangles (edge collapses that keep vertices in place and the mesh's "
+      "rims fixed). 0 keeps them all",
+      [](const ReconstructOptions& o) { return std::to_string(meshing(o).decimation.target_triangles); },
+      [](ReconstructOptions& o, std::string_view text) {
+        meshing(o).decimation.target_triangles = whole("decimate", text, 0, kMaxSize);
+      }));
+  out.push_back(spec(
+      "decimate_tolerance", OptionStage::Mesh, OptionKind::Number,
+      "Reduce the mesh while the surface moves by at most this distance (input units); with decimate, stop at "
+      "whichever comes first. 0: no such reduction",
+      [](const ReconstructOptions& o) { return number_text(meshing(o).decimation.max_deviation); },
+      [](ReconstructOptions& o, std::string_view text) {
+        meshing(o).decimation.max_deviation = real("decimate_tolerance", text, Bound::NonNegative);
+      }));
+  out.push_back(flag_spec(
+      "watertight", OptionStage::Mesh,
+      "A closed, manifold mesh whatever holes the data has: where the leaves define the surface it is the same; "
+      "elsewhere the surface is filled smoothly and its vertices are marked (\"filled\")",
+      [](auto& o) -> auto& { return meshing(o).closing.enabled; }));
+  out.push_back(spec(
+      "fill_holes", OptionStage::Mesh, OptionKind::Number,
+      "With watertight: fill only holes up to this size (input units); larger openings stay open. 0 fills every "
+      "hole",
+      [](const ReconstructOptions& o) { return number_text(meshing(o).closing.max_hole_size); },
+      [](ReconstructOptions& o, std::string_view text) {
+        meshing(o).closing.max_hole_size = real("fill_holes", text, Bound::NonNegative);
+      }));
+  return out;
+}
+
+}  // namespace
+
+std::vector<OptionSpec> reconstruct_option_schema() {
+  std::vector<OptionSpec> out = build_options();
+  for (auto* part : {&mesh_options, &mesh_finishing_options})
+    for (OptionSpec& s : part()) out.push_back(std::move(s));
+  return out;
+}
+
+std::string default_text(const OptionSpec& spec) { return spec.get(ReconstructOptions{}); }
+
+void set_options(ReconstructOptions& o, const OptionValues& values, std::vector<OptionStage> stages) {
+  const std::vector<OptionSpec> schema = reconstruct_option_schema();
+  std::vector<const std::pair<std::string, std::string>*> given(schema.size(), nullptr);
+  for (const auto& value : values) {
+    const std::string& name = value.first;
+    const auto it = std::find_if(schema.begin(), schema.end(), [&](const OptionSpec& s) {
+      return (s.name == name || (!s.alias.empty() && s.alias == name)) &&
+             std::find(stages.begin(), stages.end(), s.stage) != stages.end();
+    });
+    if (it == schema.end()) throw OptionError("unknown option " + in_quotes(name));
+    const auto i = static_cast<std::size_t>(it - schema.begin());
+    if (given[i])
+      throw OptionError(given[i]->first == name
+                            ? "option " + name + " is given twice"
+                            : "give " + it->name + " or its older name " + it->alias + ", not both");
+    given[i] = &value;
+  }
+  for (std::size_t i = 0; i < schema.size(); ++i)
+    if (given[i]) schema[i].set(o, given[i]->second);
+}
+
+}  // namespace clustersurf
