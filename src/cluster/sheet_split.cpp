@@ -15,10 +15,12 @@ constexpr int kNormalRounds = 4;
 /// Two groups of normals are two sheets when their heights differ by more than this many
 /// standard errors (a chance of about 3 in 1,000 for groups on one sheet).
 constexpr double kApartErrors = 3;
-/// Or when the smaller group holds at least 1/kBalancedShare of the points: a share that
-/// scattered orientation errors (5-10 % of the normals) reach in a cluster of 20 points once in
-/// hundreds of thousands to a few hundred times.
+/// Or when the smaller group holds at least 1/kBalancedShare of the points (both sides of a part
+/// thinner than the noise), a share that scattered orientation errors, up to kFlippedShare of
+/// the normals, give it with a chance under kFlippedChance.
 constexpr double kBalancedShare = 3;
+constexpr double kFlippedShare = 0.1;
+constexpr double kFlippedChance = 1e-4;
 
 /// The unit mean of the normals of a range's rows, or zero when they cancel.
 Eigen::Vector3d mean_normal(const Points& normals, std::span<const std::uint32_t> ids,
@@ -55,6 +57,19 @@ bool apart(const Points& points, std::span<const std::uint32_t> range, std::span
   return gap * gap > kApartErrors * kApartErrors * error2;
 }
 
+/// The chance that at least `k` of `n` normals are flipped when each is with chance `p`.
+double binomial_tail(std::size_t n, std::size_t k, double p) {
+  double tail = 0;
+  const double log_p = std::log(p), log_q = std::log1p(-p);
+  const double log_n = std::lgamma(static_cast<double>(n) + 1);
+  for (std::size_t j = k; j <= n; ++j) {
+    const auto x = static_cast<double>(j);
+    tail += std::exp(log_n - std::lgamma(x + 1) - std::lgamma(static_cast<double>(n) - x + 1) + x * log_p +
+                     (static_cast<double>(n) - x) * log_q);
+  }
+  return tail;
+}
+
 }  // namespace
 
 std::size_t split_two_sheets(const Points& points, const Points& normals, std::span<const std::uint32_t> ids,
@@ -89,7 +104,9 @@ std::size_t split_two_sheets(const Points& points, const Points& normals, std::s
   // Normals flipped by orientation errors are a few among the right ones, on the same sheet;
   // two sheets are either apart or each a good share of the cluster (both sides of a part
   // thinner than the noise).
-  const bool balanced = kBalancedShare * static_cast<double>(std::min(ones, n - ones)) >= static_cast<double>(n);
+  const std::size_t fewer = std::min(ones, n - ones);
+  const bool balanced = kBalancedShare * static_cast<double>(fewer) >= static_cast<double>(n) &&
+                        binomial_tail(n, fewer, kFlippedShare) < kFlippedChance;
   if (!balanced && !apart(points, range, side, (c0 - c1).normalized())) return 0;
   std::vector<std::uint32_t> first, second;
   for (std::size_t k = 0; k < n; ++k) (side[k] ? second : first).push_back(range[k]);
