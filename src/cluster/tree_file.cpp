@@ -267,8 +267,8 @@ ClusterTree deserialize_tree(std::string_view bytes, const std::filesystem::path
 
 namespace {
 
-ClusterTree parse_tree(std::string_view bytes, const std::filesystem::path& file, const io::MappedFile* mapped) {
-  Reader r(bytes, file);
+/// Checks the magic number, version, endianness tag and checksum of `bytes`; returns the version.
+std::uint32_t read_header(Reader& r, std::string_view bytes, const io::MappedFile* mapped) {
   if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     r.fail_at(0, "not a clustersurf tree file (bad magic number)");
   for (std::size_t k = 0; k < sizeof kMagic; ++k) r.get<char>("magic");
@@ -285,8 +285,11 @@ ClusterTree parse_tree(std::string_view bytes, const std::filesystem::path& file
   std::memcpy(&stored_crc, bytes.data() + bytes.size() - 4, 4);
   const std::uint32_t crc = crc_of(bytes.substr(0, bytes.size() - 4), 0, mapped);
   if (crc != stored_crc) r.fail_at(bytes.size() - 4, "checksum mismatch: the file is corrupted or truncated");
+  return version;
+}
 
-  ClusterTree tree;
+/// The build parameters and the tree's header fields.
+void read_parameters(Reader& r, std::uint32_t version, ClusterTree& tree) {
   TreeParameters& p = tree.parameters;
   p.proxy = get_enum<ProxyKind>(r, 4, "proxy kind");
   p.splitter = get_enum<SplitterKind>(r, 2, "splitter");
@@ -319,7 +322,11 @@ ClusterTree parse_tree(std::string_view bytes, const std::filesystem::path& file
     if (tree.point_spacing < 0) r.fail_at(at, "point spacing is negative");
   }
   if (version >= 3) tree.origin = r.vec("origin");
+}
 
+/// The nodes, each checked on its own; returns where each one starts in the file.
+std::vector<std::size_t> read_nodes(Reader& r, std::uint32_t version, ClusterTree& tree, const io::MappedFile* mapped) {
+  const TreeParameters& p = tree.parameters;
   const std::size_t count_at = r.pos();
   const auto node_count = r.get<std::uint64_t>("node count");
   if (node_count == 0) r.fail_at(count_at, "tree has no nodes");
@@ -356,8 +363,14 @@ ClusterTree parse_tree(std::string_view bytes, const std::filesystem::path& file
     if (kProxyDoubles[static_cast<std::size_t>(kind)] * 8 > r.remaining()) r.fail("file is truncated inside a proxy");
     n.proxy = get_proxy(r, kind);
   }
-  // Topology: every node but the root is the child of exactly one node; parents and depths
-  // follow; counts add up.
+  return node_at;
+}
+
+/// The nodes' topology: every node but the root is the child of exactly one node; parents and
+/// depths follow; counts add up.
+void check_topology(const Reader& r, ClusterTree& tree, const std::vector<std::size_t>& node_at) {
+  const auto node_count = tree.nodes.size();
+  const auto nodes = static_cast<std::int64_t>(node_count);
   std::vector<std::uint8_t> referenced(node_count, 0);
   for (std::int64_t i = 0; i < nodes; ++i) {
     ClusterNode& n = tree.nodes[static_cast<std::size_t>(i)];
@@ -391,7 +404,12 @@ ClusterTree parse_tree(std::string_view bytes, const std::filesystem::path& file
   if (tree.nodes[0].point_count > tree.input_points)
     r.fail_at(node_at[0], "root counts " + std::to_string(tree.nodes[0].point_count) + " points but the header says " +
                               std::to_string(tree.input_points) + " input points");
+}
 
+/// The point-leaf table, checked against the leaves' counts.
+void read_point_leaves(Reader& r, ClusterTree& tree) {
+  const auto node_count = tree.nodes.size();
+  const auto nodes = static_cast<std::int64_t>(node_count);
   const std::size_t leaf_at = r.pos();
   const auto leaf_count = r.get<std::uint64_t>("point-leaf count");
   if (leaf_count != 0 && leaf_count != tree.input_points)
@@ -419,6 +437,16 @@ ClusterTree parse_tree(std::string_view bytes, const std::filesystem::path& file
     if (tree.nodes[i].is_leaf() && per_leaf[i] != tree.nodes[i].point_count)
       r.fail_at(leaf_at, "leaf " + std::to_string(i) + " has " + std::to_string(tree.nodes[i].point_count) +
                              " points but the point-leaf table gives it " + std::to_string(per_leaf[i]));
+}
+
+ClusterTree parse_tree(std::string_view bytes, const std::filesystem::path& file, const io::MappedFile* mapped) {
+  Reader r(bytes, file);
+  const std::uint32_t version = read_header(r, bytes, mapped);
+  ClusterTree tree;
+  read_parameters(r, version, tree);
+  const std::vector<std::size_t> node_at = read_nodes(r, version, tree, mapped);
+  check_topology(r, tree, node_at);
+  read_point_leaves(r, tree);
   if (r.remaining() != 4) r.fail(std::to_string(r.remaining() - 4) + " unexpected bytes before the checksum");
   return tree;
 }
