@@ -236,34 +236,14 @@ GlbSummary check_glb(const GlbMesh& glb) {
   return summary;
 }
 
-ViewerStats write_page(const std::filesystem::path& file, const ClusterTree& tree, const PointCloud* cloud,
-                       const TriangleMesh* mesh, const GlbMesh* glb, const ViewerOptions& options) {
-  if (options.patch_grid < 2) throw OptionError("the proxy patch grid needs at least 2 vertices per side");
-  if (tree.nodes.empty()) throw OptionError("the tree has no nodes");
-  const GlbSummary glb_summary = glb != nullptr ? check_glb(*glb) : GlbSummary{};
-  if (cloud != nullptr) {
-    require_tree_input(tree, cloud->positions);
-    if (tree.point_leaf.size() != static_cast<std::size_t>(cloud->size()))
-      throw OptionError(
-          "the tree holds no point-to-leaf table (it was built without BuildOptions::keep_point_leaves): rebuild it "
-          "with them");
-  }
-  const std::string_view page = view::viewer_template();
-  const std::size_t marker = page.find(view::kDataMarker);
-  if (marker == std::string_view::npos) throw IoError("internal error: the viewer template has no data marker");
-
-  const Eigen::Vector3d center =
-      tree.bbox.empty() ? Eigen::Vector3d::Zero() : Eigen::Vector3d(0.5 * (tree.bbox.min + tree.bbox.max));
-  const std::size_t n = tree.nodes.size();
-  std::vector<Blob> blobs;
-  ViewerStats stats;
-  stats.nodes = n;
-
-  // Points: float32 positions relative to the bbox center and the leaf of each.
+/// The embedded points (float32 positions relative to `center`) and the leaf of each; returns
+/// how many are embedded.
+std::size_t add_point_blobs(std::vector<Blob>& blobs, const ClusterTree& tree, const PointCloud* cloud,
+                            const Eigen::Vector3d& center, std::size_t max_points) {
   std::vector<float> positions;
   std::vector<std::int32_t> leaves;
   if (cloud != nullptr) {
-    const std::vector<std::size_t> keep = embedded_points(static_cast<std::size_t>(cloud->size()), options.max_points);
+    const std::vector<std::size_t> keep = embedded_points(static_cast<std::size_t>(cloud->size()), max_points);
     positions.resize(3 * keep.size());
     leaves.resize(keep.size());
     for (std::size_t k = 0; k < keep.size(); ++k) {
@@ -272,12 +252,15 @@ ViewerStats write_page(const std::filesystem::path& file, const ClusterTree& tre
             static_cast<float>(cloud->positions(static_cast<Eigen::Index>(keep[k]), c) - center[c]);
       leaves[k] = tree.point_leaf[keep[k]];
     }
-    stats.points = keep.size();
   }
   blobs.push_back(make_blob("positions", positions));
   blobs.push_back(make_blob("point_leaf", leaves));
+  return positions.size() / 3;
+}
 
-  // Node table.
+/// The node table: links, depth, counts, proxy kind, errors and support; returns the leaf count.
+std::size_t add_node_blobs(std::vector<Blob>& blobs, const ClusterTree& tree, const Eigen::Vector3d& center) {
+  const std::size_t n = tree.nodes.size();
   std::vector<std::int32_t> ints(5 * n);
   std::vector<std::uint8_t> kinds(n);
   std::vector<double> floats(6 * n);
@@ -296,13 +279,18 @@ ViewerStats write_page(const std::filesystem::path& file, const ClusterTree& tre
   blobs.push_back(make_blob("node_int", ints));
   blobs.push_back(make_blob("node_kind", kinds));
   blobs.push_back(make_blob("node_float", floats));
+  return leaf_count;
+}
 
-  // Proxy patches: frame (origin, e1, e2, e3) relative to the center, extent, grid heights.
+/// The proxy patches: each frame (origin, e1, e2, e3) relative to `center`, its extent and a
+/// g x g grid of heights.
+void add_patch_blobs(std::vector<Blob>& blobs, const ClusterTree& tree, const PointCloud* cloud,
+                     const Eigen::Vector3d& center, std::size_t g) {
+  const std::size_t n = tree.nodes.size();
   std::vector<std::optional<PatchFrame>> frames(n);
   for (std::size_t i = 0; i < n; ++i) frames[i] = patch_frame(tree.nodes[i]);
   std::vector<Extent> extents(n);
   if (cloud != nullptr) extents = cluster_extents(tree, cloud->positions, frames);
-  const std::size_t g = options.patch_grid;
   std::vector<float> patch_frames(16 * n, 0.0f);
   std::vector<float> heights(g * g * n, std::numeric_limits<float>::quiet_NaN());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const auto& r) {
@@ -331,9 +319,14 @@ ViewerStats write_page(const std::filesystem::path& file, const ClusterTree& tre
   });
   blobs.push_back(make_blob("patch_frame", patch_frames));
   blobs.push_back(make_blob("patch_height", heights));
+}
 
-  // The mesh: arrays relative to the center (a TriangleMesh, moved from its origin to the
-  // tree's), or a .glb file's bytes as they are (the page places its scene by the tree's origin).
+/// The mesh: arrays relative to the center (a TriangleMesh, moved from its origin to the tree's),
+/// or a .glb file's bytes as they are (the page places its scene by the tree's origin). Returns
+/// the page's mesh record (null without a mesh) and sets `triangles_out`.
+nlohmann::json add_mesh_blobs(std::vector<Blob>& blobs, const ClusterTree& tree, const TriangleMesh* mesh,
+                              const GlbMesh* glb, const GlbSummary& glb_summary, const Eigen::Vector3d& center,
+                              std::size_t& triangles_out) {
   nlohmann::json mesh_info = nullptr;
   if (mesh != nullptr) {
     const Eigen::Vector3d offset = mesh->origin - tree.origin - center;  // -center when the origins agree
@@ -353,12 +346,59 @@ ViewerStats write_page(const std::filesystem::path& file, const ClusterTree& tre
       blobs.push_back(make_blob(
           "mesh_colors", std::vector<std::uint8_t>(mesh->colors.data(), mesh->colors.data() + mesh->colors.size())));
     mesh_info = {{"format", "arrays"}, {"vertices", mesh->vertices.rows()}, {"triangles", mesh->triangles.rows()}};
-    stats.triangles = static_cast<std::size_t>(mesh->triangles.rows());
+    triangles_out = static_cast<std::size_t>(mesh->triangles.rows());
   } else if (glb != nullptr) {
     blobs.push_back(make_blob("mesh_glb", glb->bytes));
     mesh_info = {{"format", "glb"}, {"vertices", glb_summary.vertices}, {"triangles", glb_summary.triangles}};
-    stats.triangles = glb_summary.triangles;
+    triangles_out = glb_summary.triangles;
   }
+  return mesh_info;
+}
+
+/// The page: the template up to its data marker, the metadata and the blobs, the rest.
+void write_html(const std::filesystem::path& file, std::string_view page, std::size_t marker,
+                const std::string& meta_text, const std::vector<Blob>& blobs) {
+  io::AtomicFile out(file);
+  out.write(page.substr(0, marker));
+  out.write("<script type=\"application/json\" id=\"cs-meta\">");
+  out.write(meta_text);
+  out.write("</script>\n");
+  for (const Blob& b : blobs) {
+    out.write("<script type=\"application/octet-stream\" id=\"cs-blob-" + b.name + "\">");
+    write_base64(out, b.bytes);
+    out.write("</script>\n");
+  }
+  out.write(page.substr(marker + view::kDataMarker.size()));
+  out.commit();
+}
+
+ViewerStats write_page(const std::filesystem::path& file, const ClusterTree& tree, const PointCloud* cloud,
+                       const TriangleMesh* mesh, const GlbMesh* glb, const ViewerOptions& options) {
+  if (options.patch_grid < 2) throw OptionError("the proxy patch grid needs at least 2 vertices per side");
+  if (tree.nodes.empty()) throw OptionError("the tree has no nodes");
+  const GlbSummary glb_summary = glb != nullptr ? check_glb(*glb) : GlbSummary{};
+  if (cloud != nullptr) {
+    require_tree_input(tree, cloud->positions);
+    if (tree.point_leaf.size() != static_cast<std::size_t>(cloud->size()))
+      throw OptionError(
+          "the tree holds no point-to-leaf table (it was built without BuildOptions::keep_point_leaves): rebuild it "
+          "with them");
+  }
+  const std::string_view page = view::viewer_template();
+  const std::size_t marker = page.find(view::kDataMarker);
+  if (marker == std::string_view::npos) throw IoError("internal error: the viewer template has no data marker");
+
+  const Eigen::Vector3d center =
+      tree.bbox.empty() ? Eigen::Vector3d::Zero() : Eigen::Vector3d(0.5 * (tree.bbox.min + tree.bbox.max));
+  const std::size_t n = tree.nodes.size();
+  const std::size_t g = options.patch_grid;
+  std::vector<Blob> blobs;
+  ViewerStats stats;
+  stats.nodes = n;
+  stats.points = add_point_blobs(blobs, tree, cloud, center, options.max_points);
+  const std::size_t leaf_count = add_node_blobs(blobs, tree, center);
+  add_patch_blobs(blobs, tree, cloud, center, g);
+  const nlohmann::json mesh_info = add_mesh_blobs(blobs, tree, mesh, glb, glb_summary, center, stats.triangles);
 
   nlohmann::json blob_info = nlohmann::json::object();
   for (const Blob& b : blobs) blob_info[b.name] = {{"type", b.type}, {"length", b.length}};
@@ -379,18 +419,7 @@ ViewerStats write_page(const std::filesystem::path& file, const ClusterTree& tre
   std::string meta_text = meta.dump(-1, ' ', true);  // ASCII: "</script>" can only come from '<'
   for (std::size_t at = 0; (at = meta_text.find('<', at)) != std::string::npos;) meta_text.replace(at, 1, "\\u003c");
 
-  io::AtomicFile out(file);
-  out.write(page.substr(0, marker));
-  out.write("<script type=\"application/json\" id=\"cs-meta\">");
-  out.write(meta_text);
-  out.write("</script>\n");
-  for (const Blob& b : blobs) {
-    out.write("<script type=\"application/octet-stream\" id=\"cs-blob-" + b.name + "\">");
-    write_base64(out, b.bytes);
-    out.write("</script>\n");
-  }
-  out.write(page.substr(marker + view::kDataMarker.size()));
-  out.commit();
+  write_html(file, page, marker, meta_text, blobs);
   std::error_code ec;
   stats.bytes = std::filesystem::file_size(file, ec);
   return stats;
