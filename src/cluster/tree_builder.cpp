@@ -97,10 +97,6 @@ class Builder {
         }
       }
     }
-    // Over its support a proxy may keep the noise plus support_factor times the tolerance.
-    const auto support_fails = [&](const detail::SupportError& s, double tolerance) {
-      return s.rms > allowed(options_.support_factor * tolerance, s.effective_points);
-    };
     std::optional<detail::SupportError> support;  // the support check's error, once computed
     std::size_t k = 0;
     // A cluster is split when its error exceeds the threshold, or, when its frame is determined,
@@ -139,47 +135,7 @@ class Builder {
       // over its support — typically a cluster of two small patches far apart — keeps only the
       // part of its support where the proxy holds, so it does not blend nonsense into its
       // neighbours' surface.
-      if (support_ != nullptr) {
-        if (!support) support = support_->check(node, range);
-        // A leaf beside a sharp edge whose support reaches the other face: its smooth proxy,
-        // extended across the edge, would blend a lip into the edge. When a crease fits the
-        // support points (the edge within the support), still fits the leaf's own points, and
-        // explains the support misfit as above, the leaf takes it.
-        if (options_.creases && !smooth && support->rms > allowed(tolerance_, support->effective_points)) {
-          if (const auto crease = support_->crease(node, frame)) {
-            const ProxyError own = proxy_error(Proxy(crease->proxy), points_, range);
-            const double ce = options_.metric == ErrorMetric::Rms ? own.rms : own.max;
-            if (ce <= std::max(threshold, e) && explains(crease->error.rms, support->rms)) {
-              node.proxy = crease->proxy;
-              node.rms_error = own.rms;
-              node.max_error = own.max;
-              e = ce;
-              support = crease->error;
-            }
-          }
-        }
-        if (cover < 0) cover = support_->coverage_radius(node.support.center, options_.alpha * node.extent);
-        // A support reaching another sheet (the far side of a thin part, the opposite wall of
-        // a fold) stops short of it: its proxy, pointing the other way there, would push that
-        // sheet's surface out. It keeps at least half the cluster's extent.
-        const double sheet = std::max(kMinSheetReach * node.extent, support_->other_sheet_distance(node, range));
-        if (sheet < node.support.radius) {
-          node.support.radius = sheet;
-          cover = std::min(cover, sheet);
-          support = support_->check(node, range);
-        }
-        // A leaf held at min_points may miss the threshold on its own points too; measure its
-        // support against what it achieves there.
-        const double own = std::sqrt(std::max(0.0, e * e - noise_ * noise_));
-        const double tolerance = std::max(tolerance_, own);
-        for (int shrink = 0;
-             shrink < kSupportShrinkSteps && support_fails(*support, tolerance) && node.support.radius > cover;
-             ++shrink) {
-          node.support.radius = std::max(cover, node.support.radius * kSupportShrinkFactor);
-          support = support_->check(node, range);
-        }
-        node.bound = node.support;
-      }
+      if (support_ != nullptr) fit_leaf_support(node, range, frame, threshold, smooth.has_value(), e, cover, support);
       std::iota(range.begin(), range.end(), bn.begin);
       progress_.advance(range.size());
       return;
@@ -204,6 +160,57 @@ class Builder {
   }
 
  private:
+  /// Over its support a proxy may keep the noise plus support_factor times the tolerance.
+  bool support_fails(const detail::SupportError& s, double tolerance) const {
+    return s.rms > allowed(options_.support_factor * tolerance, s.effective_points);
+  }
+
+  /// A leaf's support, fitted to where its proxy holds: a crease where its support reaches over
+  /// a sharp edge, a radius that stops short of another sheet, shrunk while the proxy fails
+  /// there; `e` (its error), `cover` and `support` (its support check) follow.
+  void fit_leaf_support(ClusterNode& node, std::span<const std::uint32_t> range, const Frame& frame, double threshold,
+                        bool crease_fitted, double& e, double& cover,
+                        std::optional<detail::SupportError>& support) const {
+    if (!support) support = support_->check(node, range);
+    // A leaf beside a sharp edge whose support reaches the other face: its smooth proxy,
+    // extended across the edge, would blend a lip into the edge. When a crease fits the
+    // support points (the edge within the support), still fits the leaf's own points, and
+    // explains the support misfit as above, the leaf takes it.
+    if (options_.creases && !crease_fitted && support->rms > allowed(tolerance_, support->effective_points)) {
+      if (const auto crease = support_->crease(node, frame)) {
+        const ProxyError own = proxy_error(Proxy(crease->proxy), points_, range);
+        const double ce = options_.metric == ErrorMetric::Rms ? own.rms : own.max;
+        if (ce <= std::max(threshold, e) && explains(crease->error.rms, support->rms)) {
+          node.proxy = crease->proxy;
+          node.rms_error = own.rms;
+          node.max_error = own.max;
+          e = ce;
+          support = crease->error;
+        }
+      }
+    }
+    if (cover < 0) cover = support_->coverage_radius(node.support.center, options_.alpha * node.extent);
+    // A support reaching another sheet (the far side of a thin part, the opposite wall of
+    // a fold) stops short of it: its proxy, pointing the other way there, would push that
+    // sheet's surface out. It keeps at least half the cluster's extent.
+    const double sheet = std::max(kMinSheetReach * node.extent, support_->other_sheet_distance(node, range));
+    if (sheet < node.support.radius) {
+      node.support.radius = sheet;
+      cover = std::min(cover, sheet);
+      support = support_->check(node, range);
+    }
+    // A leaf held at min_points may miss the threshold on its own points too; measure its
+    // support against what it achieves there.
+    const double own = std::sqrt(std::max(0.0, e * e - noise_ * noise_));
+    const double tolerance = std::max(tolerance_, own);
+    for (int shrink = 0;
+         shrink < kSupportShrinkSteps && support_fails(*support, tolerance) && node.support.radius > cover; ++shrink) {
+      node.support.radius = std::max(cover, node.support.radius * kSupportShrinkFactor);
+      support = support_->check(node, range);
+    }
+    node.bound = node.support;
+  }
+
   double allowed(double tolerance, double n) const { return detail::allowed_error(tolerance, noise_, n); }
 
   /// Fits `node` to the points `range`: its frame (returned), proxy, errors and extent, and its
