@@ -95,11 +95,9 @@ OptionSpec unset_by_default(OptionSpec s) {
 template <class Field>
 OptionSpec flag_spec(std::string name, OptionStage stage, std::string help, Field field, bool negated = false) {
   return spec(
-      std::move(name), stage, OptionKind::Flag, std::move(help),
+      name, stage, OptionKind::Flag, std::move(help),
       [field, negated](const ReconstructOptions& o) { return flag_text(field(o) != negated); },
-      [field, negated, n = name](ReconstructOptions& o, std::string_view text) {
-        field(o) = flag(n, text) != negated;
-      });
+      [field, negated, name](ReconstructOptions& o, std::string_view text) { field(o) = flag(name, text) != negated; });
 }
 
 /// A word from `words` bound through a parser and to_string() of the field's enum.
