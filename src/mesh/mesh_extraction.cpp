@@ -184,8 +184,14 @@ double checked_cell_size(const ImplicitSurface& surface, const detail::MeshClip*
   return h;
 }
 
-/// The cells the walk starts from, sorted: around points on every blended proxy near its center
-/// and at ±r/3 along two tangents, projected onto f = 0, and the clip's seed points' cells.
+/// The points a proxy's seed is projected from, in steps of r/3 along its two tangents: the
+/// centre first.
+constexpr std::array<std::array<int, 2>, 9> kSeedSteps = {
+    {{0, 0}, {-1, -1}, {-1, 0}, {-1, 1}, {0, -1}, {0, 1}, {1, -1}, {1, 0}, {1, 1}}};
+
+/// The cells the walk starts from, sorted: around a point of every blended proxy projected onto
+/// f = 0 (its centre, or where that projection fails, one of the points at ±r/3 along two
+/// tangents), and the clip's seed points' cells.
 std::vector<Key> seed_cells(const ImplicitSurface& surface, const Lattice& lattice) {
   const ClusterTree& tree = surface.tree();
   const auto& cut = surface.cut();
@@ -197,12 +203,12 @@ std::vector<Key> seed_cells(const ImplicitSurface& surface, const Lattice& latti
       const Eigen::Vector3d normal = n.proxy.normal();
       const Eigen::Vector3d t1 = any_tangent(normal), t2 = normal.cross(t1);
       const double step = n.support.radius / 3;
-      for (int a = -1; a <= 1; ++a)
-        for (int b = -1; b <= 1; ++b) {
-          Eigen::Vector3d x = n.support.center + step * (a * t1 + b * t2);
-          if (project(surface, nullptr, x, 12, n.support.radius, 1e-3 * lattice.h))
-            seeds[c].push_back(lattice.cell_of(x));
-        }
+      for (std::size_t s = 0; s < kSeedSteps.size() && (s == 0 || seeds[c].empty()); ++s) {
+        const auto [a, b] = kSeedSteps[s];
+        Eigen::Vector3d x = n.support.center + step * (a * t1 + b * t2);
+        if (project(surface, nullptr, x, 12, n.support.radius, 1e-3 * lattice.h))
+          seeds[c].push_back(lattice.cell_of(x));
+      }
     }
   });
   std::vector<Key> frontier;
