@@ -77,57 +77,44 @@ double decode(const char* bytes, char type, unsigned size) {
   }
 }
 
-Layout read_layout(const std::filesystem::path& file, std::string_view bytes) {
-  TextCursor cur(bytes, file);
-  std::vector<std::string_view> tokens;
-  Layout out;
-  std::vector<Field>& fields = out.fields;
+namespace {
+
+/// What the header lines have said so far.
+struct Header {
+  Layout layout;
   std::int64_t width = -1, points = -1;
-  std::string data;
-  std::string_view line;
-  while (data.empty()) {
-    if (!cur.next_line(line)) throw InputError(file, {cur.line(), {}}, "PCD header ends before its DATA line");
-    split_fields(line, tokens);
-    if (tokens.empty() || tokens[0].front() == '#') continue;
-    const std::string key = lower(tokens[0]);
-    const std::string keyword(tokens[0]);  // as the file spells it, for messages
-    const std::uint64_t at = cur.line();
-    auto need_values = [&](std::size_t n) {
-      if (n == 0 || tokens.size() - 1 != n)
-        throw InputError(file, {at, {}},
-                         keyword + " needs " + (n ? std::to_string(n) : std::string("at least one")) +
-                             " value(s), found " + std::to_string(tokens.size() - 1));
-    };
-    auto integer = [&](std::size_t k, std::int64_t lo, std::int64_t hi) {
-      std::int64_t v = 0;
-      if (!parse_int(tokens[k], v) || v < lo || v > hi)
-        throw InputError(file, {at, {}},
-                         keyword + ": expected an integer from " + std::to_string(lo) + " to " + std::to_string(hi) +
-                             ", found \"" + std::string(tokens[k].substr(0, 40)) + "\"");
-      return v;
-    };
-    if (key == "version") continue;
+  std::string data;  ///< the DATA word, lower case; empty until the DATA line
+};
+
+/// One header line, split into `tokens` (its keyword first), read into `h`.
+class HeaderLine {
+ public:
+  HeaderLine(const std::filesystem::path& file, std::uint64_t line, std::string_view text,
+             const std::vector<std::string_view>& tokens)
+      : file_(file), at_(line), text_(text), tokens_(tokens), keyword_(tokens[0]) {}
+
+  void read(Header& h) const {
+    const std::string key = lower(tokens_[0]);
+    std::vector<Field>& fields = h.layout.fields;
+    if (key == "version") return;
     if (fields.empty() && key != "fields" && key != "columns")
-      throw InputError(
-          file, {at, {}},
-          "expected the PCD header (VERSION or FIELDS), found \"" + std::string(line.substr(0, 40)) + "\"");
+      fail("expected the PCD header (VERSION or FIELDS), found \"" + std::string(text_.substr(0, 40)) + "\"");
     if (key == "fields" || key == "columns") {
-      if (tokens.size() < 2 || tokens.size() > 1025) throw InputError(file, {at, {}}, "FIELDS needs 1 to 1024 names");
+      if (tokens_.size() < 2 || tokens_.size() > 1025) fail("FIELDS needs 1 to 1024 names");
       fields.clear();
-      for (std::size_t k = 1; k < tokens.size(); ++k) fields.push_back({std::string(tokens[k]), 'F', 4, 1, 0});
+      for (std::size_t k = 1; k < tokens_.size(); ++k) fields.push_back({std::string(tokens_[k]), 'F', 4, 1, 0});
     } else if (key == "size") {
       need_values(fields.size());
       for (std::size_t k = 0; k < fields.size(); ++k) {
         const auto s = integer(k + 1, 1, 8);
-        if (s != 1 && s != 2 && s != 4 && s != 8) throw InputError(file, {at, {}}, "SIZE must be 1, 2, 4 or 8 bytes");
+        if (s != 1 && s != 2 && s != 4 && s != 8) fail("SIZE must be 1, 2, 4 or 8 bytes");
         fields[k].size = static_cast<unsigned>(s);
       }
     } else if (key == "type") {
       need_values(fields.size());
       for (std::size_t k = 0; k < fields.size(); ++k) {
-        const std::string t = lower(tokens[k + 1]);
-        if (t != "f" && t != "i" && t != "u")
-          throw InputError(file, {at, {}}, "TYPE must be F, I or U, found \"" + t + "\"");
+        const std::string t = lower(tokens_[k + 1]);
+        if (t != "f" && t != "i" && t != "u") fail("TYPE must be F, I or U, found \"" + t + "\"");
         fields[k].type = static_cast<char>(std::toupper(static_cast<unsigned char>(t[0])));
       }
     } else if (key == "count") {
@@ -136,39 +123,68 @@ Layout read_layout(const std::filesystem::path& file, std::string_view bytes) {
         fields[k].count = static_cast<std::uint64_t>(integer(k + 1, 1, 1 << 20));
     } else if (key == "width") {
       need_values(1);
-      width = integer(1, 0, std::numeric_limits<std::int32_t>::max());
+      h.width = integer(1, 0, std::numeric_limits<std::int32_t>::max());
     } else if (key == "height") {
       need_values(1);
-      out.height = integer(1, 1, std::numeric_limits<std::int32_t>::max());
+      h.layout.height = integer(1, 1, std::numeric_limits<std::int32_t>::max());
     } else if (key == "points") {
       need_values(1);
-      points = integer(1, 0, std::numeric_limits<std::int64_t>::max() / 2);
+      h.points = integer(1, 0, std::numeric_limits<std::int64_t>::max() / 2);
     } else if (key == "viewpoint") {
       need_values(7);
       for (int k = 0; k < 7; ++k)
-        if (!parse_double(tokens[static_cast<std::size_t>(k) + 1], out.viewpoint[k]) ||
-            !std::isfinite(out.viewpoint[k]))
-          throw InputError(file, {at, {}}, "VIEWPOINT needs 7 finite numbers");
+        if (!parse_double(tokens_[static_cast<std::size_t>(k) + 1], h.layout.viewpoint[k]) ||
+            !std::isfinite(h.layout.viewpoint[k]))
+          fail("VIEWPOINT needs 7 finite numbers");
     } else if (key == "data") {
       need_values(1);
-      data = lower(tokens[1]);
-      if (data != "ascii" && data != "binary" && data != "binary_compressed")
-        throw InputError(file, {at, {}}, "DATA must be ascii, binary or binary_compressed, found \"" + data + "\"");
+      h.data = lower(tokens_[1]);
+      if (h.data != "ascii" && h.data != "binary" && h.data != "binary_compressed")
+        fail("DATA must be ascii, binary or binary_compressed, found \"" + h.data + "\"");
     } else {
-      throw InputError(file, {at, {}}, "unknown PCD header line \"" + std::string(line.substr(0, 40)) + "\"");
+      fail("unknown PCD header line \"" + std::string(text_.substr(0, 40)) + "\"");
     }
   }
-  out.data = data == "ascii" ? Data::Ascii : data == "binary" ? Data::Binary : Data::BinaryCompressed;
-  out.data_line = cur.line();
+
+ private:
+  [[noreturn]] void fail(const std::string& message) const { throw InputError(file_, {at_, {}}, message); }
+  void need_values(std::size_t n) const {
+    if (n == 0 || tokens_.size() - 1 != n)
+      fail(keyword_ + " needs " + (n ? std::to_string(n) : std::string("at least one")) + " value(s), found " +
+           std::to_string(tokens_.size() - 1));
+  }
+  std::int64_t integer(std::size_t k, std::int64_t lo, std::int64_t hi) const {
+    std::int64_t v = 0;
+    if (!parse_int(tokens_[k], v) || v < lo || v > hi)
+      fail(keyword_ + ": expected an integer from " + std::to_string(lo) + " to " + std::to_string(hi) +
+           ", found \"" + std::string(tokens_[k].substr(0, 40)) + "\"");
+    return v;
+  }
+
+  const std::filesystem::path& file_;
+  std::uint64_t at_;
+  std::string_view text_;
+  const std::vector<std::string_view>& tokens_;
+  std::string keyword_;  ///< as the file spells it, for messages
+};
+
+/// The layout of a header read up to its DATA line (`data_line`; the body starts at byte
+/// `body` of the file's `bytes`), checked against itself and against the file's size.
+Layout checked_layout(const std::filesystem::path& file, std::string_view bytes, Header h, std::uint64_t data_line,
+                      std::size_t body) {
+  Layout out = std::move(h.layout);
+  std::vector<Field>& fields = out.fields;
+  out.data = h.data == "ascii" ? Data::Ascii : h.data == "binary" ? Data::Binary : Data::BinaryCompressed;
+  out.data_line = data_line;
   out.roles = roles_of(fields);
   if (std::any_of(out.roles.position, out.roles.position + 3, [](int f) { return f < 0; }))
     throw InputError(file, {out.data_line, {}}, "PCD FIELDS name no x, y and z");
-  if (width < 0) throw InputError(file, {out.data_line, {}}, "PCD header has no WIDTH");
-  if (points < 0) points = width * out.height;
-  if (points != width * out.height)
+  if (h.width < 0) throw InputError(file, {out.data_line, {}}, "PCD header has no WIDTH");
+  if (h.points < 0) h.points = h.width * out.height;
+  if (h.points != h.width * out.height)
     throw InputError(file, {out.data_line, {}},
-                     "POINTS (" + std::to_string(points) + ") is not WIDTH x HEIGHT (" + std::to_string(width) + " x " +
-                         std::to_string(out.height) + ")");
+                     "POINTS (" + std::to_string(h.points) + ") is not WIDTH x HEIGHT (" + std::to_string(h.width) +
+                         " x " + std::to_string(out.height) + ")");
   for (Field& f : fields) {
     if (f.type == 'F' && f.size != 4 && f.size != 8)
       throw InputError(
@@ -187,8 +203,8 @@ Layout read_layout(const std::filesystem::path& file, std::string_view bytes) {
                        "the fields' COUNTs add up to " + std::to_string(columns) +
                            " values per point, more than an ascii line can hold");
   }
-  out.points = static_cast<std::uint64_t>(points);
-  out.body = cur.offset();
+  out.points = static_cast<std::uint64_t>(h.points);
+  out.body = body;
   const std::uint64_t remaining = bytes.size() - out.body;
   // Each point takes at least 2 bytes as text ("0\n") and `record` bytes in binary; LZF
   // expands at most 132 times (a 2-byte back reference copies up to 264 bytes).
@@ -202,6 +218,22 @@ Layout read_layout(const std::filesystem::path& file, std::string_view bytes) {
   if (out.data == Data::Binary && out.points * out.record > remaining)
     throw InputError(file, FileLocation{std::nullopt, out.body}, "binary data ends before its points do");
   return out;
+}
+
+}  // namespace
+
+Layout read_layout(const std::filesystem::path& file, std::string_view bytes) {
+  TextCursor cur(bytes, file);
+  std::vector<std::string_view> tokens;
+  Header header;
+  std::string_view line;
+  while (header.data.empty()) {
+    if (!cur.next_line(line)) throw InputError(file, {cur.line(), {}}, "PCD header ends before its DATA line");
+    split_fields(line, tokens);
+    if (tokens.empty() || tokens[0].front() == '#') continue;
+    HeaderLine(file, cur.line(), line, tokens).read(header);
+  }
+  return checked_layout(file, bytes, std::move(header), cur.line(), cur.offset());
 }
 
 CompressedData compressed_data(const std::filesystem::path& file, std::string_view bytes, const Layout& layout) {
