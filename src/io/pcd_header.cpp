@@ -156,8 +156,8 @@ class HeaderLine {
   std::int64_t integer(std::size_t k, std::int64_t lo, std::int64_t hi) const {
     std::int64_t v = 0;
     if (!parse_int(tokens_[k], v) || v < lo || v > hi)
-      fail(keyword_ + ": expected an integer from " + std::to_string(lo) + " to " + std::to_string(hi) +
-           ", found \"" + std::string(tokens_[k].substr(0, 40)) + "\"");
+      fail(keyword_ + ": expected an integer from " + std::to_string(lo) + " to " + std::to_string(hi) + ", found \"" +
+           std::string(tokens_[k].substr(0, 40)) + "\"");
     return v;
   }
 
