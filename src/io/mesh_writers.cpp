@@ -80,58 +80,69 @@ void write_stl(const std::filesystem::path& file, const TriangleMesh& mesh) {
   out.commit();
 }
 
-void write_glb(const std::filesystem::path& file, const TriangleMesh& mesh) {
-  const Eigen::Index nv = mesh.vertices.rows(), nf = mesh.triangles.rows();
-  const Points normals = unit_normals(mesh);
-  const bool has_n = normals.rows() == nv && nv > 0;
-  const bool has_c = has_rows(mesh.colors, nv);
+namespace {
 
-  // The binary chunk: positions, then normals, then RGBA colors, then indices, each a view.
-  std::vector<char> bin;
+/// The binary chunk of a GLB: positions, then normals, then RGBA colors, then indices, each a
+/// buffer view (offset and length), and the positions' bounds.
+struct GlbBuffer {
   struct View {
     std::size_t offset, length;
   };
+  std::vector<char> bytes;
   std::vector<View> views;
-  auto begin_view = [&] {
-    pad4(bin, '\0');
-    views.push_back({bin.size(), 0});
-  };
-  auto end_view = [&] { views.back().length = bin.size() - views.back().offset; };
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::infinity()), hi = -lo;
-  begin_view();
+
+  void begin_view() {
+    pad4(bytes, '\0');
+    views.push_back({bytes.size(), 0});
+  }
+  void end_view() { views.back().length = bytes.size() - views.back().offset; }
+};
+
+/// glb_buffer() of `mesh` with `normals` (unit_normals(), empty for none) and its colors when
+/// `colors`.
+GlbBuffer glb_buffer(const TriangleMesh& mesh, const Points& normals, bool colors) {
+  const Eigen::Index nv = mesh.vertices.rows(), nf = mesh.triangles.rows();
+  GlbBuffer b;
+  b.begin_view();
   for (Eigen::Index i = 0; i < nv; ++i) {
     const Eigen::Vector3f p = mesh.vertices.row(i).transpose().cast<float>();
-    lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-    for (int k = 0; k < 3; ++k) put(bin, p(k));
+    b.lo = b.lo.cwiseMin(p), b.hi = b.hi.cwiseMax(p);
+    for (int k = 0; k < 3; ++k) put(b.bytes, p(k));
   }
-  end_view();
-  if (has_n) {
-    begin_view();
+  b.end_view();
+  if (normals.rows() > 0) {
+    b.begin_view();
     for (Eigen::Index i = 0; i < nv; ++i)
-      for (int k = 0; k < 3; ++k) put(bin, static_cast<float>(normals(i, k)));
-    end_view();
+      for (int k = 0; k < 3; ++k) put(b.bytes, static_cast<float>(normals(i, k)));
+    b.end_view();
   }
-  if (has_c) {
-    begin_view();
+  if (colors) {
+    b.begin_view();
     for (Eigen::Index i = 0; i < nv; ++i) {
-      for (int k = 0; k < 3; ++k) put(bin, mesh.colors(i, k));
-      put(bin, std::uint8_t{255});
+      for (int k = 0; k < 3; ++k) put(b.bytes, mesh.colors(i, k));
+      put(b.bytes, std::uint8_t{255});
     }
-    end_view();
+    b.end_view();
   }
-  begin_view();
+  b.begin_view();
   for (Eigen::Index f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k) put(bin, static_cast<std::uint32_t>(mesh.triangles(f, k)));
-  end_view();
-  pad4(bin, '\0');
+    for (int k = 0; k < 3; ++k) put(b.bytes, static_cast<std::uint32_t>(mesh.triangles(f, k)));
+  b.end_view();
+  pad4(b.bytes, '\0');
+  return b;
+}
 
-  // The JSON chunk: one scene, one node (translated to the origin), one indexed primitive.
+/// The JSON chunk of a GLB over `buffer`: one scene, one node (translated to the mesh's origin,
+/// turned to glTF's +y up), one indexed primitive; padded with spaces to 4 bytes.
+std::string glb_json(const TriangleMesh& mesh, const GlbBuffer& buffer, bool normals, bool colors) {
+  const Eigen::Index nv = mesh.vertices.rows(), nf = mesh.triangles.rows();
   std::string views_json, accessors_json, attributes_json;
   int view = 0;
   auto add_view = [&](int target) {
     if (!views_json.empty()) views_json += ',';
-    views_json += fmt::format(R"({{"buffer":0,"byteOffset":{},"byteLength":{},"target":{}}})", views[view].offset,
-                              views[view].length, target);
+    views_json += fmt::format(R"({{"buffer":0,"byteOffset":{},"byteLength":{},"target":{}}})",
+                              buffer.views[view].offset, buffer.views[view].length, target);
     return view++;
   };
   auto add_accessor = [&](int v, int component, Eigen::Index count, const char* type, const std::string& extra) {
@@ -141,16 +152,18 @@ void write_glb(const std::filesystem::path& file, const TriangleMesh& mesh) {
   };
   constexpr int kFloat = 5126, kUnsignedByte = 5121, kUnsignedInt = 5125, kArrayBuffer = 34962, kElementArray = 34963;
   int accessor = 0;
+  const Eigen::Vector3f& lo = buffer.lo;
+  const Eigen::Vector3f& hi = buffer.hi;
   add_accessor(
       add_view(kArrayBuffer), kFloat, nv, "VEC3",
       nv > 0 ? fmt::format(R"(,"min":[{},{},{}],"max":[{},{},{}])", lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z())
              : std::string());
   attributes_json = fmt::format(R"("POSITION":{})", accessor++);
-  if (has_n) {
+  if (normals) {
     add_accessor(add_view(kArrayBuffer), kFloat, nv, "VEC3", "");
     attributes_json += fmt::format(R"(,"NORMAL":{})", accessor++);
   }
-  if (has_c) {
+  if (colors) {
     add_accessor(add_view(kArrayBuffer), kUnsignedByte, nv, "VEC4", R"(,"normalized":true)");
     attributes_json += fmt::format(R"(,"COLOR_0":{})", accessor++);
   }
@@ -168,8 +181,20 @@ void write_glb(const std::filesystem::path& file, const TriangleMesh& mesh) {
       R"({{"asset":{{"version":"2.0","generator":"clustersurf"}},"scene":0,"scenes":[{{"nodes":[0]}}],)"
       R"("nodes":[{{"mesh":0{}}}],"meshes":[{{"primitives":[{{"attributes":{{{}}},"indices":{},"mode":4}}]}}],)"
       R"("accessors":[{}],"bufferViews":[{}],"buffers":[{{"byteLength":{}}}]}})",
-      translation, attributes_json, indices, accessors_json, views_json, bin.size());
+      translation, attributes_json, indices, accessors_json, views_json, buffer.bytes.size());
   while (json.size() % 4 != 0) json.push_back(' ');
+  return json;
+}
+
+}  // namespace
+
+void write_glb(const std::filesystem::path& file, const TriangleMesh& mesh) {
+  const Points normals = unit_normals(mesh);
+  const bool has_n = normals.rows() == mesh.vertices.rows() && mesh.vertices.rows() > 0;
+  const bool has_c = has_rows(mesh.colors, mesh.vertices.rows());
+  const GlbBuffer buffer = glb_buffer(mesh, has_n ? normals : Points(), has_c);
+  const std::string json = glb_json(mesh, buffer, has_n, has_c);
+  const std::vector<char>& bin = buffer.bytes;
 
   const std::size_t total = 12 + 8 + json.size() + 8 + bin.size();
   if (total > std::numeric_limits<std::uint32_t>::max())
