@@ -68,11 +68,8 @@ std::optional<Eigen::Vector3d> vector_option(const std::vector<double>& v, const
   return Eigen::Vector3d(v[0], v[1], v[2]);
 }
 
-}  // namespace
-
-int run_render(Console& console, const RenderArgs& args) {
-  if (args.inputs.size() > 1 && !args.grid) throw OptionError("several inputs need --grid");
-  if (std::filesystem::path(args.output).extension() != ".png") throw OptionError("the output must be a .png file");
+/// The render options the arguments ask for (the framing and reference points set later).
+RenderOptions render_options(const RenderArgs& args) {
   RenderOptions options;
   options.width = args.width;
   options.height = args.height;
@@ -95,7 +92,38 @@ int run_render(Console& console, const RenderArgs& args) {
   options.point_radius = args.point_radius;
   if (options.show == ShowMode::Error && args.points.empty())
     throw OptionError("--show error needs the input points (--points FILE)");
+  return options;
+}
 
+/// One scene's picture with `options` (a tree's level of detail from the arguments; meshes and
+/// clouds as plain surfaces); its kind ("tree", "mesh" or "points") in `kind`.
+Image draw_scene(Console& console, const RenderArgs& args, const std::string& input, const Scene& scene,
+                 const RenderOptions& options, RenderStats& stats, std::string& kind,
+                 const ProgressCallback& progress) {
+  if (const auto* tree = std::get_if<ClusterTree>(&scene)) {
+    RenderOptions o = options;
+    o.lod = level_of_detail(*tree, args.lod_depth, args.lod_error);
+    kind = "tree";
+    return render_tree(*tree, o, &stats, progress);
+  }
+  if (options.show != ShowMode::Surface || options.highlight)
+    console.warn(input + " is not a tree file: drawn as a plain surface");
+  RenderOptions o = options;
+  o.show = ShowMode::Surface;
+  if (const auto* mesh = std::get_if<TriangleMesh>(&scene)) {
+    kind = "mesh";
+    return render_mesh(*mesh, o, &stats, progress);
+  }
+  kind = "points";
+  return render_points(std::get<PointCloud>(scene), o, &stats, progress);
+}
+
+}  // namespace
+
+int run_render(Console& console, const RenderArgs& args) {
+  if (args.inputs.size() > 1 && !args.grid) throw OptionError("several inputs need --grid");
+  if (std::filesystem::path(args.output).extension() != ".png") throw OptionError("the output must be a .png file");
+  RenderOptions options = render_options(args);
   std::vector<Scene> scenes;
   for (const std::string& file : args.inputs) scenes.push_back(load_scene(console, file));
   PointCloud reference;
@@ -118,24 +146,7 @@ int run_render(Console& console, const RenderArgs& args) {
   for (std::size_t k = 0; k < scenes.size(); ++k) {
     RenderStats stats;
     std::string kind;
-    if (const auto* tree = std::get_if<ClusterTree>(&scenes[k])) {
-      RenderOptions o = options;
-      o.lod = level_of_detail(*tree, args.lod_depth, args.lod_error);
-      pictures.push_back(render_tree(*tree, o, &stats, progress));
-      kind = "tree";
-    } else {
-      if (options.show != ShowMode::Surface || options.highlight)
-        console.warn(args.inputs[k] + " is not a tree file: drawn as a plain surface");
-      RenderOptions o = options;
-      o.show = ShowMode::Surface;
-      if (const auto* mesh = std::get_if<TriangleMesh>(&scenes[k])) {
-        pictures.push_back(render_mesh(*mesh, o, &stats, progress));
-        kind = "mesh";
-      } else {
-        pictures.push_back(render_points(std::get<PointCloud>(scenes[k]), o, &stats, progress));
-        kind = "points";
-      }
-    }
+    pictures.push_back(draw_scene(console, args, args.inputs[k], scenes[k], options, stats, kind, progress));
     console.end_progress();
     labels.push_back(std::filesystem::path(args.inputs[k]).filename().string());
     total.seconds += stats.seconds;
