@@ -66,130 +66,154 @@ class Numbering {
   std::uint32_t next_ = 0;
 };
 
-}  // namespace
+/// join_tiles_to_ply()'s passes over the tiles, each asked for again in region order: the
+/// components and their votes, the kept triangles, the output numbering, the vertices, the
+/// triangles.
+class TileJoin {
+ public:
+  TileJoin(const std::function<MeshTile(std::int32_t)>& tile_of, const RegionPlan& plan)
+      : tile_of_(tile_of), numbering_(plan), n_(static_cast<std::int32_t>(plan.regions())) {}
 
-JoinedMesh join_tiles_to_ply(const std::function<MeshTile(std::int32_t)>& tile_of, const RegionPlan& plan,
-                             const TrimOptions& trim, const std::filesystem::path& file,
-                             const ImplicitSurface* colors) {
-  const auto n = static_cast<std::int32_t>(plan.regions());
-  const auto get = [&](std::int32_t k) {
-    MeshTile t = tile_of(k);
+  /// Pass 1: global numbers, votes, components (union-find), the vertices with triangles;
+  /// the tiles' common origin and up axis, and whether a tile carries colors.
+  void join_components() {
+    std::vector<float> votes;
+    for (std::int32_t k = 0; k < n_; ++k) {
+      const MeshTile t = tile(k);
+      if (k == 0) origin_ = t.mesh.origin, up_ = t.mesh.up;
+      tile_colors_ = tile_colors_ || t.mesh.colors.rows() > 0;
+      if (t.mesh.origin != origin_) throw OptionError("the mesh tiles are not of one tree (their origins differ)");
+      parent_.resize(numbering_.count());
+      votes.resize(numbering_.count(), 0.0f);
+      flags_.resize(numbering_.count(), 0);
+      for (std::size_t v = 0; v < id_.size(); ++v) {
+        if (created_[v]) parent_[id_[v]] = id_[v];
+        votes[id_[v]] += t.mesh.attributes[0].values(static_cast<Eigen::Index>(v));
+      }
+      for (Eigen::Index f = 0; f < t.mesh.triangles.rows(); ++f) {
+        const std::uint32_t a = id_[static_cast<std::size_t>(t.mesh.triangles(f, 0))];
+        flags_[a] |= kHasTriangle;
+        for (int c = 1; c < 3; ++c) {
+          const std::uint32_t ra = root(a), rb = root(id_[static_cast<std::size_t>(t.mesh.triangles(f, c))]);
+          if (ra != rb) parent_[std::max(ra, rb)] = std::min(ra, rb);
+        }
+      }
+    }
+    // Each component's votes, at its root; the fragment test as join_tiles() decides it.
+    total_ = numbering_.count();
+    support_.assign(total_, 0.0f);
+    for (std::uint32_t v = 0; v < total_; ++v) support_[root(v)] += votes[v];
+  }
+
+  /// Pass 2: the triangles of the components with `min_component_points` votes (or the best
+  /// component's, when fewer), the vertices they use; then the output numbers.
+  void keep_supported(std::size_t min_component_points, JoinedMesh& out) {
+    float best = 0;
+    for (std::uint32_t v = 0; v < total_; ++v)
+      if (flags_[v] & kHasTriangle) best = std::max(best, support_[root(v)]);
+    const double needed =
+        min_component_points > 0 ? std::min(static_cast<double>(min_component_points), static_cast<double>(best)) : 0;
+    for (std::int32_t k = 0; k < n_; ++k) {
+      const MeshTile t = tile(k);
+      for (Eigen::Index f = 0; f < t.mesh.triangles.rows(); ++f) {
+        const std::uint32_t a = id_[static_cast<std::size_t>(t.mesh.triangles(f, 0))];
+        if (!(support_[root(a)] >= needed)) continue;
+        ++out.triangles;
+        for (int c = 0; c < 3; ++c) flags_[id_[static_cast<std::size_t>(t.mesh.triangles(f, c))]] |= kUsed;
+      }
+    }
+    std::vector<std::uint8_t> dropped_root(total_, 0);
+    for (std::uint32_t v = 0; v < total_; ++v)
+      if ((flags_[v] & kHasTriangle) && !(support_[root(v)] >= needed)) dropped_root[root(v)] = 1;
+    for (std::uint32_t v = 0; v < total_; ++v) out.removed_components += dropped_root[v];
+    // The union-find is done with: its storage numbers the output, the used vertices in global order.
+    std::vector<std::uint32_t>& index = parent_;
+    std::uint32_t next = 0;
+    for (std::uint32_t v = 0; v < total_; ++v) index[v] = (flags_[v] & kUsed) ? next++ : 0;
+    out.vertices = next;
+    support_ = {};
+  }
+
+  /// Passes 3 and 4: the used vertices as they are created (colored by `colors`' nodes when
+  /// given), then the kept triangles.
+  void write(const std::filesystem::path& file, const JoinedMesh& out, const ImplicitSurface* colors) {
+    const bool with_colors = colors != nullptr || tile_colors_;
+    io::PlyMeshStream ply(file, out.vertices, out.triangles, true, with_colors, origin_, up_);
+    for (std::int32_t k = 0; k < n_; ++k) {
+      const MeshTile t = tile(k);
+      std::vector<Eigen::Index> rows;
+      for (std::size_t v = 0; v < id_.size(); ++v)
+        if (created_[v] && (flags_[id_[v]] & kUsed)) rows.push_back(static_cast<Eigen::Index>(v));
+      TriangleMesh part;
+      part.vertices = t.mesh.vertices(rows, Eigen::all);
+      part.normals = t.mesh.normals(rows, Eigen::all);
+      if (colors != nullptr)
+        part.colors = colors_by_node(part, *colors);
+      else if (with_colors && t.mesh.colors.rows() == t.mesh.vertices.rows())
+        part.colors = t.mesh.colors(rows, Eigen::all);
+      else if (with_colors)
+        part.colors.setConstant(part.vertices.rows(), 3, 128);  // a tile without colors
+      ply.add_vertices(part.vertices, part.normals, part.colors);
+    }
+    for (std::int32_t k = 0; k < n_; ++k) {
+      const MeshTile t = tile(k);
+      Triangles kept(t.mesh.triangles.rows(), 3);
+      Eigen::Index count = 0;
+      for (Eigen::Index f = 0; f < t.mesh.triangles.rows(); ++f) {
+        const std::uint32_t a = id_[static_cast<std::size_t>(t.mesh.triangles(f, 0))];
+        if (!(flags_[a] & kUsed)) continue;  // kept with its component, whose vertices are then all used
+        for (int c = 0; c < 3; ++c)
+          kept(count, c) = static_cast<std::int32_t>(parent_[id_[static_cast<std::size_t>(t.mesh.triangles(f, c))]]);
+        ++count;
+      }
+      kept.conservativeResize(count, 3);
+      ply.add_triangles(kept);
+    }
+    ply.commit();
+  }
+
+ private:
+  static constexpr std::uint8_t kHasTriangle = 1, kUsed = 2;
+
+  /// Tile k, checked, numbered (id_, created_); tile 0 starts a pass over the tiles again.
+  MeshTile tile(std::int32_t k) {
+    if (k == 0) numbering_.restart();
+    MeshTile t = tile_of_(k);
     const TriangleMesh& m = t.mesh;
     if (t.region != k || m.attributes.size() != 1 || m.attributes[0].values.size() != m.vertices.rows() ||
         m.normals.rows() != m.vertices.rows())
       throw OptionError("tile " + std::to_string(k) + " is not region " + std::to_string(k) +
                         "'s tile with normals and votes");
+    numbering_.number(t, id_, created_);
     return t;
-  };
-  // Pass 1: numbers, votes, components (union-find), which vertices have triangles.
-  Numbering numbering(plan);
-  std::vector<std::uint32_t> parent, id;
-  std::vector<float> votes;
-  std::vector<std::uint8_t> flags, created;  // flags: 1 has a triangle, 2 used by a kept triangle
-  const auto root = [&](std::uint32_t a) {
-    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+  }
+  std::uint32_t root(std::uint32_t a) {
+    while (parent_[a] != a) a = parent_[a] = parent_[parent_[a]];
     return a;
-  };
-  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
-  UpAxis up = UpAxis::Y;
-  bool tile_colors = false;  // a tile carries its points' colors
-  for (std::int32_t k = 0; k < n; ++k) {
-    const MeshTile t = get(k);
-    if (k == 0) origin = t.mesh.origin, up = t.mesh.up;
-    tile_colors = tile_colors || t.mesh.colors.rows() > 0;
-    if (t.mesh.origin != origin) throw OptionError("the mesh tiles are not of one tree (their origins differ)");
-    numbering.number(t, id, created);
-    parent.resize(numbering.count());
-    votes.resize(numbering.count(), 0.0f);
-    flags.resize(numbering.count(), 0);
-    for (std::size_t v = 0; v < id.size(); ++v) {
-      if (created[v]) parent[id[v]] = id[v];
-      votes[id[v]] += t.mesh.attributes[0].values(static_cast<Eigen::Index>(v));
-    }
-    for (Eigen::Index f = 0; f < t.mesh.triangles.rows(); ++f) {
-      const std::uint32_t a = id[static_cast<std::size_t>(t.mesh.triangles(f, 0))];
-      flags[a] |= 1;
-      for (int c = 1; c < 3; ++c) {
-        const std::uint32_t ra = root(a), rb = root(id[static_cast<std::size_t>(t.mesh.triangles(f, c))]);
-        if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
-      }
-    }
   }
-  // Each component's votes, at its root; the fragment test as join_tiles() decides it.
-  const std::uint32_t total = numbering.count();
-  std::vector<float> support(total, 0.0f);
-  for (std::uint32_t v = 0; v < total; ++v) support[root(v)] += votes[v];
-  votes = {};
-  float best = 0;
-  for (std::uint32_t v = 0; v < total; ++v)
-    if (flags[v] & 1) best = std::max(best, support[root(v)]);
-  const double needed = trim.min_component_points > 0
-                            ? std::min(static_cast<double>(trim.min_component_points), static_cast<double>(best))
-                            : 0;
-  // Pass 2: the kept triangles and the vertices they use.
-  JoinedMesh out;
-  numbering.restart();
-  for (std::int32_t k = 0; k < n; ++k) {
-    const MeshTile t = get(k);
-    numbering.number(t, id, created);
-    for (Eigen::Index f = 0; f < t.mesh.triangles.rows(); ++f) {
-      const std::uint32_t a = id[static_cast<std::size_t>(t.mesh.triangles(f, 0))];
-      if (!(support[root(a)] >= needed)) continue;
-      ++out.triangles;
-      for (int c = 0; c < 3; ++c) flags[id[static_cast<std::size_t>(t.mesh.triangles(f, c))]] |= 2;
-    }
-  }
-  // Output numbers: the used vertices in global order.
-  {
-    std::vector<std::uint8_t> dropped_root(total, 0);
-    for (std::uint32_t v = 0; v < total; ++v)
-      if ((flags[v] & 1) && !(support[root(v)] >= needed)) dropped_root[root(v)] = 1;
-    for (std::uint32_t v = 0; v < total; ++v) out.removed_components += dropped_root[v];
-  }
-  std::vector<std::uint32_t>& index = parent;  // the union-find is done with: its storage numbers the output
-  std::uint32_t next = 0;
-  for (std::uint32_t v = 0; v < total; ++v) index[v] = (flags[v] & 2) ? next++ : 0;
-  out.vertices = next;
-  support = {};
 
-  // Passes 3 and 4: the used vertices as they are created, then the kept triangles.
-  const bool with_colors = colors != nullptr || tile_colors;
-  io::PlyMeshStream ply(file, out.vertices, out.triangles, true, with_colors, origin, up);
-  numbering.restart();
-  for (std::int32_t k = 0; k < n; ++k) {
-    const MeshTile t = get(k);
-    numbering.number(t, id, created);
-    std::vector<Eigen::Index> rows;
-    for (std::size_t v = 0; v < id.size(); ++v)
-      if (created[v] && (flags[id[v]] & 2)) rows.push_back(static_cast<Eigen::Index>(v));
-    TriangleMesh part;
-    part.vertices = t.mesh.vertices(rows, Eigen::all);
-    part.normals = t.mesh.normals(rows, Eigen::all);
-    if (colors != nullptr)
-      part.colors = colors_by_node(part, *colors);
-    else if (with_colors && t.mesh.colors.rows() == t.mesh.vertices.rows())
-      part.colors = t.mesh.colors(rows, Eigen::all);
-    else if (with_colors)
-      part.colors.setConstant(part.vertices.rows(), 3, 128);  // a tile without colors
-    ply.add_vertices(part.vertices, part.normals, part.colors);
-  }
-  numbering.restart();
-  for (std::int32_t k = 0; k < n; ++k) {
-    const MeshTile t = get(k);
-    numbering.number(t, id, created);
-    Triangles kept(t.mesh.triangles.rows(), 3);
-    Eigen::Index count = 0;
-    for (Eigen::Index f = 0; f < t.mesh.triangles.rows(); ++f) {
-      const std::uint32_t a = id[static_cast<std::size_t>(t.mesh.triangles(f, 0))];
-      if (!(flags[a] & 2)) continue;  // kept with its component, whose vertices are then all used
-      for (int c = 0; c < 3; ++c)
-        kept(count, c) = static_cast<std::int32_t>(index[id[static_cast<std::size_t>(t.mesh.triangles(f, c))]]);
-      ++count;
-    }
-    kept.conservativeResize(count, 3);
-    ply.add_triangles(kept);
-  }
-  ply.commit();
+  const std::function<MeshTile(std::int32_t)>& tile_of_;
+  Numbering numbering_;
+  std::int32_t n_;
+  std::vector<std::uint32_t> parent_, id_;  ///< union-find, then the output numbers; a tile's global numbers
+  std::vector<std::uint8_t> flags_, created_;
+  std::vector<float> support_;  ///< votes per component root
+  std::uint32_t total_ = 0;
+  Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
+  UpAxis up_ = UpAxis::Y;
+  bool tile_colors_ = false;  ///< a tile carries its points' colors
+};
+
+}  // namespace
+
+JoinedMesh join_tiles_to_ply(const std::function<MeshTile(std::int32_t)>& tile_of, const RegionPlan& plan,
+                             const TrimOptions& trim, const std::filesystem::path& file,
+                             const ImplicitSurface* colors) {
+  TileJoin join(tile_of, plan);
+  JoinedMesh out;
+  join.join_components();
+  join.keep_supported(trim.min_component_points, out);
+  join.write(file, out, colors);
   return out;
 }
 
