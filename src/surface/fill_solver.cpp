@@ -203,65 +203,61 @@ class Multigrid {
 
 /// solve_fill(); `advance`: whether this level reports progress to `reporter` (the coarser
 /// levels only check for cancellation).
-std::size_t solve(FillGrid& g, ProgressReporter* reporter, bool advance) {
+std::size_t solve(FillGrid& g, ProgressReporter* reporter, bool advance);
+
+/// The start of the solve of `g`'s m unknowns (in node order): zero, or on a grid wider than 24
+/// nodes, the same problem solved on every other node and interpolated (a start that leaves the
+/// fine detail to the finer solve).
+Vector coarse_start(const FillGrid& g, std::size_t m, ProgressReporter* reporter) {
   const std::int64_t nx = g.nx, ny = g.ny, nz = g.nz;
-  const auto count = static_cast<std::size_t>(nx * ny * nz);
-  const auto m = static_cast<std::size_t>(std::count(g.known.begin(), g.known.end(), std::uint8_t{0}));
-  if (m == 0) return 0;
-  // The start first, so that the coarser problems' hierarchies are gone before this one's is
-  // built; the unknowns in node order, as make_level() numbers them.
+  Vector u(m, 0.0);
+  if (std::max({nx, ny, nz}) <= 24) return u;
   std::vector<std::size_t> unknown;
   unknown.reserve(m);
-  for (std::size_t n = 0; n < count; ++n)
+  for (std::size_t n = 0; n < g.known.size(); ++n)
     if (!g.known[n]) unknown.push_back(n);
-  Vector u(m, 0.0);
-  if (std::max({nx, ny, nz}) > 24) {
-    // The same problem on every other node, interpolated: a start that leaves the fine detail.
-    FillGrid coarse{(nx + 1) / 2, (ny + 1) / 2, (nz + 1) / 2, {}, {}};
-    const auto coarse_count = static_cast<std::size_t>(coarse.nx * coarse.ny * coarse.nz);
-    coarse.values.resize(coarse_count);
-    coarse.known.resize(coarse_count);
-    for (std::int64_t k = 0; k < coarse.nz; ++k)
-      for (std::int64_t j = 0; j < coarse.ny; ++j)
-        for (std::int64_t i = 0; i < coarse.nx; ++i) {
-          const auto c = static_cast<std::size_t>((k * coarse.ny + j) * coarse.nx + i);
-          const auto f = static_cast<std::size_t>((std::min(2 * k, nz - 1) * ny + std::min(2 * j, ny - 1)) * nx +
-                                                  std::min(2 * i, nx - 1));
-          coarse.values[c] = g.values[f];
-          coarse.known[c] = g.known[f];
-        }
-    solve(coarse, reporter, false);
-    tbb::parallel_for(std::size_t{0}, m, [&](std::size_t e) {
-      const auto n = static_cast<std::int64_t>(unknown[e]);
-      const double x = static_cast<double>(n % nx) / 2, y = static_cast<double>((n / nx) % ny) / 2,
-                   z = static_cast<double>(n / (nx * ny)) / 2;
-      const std::int64_t i = std::min(static_cast<std::int64_t>(x), coarse.nx - 1),
-                         j = std::min(static_cast<std::int64_t>(y), coarse.ny - 1),
-                         k = std::min(static_cast<std::int64_t>(z), coarse.nz - 1);
-      const double tx = x - static_cast<double>(i), ty = y - static_cast<double>(j), tz = z - static_cast<double>(k);
-      double v = 0;
-      for (int d = 0; d < 8; ++d) {
-        const std::int64_t a = std::min(i + (d & 1), coarse.nx - 1), b = std::min(j + (d >> 1 & 1), coarse.ny - 1),
-                           c = std::min(k + (d >> 2 & 1), coarse.nz - 1);
-        const double w = (d & 1 ? tx : 1 - tx) * (d >> 1 & 1 ? ty : 1 - ty) * (d >> 2 & 1 ? tz : 1 - tz);
-        v += w * coarse.values[static_cast<std::size_t>((c * coarse.ny + b) * coarse.nx + a)];
+  FillGrid coarse{(nx + 1) / 2, (ny + 1) / 2, (nz + 1) / 2, {}, {}};
+  const auto coarse_count = static_cast<std::size_t>(coarse.nx * coarse.ny * coarse.nz);
+  coarse.values.resize(coarse_count);
+  coarse.known.resize(coarse_count);
+  for (std::int64_t k = 0; k < coarse.nz; ++k)
+    for (std::int64_t j = 0; j < coarse.ny; ++j)
+      for (std::int64_t i = 0; i < coarse.nx; ++i) {
+        const auto c = static_cast<std::size_t>((k * coarse.ny + j) * coarse.nx + i);
+        const auto f = static_cast<std::size_t>((std::min(2 * k, nz - 1) * ny + std::min(2 * j, ny - 1)) * nx +
+                                                std::min(2 * i, nx - 1));
+        coarse.values[c] = g.values[f];
+        coarse.known[c] = g.known[f];
       }
-      u[e] = v;
-    });
-  }
-
-  unknown = {};
-  const Multigrid multigrid(make_level(nx, ny, nz, g.known));
-  const Level& l = multigrid.finest();
-
-  // b: the known neighbours' values.
-  Vector b(m, 0.0), r(m), z(m), p(m), q(m);
+  solve(coarse, reporter, false);
   tbb::parallel_for(std::size_t{0}, m, [&](std::size_t e) {
-    for_each_neighbour(nx, ny, nz, static_cast<std::int64_t>(l.unknown[e]), [&](int, std::int64_t nb) {
-      if (nb >= 0 && g.known[static_cast<std::size_t>(nb)]) b[e] += g.values[static_cast<std::size_t>(nb)];
-    });
+    const auto n = static_cast<std::int64_t>(unknown[e]);
+    const double x = static_cast<double>(n % nx) / 2, y = static_cast<double>((n / nx) % ny) / 2,
+                 z = static_cast<double>(n / (nx * ny)) / 2;
+    const std::int64_t i = std::min(static_cast<std::int64_t>(x), coarse.nx - 1),
+                       j = std::min(static_cast<std::int64_t>(y), coarse.ny - 1),
+                       k = std::min(static_cast<std::int64_t>(z), coarse.nz - 1);
+    const double tx = x - static_cast<double>(i), ty = y - static_cast<double>(j), tz = z - static_cast<double>(k);
+    double v = 0;
+    for (int d = 0; d < 8; ++d) {
+      const std::int64_t a = std::min(i + (d & 1), coarse.nx - 1), b = std::min(j + (d >> 1 & 1), coarse.ny - 1),
+                         c = std::min(k + (d >> 2 & 1), coarse.nz - 1);
+      const double w = (d & 1 ? tx : 1 - tx) * (d >> 1 & 1 ? ty : 1 - ty) * (d >> 2 & 1 ? tz : 1 - tz);
+      v += w * coarse.values[static_cast<std::size_t>((c * coarse.ny + b) * coarse.nx + a)];
+    }
+    u[e] = v;
   });
+  return u;
+}
 
+/// Multigrid-preconditioned conjugate gradients on the finest level's system A u = b from `u`,
+/// to a residual of 1e-12 |b|² or `max_iterations`; progress on a log scale of the residual
+/// when `advance`.
+void conjugate_gradients(const Multigrid& multigrid, Vector b, Vector& u, std::size_t max_iterations,
+                         ProgressReporter* reporter, bool advance) {
+  const Level& l = multigrid.finest();
+  const std::size_t m = u.size();
+  Vector r(m), z(m), p(m), q(m);
   l.apply(u, q);
   tbb::parallel_for(std::size_t{0}, m, [&](std::size_t e) { r[e] = b[e] - q[e]; });
   double rr = deterministic_sum(m, [&](std::size_t e) { return r[e] * r[e]; });
@@ -271,7 +267,6 @@ std::size_t solve(FillGrid& g, ProgressReporter* reporter, bool advance) {
   multigrid.precondition(r, z);
   p = z;
   double rz = deterministic_sum(m, [&](std::size_t e) { return r[e] * z[e]; });
-  const std::size_t max_iterations = 20 * static_cast<std::size_t>(std::max({nx, ny, nz}));
   std::uint64_t reported = 0;
   const double start = std::log(std::max(rr, target));
   for (std::size_t it = 0; it < max_iterations && rr > target; ++it) {
@@ -296,6 +291,26 @@ std::size_t solve(FillGrid& g, ProgressReporter* reporter, bool advance) {
     rz = rz_next;
     tbb::parallel_for(std::size_t{0}, m, [&](std::size_t e) { p[e] = z[e] + beta * p[e]; });
   }
+}
+
+std::size_t solve(FillGrid& g, ProgressReporter* reporter, bool advance) {
+  const std::int64_t nx = g.nx, ny = g.ny, nz = g.nz;
+  const auto m = static_cast<std::size_t>(std::count(g.known.begin(), g.known.end(), std::uint8_t{0}));
+  if (m == 0) return 0;
+  // The start first, so that the coarser problems' hierarchies are gone before this one's is
+  // built; the unknowns in node order, as make_level() numbers them.
+  Vector u = coarse_start(g, m, reporter);
+  const Multigrid multigrid(make_level(nx, ny, nz, g.known));
+  const Level& l = multigrid.finest();
+  // b: the known neighbours' values.
+  Vector b(m, 0.0);
+  tbb::parallel_for(std::size_t{0}, m, [&](std::size_t e) {
+    for_each_neighbour(nx, ny, nz, static_cast<std::int64_t>(l.unknown[e]), [&](int, std::int64_t nb) {
+      if (nb >= 0 && g.known[static_cast<std::size_t>(nb)]) b[e] += g.values[static_cast<std::size_t>(nb)];
+    });
+  });
+  conjugate_gradients(multigrid, std::move(b), u, 20 * static_cast<std::size_t>(std::max({nx, ny, nz})), reporter,
+                      advance);
   for (std::size_t e = 0; e < m; ++e) g.values[l.unknown[e]] = static_cast<float>(u[e]);
   return m;
 }
