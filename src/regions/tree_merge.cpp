@@ -112,12 +112,8 @@ struct Merger {
   }
 };
 
-/// Flips whole regions so that regions agree where their leaves' supports overlap: the
-/// proxies' gradients are compared midway between overlapping leaves of two regions, and a
-/// maximum spanning tree over the regions (weighted by how much they overlap) carries the
-/// orientation of the largest region of each group to the others. Returns the flipped regions.
-std::vector<std::uint8_t> align_regions(ClusterTree& tree, const std::vector<std::int32_t>& region_root,
-                                        bool propagated) {
+/// The region of each node: the subtrees under `region_root` (-1 elsewhere).
+std::vector<std::int32_t> node_regions(const ClusterTree& tree, const std::vector<std::int32_t>& region_root) {
   std::vector<std::int32_t> region_of(tree.nodes.size(), -1);
   for (std::size_t r = 0; r < region_root.size(); ++r) {
     if (region_root[r] < 0) continue;
@@ -127,8 +123,14 @@ std::vector<std::uint8_t> align_regions(ClusterTree& tree, const std::vector<std
     for (std::size_t i = root + 1; i < tree.nodes.size() && tree.nodes[i].depth > tree.nodes[root].depth; ++i)
       region_of[i] = static_cast<std::int32_t>(r);
   }
-  const std::vector<std::int32_t> leaves = tree.leaves();
-  if (leaves.empty()) return std::vector<std::uint8_t>(region_root.size(), 0);
+  return region_of;
+}
+
+/// For each pair of regions (lower first) whose leaves' supports overlap: the sum over the
+/// overlapping pairs of the cosine between their proxies' gradients midway between them.
+std::map<std::pair<std::int32_t, std::int32_t>, double> region_agreement(const ClusterTree& tree,
+                                                                         const std::vector<std::int32_t>& leaves,
+                                                                         const std::vector<std::int32_t>& region_of) {
   Points centers(static_cast<Eigen::Index>(leaves.size()), 3);
   double largest = 0;
   for (std::size_t i = 0; i < leaves.size(); ++i) {
@@ -137,7 +139,7 @@ std::vector<std::uint8_t> align_regions(ClusterTree& tree, const std::vector<std
     largest = std::max(largest, n.support.radius);
   }
   const KdTree index(centers);
-  std::map<std::pair<std::int32_t, std::int32_t>, double> agreement;  // region pair → Σ cos
+  std::map<std::pair<std::int32_t, std::int32_t>, double> agreement;
   std::vector<Neighbor> near;
   for (std::size_t i = 0; i < leaves.size(); ++i) {
     const ClusterNode& a = tree.nodes[static_cast<std::size_t>(leaves[i])];
@@ -153,28 +155,47 @@ std::vector<std::uint8_t> align_regions(ClusterTree& tree, const std::vector<std
       if (norm > 0) agreement[{ra, rb}] += ga.dot(gb) / norm;
     }
   }
-  // Maximum spanning forest by |agreement| (Kruskal), then each group's orientation follows
-  // its first region along the forest's edges.
+  return agreement;
+}
+
+/// The maximum spanning forest of `n` regions by |agreement| (Kruskal): each region's forest
+/// neighbours, and whether the neighbour faces the other way.
+std::vector<std::vector<std::pair<std::size_t, bool>>> agreement_forest(
+    const std::map<std::pair<std::int32_t, std::int32_t>, double>& agreement, std::size_t n) {
   std::vector<std::pair<double, std::pair<std::int32_t, std::int32_t>>> edges;
   for (const auto& [pair, sum] : agreement) edges.push_back({std::abs(sum), pair});
   std::stable_sort(edges.begin(), edges.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
-  const std::size_t n = region_root.size();
   std::vector<std::size_t> group(n);
   for (std::size_t r = 0; r < n; ++r) group[r] = r;
   const auto find = [&](std::size_t r) {
     while (group[r] != r) r = group[r] = group[group[r]];
     return r;
   };
-  std::vector<std::vector<std::pair<std::size_t, bool>>> adjacent(n);  // (region, flipped relative)
+  std::vector<std::vector<std::pair<std::size_t, bool>>> adjacent(n);
   for (const auto& [weight, pair] : edges) {
     const auto a = static_cast<std::size_t>(pair.first), b = static_cast<std::size_t>(pair.second);
     const std::size_t ga = find(a), gb = find(b);
     if (ga == gb) continue;
     group[std::max(ga, gb)] = std::min(ga, gb);
-    const bool opposite = agreement[pair] < 0;
+    const bool opposite = agreement.at(pair) < 0;
     adjacent[a].push_back({b, opposite});
     adjacent[b].push_back({a, opposite});
   }
+  return adjacent;
+}
+
+/// Flips whole regions so that regions agree where their leaves' supports overlap: the
+/// proxies' gradients are compared midway between overlapping leaves of two regions, and a
+/// maximum spanning tree over the regions (weighted by how much they overlap) carries the
+/// orientation of the largest region of each group to the others. Returns the flipped regions.
+std::vector<std::uint8_t> align_regions(ClusterTree& tree, const std::vector<std::int32_t>& region_root,
+                                        bool propagated) {
+  const std::vector<std::int32_t> region_of = node_regions(tree, region_root);
+  const std::vector<std::int32_t> leaves = tree.leaves();
+  if (leaves.empty()) return std::vector<std::uint8_t>(region_root.size(), 0);
+  const std::size_t n = region_root.size();
+  // Each group's orientation follows its first region along the forest's edges.
+  const auto adjacent = agreement_forest(region_agreement(tree, leaves, region_of), n);
   // Orientation by propagation is certain only at the leaf reaching farthest in +x of the
   // whole group (orient_tree()'s seed), which may lie in any of its regions.
   const auto reach = [&](std::int32_t l) {
