@@ -16,6 +16,45 @@
 
 namespace clustersurf {
 
+namespace {
+
+/// Which triangles of `mesh` region `region` owns: those whose centroid lies in its cell (every
+/// tile computes the same centroid of the same triangle, and exactly one cell holds it).
+std::vector<std::uint8_t> owned_triangles(const TriangleMesh& mesh, const RegionPlan& plan, std::int32_t region) {
+  std::vector<std::uint8_t> owned(static_cast<std::size_t>(mesh.triangles.rows()));
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+    const Eigen::Vector3d c = (mesh.vertices.row(mesh.triangles(t, 0)) + mesh.vertices.row(mesh.triangles(t, 1)) +
+                               mesh.vertices.row(mesh.triangles(t, 2)))
+                                  .transpose() /
+                              3.0;
+    owned[static_cast<std::size_t>(t)] = plan.region_of(c) == region;
+  }
+  return owned;
+}
+
+/// The votes of the first `own` rows of `data` (the region's own points) for their nearest
+/// vertex of `mesh`.
+Eigen::VectorXf vertex_votes(const TriangleMesh& mesh, const Points& data, std::size_t own) {
+  Eigen::VectorXf votes = Eigen::VectorXf::Zero(mesh.vertices.rows());
+  if (mesh.vertices.rows() == 0 || own == 0) return votes;
+  const KdTree vertices(mesh.vertices);
+  std::vector<std::uint32_t> nearest(own);
+  std::vector<Eigen::Index> rows(own);
+  std::iota(rows.begin(), rows.end(), Eigen::Index{0});
+  const std::vector<std::uint32_t> order = detail::spatial_order(data, rows);  // queries in spatial order
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, own, 1024), [&](const auto& r) {
+    std::vector<Neighbor> nb;
+    for (std::size_t o = r.begin(); o != r.end(); ++o) {
+      vertices.knn(data.row(static_cast<Eigen::Index>(order[o])).transpose(), 1, nb);
+      nearest[order[o]] = nb[0].index;
+    }
+  });
+  for (const std::uint32_t v : nearest) votes(v) += 1;
+  return votes;
+}
+
+}  // namespace
+
 MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::int32_t region_index,
                    const RegionCloud& region, const MeshOptions& grid, const TrimOptions& trim, bool input_colors,
                    const ProgressCallback& progress) {
@@ -51,35 +90,11 @@ MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::
   reach.close_pinholes = false;
   mesh = trim_to_points(mesh, index, reach);
 
-  // The triangles the region owns: centroid in its cell (every tile computes the same centroid
-  // of the same triangle, and exactly one cell holds it).
-  std::vector<std::uint8_t> owned(static_cast<std::size_t>(mesh.triangles.rows()));
-  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
-    const Eigen::Vector3d c = (mesh.vertices.row(mesh.triangles(t, 0)) + mesh.vertices.row(mesh.triangles(t, 1)) +
-                               mesh.vertices.row(mesh.triangles(t, 2)))
-                                  .transpose() /
-                              3.0;
-    owned[static_cast<std::size_t>(t)] = plan.region_of(c) == region_index;
-  }
-  // The votes of the region's own points for their nearest vertex of the trimmed mesh (kept
-  // whether or not the region owns a triangle there: the neighbour that does gets them when
-  // the tiles are joined).
-  Eigen::VectorXf votes = Eigen::VectorXf::Zero(mesh.vertices.rows());
-  if (mesh.vertices.rows() > 0 && own_data > 0) {
-    const KdTree vertices(mesh.vertices);
-    std::vector<std::uint32_t> nearest(own_data);
-    std::vector<Eigen::Index> own(own_data);
-    std::iota(own.begin(), own.end(), Eigen::Index{0});
-    const std::vector<std::uint32_t> order = detail::spatial_order(data, own);  // queries in spatial order
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, own_data, 1024), [&](const auto& r) {
-      std::vector<Neighbor> nb;
-      for (std::size_t o = r.begin(); o != r.end(); ++o) {
-        vertices.knn(data.row(static_cast<Eigen::Index>(order[o])).transpose(), 1, nb);
-        nearest[order[o]] = nb[0].index;
-      }
-    });
-    for (const std::uint32_t v : nearest) votes(v) += 1;
-  }
+  // The triangles the region owns, and the votes of its own points for their nearest vertex of
+  // the trimmed mesh (kept whether or not the region owns a triangle there: the neighbour that
+  // does gets them when the tiles are joined).
+  const std::vector<std::uint8_t> owned = owned_triangles(mesh, plan, region_index);
+  const Eigen::VectorXf votes = vertex_votes(mesh, data, own_data);
   // Keep the owned triangles and every voted vertex (a voted vertex no owned triangle uses
   // joins its owner's copy, or goes with its own triangles when the join drops them).
   Triangles kept(mesh.triangles.rows(), 3);
