@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <optional>
 #include <tuple>
 #include <vector>
@@ -103,6 +104,74 @@ detail::RunRecord open_work_directory(const std::filesystem::path& directory, st
   return record;
 }
 
+/// Reports a pass's progress: the stage and how many points it has seen.
+using PassReport = std::function<void(std::string_view, double)>;
+
+/// Pass 1 over the input: its count, bounds and an even sample, then the region plan, into `r`.
+void plan_from_scan(const std::filesystem::path& input, PointStream& stream, const PartitionOptions& options,
+                    detail::PartitionRecord& r, const PassReport& report) {
+  const std::uint64_t stride = std::max<std::uint64_t>(1, stream.size() / kPlanSample);
+  BoundingBox box;
+  std::vector<Eigen::Vector3d> sampled;
+  PointCloud block;
+  std::uint64_t count = 0;
+  while (stream.read(options.block_points, block)) {
+    report("scanning input", static_cast<double>(count));
+    for (Eigen::Index i = 0; i < block.size(); ++i, ++count) {
+      const Eigen::Vector3d x = block.positions.row(i).transpose();
+      box.extend(x);
+      if (count % stride == 0) sampled.push_back(x);
+    }
+  }
+  if (count == 0) throw InputError(input, {}, "the file holds no points");
+  r.input_points = count;
+  r.normals = stream.has_normals();
+  r.colors = stream.has_colors();
+  r.up = stream.up();
+  r.origin = origin_shift(box);
+  Points sample(static_cast<Eigen::Index>(sampled.size()), 3);
+  for (std::size_t i = 0; i < sampled.size(); ++i)
+    sample.row(static_cast<Eigen::Index>(i)) = (sampled[i] - r.origin).transpose();
+  BoundingBox relative;
+  relative.extend(box.min - r.origin);
+  relative.extend(box.max - r.origin);
+  r.plan = plan_regions(sample, count, relative, spacing_from_sample(sample, count), options.regions);
+}
+
+/// Pass 2 over the input: every point to its region's writer in `own` and to the `halo`
+/// writers of the regions near it, counted in `r`.
+void distribute(PointStream& stream, const PartitionOptions& options, detail::PartitionRecord& r,
+                std::vector<RegionWriter>& own, std::vector<RegionWriter>& halo, const PassReport& report) {
+  const std::size_t n = r.plan.regions();
+  const std::size_t record = detail::region_record_values(r);
+  r.own.assign(n, 0);
+  r.halo.assign(n, 0);
+  stream.rewind();
+  std::uint64_t seen = 0;
+  std::vector<std::int32_t> near;
+  PointCloud block;
+  double values[7];
+  while (stream.read(options.block_points, block)) {
+    report("partitioning input", static_cast<double>(seen));
+    for (Eigen::Index i = 0; i < block.size(); ++i) {
+      const Eigen::Vector3d x = block.positions.row(i).transpose() - r.origin;
+      for (int c = 0; c < 3; ++c) values[c] = x(c);
+      if (r.normals)
+        for (int c = 0; c < 3; ++c) values[3 + c] = block.normals(i, c);
+      if (r.colors) values[r.normals ? 6 : 3] = detail::pack_color(block.colors.row(i));
+      const auto k = static_cast<std::size_t>(r.plan.region_of(x));
+      own[k].add(values, record);
+      ++r.own[k];
+      r.plan.halo_regions(x, near);
+      for (const std::int32_t h : near)
+        halo[static_cast<std::size_t>(h)].add(values, record), ++r.halo[static_cast<std::size_t>(h)];
+    }
+    seen += static_cast<std::uint64_t>(block.size());
+  }
+  for (auto& w : own) w.flush();
+  for (auto& w : halo) w.flush();
+}
+
 }  // namespace
 
 TiledRun TiledRun::partition(const std::filesystem::path& input, const std::filesystem::path& directory,
@@ -129,40 +198,14 @@ TiledRun TiledRun::partition(const std::filesystem::path& input, const std::file
   }
   detail::remove_files(detail::run_files(dir, run.regions));  // a partition that was interrupted
 
-  // Pass 1: count, bounds, an even sample.
+  // Pass 1: the plan from the input's count, bounds and an even sample.
   PointStream stream(input, options.read);
   const std::uint64_t declared = stream.size();
-  const std::uint64_t stride = std::max<std::uint64_t>(1, declared / kPlanSample);
-  const auto report = [&](std::string_view stage, double done) {
+  const PassReport report = [&](std::string_view stage, double done) {
     if (progress && !progress(stage, declared == 0 ? 1.0 : std::min(1.0, done / static_cast<double>(declared))))
       throw Cancelled();
   };
-  BoundingBox box;
-  std::vector<Eigen::Vector3d> sampled;
-  PointCloud block;
-  std::uint64_t seen = 0, count = 0;
-  while (stream.read(options.block_points, block)) {
-    report("scanning input", static_cast<double>(seen));
-    for (Eigen::Index i = 0; i < block.size(); ++i, ++count) {
-      const Eigen::Vector3d x = block.positions.row(i).transpose();
-      box.extend(x);
-      if (count % stride == 0) sampled.push_back(x);
-    }
-    seen += static_cast<std::uint64_t>(block.size());
-  }
-  if (count == 0) throw InputError(input, {}, "the file holds no points");
-  r.input_points = count;
-  r.normals = stream.has_normals();
-  r.colors = stream.has_colors();
-  r.up = stream.up();
-  r.origin = origin_shift(box);
-  Points sample(static_cast<Eigen::Index>(sampled.size()), 3);
-  for (std::size_t i = 0; i < sampled.size(); ++i)
-    sample.row(static_cast<Eigen::Index>(i)) = (sampled[i] - r.origin).transpose();
-  BoundingBox relative;
-  relative.extend(box.min - r.origin);
-  relative.extend(box.max - r.origin);
-  r.plan = plan_regions(sample, count, relative, spacing_from_sample(sample, count), options.regions);
+  plan_from_scan(input, stream, options, r, report);
 
   // Pass 2: every point to its region's file and the halo files of the regions near it.
   const std::size_t n = r.plan.regions();
@@ -175,31 +218,7 @@ TiledRun TiledRun::partition(const std::filesystem::path& input, const std::file
     own.emplace_back(impl->file("region", static_cast<std::int32_t>(k), "own"), capacity);
     halo.emplace_back(impl->file("region", static_cast<std::int32_t>(k), "halo"), capacity);
   }
-  r.own.assign(n, 0);
-  r.halo.assign(n, 0);
-  stream.rewind();
-  seen = 0;
-  std::vector<std::int32_t> near;
-  double values[7];
-  while (stream.read(options.block_points, block)) {
-    report("partitioning input", static_cast<double>(seen));
-    for (Eigen::Index i = 0; i < block.size(); ++i) {
-      const Eigen::Vector3d x = block.positions.row(i).transpose() - r.origin;
-      for (int c = 0; c < 3; ++c) values[c] = x(c);
-      if (r.normals)
-        for (int c = 0; c < 3; ++c) values[3 + c] = block.normals(i, c);
-      if (r.colors) values[r.normals ? 6 : 3] = detail::pack_color(block.colors.row(i));
-      const auto k = static_cast<std::size_t>(r.plan.region_of(x));
-      own[k].add(values, record);
-      ++r.own[k];
-      r.plan.halo_regions(x, near);
-      for (const std::int32_t h : near)
-        halo[static_cast<std::size_t>(h)].add(values, record), ++r.halo[static_cast<std::size_t>(h)];
-    }
-    seen += static_cast<std::uint64_t>(block.size());
-  }
-  for (auto& w : own) w.flush();
-  for (auto& w : halo) w.flush();
+  distribute(stream, options, r, own, halo, report);
   detail::write_partition(plan_file, r);  // last: the partition is complete
   return TiledRun(std::move(impl));
 }
