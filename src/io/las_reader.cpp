@@ -72,11 +72,60 @@ Eigen::Vector3d LasPoints::position(std::string_view bytes, std::uint64_t i) con
   return x;
 }
 
+namespace {
+
+/// An error at byte `at` of `file`.
+InputError byte_error(const std::filesystem::path& file, std::uint64_t at, const std::string& message) {
+  return InputError(file, FileLocation{std::nullopt, at}, message);
+}
+
+/// Checks the chain of variable-length records between the header (`header_size` bytes) and
+/// the point data at `point_offset`.
+void check_records(const std::filesystem::path& file, std::string_view bytes, std::uint64_t header_size,
+                   std::uint64_t point_offset, std::uint32_t vlr_count) {
+  const auto size = static_cast<std::uint64_t>(bytes.size());
+  const auto fail = [&](std::uint64_t at, const std::string& message) { return byte_error(file, at, message); };
+  if (point_offset < header_size || point_offset > size)
+    throw fail(96, "offset to point data (" + std::to_string(point_offset) + ") lies outside [header size " +
+                       std::to_string(header_size) + ", file size " + std::to_string(size) + "]");
+  std::uint64_t at = header_size;
+  for (std::uint32_t v = 0; v < vlr_count; ++v) {
+    if (at + 54 > point_offset)
+      throw fail(at, "variable-length record " + std::to_string(v + 1) + " of " + std::to_string(vlr_count) +
+                         " would start past the point data (byte " + std::to_string(point_offset) +
+                         "): the header's VLR count is wrong");
+    at += 54 + field<std::uint16_t>(bytes, at + 20);
+    if (at > point_offset)
+      throw fail(at, "variable-length record " + std::to_string(v + 1) + " of " + std::to_string(vlr_count) +
+                         " runs past the start of the point data (byte " + std::to_string(point_offset) +
+                         "): its length or the header's VLR count is wrong");
+  }
+}
+
+/// Checks LAS 1.4's extended variable-length records: after the points, each with a 60-byte
+/// header, all within the file.
+void check_extended_records(const std::filesystem::path& file, std::string_view bytes) {
+  const auto size = static_cast<std::uint64_t>(bytes.size());
+  const auto fail = [&](std::uint64_t at, const std::string& message) { return byte_error(file, at, message); };
+  std::uint64_t evlr = field<std::uint64_t>(bytes, 235);
+  const auto evlr_count = field<std::uint32_t>(bytes, 243);
+  for (std::uint32_t v = 0; v < evlr_count; ++v) {
+    if (evlr > size || size - evlr < 60)
+      throw fail(235, "extended variable-length record " + std::to_string(v + 1) + " of " + std::to_string(evlr_count) +
+                          " starts past the end of the file (byte " + std::to_string(evlr) + ")");
+    const auto length = field<std::uint64_t>(bytes, evlr + 20);
+    if (length > size - evlr - 60)
+      throw fail(evlr + 20,
+                 "extended variable-length record " + std::to_string(v + 1) + " runs past the end of the file");
+    evlr += 60 + length;
+  }
+}
+
+}  // namespace
+
 LasPoints las_points(const std::filesystem::path& file, std::string_view bytes) {
   const auto size = static_cast<std::uint64_t>(bytes.size());
-  auto fail = [&](std::uint64_t at, const std::string& message) -> InputError {
-    return InputError(file, FileLocation{std::nullopt, at}, message);
-  };
+  const auto fail = [&](std::uint64_t at, const std::string& message) { return byte_error(file, at, message); };
   if (bytes.substr(0, 4) != "LASF") throw fail(0, "not a LAS file (no \"LASF\" signature)");
   if (size < 227)
     throw fail(size,
@@ -118,38 +167,8 @@ LasPoints las_points(const std::filesystem::path& file, std::string_view bytes) 
   if (!scale.allFinite() || (scale.array() == 0).any() || !offset.allFinite())
     throw fail(131, "coordinate scale factors must be finite and non-zero, offsets finite");
 
-  // Variable-length records: a chain of headers between the file header and the point data.
-  if (point_offset < header_size || point_offset > size)
-    throw fail(96, "offset to point data (" + std::to_string(point_offset) + ") lies outside [header size " +
-                       std::to_string(header_size) + ", file size " + std::to_string(size) + "]");
-  std::uint64_t at = header_size;
-  for (std::uint32_t v = 0; v < vlr_count; ++v) {
-    if (at + 54 > point_offset)
-      throw fail(at, "variable-length record " + std::to_string(v + 1) + " of " + std::to_string(vlr_count) +
-                         " would start past the point data (byte " + std::to_string(point_offset) +
-                         "): the header's VLR count is wrong");
-    at += 54 + field<std::uint16_t>(bytes, at + 20);
-    if (at > point_offset)
-      throw fail(at, "variable-length record " + std::to_string(v + 1) + " of " + std::to_string(vlr_count) +
-                         " runs past the start of the point data (byte " + std::to_string(point_offset) +
-                         "): its length or the header's VLR count is wrong");
-  }
-  // Extended variable-length records (1.4): after the points, each with a 60-byte header.
-  if (minor >= 4) {
-    std::uint64_t evlr = field<std::uint64_t>(bytes, 235);
-    const auto evlr_count = field<std::uint32_t>(bytes, 243);
-    for (std::uint32_t v = 0; v < evlr_count; ++v) {
-      if (evlr > size || size - evlr < 60)
-        throw fail(235, "extended variable-length record " + std::to_string(v + 1) + " of " +
-                            std::to_string(evlr_count) + " starts past the end of the file (byte " +
-                            std::to_string(evlr) + ")");
-      const auto length = field<std::uint64_t>(bytes, evlr + 20);
-      if (length > size - evlr - 60)
-        throw fail(evlr + 20,
-                   "extended variable-length record " + std::to_string(v + 1) + " runs past the end of the file");
-      evlr += 60 + length;
-    }
-  }
+  check_records(file, bytes, header_size, point_offset, vlr_count);
+  if (minor >= 4) check_extended_records(file, bytes);
 
   const RecordLayout layout = layout_of(format);
   if (record_length < layout.length)
