@@ -20,9 +20,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
-#include <span>
-#include <tuple>
+#include <optional>
 #include <vector>
 
 namespace clustersurf {

@@ -7,9 +7,11 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <tuple>
 
 namespace clustersurf::detail {
 
