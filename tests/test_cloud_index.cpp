@@ -10,6 +10,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numeric>
+
 #include "test_support.hpp"
 
 using namespace clustersurf;
@@ -90,4 +93,42 @@ TEST(CloudIndex, AnotherCloudIsRefused) {
   } catch (const OptionError& e) {
     EXPECT_NE(std::string(e.what()).find("are not the tree's input"), std::string::npos) << e.what();
   }
+}
+
+TEST(CloudIndex, KeptSpreadsAreThoseOfTheKeptPointsAlone) {
+  // Strays and duplicates: points beside a stray have it among their nearest in the whole
+  // cloud, and other neighbours among the kept points.
+  PointCloud c = torus_with_strays();
+  for (Eigen::Index i = 1; i < c.positions.rows(); i += 37) c.positions.row(i) = c.positions.row(i - 1);
+  for (Eigen::Index i = 50; i < c.positions.rows(); i += 100)  // a stray just off the surface
+    c.positions.row(i) += 0.25 * c.positions.row(i).normalized();
+  const CloudIndex index(c);
+  const OutlierReport report = index.outliers(OutlierOptions{});
+  ASSERT_GE(report.outliers.size(), 100u);
+  ASSERT_EQ(report.kept_spread.size(), report.kept.size());
+  const Points kept = c.positions(report.kept, Eigen::all);
+  const KdTree alone(kept);
+  std::vector<Neighbor> nb;
+  std::size_t beside_a_stray = 0;
+  for (std::size_t j = 0; j < report.kept.size(); ++j) {
+    alone.neighbors_of(static_cast<Eigen::Index>(j), OutlierOptions{}.neighbors, nb);
+    double sum = 0;
+    for (const Neighbor& q : nb) sum += std::sqrt(q.distance_squared);
+    ASSERT_EQ(report.kept_spread[j], sum / static_cast<double>(nb.size())) << "kept point " << j;
+    index.points().neighbors_of(report.kept[j], OutlierOptions{}.neighbors, nb);
+    double all = 0;
+    for (const Neighbor& q : nb) all += std::sqrt(q.distance_squared);
+    beside_a_stray += all != sum;
+  }
+  EXPECT_GT(beside_a_stray, 0u);  // the case where the whole cloud's spread is not the answer
+  // The clustered subset of a tree built through the index carries them.
+  const ClusterTree tree = build_cluster_tree(index);
+  const CloudIndex::Subset rows = clustered_subset(index, tree);
+  ASSERT_EQ(rows.spread.size(), rows.index.size());
+  EXPECT_EQ(rows.spread_neighbors, OutlierOptions{}.neighbors);
+  EXPECT_TRUE(std::equal(rows.spread.begin(), rows.spread.end(), report.kept_spread.begin()));
+  // Another subset has none.
+  std::vector<std::uint32_t> some(100);
+  std::iota(some.begin(), some.end(), 0u);
+  EXPECT_TRUE(index.rows(some).spread.empty());
 }

@@ -266,3 +266,32 @@ TEST(MeshTrim, CutsASheetBetweenTwoLayersOfData) {
   reach_only.min_component_points = 0;
   EXPECT_EQ(trim_to_points(sheet, layers, reach_only).triangles.rows(), 0);
 }
+
+TEST(MeshTrim, GivenSpreadsAreUsedAndMeasuredOnesAreTheSame) {
+  const TriangleMesh full = sphere_mesh();
+  const Points data = upper_half();
+  const KdTree index(data);
+  const TrimOptions options;
+  std::vector<double> spread(index.size());
+  std::vector<Neighbor> nb;
+  for (std::size_t i = 0; i < spread.size(); ++i) {
+    index.neighbors_of(static_cast<Eigen::Index>(i), options.neighbors, nb);
+    double sum = 0;
+    for (const Neighbor& q : nb) sum += std::sqrt(q.distance_squared);
+    spread[i] = sum / static_cast<double>(nb.size());
+  }
+  TrimReport measured, given;
+  const TriangleMesh a = trim_to_points(full, index, options, &measured);
+  const TriangleMesh b = trim_to_points(full, index, options, &given, spread);
+  ASSERT_GT(measured.removed_triangles, 0u);
+  EXPECT_EQ(a.triangles, b.triangles);
+  EXPECT_EQ(a.vertices, b.vertices);
+  EXPECT_EQ(measured.removed_triangles, given.removed_triangles);
+  // Smaller spreads reach less far: the given ones are the ones used.
+  for (double& s : spread) s *= 0.5;
+  TrimReport narrower;
+  trim_to_points(full, index, options, &narrower, spread);
+  EXPECT_GT(narrower.removed_triangles, measured.removed_triangles);
+  spread.pop_back();
+  EXPECT_THROW(trim_to_points(full, index, options, nullptr, spread), OptionError);
+}

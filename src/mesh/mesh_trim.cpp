@@ -20,6 +20,7 @@
 #include <numbers>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace clustersurf {
@@ -71,12 +72,34 @@ bool surrounded(const Eigen::Vector3d& x, const Points& points, std::span<const 
   return gap < kMaxSurroundingGap;
 }
 
+/// The spread (mean distance to its `k` nearest points) of every point of `index` that is some
+/// vertex's `nearest`, once per point; -1 for the others.
+std::vector<double> spreads_of_nearest(const KdTree& index, std::span<const Neighbor> nearest, std::size_t k) {
+  std::vector<double> spread(index.size(), -1);
+  std::vector<std::uint32_t> used;
+  for (const auto& n : nearest)
+    if (spread[n.index] < 0) spread[n.index] = 0, used.push_back(n.index);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, used.size(), 256), [&](const auto& r) {
+    std::vector<Neighbor> around;
+    for (std::size_t u = r.begin(); u != r.end(); ++u) {
+      index.neighbors_of(used[u], k, around);
+      double sum = 0;
+      for (const auto& q : around) sum += std::sqrt(q.distance_squared);
+      spread[used[u]] = sum / static_cast<double>(around.size());
+    }
+  });
+  return spread;
+}
+
 }  // namespace
 
 std::vector<std::uint8_t> detail::vertices_near_data(const TriangleMesh& mesh, const KdTree& index,
-                                                     const TrimOptions& options) {
+                                                     const TrimOptions& options, std::span<const double> given) {
+  if (!given.empty() && given.size() != index.size())
+    throw OptionError("mesh trim: " + std::to_string(given.size()) + " spreads for " + std::to_string(index.size()) +
+                      " points");
   // The nearest input point of every vertex, then the spread of each such point (once per
-  // point: many vertices share one).
+  // point: many vertices share one), unless they are given.
   const Eigen::Index nv = mesh.vertices.rows();
   std::vector<Neighbor> nearest(static_cast<std::size_t>(nv));
   tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, nv, 512), [&](const auto& r) {
@@ -86,19 +109,9 @@ std::vector<std::uint8_t> detail::vertices_near_data(const TriangleMesh& mesh, c
       nearest[static_cast<std::size_t>(v)] = nb[0];
     }
   });
-  std::vector<double> spread(index.size(), -1);
-  std::vector<std::uint32_t> used;
-  for (const auto& n : nearest)
-    if (spread[n.index] < 0) spread[n.index] = 0, used.push_back(n.index);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, used.size(), 256), [&](const auto& r) {
-    std::vector<Neighbor> around;
-    for (std::size_t u = r.begin(); u != r.end(); ++u) {
-      index.neighbors_of(used[u], options.neighbors, around);
-      double sum = 0;
-      for (const auto& q : around) sum += std::sqrt(q.distance_squared);
-      spread[used[u]] = sum / static_cast<double>(around.size());
-    }
-  });
+  std::vector<double> measured;
+  if (given.empty()) measured = spreads_of_nearest(index, nearest, options.neighbors);
+  const std::span<const double> spread = given.empty() ? std::span<const double>(measured) : given;
   std::vector<std::uint8_t> near(static_cast<std::size_t>(nv));
   std::vector<Eigen::Index> between;  // beyond the reach, within kSurroundedReach times it
   for (std::size_t v = 0; v < near.size(); ++v) {
@@ -132,9 +145,13 @@ std::size_t drop_unsupported_components(const TriangleMesh& mesh, const Points& 
                                         std::vector<std::uint8_t>& keep) {
   const std::vector<std::int32_t> component = detail::vertex_components(mesh, &keep);
   std::vector<Eigen::Index> rows;  // the vertices the kept triangles use
-  for (std::size_t v = 0; v < component.size(); ++v)
-    if (component[v] >= 0) rows.push_back(static_cast<Eigen::Index>(v));
-  if (rows.empty()) return 0;
+  std::size_t components = 0;
+  for (std::size_t v = 0; v < component.size(); ++v) {
+    if (component[v] < 0) continue;
+    rows.push_back(static_cast<Eigen::Index>(v));
+    components += component[v] == static_cast<std::int32_t>(v);
+  }
+  if (components < 2) return 0;  // the best-supported component always stays
 
   // Each input point votes for the component of its nearest vertex.
   const Points vertices = mesh.vertices(rows, Eigen::all);
@@ -173,7 +190,7 @@ TriangleMesh trim_to_points(const TriangleMesh& mesh, const Points& points, cons
 }
 
 TriangleMesh trim_to_points(const TriangleMesh& mesh, const KdTree& data, const TrimOptions& options,
-                            TrimReport* report) {
+                            TrimReport* report, std::span<const double> spread) {
   const Points& points = data.points();
   if (!(options.spread_factor >= 0) || !std::isfinite(options.spread_factor))
     throw OptionError("mesh trim: the spread factor must be finite and >= 0 (0 keeps every triangle)");
@@ -184,7 +201,7 @@ TriangleMesh trim_to_points(const TriangleMesh& mesh, const KdTree& data, const 
   const bool enough_points = points.rows() > static_cast<Eigen::Index>(options.neighbors);
   const bool use_index = enough_points && !keep.empty();
   if (options.spread_factor > 0 && use_index) {
-    const std::vector<std::uint8_t> near = detail::vertices_near_data(mesh, data, options);
+    const std::vector<std::uint8_t> near = detail::vertices_near_data(mesh, data, options, spread);
     for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
       const auto tri = mesh.triangles.row(t);
       keep[static_cast<std::size_t>(t)] = near[static_cast<std::size_t>(tri(0))] &&

@@ -121,8 +121,12 @@ SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options
   } else {
     out.mesh = extract_mesh(surface, grid, &out.grid, progress);
     // Trimmed to the clustered points: an outlier next to an extrapolated flap must not keep it.
-    if (input != nullptr)
-      out.mesh = trim_to_points(out.mesh, clustered_subset(*input, tree).index, options.trim, &out.trim);
+    if (input != nullptr) {
+      const CloudIndex::Subset data = clustered_subset(*input, tree);
+      const bool spread_known = data.spread_neighbors == options.trim.neighbors;
+      out.mesh = trim_to_points(out.mesh, data.index, options.trim, &out.trim,
+                                spread_known ? data.spread : std::span<const double>());
+    }
   }
   if (options.decimation.enabled()) {
     out.mesh = decimate(out.mesh, options.decimation, &out.decimation);

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <utility>
 
 namespace clustersurf {
@@ -48,6 +49,39 @@ OutlierReport nothing_flagged(std::size_t n) {
   report.kept.resize(n);
   for (std::size_t i = 0; i < n; ++i) report.kept[i] = static_cast<Eigen::Index>(i);
   return report;
+}
+
+/// The spreads among the kept points (OutlierReport::kept_spread): `spread` where none of a
+/// point's `k` nearest (`neighbors`, row o for the o-th point of `order`) is an outlier; else
+/// its k nearest kept points, from queries of the whole cloud widened until they hold k.
+std::vector<double> kept_spreads(const KdTree& index, std::size_t k, std::span<const std::uint32_t> order,
+                                 std::span<const std::uint32_t> neighbors, std::span<const std::uint8_t> outlier,
+                                 std::span<const double> spread, std::span<const Eigen::Index> kept) {
+  const std::size_t n = spread.size();
+  std::vector<double> own(spread.begin(), spread.end());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& r) {
+    std::vector<Neighbor> nb;
+    for (std::size_t o = r.begin(); o != r.end(); ++o) {
+      const std::size_t i = order[o];
+      if (outlier[i]) continue;
+      const auto row = neighbors.subspan(o * k, k);
+      if (std::none_of(row.begin(), row.end(), [&](std::uint32_t j) { return outlier[j] != 0; })) continue;
+      for (std::size_t want = 2 * k;; want *= 2) {
+        index.neighbors_of(static_cast<Eigen::Index>(i), std::min(want, n - 1), nb);
+        double sum = 0;
+        std::size_t found = 0;
+        for (const Neighbor& q : nb)
+          if (!outlier[q.index] && found < k) sum += std::sqrt(q.distance_squared), ++found;
+        if (found == k || want >= n - 1) {
+          own[i] = found > 0 ? sum / static_cast<double>(found) : 0;
+          break;
+        }
+      }
+    }
+  });
+  std::vector<double> out(kept.size());
+  for (std::size_t j = 0; j < kept.size(); ++j) out[j] = own[static_cast<std::size_t>(kept[j])];
+  return out;
 }
 
 /// find_outliers() against `median_spread`, or the points' own median spread when null.
@@ -132,6 +166,7 @@ OutlierReport flag_outliers(const Points& points, const KdTree& index, const Out
   });
   for (std::size_t i = 0; i < n; ++i)
     (outlier[i] ? report.outliers : report.kept).push_back(static_cast<Eigen::Index>(i));
+  report.kept_spread = kept_spreads(index, k, order, neighbors, outlier, spread, report.kept);
   return report;
 }
 

@@ -10,6 +10,7 @@
 #include <clustersurf/spatial/kd_tree.hpp>
 
 #include <cstddef>
+#include <span>
 
 namespace clustersurf {
 
@@ -59,8 +60,10 @@ struct TrimReport {
 /// Deterministic and independent of the thread count.
 TriangleMesh trim_to_points(const TriangleMesh& mesh, const Points& points, const TrimOptions& options = {},
                             TrimReport* report = nullptr);
-/// The same with the points' k-d tree given (`data`, over the points: CloudIndex::clustered()).
+/// The same with the points' k-d tree given (`data`, over the points: CloudIndex::rows()) and,
+/// when the caller has them, each point's spread over its options.neighbors nearest (`spread`,
+/// one per point of `data`: CloudIndex::Subset::spread); empty: measured here.
 TriangleMesh trim_to_points(const TriangleMesh& mesh, const KdTree& data, const TrimOptions& options = {},
-                            TrimReport* report = nullptr);
+                            TrimReport* report = nullptr, std::span<const double> spread = {});
 
 }  // namespace clustersurf

@@ -32,17 +32,22 @@ class CloudIndex {
   /// PointSpacing::median of the points (point_spacing()): what ClusterTree::point_spacing stores.
   double median_spacing() const;
   /// find_outliers() over points(). Its neighbour pass measures every point's spacing too, so a
-  /// median_spacing() not yet asked for is taken from it (the same value) instead of queried.
+  /// median_spacing() not yet asked for is taken from it (the same value) instead of queried;
+  /// its kept points' spreads are kept for rows() of those points.
   OutlierReport outliers(const OutlierOptions& options) const;
 
   /// A subset of the rows, in increasing order, and its k-d tree.
   struct Subset {
     const Points& positions;
     const KdTree& index;
+    /// Each row's spread among the subset (mean distance to its `spread_neighbors` nearest) when
+    /// the subset is the kept rows of the last outliers() call, else empty.
+    std::span<const double> spread;
+    std::size_t spread_neighbors = 0;
   };
   /// The rows `kept` (increasing input indices) and their k-d tree; every row: the cloud itself
   /// and points(). The last subset is kept, so the builder's clustered rows serve the trim; a
-  /// Subset stays valid until rows() is asked for another one.
+  /// Subset stays valid until rows() or outliers() is asked for another one.
   Subset rows(std::span<const std::uint32_t> kept) const;
 
  private:

@@ -54,6 +54,10 @@ struct OutlierReport {
   /// Each point's distance to its nearest other point (0 beside a duplicate), measured on the
   /// way (point_spacing() takes it); empty when the cloud was too small to test.
   std::vector<double> nearest;
+  /// Each kept point's spread among the kept points alone (in `kept`'s order; k = neighbors):
+  /// what a k-d tree of the kept points gives, the trim's measure of the data's reach
+  /// (TrimOptions::neighbors); empty when the cloud was too small to test.
+  std::vector<double> kept_spread;
 };
 
 /// Splits the rows of `points` into outliers and the rest by the two spread tests above.
