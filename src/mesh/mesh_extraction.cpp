@@ -97,17 +97,20 @@ TriangleMesh placed_vertices(const detail::CellPolygons& polygons, const Field& 
         // A closed surface's filled vertex (where F is the fill, or fades into it) stays where
         // F's cells put it: projecting it onto f = 0 would leave F's zero set.
         const bool filled = closed != nullptr && closed->filled(x);
+        SurfaceSample at_y;  // f at y, where the projection settled
+        bool settled = false;
         if (options.newton_steps > 0 && !filled) {
           // Where those steps do not settle (beside a crease, where the blended gradient leans
           // between the faces), again with more; the block's walk covers a move of a cell.
-          if (project(surface, &near, y, options.newton_steps, h, 1e-6 * h) ||
-              project(surface, &near, y = x, std::max(options.newton_steps, kRetrySteps), h, 1e-6 * h)) {
-            if (closed == nullptr || !closed->filled(y)) x = y;  // onto f = 0, unless F is not f there
+          if (project(surface, &near, y, options.newton_steps, h, 1e-6 * h, &at_y) ||
+              project(surface, &near, y = x, std::max(options.newton_steps, kRetrySteps), h, 1e-6 * h, &at_y)) {
+            // Onto f = 0, unless F is not f there.
+            if (closed == nullptr || !closed->filled(y)) x = y, settled = at_y.defined;
           } else if (field.fill && project(field.wide, &wide_walk(), y = x, options.newton_steps, h, 1e-6 * h)) {
             x = y;
           }
         }
-        SurfaceSample s = surface.sample(x, near);
+        SurfaceSample s = settled ? at_y : surface.sample(x, near);
         if (!s.defined && field.fill) s = field.wide.sample(x, wide_walk());
         if (filled || (!s.defined && closed != nullptr)) {
           // F's gradient by central differences over half a cell.

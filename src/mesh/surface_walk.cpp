@@ -16,12 +16,15 @@
 namespace clustersurf::detail {
 
 bool project(const ImplicitSurface& s, const ImplicitSurface::BoxWalk* near, Eigen::Vector3d& x, int steps,
-             double max_move, double tolerance) {
+             double max_move, double tolerance, SurfaceSample* at_x) {
   const Eigen::Vector3d start = x;
   for (int k = 0; k < steps; ++k) {
     const SurfaceSample q = near != nullptr ? s.sample(x, *near) : s.sample(x);
     if (!q.defined) return false;
-    if (std::abs(q.value) <= tolerance) return true;
+    if (std::abs(q.value) <= tolerance) {
+      if (at_x != nullptr) *at_x = q;
+      return true;
+    }
     const double g2 = q.gradient.squaredNorm();
     if (!(g2 > 0)) return false;
     x -= (q.value / g2) * q.gradient;

@@ -118,8 +118,9 @@ struct Field {
 
 /// Newton steps x ← x − f ∇f / |∇f|² towards f = 0 of `s`, its supports found through `near`
 /// (null: from the root); returns false if f is undefined or the point wanders farther than
-/// `max_move`.
+/// `max_move`. `at_x`, when given, receives the sample of f at the returned x when the steps
+/// settled within `tolerance` (its `defined` stays false otherwise).
 bool project(const ImplicitSurface& s, const ImplicitSurface::BoxWalk* near, Eigen::Vector3d& x, int steps,
-             double max_move, double tolerance);
+             double max_move, double tolerance, SurfaceSample* at_x = nullptr);
 
 }  // namespace clustersurf::detail
