@@ -4,18 +4,24 @@
 #include <clustersurf/cluster/tree_file.hpp>
 #include <clustersurf/core/errors.hpp>
 
-#include "io/atomic_file.hpp"
-#include "io/mapped_file.hpp"
-
-#include <zlib.h>
+#include "cluster/tree_codec.hpp"
 
 #include <bit>
-#include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <string>
-#include <type_traits>
+#include <utility>
+#include <vector>
 
 namespace clustersurf {
+
+using detail::crc_of;
+using detail::get_enum;
+using detail::get_proxy;
+using detail::get_sphere;
+using detail::put_proxy;
+using detail::Reader;
+using detail::Writer;
 
 namespace {
 
@@ -30,185 +36,6 @@ constexpr std::uint32_t kFlagZUp = 2;  ///< ClusterTree::up is z
 
 /// Number of doubles that encode each proxy kind (indexed by ProxyKind).
 constexpr std::size_t kProxyDoubles[kProxyKinds] = {3, 6, 18, 14, 13};
-
-/// CRC-32 of `bytes` continuing `crc`, in chunks (zlib counts lengths in 32 bits). With a
-/// mapped file, the pages already counted are released as it goes.
-std::uint32_t crc_of(std::string_view bytes, std::uint32_t crc, const io::MappedFile* mapped = nullptr) {
-  constexpr std::size_t kChunk = std::size_t{16} << 20;
-  uLong c = crc;
-  for (std::size_t at = 0; at < bytes.size(); at += kChunk) {
-    const std::size_t n = std::min(kChunk, bytes.size() - at);
-    c = crc32(c, reinterpret_cast<const Bytef*>(bytes.data() + at), static_cast<uInt>(n));
-    if (mapped != nullptr) mapped->release(0, at + n);
-  }
-  return static_cast<std::uint32_t>(c);
-}
-
-/// Appends a tree file's bytes to a string, or, with a sink, passes them on a few MiB at a
-/// time (a large tree is never held twice), keeping the CRC-32 of all bytes so far.
-class Writer {
- public:
-  explicit Writer(io::AtomicFile* sink = nullptr) : sink_(sink) {}
-  template <class T>
-  void put(T v) {
-    static_assert(std::is_arithmetic_v<T>);
-    raw(reinterpret_cast<const char*>(&v), sizeof(T));
-  }
-  void put_vec(const Eigen::Vector3d& v) { put(v.x()), put(v.y()), put(v.z()); }
-  void raw(const char* p, std::size_t n) {
-    out_.append(p, n);
-    if (sink_ != nullptr && out_.size() >= kFlushBytes) flush();
-  }
-  /// The CRC-32 of every byte written so far.
-  std::uint32_t crc() {
-    settle();
-    return crc_;
-  }
-  /// Hands the buffered bytes to the sink (with one).
-  void flush() {
-    settle();
-    if (sink_ == nullptr) return;
-    sink_->write(out_.data(), out_.size());
-    out_.clear();
-    counted_ = 0;
-  }
-  std::string& bytes() { return out_; }
-
- private:
-  static constexpr std::size_t kFlushBytes = std::size_t{4} << 20;
-  void settle() {
-    crc_ = crc_of(std::string_view(out_).substr(counted_), crc_);
-    counted_ = out_.size();
-  }
-  io::AtomicFile* sink_;
-  std::string out_;
-  std::size_t counted_ = 0;  // bytes of out_ already in crc_
-  std::uint32_t crc_ = 0;
-};
-
-class Reader {
- public:
-  Reader(std::string_view bytes, const std::filesystem::path& file) : bytes_(bytes), file_(file) {}
-
-  template <class T>
-  T get(const char* what) {
-    if (sizeof(T) > bytes_.size() - pos_) fail("file is truncated: expected " + std::string(what));
-    T v;
-    std::memcpy(&v, bytes_.data() + pos_, sizeof(T));
-    pos_ += sizeof(T);
-    return v;
-  }
-  double finite(const char* what) {
-    const std::size_t at = pos_;
-    const double v = get<double>(what);
-    if (!std::isfinite(v)) fail_at(at, std::string(what) + " is not a finite number");
-    return v;
-  }
-  Eigen::Vector3d vec(const char* what) {
-    Eigen::Vector3d v;
-    for (int k = 0; k < 3; ++k) v(k) = finite(what);
-    return v;
-  }
-  std::size_t pos() const { return pos_; }
-  std::size_t remaining() const { return bytes_.size() - pos_; }
-  [[noreturn]] void fail(const std::string& msg) const { fail_at(pos_, msg); }
-  [[noreturn]] void fail_at(std::size_t at, const std::string& msg) const {
-    throw InputError(file_, FileLocation{std::nullopt, at}, msg);
-  }
-
- private:
-  std::string_view bytes_;
-  const std::filesystem::path& file_;
-  std::size_t pos_ = 0;
-};
-
-void put_proxy(Writer& w, const Proxy& proxy) {
-  std::visit(
-      [&](const auto& p) {
-        using T = std::decay_t<decltype(p)>;
-        if constexpr (std::is_same_v<T, PointProxy>) {
-          w.put_vec(p.center);
-        } else if constexpr (std::is_same_v<T, PlaneProxy>) {
-          w.put_vec(p.point), w.put_vec(p.normal);
-        } else if constexpr (std::is_same_v<T, PolyProxy>) {
-          w.put_vec(p.frame.origin);
-          for (int c = 0; c < 3; ++c) w.put_vec(p.frame.axes.col(c));
-          for (double x : p.coeffs) w.put(x);
-        } else if constexpr (std::is_same_v<T, CreaseProxy>) {
-          w.put_vec(p.a.point), w.put_vec(p.a.normal), w.put_vec(p.b.point), w.put_vec(p.b.normal);
-          w.put(p.convex ? 1.0 : 0.0);
-        } else {
-          w.put_vec(p.center), w.put(p.scale);
-          for (double x : p.coeffs) w.put(x);
-        }
-      },
-      proxy.variant());
-}
-
-PlaneProxy get_plane(Reader& r) {
-  PlaneProxy p;
-  p.point = r.vec("plane point");
-  const std::size_t at = r.pos();
-  p.normal = r.vec("plane normal");
-  if (std::abs(p.normal.norm() - 1) > 1e-6) r.fail_at(at, "plane normal is not a unit vector");
-  return p;
-}
-
-Proxy get_proxy(Reader& r, ProxyKind kind) {
-  switch (kind) {
-    case ProxyKind::Point:
-      return PointProxy{r.vec("point proxy center")};
-    case ProxyKind::Plane:
-      return get_plane(r);
-    case ProxyKind::Crease: {
-      CreaseProxy p;
-      p.a = get_plane(r);
-      p.b = get_plane(r);
-      const std::size_t at = r.pos();
-      const double convex = r.finite("crease side");
-      if (convex != 0 && convex != 1) r.fail_at(at, "crease side must be 0 (concave) or 1 (convex)");
-      p.convex = convex == 1;
-      return p;
-    }
-    case ProxyKind::Poly: {
-      PolyProxy p;
-      p.frame.origin = r.vec("polynomial frame origin");
-      const std::size_t at = r.pos();
-      for (int c = 0; c < 3; ++c) p.frame.axes.col(c) = r.vec("polynomial frame axis");
-      if (!(p.frame.axes.transpose() * p.frame.axes).isIdentity(1e-6))
-        r.fail_at(at, "polynomial frame axes are not orthonormal");
-      for (double& x : p.coeffs) x = r.finite("polynomial coefficient");
-      return p;
-    }
-    case ProxyKind::Quadric: {
-      QuadricProxy p;
-      p.center = r.vec("quadric center");
-      const std::size_t at = r.pos();
-      p.scale = r.finite("quadric scale");
-      if (!(p.scale > 0)) r.fail_at(at, "quadric scale must be positive");
-      for (double& x : p.coeffs) x = r.finite("quadric coefficient");
-      return p;
-    }
-  }
-  return {};
-}
-
-Sphere get_sphere(Reader& r, const char* what) {
-  Sphere s;
-  s.center = r.vec(what);
-  const std::size_t at = r.pos();
-  s.radius = r.finite(what);
-  if (s.radius < 0) r.fail_at(at, std::string(what) + " has a negative radius");
-  return s;
-}
-
-template <class E>
-E get_enum(Reader& r, std::uint8_t count, const char* what) {
-  const std::size_t at = r.pos();
-  const auto v = r.get<std::uint8_t>(what);
-  if (v >= count) r.fail_at(at, "unknown " + std::string(what) + " " + std::to_string(v));
-  return static_cast<E>(v);
-}
 
 /// Bytes of one node record for a proxy kind (for the "absurd count" check: the smallest).
 constexpr std::size_t kNodeFixedBytes = 4 + 4 + 4 + 4 + 2 * 8 + 2 * 4 * 8;
