@@ -2,6 +2,9 @@
 // positions (exact normals on noisy positions), the fit follows their slopes and the surface
 // lands closer to the truth; where they add little (clean data), the tree is the positions'.
 
+#include <clustersurf/evaluation/range_scan.hpp>
+#include <clustersurf/evaluation/surface_comparison.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
 #include <clustersurf/pipeline/reconstruct.hpp>
 
 #include <gtest/gtest.h>
@@ -9,6 +12,8 @@
 #include <cmath>
 #include <iostream>
 #include <random>
+
+#include "test_support.hpp"
 
 using namespace clustersurf;
 
@@ -132,4 +137,25 @@ TEST(SupportFit, ASparselySampledThinTubeStaysThin) {
   std::cout << "thin tube: mean distance " << sum / rows << ", mean offset " << outward / rows << "\n";
   EXPECT_LT(sum / rows, 0.003);
   EXPECT_LT(std::abs(outward / rows), 0.002);
+}
+
+TEST(SupportFit, ASparseScanOfADetailedModelKeepsItsSupportsNarrow) {
+  // 3,000 points of 10 virtual range scans of the horse (the benchmark's scan10-3k): a leaf's
+  // support holds about twice its cluster's points; grown to hold a fixed 30, the supports of
+  // the small leaves on legs, ears and muzzle reach past where their quadratics hold, and the
+  // blend leans on those rims (before: Chamfer 17.2e-4 of the diagonal; now 14.9e-4).
+  const auto file = test::shared_data("meshes/horse.ply");
+  if (!file) GTEST_SKIP() << "shared data meshes/horse.ply is absent";
+  const TriangleMesh horse = read_triangle_mesh(*file);
+  RangeScanOptions scan;
+  scan.scans = 10;
+  scan.count = 3000;
+  scan.noise = 0.0005;
+  scan.registration = 0.0002;
+  const PointCloud cloud = scan_surface(horse, scan);
+  const Reconstruction r = reconstruct(cloud);
+  ASSERT_TRUE(r.mesh.has_value());
+  const SurfaceComparison c = compare_surfaces(r.mesh->mesh, horse);
+  std::cout << "horse, 3,000 points of 10 scans: Chamfer " << c.chamfer << " of the diagonal\n";
+  EXPECT_LT(c.chamfer, 16e-4);
 }

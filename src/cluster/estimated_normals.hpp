@@ -10,8 +10,8 @@
 namespace clustersurf::detail {
 
 /// Without input normals, the frames follow normals estimated over this many nearest points
-/// of each point: MPU's N_min, the fewest points a leaf's support holds, so the normals' scale
-/// is that of the narrowest support.
+/// of each point: about what the support of a leaf of min_points holds (alpha × its extent),
+/// so that the normals' scale is that of the narrowest supports.
 inline constexpr std::size_t kFrameNeighbors = 30;
 
 /// The unoriented normal of each input point over its kFrameNeighbors nearest points of

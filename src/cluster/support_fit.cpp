@@ -34,11 +34,8 @@ constexpr std::size_t kMaxUnbentPoints = 40;
 /// or real detail, which the split and the support checks deal with).
 constexpr int kTrimRounds = 2;
 constexpr double kMaxTrimmedShare = 0.05;
-/// A support sphere holds at least this many input points (MPU's N_min): the supports of small
-/// clusters overlap their neighbours' instead of leaving gaps between them, and their refit
-/// rests on enough points. It grows to at most kMaxSupportGrowth times its alpha radius, so a
-/// few stray points never reach across a gap.
-constexpr std::size_t kMinSupportPoints = 30;
+/// A support grows to hold BuildOptions::support_points input points (MPU's N_min) up to
+/// kMaxSupportGrowth times its alpha radius, so a few stray points never reach across a gap.
 constexpr double kMaxSupportGrowth = 4;
 /// The normals' weight λ in the support fit (a squared length: the ratio of the position fit's
 /// residual variance to its normals') compares the slopes the normals give with those the
@@ -71,19 +68,22 @@ SupportFit::SupportFit(const Points& input, const Points& cluster_points, const 
 
 double SupportFit::coverage_radius(const Eigen::Vector3d& center, double alpha_radius) const {
   thread_local std::vector<Neighbor> nearest;
-  sampler_.full().knn(center, kMinSupportPoints, nearest);
+  if (options_.support_points == 0) return 0;
+  sampler_.full().knn(center, options_.support_points, nearest);
   const double holding = nearest.empty() ? 0 : std::sqrt(nearest.back().distance_squared);
   return std::min(holding, kMaxSupportGrowth * alpha_radius);
 }
 
 bool SupportFit::own_points_cover(std::span<const std::uint32_t> range, const Eigen::Vector3d& center,
                                   double radius) const {
-  if (range.size() < kMinSupportPoints) return false;
+  const std::size_t needed = options_.support_points;
+  if (needed == 0) return true;
+  if (range.size() < needed) return false;
   // The margin keeps the answer exact against the k-d tree's own rounding of the distances.
   const double r2 = radius * radius * (1 - 1e-9);
   std::size_t inside = 0;
   for (auto i : range)
-    if ((points_.row(i).transpose() - center).squaredNorm() < r2 && ++inside == kMinSupportPoints) return true;
+    if ((points_.row(i).transpose() - center).squaredNorm() < r2 && ++inside == needed) return true;
   return false;
 }
 

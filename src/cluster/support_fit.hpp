@@ -25,14 +25,15 @@ class SupportFit {
   SupportFit(const Points& input, const Points& cluster_points, const SupportSampler& sampler,
              const BuildOptions& options, double tolerance, double noise, const Points* normals);
 
-  /// The radius around `center` that holds kMinSupportPoints input points (MPU's N_min), at most
-  /// kMaxSupportGrowth × `alpha_radius`: a small cluster's support overlaps its neighbours'
-  /// instead of leaving gaps, but never reaches across a gap for a few strays.
+  /// The radius around `center` that holds BuildOptions::support_points input points (MPU's
+  /// N_min; 0 when that is 0), at most kMaxSupportGrowth × `alpha_radius`: a small cluster's
+  /// support overlaps its neighbours' instead of leaving gaps, but never reaches across a gap
+  /// for a few strays.
   double coverage_radius(const Eigen::Vector3d& center, double alpha_radius) const;
 
-  /// Whether kMinSupportPoints of the cluster's own points (`range`, which are among the input
-  /// points) lie within `radius` of `center`, with a margin of a billionth of the radius: the
-  /// coverage radius is then below `radius` (no k-nearest-neighbour query needed to know it).
+  /// Whether BuildOptions::support_points of the cluster's own points (`range`, which are among
+  /// the input points) lie within `radius` of `center`, with a margin of a billionth of the
+  /// radius: the coverage radius is then below `radius` (no k-nearest-neighbour query needed).
   bool own_points_cover(std::span<const std::uint32_t> range, const Eigen::Vector3d& center, double radius) const;
 
   /// The support check: a bounded sample of the input points inside the node's support; a

@@ -21,6 +21,8 @@
 #include <array>
 #include <cmath>
 #include <optional>
+#include <span>
+#include <utility>
 #include <vector>
 
 namespace clustersurf {
@@ -129,6 +131,49 @@ TriangleMesh placed_vertices(const detail::CellPolygons& polygons, const Field& 
   return mesh;
 }
 
+/// Rounds of unfold().
+constexpr int kUnfoldRounds = 3;
+
+/// Where the projection folded the mesh (a polygon whose projected corners face against their
+/// normals: a vertex pushed past its neighbours, where the blend bends sharply within a cell),
+/// the polygon's vertices go back where the polygonizer put them, with f's normal there; until
+/// no polygon is folded, at most kUnfoldRounds times. Returns how many vertices went back.
+std::size_t unfold(TriangleMesh& mesh, const detail::CellPolygons& polygons, const Lattice& lattice,
+                   const ImplicitSurface& surface) {
+  const auto at = [&](std::uint32_t v) -> Eigen::Vector3d { return mesh.vertices.row(v).transpose(); };
+  const auto normal = [&](std::uint32_t v) -> Eigen::Vector3d { return mesh.normals.row(v).transpose(); };
+  std::vector<std::uint8_t> placed_back(polygons.vertices.size(), 0);
+  std::size_t moved = 0;
+  for (int round = 0; round < kUnfoldRounds; ++round) {
+    std::vector<std::uint32_t> folded;
+    const auto check = [&](std::span<const std::uint32_t> p) {
+      Eigen::Vector3d face = Eigen::Vector3d::Zero(), normals = Eigen::Vector3d::Zero();
+      for (std::size_t k = 0; k < p.size(); ++k) {
+        face += at(p[k]).cross(at(p[(k + 1) % p.size()]));
+        normals += normal(p[k]);
+      }
+      if (face.dot(normals) < 0)
+        for (const std::uint32_t v : p)
+          if (!placed_back[v]) folded.push_back(v);
+    };
+    for (const auto& q : polygons.quads) check(q);
+    for (const auto& t : polygons.triangles) check(t);
+    std::sort(folded.begin(), folded.end());
+    folded.erase(std::unique(folded.begin(), folded.end()), folded.end());
+    if (folded.empty()) break;
+    for (const std::uint32_t v : folded) {
+      const Eigen::Vector3d x = lattice.at(polygons.vertices[v]);
+      const SurfaceSample s = surface.sample(x);
+      mesh.vertices.row(v) = x.transpose();
+      const double g = s.gradient.norm();
+      if (s.defined && g > 0) mesh.normals.row(v) = (s.gradient / g).transpose();
+      placed_back[v] = 1;
+    }
+    moved += folded.size();
+  }
+  return moved;
+}
+
 /// The polygons' triangles on `mesh`'s vertices, then its unreferenced vertices dropped (order
 /// kept): quads split along the shorter diagonal, degenerate triangles dropped. The polygons
 /// face positive f (outside), as ours. Vertices the projection put at the same place (two cell
@@ -177,7 +222,9 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
   // The grid is relative to the lattice's origin: the polygonizer's float vertices keep full
   // precision for models far from the world origin (coordinates near 1e8 would keep only ~8 units).
   const detail::CellPolygons polygons = detail::polygonize_cells(walk.cells, static_cast<float>(3 * h));
-  TriangleMesh mesh = with_triangles(placed_vertices(polygons, field, lattice, options), polygons, h);
+  TriangleMesh placed = placed_vertices(polygons, field, lattice, options);
+  if (closed == nullptr && options.newton_steps > 0) unfold(placed, polygons, lattice, surface);
+  TriangleMesh mesh = with_triangles(std::move(placed), polygons, h);
   reporter.finish();
   if (report != nullptr) {
     report->voxel_size = h;

@@ -222,6 +222,9 @@ std::vector<OptionSpec> build_options() {
                            "A leaf's weighted RMS error over the points in its support sphere must be <= this x the "
                            "threshold (0: no check)",
                            &BuildOptions::support_factor, Bound::NonNegative));
+  out.push_back(build_whole("support_points",
+                            "A leaf's support grows until it holds this many input points (MPU's N_min; 0: no growth)",
+                            &BuildOptions::support_points, 0, kMaxUint32));
   out.push_back(build_whole("seed", "Seed for every random choice", &BuildOptions::seed, 0,
                             std::numeric_limits<std::uint64_t>::max()));
   out.push_back(flag_spec(

@@ -69,6 +69,11 @@ struct BuildOptions {
   /// support. Keeps the blend accurate where supports overlap and stops large clusters from
   /// extrapolating across the model. 0 turns the check and the refit off.
   double support_factor = 2.0;
+  /// A leaf's support grows beyond alpha × its extent until it holds this many input points
+  /// (MPU's N_min; at most 4 times that radius): small leaves overlap their neighbours instead
+  /// of leaving gaps. The default is the fewest points its refit takes; a larger count reaches
+  /// past where the leaves' quadratics hold (docs/benchmarks.md). 0: no growth.
+  std::uint32_t support_points = 12;
   /// Leave isolated points (find_outliers(): scanner strays, points in the air) out of every
   /// cluster, the noise estimate and the support checks; their point_leaf is -1.
   bool remove_outliers = true;
@@ -117,6 +122,7 @@ void for_each_field(Options& o, F&& f) {
   f("proxy_lloyd_iterations", o.proxy_lloyd_iterations);
   f("seed", o.seed);
   f("support_factor", o.support_factor);
+  f("support_points", o.support_points);
   f("remove_outliers", o.remove_outliers);
   f("use_normals", o.use_normals);
   f("frames_from_normals", o.frames_from_normals);

@@ -25,7 +25,7 @@ struct TrimOptions {
   double spread_factor = 2.0;
   std::size_t neighbors = 8;
   /// A connected component is kept only when at least this many input points have their
-  /// nearest mesh vertex on it (MPU's N_min: no proxy rests on fewer points); 0 keeps every
+  /// nearest mesh vertex on it (about what the support of a small leaf holds); 0 keeps every
   /// component. A real part as small as one cluster of the tree is kept.
   std::size_t min_component_points = 30;
   /// Close the mesh's pinholes: a boundary loop whose centroid lies within the trim's reach of
