@@ -1,0 +1,21 @@
+#pragma once
+// The recursion that builds a cluster tree's nodes (tree_builder.cpp).
+
+#include "cluster/build_state.hpp"
+#include "cluster/cluster_frame.hpp"
+#include "cluster/support_fit.hpp"
+#include "core/progress_reporter.hpp"
+
+namespace clustersurf::detail {
+
+/// Builds the tree of `work`'s points (all of work.local) into `root`, subtrees in parallel:
+/// each node fitted, tried as a crease, split while its error or its support's misfit exceeds
+/// the threshold (`tolerance` and `noise` in input units), each leaf's support fitted. `normals`:
+/// the input normals indexed like the input (or null); `support` null skips the support checks;
+/// `detail_splits` lets leaves at min_points split below it where that resolves relief finer
+/// than them. The same tree for any thread count.
+void build_nodes(BuildNode& root, const Points* normals, const FrameNormals& frame_normals, WorkingSet& work,
+                 const SupportFit* support, const BuildOptions& options, double tolerance, double noise,
+                 bool detail_splits, ProgressReporter& progress);
+
+}  // namespace clustersurf::detail
