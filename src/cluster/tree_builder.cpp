@@ -77,24 +77,8 @@ class Builder {
     double e = error(node);
     const bool can_split = depth < options_.max_depth && range.size() >= 2 * std::size_t{options_.min_points};
     const double threshold = allowed(tolerance_, static_cast<double>(range.size()));
-    // A cluster on the two faces of a sharp edge: two planes meeting at a crease, where one
-    // smooth proxy rounds the edge and its split leaves a lumpy blend along it.
-    // Kept when it meets the threshold and explains the smooth proxy's misfit: it leaves at
-    // most a quarter of the misfit beyond the noise (half its RMS). Two planes fit any cluster
-    // a little better than one quadric; only an edge makes them fit it much better.
-    std::optional<ClusterNode> smooth;  // the node as fitted before, restored if it is split
-    if (options_.creases && e > threshold) {
-      if (const auto crease = detail::fit_crease(points_, range, frame, node.extent)) {
-        const double ce = options_.metric == ErrorMetric::Rms ? crease->error.rms : crease->error.max;
-        if (ce <= threshold && explains(ce, e)) {
-          smooth = node;
-          node.proxy = crease->proxy;
-          node.rms_error = crease->error.rms;
-          node.max_error = crease->error.max;
-          e = ce;
-        }
-      }
-    }
+    // The node as fitted before a crease took it, restored if it is split.
+    const std::optional<ClusterNode> smooth = try_crease(node, range, frame, threshold, e);
     std::optional<detail::SupportError> support;  // the support check's error, once computed
     std::size_t k = 0;
     // A cluster is split when its error exceeds the threshold, or, when its frame is determined,
@@ -158,6 +142,27 @@ class Builder {
   }
 
  private:
+  /// A cluster on the two faces of a sharp edge: two planes meeting at a crease, where one
+  /// smooth proxy rounds the edge and its split leaves a lumpy blend along it. The crease is
+  /// kept when it meets the threshold and explains the smooth proxy's misfit `e`: it leaves at
+  /// most a quarter of the misfit beyond the noise (half its RMS). Two planes fit any cluster a
+  /// little better than one quadric; only an edge makes them fit it much better. Returns the
+  /// node as it was when the crease took it (`e` then the crease's error), else nullopt.
+  std::optional<ClusterNode> try_crease(ClusterNode& node, std::span<const std::uint32_t> range, const Frame& frame,
+                                        double threshold, double& e) const {
+    if (!options_.creases || !(e > threshold)) return std::nullopt;
+    const auto crease = detail::fit_crease(points_, range, frame, node.extent);
+    if (!crease) return std::nullopt;
+    const double ce = options_.metric == ErrorMetric::Rms ? crease->error.rms : crease->error.max;
+    if (!(ce <= threshold && explains(ce, e))) return std::nullopt;
+    std::optional<ClusterNode> smooth = node;
+    node.proxy = crease->proxy;
+    node.rms_error = crease->error.rms;
+    node.max_error = crease->error.max;
+    e = ce;
+    return smooth;
+  }
+
   /// Over its support a proxy may keep the noise plus support_factor times the tolerance.
   bool support_fails(const detail::SupportError& s, double tolerance) const {
     return s.rms > allowed(options_.support_factor * tolerance, s.effective_points);
