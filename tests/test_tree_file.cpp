@@ -171,6 +171,7 @@ TEST(TreeFile, ReadsVersion1Files) {
   version1.noise.facing_normals = false;
   version1.noise.noisy_width_ratio = 0;
   version1.support_points = 30;
+  version1.support_factor = old.parameters.support_factor;
   const ClusterTree now = build_cluster_tree(read_point_cloud(data / "bunny400.ply"), version1);
   EXPECT_GT(now.point_spacing, 0);
   ASSERT_EQ(now.nodes.size(), old.nodes.size());

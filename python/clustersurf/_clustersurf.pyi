@@ -106,7 +106,7 @@ def reconstruct(
     lloyd_restarts: int = 4,
     proxy_lloyd: int = 0,
     noise_factor: float = 1.0,
-    support_factor: float = 2.0,
+    support_factor: float = 1.0,
     support_points: int = 12,
     seed: int = 1,
     ignore_normals: bool = False,

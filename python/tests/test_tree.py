@@ -21,7 +21,7 @@ def test_info_has_the_cli_keys(sphere_tree):
     p = info["parameters"]
     # min_points "auto" resolves, for this clean sphere, to the clean floor.
     assert (p["proxy"], p["splitter"], p["min_points"], p["alpha"], p["support_factor"], p["seed"]) == (
-        "poly", "split-plane", 12, 0.75, 2.0, 1)
+        "poly", "split-plane", 12, 0.75, 1.0, 1)
 
 
 def test_nodes_form_the_tree(sphere_tree):

@@ -134,10 +134,11 @@ TriangleMesh placed_vertices(const detail::CellPolygons& polygons, const Field& 
 /// Rounds of unfold().
 constexpr int kUnfoldRounds = 3;
 
-/// Where the projection folded the mesh (a polygon whose projected corners face against their
-/// normals: a vertex pushed past its neighbours, where the blend bends sharply within a cell),
-/// the polygon's vertices go back where the polygonizer put them, with f's normal there; until
-/// no polygon is folded, at most kUnfoldRounds times. Returns how many vertices went back.
+/// Where the projection folded the mesh (a triangle, as with_triangles() will cut the polygons,
+/// whose projected corners face against their normals: a vertex pushed past its neighbours,
+/// where the blend bends sharply within a cell), the triangle's vertices go back where the
+/// polygonizer put them, with f's normal there; until no triangle is folded, at most
+/// kUnfoldRounds times. Returns how many vertices went back.
 std::size_t unfold(TriangleMesh& mesh, const detail::CellPolygons& polygons, const Lattice& lattice,
                    const ImplicitSurface& surface) {
   const auto at = [&](std::uint32_t v) -> Eigen::Vector3d { return mesh.vertices.row(v).transpose(); };
@@ -146,18 +147,20 @@ std::size_t unfold(TriangleMesh& mesh, const detail::CellPolygons& polygons, con
   std::size_t moved = 0;
   for (int round = 0; round < kUnfoldRounds; ++round) {
     std::vector<std::uint32_t> folded;
-    const auto check = [&](std::span<const std::uint32_t> p) {
-      Eigen::Vector3d face = Eigen::Vector3d::Zero(), normals = Eigen::Vector3d::Zero();
-      for (std::size_t k = 0; k < p.size(); ++k) {
-        face += at(p[k]).cross(at(p[(k + 1) % p.size()]));
-        normals += normal(p[k]);
-      }
-      if (face.dot(normals) < 0)
-        for (const std::uint32_t v : p)
+    const auto check = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+      const Eigen::Vector3d face = (at(b) - at(a)).cross(at(c) - at(a));
+      if (face.dot(normal(a) + normal(b) + normal(c)) < 0)
+        for (const std::uint32_t v : {a, b, c})
           if (!placed_back[v]) folded.push_back(v);
     };
-    for (const auto& q : polygons.quads) check(q);
-    for (const auto& t : polygons.triangles) check(t);
+    for (const auto& [a, b, c, d] : polygons.quads) {
+      // The triangles with_triangles() will make of the quad.
+      if ((at(a) - at(c)).squaredNorm() <= (at(b) - at(d)).squaredNorm())
+        check(a, b, c), check(a, c, d);
+      else
+        check(a, b, d), check(b, c, d);
+    }
+    for (const auto& [a, b, c] : polygons.triangles) check(a, b, c);
     std::sort(folded.begin(), folded.end());
     folded.erase(std::unique(folded.begin(), folded.end()), folded.end());
     if (folded.empty()) break;

@@ -64,11 +64,11 @@ struct BuildOptions {
   std::uint64_t seed = 1;                    ///< seeds every random choice (Lloyd seeding)
   /// A leaf must also fit the input points inside its support sphere: the RMS of |Q| over
   /// them, weighted by the blending weight, must be at most hypot(noise, support_factor ×
-  /// tolerance) (MPU's rule). Polynomial proxies are refitted to those weighted points (MPU's
-  /// local fit), so they hold wherever the blend uses them and average the noise over the whole
+  /// tolerance) (MPU's rule; by default the bound its own points meet). Polynomial proxies are refitted to those
+  /// weighted points (MPU's local fit), so they hold wherever the blend uses them and average the noise over the whole
   /// support. Keeps the blend accurate where supports overlap and stops large clusters from
   /// extrapolating across the model. 0 turns the check and the refit off.
-  double support_factor = 2.0;
+  double support_factor = 1.0;
   /// A leaf's support grows beyond alpha × its extent until it holds this many input points
   /// (MPU's N_min; at most 4 times that radius): small leaves overlap their neighbours instead
   /// of leaving gaps. The default is the fewest points its refit takes; a larger count reaches
@@ -183,7 +183,7 @@ struct TreeParameters {
   std::uint32_t kstep = 0;
   std::uint32_t lloyd_restarts = 4;
   std::uint32_t proxy_lloyd_iterations = 0;
-  double support_factor = 2.0;
+  double support_factor = 1.0;
   std::uint64_t seed = 1;
   bool creases = false;  ///< built with BuildOptions::creases (off in version-1 files)
 
