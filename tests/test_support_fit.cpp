@@ -140,22 +140,37 @@ TEST(SupportFit, ASparselySampledThinTubeStaysThin) {
 }
 
 TEST(SupportFit, ASparseScanOfADetailedModelKeepsItsSupportsNarrow) {
-  // 3,000 points of 10 virtual range scans of the horse (the benchmark's scan10-3k): a leaf's
-  // support holds about twice its cluster's points; grown to hold a fixed 30, the supports of
-  // the small leaves on legs, ears and muzzle reach past where their quadratics hold, and the
-  // blend leans on those rims (before: Chamfer 17.2e-4 of the diagonal; now 14.9e-4).
+  // 3,000 points of 10 virtual range scans of the horse (the benchmark's scan10-3k), three
+  // scans drawn with different seeds: a leaf's support holds about twice its cluster's points;
+  // grown to hold 30, the supports of the small leaves on legs, ears and muzzle reach past where
+  // their quadratics hold, and the blend leans on those rims. The default supports (12 points)
+  // bring the surface closer on every scan, by about a tenth (seeds 1-6: 0.85-0.94 of the
+  // 30-point supports' Chamfer). One scan's Chamfer moves by a tenth with the compiler's
+  // rounding (a split decided otherwise), so the test compares the two on the same scans.
   const auto file = test::shared_data("meshes/horse.ply");
   if (!file) GTEST_SKIP() << "shared data meshes/horse.ply is absent";
   const TriangleMesh horse = read_triangle_mesh(*file);
-  RangeScanOptions scan;
-  scan.scans = 10;
-  scan.count = 3000;
-  scan.noise = 0.0005;
-  scan.registration = 0.0002;
-  const PointCloud cloud = scan_surface(horse, scan);
-  const Reconstruction r = reconstruct(cloud);
-  ASSERT_TRUE(r.mesh.has_value());
-  const SurfaceComparison c = compare_surfaces(r.mesh->mesh, horse);
-  std::cout << "horse, 3,000 points of 10 scans: Chamfer " << c.chamfer << " of the diagonal\n";
-  EXPECT_LT(c.chamfer, 16e-4);
+  double narrow_sum = 0, wide_sum = 0;
+  for (const std::uint64_t seed : {1, 2, 3}) {
+    RangeScanOptions scan;
+    scan.scans = 10;
+    scan.count = 3000;
+    scan.noise = 0.0005;
+    scan.registration = 0.0002;
+    scan.seed = seed;
+    const PointCloud cloud = scan_surface(horse, scan);
+    ReconstructOptions wide;
+    wide.build.support_points = 30;
+    const Reconstruction narrow_r = reconstruct(cloud), wide_r = reconstruct(cloud, wide);
+    ASSERT_TRUE(narrow_r.mesh.has_value() && wide_r.mesh.has_value());
+    const double narrow = compare_surfaces(narrow_r.mesh->mesh, horse).chamfer;
+    const double wide_c = compare_surfaces(wide_r.mesh->mesh, horse).chamfer;
+    std::cout << "horse, 3,000 points of 10 scans, seed " << seed << ": Chamfer " << narrow
+              << " of the diagonal (supports of 30 points: " << wide_c << ")\n";
+    EXPECT_LT(narrow, wide_c);
+    narrow_sum += narrow;
+    wide_sum += wide_c;
+  }
+  EXPECT_LT(narrow_sum, 0.95 * wide_sum);
+  EXPECT_LT(narrow_sum / 3, 16e-4);
 }
