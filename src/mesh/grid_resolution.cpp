@@ -1,4 +1,5 @@
-// The mesh grid matched to the sampling density of the input points, and what a walk of it costs.
+// The mesh grid matched to the sampling density of the input points and the curvature of the
+// leaves, and what a walk of it costs.
 
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/mesh/mesh_extraction.hpp>
@@ -13,6 +14,9 @@
 #include <cmath>
 #include <span>
 #include <string>
+#include <utility>
+#include <variant>
+#include <vector>
 
 namespace clustersurf {
 
@@ -49,9 +53,44 @@ MeshEstimate estimate_cut(const ClusterTree& tree, std::span<const std::int32_t>
   return out;
 }
 
+/// The largest principal curvature at the center of a quadratic height field (its Hessian's
+/// largest eigenvalue in magnitude); 0 for the other proxies (planes, creases: their cells
+/// need no curvature resolved).
+double center_curvature(const Proxy& proxy) {
+  const auto* poly = std::get_if<PolyProxy>(&proxy.variant());
+  if (poly == nullptr) return 0;
+  const auto& c = poly->coeffs;  // h = c0 + c1 u + c2 v + c3 u² + c4 uv + c5 v²
+  const double mean = c[3] + c[5], spread = std::hypot(c[3] - c[5], c[4]);
+  return std::abs(mean) + spread;
+}
+
+/// The largest cell that resolves the curvature of all but kUnresolvedCurvedShare of the area
+/// of the blended nodes `cut` (at most `coarsest`).
+double curvature_cell(const ClusterTree& tree, std::span<const std::int32_t> cut, double coarsest) {
+  std::vector<std::pair<double, double>> cells;  // (the cell a node asks for, its area)
+  double total = 0;
+  for (const std::int32_t n : cut) {
+    const ClusterNode& node = tree.nodes[static_cast<std::size_t>(n)];
+    const double area = node.extent * node.extent;
+    total += area;
+    const double kappa = center_curvature(node.proxy);
+    const double cell = kappa > 0 ? 1 / (kCellsPerCurvatureRadius * kappa) : coarsest;
+    if (cell < coarsest) cells.emplace_back(cell, area);
+  }
+  std::sort(cells.begin(), cells.end());
+  double finer = 0;  // the area asking for cells finer than the one reached
+  for (const auto& [cell, area] : cells) {
+    finer += area;
+    if (finer > kUnresolvedCurvedShare * total) return cell;
+  }
+  return coarsest;
+}
+
 /// auto_cell_size() of the blended nodes `cut` of `tree`.
-double auto_cell_of(const ClusterTree& tree, std::span<const std::int32_t> cut) {
-  const double h = cell_size_for_spacing(tree.point_spacing);
+double auto_cell_of(const ClusterTree& tree, std::span<const std::int32_t> cut, double point_spacing) {
+  const double spacing_cell = cell_size_for_spacing(point_spacing);
+  const double h =
+      std::max(cell_size_for_spacing(point_spacing, kFinestSpacingsPerCell), curvature_cell(tree, cut, spacing_cell));
   const double points = tree.nodes.empty() ? 0.0 : static_cast<double>(tree.nodes[0].point_count);
   const double cells = estimate_cut(tree, cut, h, nullptr).surface_cells;
   const double most = kMaxSurfaceCellsPerPoint * points;
@@ -69,8 +108,14 @@ MeshEstimate estimate_mesh(const ImplicitSurface& surface, double cell_size) {
   return detail::estimate_mesh_within(surface, cell_size, nullptr);
 }
 
-double auto_cell_size(const ImplicitSurface& surface) { return auto_cell_of(surface.tree(), surface.cut()); }
+double auto_cell_size(const ImplicitSurface& surface) {
+  return auto_cell_of(surface.tree(), surface.cut(), surface.tree().point_spacing);
+}
 
-double auto_cell_size(const ClusterTree& tree) { return auto_cell_of(tree, tree.leaves()); }
+double auto_cell_size(const ImplicitSurface& surface, double point_spacing) {
+  return auto_cell_of(surface.tree(), surface.cut(), point_spacing);
+}
+
+double auto_cell_size(const ClusterTree& tree) { return auto_cell_of(tree, tree.leaves(), tree.point_spacing); }
 
 }  // namespace clustersurf

@@ -109,7 +109,7 @@ SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options
     if (tree.point_spacing > 0) {
       grid.voxel_size = auto_cell_size(surface);
     } else if (input != nullptr) {
-      grid.voxel_size = cell_size_for_spacing(input->median_spacing());
+      grid.voxel_size = auto_cell_size(surface, input->median_spacing());
     }
   }
   const auto start = std::chrono::steady_clock::now();

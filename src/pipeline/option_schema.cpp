@@ -265,8 +265,9 @@ std::vector<OptionSpec> mesh_options() {
       spec(
           "resolution", OptionStage::Mesh, OptionKind::Whole,
           "Mesh grid cells along the longest bbox side (2 to 100000), or auto: cells two median point spacings of "
-          "the input wide, coarser where clumped points would give over 4 surface cells per point (stored in the "
-          "tree; a version-1 tree file without its points gets " +
+          "the input wide, finer (down to one spacing) where the leaves' curvature needs it (a cell at most half "
+          "the radius of curvature of 90 % of their area), coarser where clumped points would give over 4 "
+          "surface cells per point (the spacing stored in the tree; a version-1 tree file without its points gets " +
               std::to_string(defaults.grid.resolution) + " cells)",
           [](const ReconstructOptions& o) {
             const SurfaceMeshOptions& m = meshing(o);

@@ -114,10 +114,28 @@ double cell_size_for_spacing(double median_spacing, double spacing_factor = kSpa
 /// would cost far more than the points can resolve.
 inline constexpr double kMaxSurfaceCellsPerPoint = 4;
 
+/// The automatic grid resolves a curved part with cells at most this share of its radius of
+/// curvature: a tube of radius r gets four cells across (a coarser lattice cuts a tube about
+/// two cells wide into fins and gaps).
+inline constexpr double kCellsPerCurvatureRadius = 2;
+/// The share of the blended leaves' area (by their extents) that may be curved beyond what the
+/// automatic cell resolves: the cell follows the curvature of all but the most curved tenth of
+/// the surface, so a few leaves bent by noise or strays do not refine the whole grid.
+inline constexpr double kUnresolvedCurvedShare = 0.1;
+/// The automatic cell is never finer than this many median point spacings: the leaves hold no
+/// detail finer than the samples.
+inline constexpr double kFinestSpacingsPerCell = 1;
+
 /// The automatic cell size of `surface`: cell_size_for_spacing() of its tree's point spacing,
-/// coarsened until estimate_mesh() finds at most kMaxSurfaceCellsPerPoint surface cells per
-/// clustered point. Throws OptionError when the tree has no spacing.
+/// made finer where the blended leaves are curved (their quadratics' largest curvature κ asks
+/// for at most 1 / (kCellsPerCurvatureRadius κ), for all but kUnresolvedCurvedShare of their
+/// area; never below kFinestSpacingsPerCell spacings), then coarsened until estimate_mesh()
+/// finds at most kMaxSurfaceCellsPerPoint surface cells per clustered point. Throws OptionError
+/// when the tree has no spacing.
 double auto_cell_size(const ImplicitSurface& surface);
+/// auto_cell_size() for the median spacing `point_spacing` of the tree's input (a version-1
+/// tree file stores none).
+double auto_cell_size(const ImplicitSurface& surface, double point_spacing);
 /// auto_cell_size() of the tree's leaves, without building its surface (a merged tree's at the
 /// merge of a tiled run).
 double auto_cell_size(const ClusterTree& tree);
