@@ -3,7 +3,6 @@
 // do not make a grid finer than the points can resolve; curved leaves make it finer.
 
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/evaluation/range_scan.hpp>
 #include <clustersurf/evaluation/surface_comparison.hpp>
 #include <clustersurf/io/point_cloud_io.hpp>
 #include <clustersurf/mesh/mesh_extraction.hpp>
@@ -190,13 +189,7 @@ TEST(GridResolution, ASparseScanOfThinLegsIsMeshedFinerAndCloser) {
   const TriangleMesh horse = read_triangle_mesh(*file);
   double fine_sum = 0, coarse_sum = 0;
   for (const std::uint64_t seed : {1, 2}) {
-    RangeScanOptions scan;
-    scan.scans = 10;
-    scan.count = 3000;
-    scan.noise = 0.0005;
-    scan.registration = 0.0002;
-    scan.seed = seed;
-    const PointCloud cloud = scan_surface(horse, scan);
+    const PointCloud cloud = test::sparse_scan(horse, seed);
     const Reconstruction r = reconstruct(cloud);
     ASSERT_TRUE(r.mesh.has_value());
     ReconstructOptions coarse;

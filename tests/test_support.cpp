@@ -1,5 +1,7 @@
 #include "test_support.hpp"
 
+#include <clustersurf/evaluation/range_scan.hpp>
+
 #include <cmath>
 #include <fstream>
 #include <random>
@@ -58,6 +60,16 @@ PointCloud sample_sphere(int n, double radius, const Eigen::Vector3d& center) {
     c.positions.row(i) = (center + radius * u).transpose();
   }
   return c;
+}
+
+PointCloud sparse_scan(const TriangleMesh& mesh, std::uint64_t seed) {
+  RangeScanOptions scan;
+  scan.scans = 10;
+  scan.count = 3000;
+  scan.noise = 0.0005;
+  scan.registration = 0.0002;
+  scan.seed = seed;
+  return scan_surface(mesh, scan);
 }
 
 PointCloud sample_torus(int n, double R, double r) {

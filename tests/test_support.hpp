@@ -3,6 +3,7 @@
 
 #include <clustersurf/core/point_cloud.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -31,6 +32,9 @@ std::optional<std::filesystem::path> shared_data(const std::string& relative);
 /// The default input written by scripts/setup (the npm bunny), or nullopt when absent.
 std::optional<std::filesystem::path> default_bunny();
 
+/// The benchmark's scan10-3k of `mesh`: 3,000 points of 10 virtual range scans (0.05 % range
+/// noise, 0.02 % misregistration), drawn with `seed`.
+PointCloud sparse_scan(const TriangleMesh& mesh, std::uint64_t seed);
 /// `n` points on a sphere (Fibonacci lattice), with outward normals.
 PointCloud sample_sphere(int n, double radius = 1.0, const Eigen::Vector3d& center = Eigen::Vector3d::Zero());
 /// About `n` points on a torus (major radius R, minor radius r, axis z), with outward normals.

@@ -108,9 +108,7 @@ MeshEstimate estimate_mesh(const ImplicitSurface& surface, double cell_size) {
   return detail::estimate_mesh_within(surface, cell_size, nullptr);
 }
 
-double auto_cell_size(const ImplicitSurface& surface) {
-  return auto_cell_of(surface.tree(), surface.cut(), surface.tree().point_spacing);
-}
+double auto_cell_size(const ImplicitSurface& surface) { return auto_cell_size(surface, surface.tree().point_spacing); }
 
 double auto_cell_size(const ImplicitSurface& surface, double point_spacing) {
   return auto_cell_of(surface.tree(), surface.cut(), point_spacing);
