@@ -61,6 +61,8 @@ std::string other_value(const OptionSpec& spec) {
       return d.empty() || d == "auto" ? "7" : std::to_string(std::stoull(d) + 1);
     case OptionKind::Number:
       return d.empty() || d == "auto" ? "0.25" : number_text(std::stod(d) * 2 + 0.5);
+    case OptionKind::Vector:
+      return "1,2,3";
   }
   return d;
 }

@@ -3,7 +3,7 @@
 
 #include <clustersurf/cluster/tree_file.hpp>
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/render/render.hpp>
+#include <clustersurf/render/render_option_schema.hpp>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -62,39 +62,6 @@ BoundingBox scene_box(const Scene& scene) {
       scene);
 }
 
-std::optional<Eigen::Vector3d> vector_option(const std::vector<double>& v, const char* name) {
-  if (v.empty()) return std::nullopt;
-  if (v.size() != 3) throw OptionError(std::string(name) + " takes x,y,z");
-  return Eigen::Vector3d(v[0], v[1], v[2]);
-}
-
-/// The render options the arguments ask for (the framing and reference points set later).
-RenderOptions render_options(const RenderArgs& args) {
-  RenderOptions options;
-  options.width = args.width;
-  options.height = args.height;
-  options.samples = args.samples;
-  options.mode = parse_intersect_mode(args.mode);
-  options.show = parse_show_mode(args.show);
-  options.level = args.level;
-  options.highlight = args.highlight;
-  options.error_scale = args.error_scale;
-  options.camera.azimuth = args.azimuth;
-  options.camera.elevation = args.elevation;
-  options.camera.distance = args.distance;
-  options.camera.fov = args.fov;
-  options.camera.eye = vector_option(args.eye, "--eye");
-  options.camera.target = vector_option(args.target, "--target");
-  options.camera.up = vector_option(args.up, "--up");
-  options.background = parse_background(args.background);
-  options.ambient_occlusion = args.ambient_occlusion;
-  options.min_weight = args.min_weight;
-  options.point_radius = args.point_radius;
-  if (options.show == ShowMode::Error && args.points.empty())
-    throw OptionError("--show error needs the input points (--points FILE)");
-  return options;
-}
-
 /// One scene's picture with `options` (a tree's level of detail from the arguments; meshes and
 /// clouds as plain surfaces); its kind ("tree", "mesh" or "points") in `kind`.
 Image draw_scene(Console& console, const RenderArgs& args, const std::string& input, const Scene& scene,
@@ -123,7 +90,8 @@ Image draw_scene(Console& console, const RenderArgs& args, const std::string& in
 int run_render(Console& console, const RenderArgs& args) {
   if (args.inputs.size() > 1 && !args.grid) throw OptionError("several inputs need --grid");
   if (std::filesystem::path(args.output).extension() != ".png") throw OptionError("the output must be a .png file");
-  RenderOptions options = render_options(args);
+  RenderOptions options;
+  set_options(options, args.options);
   std::vector<Scene> scenes;
   for (const std::string& file : args.inputs) scenes.push_back(load_scene(console, file));
   PointCloud reference;
@@ -154,12 +122,12 @@ int run_render(Console& console, const RenderArgs& args) {
     total.hits += stats.hits;
     console.print(fmt::format(
         "render          {} ({}): {}x{}, {} spp, {:.3f} s, {:.3g} rays/s, {:.1f} % hit", args.inputs[k], kind,
-        args.width, args.height, args.samples, stats.seconds, stats.rays_per_second,
-        stats.rays > 0 ? 100.0 * static_cast<double>(stats.hits) * args.samples / static_cast<double>(stats.rays)
+        options.width, options.height, options.samples, stats.seconds, stats.rays_per_second,
+        stats.rays > 0 ? 100.0 * static_cast<double>(stats.hits) * options.samples / static_cast<double>(stats.rays)
                        : 0.0));
     nlohmann::json j = {{"input", args.inputs[k]}, {"kind", kind},       {"seconds", stats.seconds},
                         {"rays", stats.rays},      {"hits", stats.hits}, {"rays_per_second", stats.rays_per_second}};
-    if (kind == "tree") j["mode"] = args.mode, j["show"] = args.show;
+    if (kind == "tree") j["mode"] = to_string(options.mode), j["show"] = to_string(options.show);
     if (stats.error_scale > 0) j["error_scale"] = stats.error_scale;
     renders.push_back(j);
   }
@@ -171,7 +139,7 @@ int run_render(Console& console, const RenderArgs& args) {
         {"file", args.output},
         {"width", picture.width},
         {"height", picture.height},
-        {"samples", args.samples},
+        {"samples", options.samples},
         {"seconds", total.seconds},
         {"rays", total.rays},
         {"rays_per_second", total.seconds > 0 ? static_cast<double>(total.rays) / total.seconds : 0.0},

@@ -4,6 +4,7 @@
 #include "command_line.hpp"
 
 #include <clustersurf/pipeline/option_schema.hpp>
+#include <clustersurf/render/render_option_schema.hpp>
 #include <clustersurf/version.hpp>
 
 #include <CLI/CLI.hpp>
@@ -32,10 +33,12 @@ std::string flag_name(const std::string& name) {
   return flag;
 }
 
-/// The option schema's options of `stage` (reconstruct_option_schema()), each given one
-/// appended to `values` as the schema's text; the library checks them.
-void add_schema_options(CLI::App& cmd, OptionStage stage, OptionValues& values) {
-  for (const OptionSpec& spec : reconstruct_option_schema()) {
+/// The options of `stage` in `schema`, each given one appended to `values` as the schema's
+/// text; the library checks them.
+template <class Options>
+void add_schema_options(CLI::App& cmd, const std::vector<OptionSpecOf<Options>>& schema, OptionStage stage,
+                        OptionValues& values) {
+  for (const OptionSpecOf<Options>& spec : schema) {
     if (spec.stage != stage) continue;
     const std::string names = flag_name(spec.name) + (spec.alias.empty() ? "" : "," + flag_name(spec.alias));
     if (spec.kind == OptionKind::Flag) {
@@ -45,11 +48,19 @@ void add_schema_options(CLI::App& cmd, OptionStage stage, OptionValues& values) 
     }
     CLI::Option* option = cmd.add_option_function<std::string>(
         names, [&values, name = spec.name](const std::string& text) { values.emplace_back(name, text); }, spec.help);
-    std::string type = spec.kind == OptionKind::Whole ? "UINT" : spec.kind == OptionKind::Number ? "FLOAT" : "";
+    std::string type = spec.kind == OptionKind::Whole    ? "UINT"
+                       : spec.kind == OptionKind::Number ? "FLOAT"
+                       : spec.kind == OptionKind::Vector ? "X,Y,Z"
+                                                         : "";
     for (const std::string& word : spec.words) type += (type.empty() ? "" : "|") + word;
     option->type_name(type);
     if (const std::string value = default_text(spec); !value.empty()) option->default_str(value);
   }
+}
+
+/// The reconstruct options of `stage`.
+void add_schema_options(CLI::App& cmd, OptionStage stage, OptionValues& values) {
+  add_schema_options(cmd, reconstruct_option_schema(), stage, values);
 }
 
 void add_mesh_options(CLI::App& cmd, MeshArgs& m) {
@@ -170,54 +181,11 @@ void add_render_command(CLI::App& app, RenderArgs& args) {
   CLI::App* v = app.add_subcommand("render", "Ray-trace a picture of a tree's surface (or of meshes and point clouds)");
   v->add_option("input", args.inputs, "Tree file (.cstree), mesh or point cloud; several with --grid")->required();
   v->add_option("-o,--output", args.output, "Picture to write (.png)")->required();
-  v->add_option("--width", args.width, "Picture width in pixels")->check(CLI::Range(1, 32768))->capture_default_str();
-  v->add_option("--height", args.height, "Picture height in pixels")
-      ->check(CLI::Range(1, 32768))
-      ->capture_default_str();
-  v->add_option("--samples", args.samples, "Rays per pixel (anti-aliasing)")
-      ->check(CLI::Range(1, 1024))
-      ->capture_default_str();
-  v->add_option("--mode", args.mode,
-                "Intersection: implicit (first zero of f), hit-blend (blend the proxies' hits, thesis 5.1) or "
-                "brute-force (implicit without the hierarchy)")
-      ->check(CLI::IsMember({"implicit", "hit-blend", "brute-force"}))
-      ->capture_default_str();
-  v->add_option("--show", args.show, "What to draw: surface, clusters, spheres, proxies or error")
-      ->check(CLI::IsMember({"surface", "clusters", "spheres", "proxies", "error"}))
-      ->capture_default_str();
-  v->add_option("--level", args.level, "clusters: color by the ancestor at this depth instead of the leaf");
-  v->add_option("--highlight", args.highlight, "Draw this node's cluster and proxy in red over the grey surface")
-      ->check(CLI::NonNegativeNumber);
+  add_schema_options(*v, render_option_schema(), OptionStage::Render, args.options);
   v->add_option("--points", args.points, "The input cloud, for --show error");
-  v->add_option("--error-scale", args.error_scale, "error: distance drawn full red (default 0.005 x diagonal)")
-      ->check(CLI::PositiveNumber);
-  v->add_option("--azimuth", args.azimuth, "Camera turn around the up axis, degrees")->capture_default_str();
-  v->add_option("--elevation", args.elevation, "Camera elevation, degrees")
-      ->check(CLI::Range(-89.9, 89.9))
-      ->capture_default_str();
-  v->add_option("--distance", args.distance, "Camera distance to the target (default: the model fills the view)")
-      ->check(CLI::PositiveNumber);
-  v->add_option("--fov", args.fov, "Vertical field of view, degrees")
-      ->check(CLI::Range(1.0, 170.0))
-      ->capture_default_str();
-  v->add_option("--eye", args.eye, "Explicit camera position x,y,z")->delimiter(',')->expected(3);
-  v->add_option("--target", args.target, "Point looked at x,y,z (default: bbox center)")->delimiter(',')->expected(3);
-  v->add_option("--up", args.up,
-                "Up direction x,y,z (default: the input's up axis: 0,0,1 for LAS, E57 and PTX surveys and what was "
-                "made from them, else 0,1,0)")
-      ->delimiter(',')
-      ->expected(3);
-  v->add_option("--background", args.background, "transparent, white, black or #rrggbb")->default_val("white");
-  v->add_flag("--ao", args.ambient_occlusion, "Ambient occlusion (8 short rays per hit)");
   v->add_option("--lod-depth", args.lod_depth, "Blend the tree cut at this depth instead of the leaves");
   v->add_option("--lod-error", args.lod_error, "Blend the shallowest nodes with error <= this fraction of the diagonal")
       ->check(CLI::NonNegativeNumber);
-  v->add_option("--min-weight", args.min_weight, "Surface only where the total weight exceeds this (as the mesher)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  v->add_option("--point-radius", args.point_radius, "Point clouds: splat radius (0: 0.75 x mean spacing)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
   v->add_flag("--grid", args.grid, "Render every input with the same camera into one labelled picture");
   v->add_option("--columns", args.columns, "--grid: pictures per row (0: as square as possible)")
       ->check(CLI::NonNegativeNumber);

@@ -10,7 +10,7 @@
 #include <clustersurf/io/surface_sampling.hpp>
 #include <clustersurf/pipeline/option_schema.hpp>
 #include <clustersurf/pipeline/reconstruct.hpp>
-#include <clustersurf/render/render.hpp>
+#include <clustersurf/render/render_option_schema.hpp>
 #include <clustersurf/view/html_viewer.hpp>
 
 #include <cstdint>
@@ -110,26 +110,10 @@ int run_check(Console& console, const CheckArgs& args);
 struct RenderArgs {
   std::vector<std::string> inputs;  // tree files (.cstree), meshes or point clouds
   std::string output;               // .png
-  int width = RenderOptions{}.width;
-  int height = RenderOptions{}.height;
-  int samples = RenderOptions{}.samples;
-  std::string mode = to_string(RenderOptions{}.mode);  // implicit | hit-blend | brute-force
-  std::string show = to_string(RenderOptions{}.show);  // surface | clusters | spheres | proxies | error
-  std::optional<std::uint32_t> level;
-  std::optional<std::int32_t> highlight;
-  std::string points;  // input cloud for --show error
-  std::optional<double> error_scale;
-  double azimuth = CameraOptions{}.azimuth;
-  double elevation = CameraOptions{}.elevation;
-  std::optional<double> distance;
-  double fov = CameraOptions{}.fov;
-  std::vector<double> eye, target, up;  // x,y,z each when given
-  std::string background = "white";     // transparent | white | black | #rrggbb
-  bool ambient_occlusion = false;
+  OptionValues options;             // render_option_schema()'s, as given
+  std::string points;               // input cloud for the error view
   std::optional<std::uint32_t> lod_depth;
   std::optional<double> lod_error;  // fraction of the bbox diagonal
-  double min_weight = RenderOptions{}.min_weight;
-  double point_radius = RenderOptions{}.point_radius;
   bool grid = false;
   int columns = 0;
 };

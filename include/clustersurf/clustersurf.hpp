@@ -8,6 +8,7 @@
 
 // the readers and writers (clustersurf::io)
 #include <clustersurf/core/errors.hpp>
+#include <clustersurf/core/option_spec.hpp>
 #include <clustersurf/core/point_cloud.hpp>
 #include <clustersurf/core/progress.hpp>
 #include <clustersurf/io/point_cloud_io.hpp>
@@ -47,6 +48,7 @@
 #include <clustersurf/render/camera.hpp>
 #include <clustersurf/render/image.hpp>
 #include <clustersurf/render/render.hpp>
+#include <clustersurf/render/render_option_schema.hpp>
 
 // benchmark inputs and scores (clustersurf::evaluation)
 #include <clustersurf/evaluation/mesh_distance.hpp>

@@ -8,6 +8,7 @@
 #include <clustersurf/core/progress.hpp>
 #include <clustersurf/pipeline/option_schema.hpp>
 #include <clustersurf/pipeline/reconstruct.hpp>
+#include <clustersurf/render/render.hpp>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -131,7 +132,11 @@ py::array_t<double> vector_array(const Eigen::Vector3d& v);
 /// OptionError for an unknown name or a bad value.
 ReconstructOptions reconstruct_options(const py::dict& options,
                                        std::vector<OptionStage> stages = {OptionStage::Build, OptionStage::Mesh});
-/// The schema's options of `stage` as docstring lines: name, Python default and help.
+/// The render options from keyword arguments named as render_option_schema()'s; a None value
+/// leaves the default. OptionError for an unknown name or a bad value.
+RenderOptions render_options(const py::dict& options);
+/// The schema's options of `stage` (reconstruct or render) as docstring lines: name, Python
+/// default and help.
 std::string options_doc(OptionStage stage);
 
 /// Groups of bindings, one per source file.

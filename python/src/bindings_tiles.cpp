@@ -26,47 +26,46 @@ py::dict written_mesh_dict(const WrittenMesh& m) {
                   "voxel_size"_a = m.grid.voxel_size, "seconds"_a = m.seconds);
 }
 
-}  // namespace
+/// The one driver of a tiled run (reconstruct_out_of_core()): its tasks here, or through a Python
+/// runner `run_tasks(stage, regions, report)` (clustersurf.distributed: Dask).
+OutOfCoreReconstruction run_out_of_core(const std::filesystem::path& input,
+                                        const std::optional<std::filesystem::path>& mesh,
+                                        const std::string& memory_limit, std::uint64_t max_region_points,
+                                        const std::filesystem::path& work_dir, bool keep_work_dir,
+                                        const py::object& run_tasks, const py::object& progress,
+                                        const py::kwargs& kwargs) {
+  ReconstructOptions o = reconstruct_options(kwargs);
+  o.mesh = mesh.has_value();
+  OutOfCoreOptions out_of_core;
+  out_of_core.memory_limit = parse_memory_size(memory_limit);
+  out_of_core.max_region_points = max_region_points;
+  out_of_core.work_directory = work_dir;
+  out_of_core.remove_work_directory = !keep_work_dir;
+  if (mesh) out_of_core.mesh_output = *mesh;
+  if (!run_tasks.is_none())
+    out_of_core.run_tasks = [run_tasks](std::string_view stage, std::span<const std::int32_t> regions,
+                                        const ProgressCallback& report) {
+      py::gil_scoped_acquire hold;
+      const py::cpp_function fraction([report, name = std::string(stage)](double done) {
+        py::gil_scoped_release release;
+        return !report || report(name, done);
+      });
+      run_tasks(std::string(stage), std::vector<std::int32_t>(regions.begin(), regions.end()), fraction);
+    };
+  return run_released(progress, [&](const ProgressCallback& callback) {
+    return reconstruct_out_of_core(input, o, out_of_core, callback);
+  });
+}
 
-namespace {
-
-/// reconstruct_file(), the work directory's default name, the memory rule of the regions.
-void bind_run_functions(py::module_& m) {
-  // The one driver of a tiled run (reconstruct_out_of_core()): its tasks here, or through a
-  // Python runner (clustersurf.distributed: Dask).
-  const auto run = [](const std::filesystem::path& input, const std::optional<std::filesystem::path>& mesh,
-                      const std::string& memory_limit, std::uint64_t max_region_points,
-                      const std::filesystem::path& work_dir, bool keep_work_dir, const py::object& run_tasks,
-                      const py::object& progress, const py::kwargs& kwargs) {
-    ReconstructOptions o = reconstruct_options(kwargs);
-    o.mesh = mesh.has_value();
-    OutOfCoreOptions out_of_core;
-    out_of_core.memory_limit = parse_memory_size(memory_limit);
-    out_of_core.max_region_points = max_region_points;
-    out_of_core.work_directory = work_dir;
-    out_of_core.remove_work_directory = !keep_work_dir;
-    if (mesh) out_of_core.mesh_output = *mesh;
-    if (!run_tasks.is_none())
-      out_of_core.run_tasks = [run_tasks](std::string_view stage, std::span<const std::int32_t> regions,
-                                          const ProgressCallback& report) {
-        py::gil_scoped_acquire hold;
-        const py::cpp_function fraction([report, name = std::string(stage)](double done) {
-          py::gil_scoped_release release;
-          return !report || report(name, done);
-        });
-        run_tasks(std::string(stage), std::vector<std::int32_t>(regions.begin(), regions.end()), fraction);
-      };
-    return run_released(progress, [&](const ProgressCallback& callback) {
-      return reconstruct_out_of_core(input, o, out_of_core, callback);
-    });
-  };
+/// reconstruct_file(): the out-of-core run within a memory limit.
+void bind_reconstruct_file(py::module_& m) {
   m.def(
       "reconstruct_file",
-      [run](const std::filesystem::path& input, const std::optional<std::filesystem::path>& mesh,
-            const std::string& memory_limit, const std::filesystem::path& work_dir, bool keep_work_dir,
-            const py::object& progress, const py::kwargs& kwargs) {
+      [](const std::filesystem::path& input, const std::optional<std::filesystem::path>& mesh,
+         const std::string& memory_limit, const std::filesystem::path& work_dir, bool keep_work_dir,
+         const py::object& progress, const py::kwargs& kwargs) {
         OutOfCoreReconstruction r =
-            run(input, mesh, memory_limit, 0, work_dir, keep_work_dir, py::none(), progress, kwargs);
+            run_out_of_core(input, mesh, memory_limit, 0, work_dir, keep_work_dir, py::none(), progress, kwargs);
         py::object tree = py::cast(TreeRef{std::make_shared<const ClusterTree>(std::move(r.tree))});
         return py::make_tuple(tree, r.mesh ? written_mesh_dict(*r.mesh) : py::object(py::none()));
       },
@@ -84,14 +83,18 @@ removed at the end unless ``keep_work_dir``. Other keyword options are reconstru
 Tree.mesh()'s (tolerance, min_points, ..., resolution, voxel_size, trim, color, decimate);
 levels of detail, watertight and distance colors are not available out of core.
 ``progress`` as in reconstruct(); the GIL is released.)doc");
+}
 
+/// _run_regions(), the driver of clustersurf.distributed, and the work directory's and regions' defaults.
+void bind_run_functions(py::module_& m) {
   m.def(
       "_run_regions",
-      [run](const std::filesystem::path& input, const std::optional<std::filesystem::path>& mesh,
-            std::uint64_t max_region_points, const std::filesystem::path& work_dir, bool keep_work_dir,
-            const py::object& run_tasks, const py::object& progress, const py::kwargs& kwargs) {
-        OutOfCoreReconstruction r = run(input, mesh, format_memory_size(OutOfCoreOptions{}.memory_limit),
-                                        max_region_points, work_dir, keep_work_dir, run_tasks, progress, kwargs);
+      [](const std::filesystem::path& input, const std::optional<std::filesystem::path>& mesh,
+         std::uint64_t max_region_points, const std::filesystem::path& work_dir, bool keep_work_dir,
+         const py::object& run_tasks, const py::object& progress, const py::kwargs& kwargs) {
+        OutOfCoreReconstruction r =
+            run_out_of_core(input, mesh, format_memory_size(OutOfCoreOptions{}.memory_limit), max_region_points,
+                            work_dir, keep_work_dir, run_tasks, progress, kwargs);
         py::dict seconds, tasks;
         for (const auto& [stage, s] : r.stage_seconds) seconds[py::str(stage)] = s;
         for (const auto& [stage, n] : r.stage_tasks) tasks[py::str(stage)] = n;
@@ -162,7 +165,7 @@ void bind_run_opening(py::class_<RunRef>& run) {
           "directory holds results of other options.");
 }
 
-/// A TiledRun's stages, each an idempotent task of one region or of the whole run.
+/// A TiledRun's region stages, each an idempotent task of one region or of the whole run.
 void bind_run_stages(py::class_<RunRef>& run) {
   run.def(
          "survey",
@@ -197,19 +200,23 @@ void bind_run_stages(py::class_<RunRef>& run) {
             py::gil_scoped_release release;
             r.run->mesh(region, o);
           },
-          py::arg("region"), "Stage 4 of a region: its tile of the mesh (after the merge).")
-      .def(
-          "join",
-          [](const RunRef& r, const py::kwargs& kwargs) {
-            const ReconstructOptions o = reconstruct_options(kwargs);
-            SurfaceMesh mesh = [&] {
-              py::gil_scoped_release release;
-              return r.run->join(o.meshing);
-            }();
-            return mesh_object(std::move(mesh.mesh));
-          },
-          "Stage 5: the tiles welded into one Mesh (after every mesh task), decimated and colored as the keyword "
-          "options say.")
+          py::arg("region"), "Stage 4 of a region: its tile of the mesh (after the merge).");
+}
+
+/// A TiledRun's last stage, its output check and its files.
+void bind_run_output(py::class_<RunRef>& run) {
+  run.def(
+         "join",
+         [](const RunRef& r, const py::kwargs& kwargs) {
+           const ReconstructOptions o = reconstruct_options(kwargs);
+           SurfaceMesh mesh = [&] {
+             py::gil_scoped_release release;
+             return r.run->join(o.meshing);
+           }();
+           return mesh_object(std::move(mesh.mesh));
+         },
+         "Stage 5: the tiles welded into one Mesh (after every mesh task), decimated and colored as the keyword "
+         "options say.")
       .def(
           "write_mesh",
           [](const RunRef& r, const std::filesystem::path& path, const py::kwargs& kwargs) {
@@ -248,6 +255,7 @@ void bind_run_stages(py::class_<RunRef>& run) {
 }  // namespace
 
 void bind_tiles(py::module_& m) {
+  bind_reconstruct_file(m);
   bind_run_functions(m);
   py::class_<RunRef> run(m, "TiledRun", R"doc(
 The work directory of a tiled reconstruction: the input split into region files (partition()),
@@ -257,6 +265,7 @@ there, so tasks can run in any order within a stage, on any machine sharing the 
 and be retried. clustersurf.distributed runs them on Dask.)doc");
   bind_run_opening(run);
   bind_run_stages(run);
+  bind_run_output(run);
 }
 
 }  // namespace clustersurf::python

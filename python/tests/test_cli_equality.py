@@ -186,11 +186,13 @@ def test_scan_colors_equal_the_cli(tmp_path, cli, shared_data):
 
 
 def test_both_front_ends_offer_the_schema(cli):
-    """Every option of the library's schema is a CLI flag with the schema's default and a keyword
-    of reconstruct() or Tree.mesh() documented with the same default."""
-    help_text = " ".join(run(cli, "reconstruct", "--help").stdout.split())
-    docs = {"build": clustersurf.reconstruct.__doc__, "mesh": clustersurf.Tree.mesh.__doc__}
+    """Every option of the library's schemas is a CLI flag with the schema's default and a keyword
+    of reconstruct(), Tree.mesh() or Tree.render() documented with the same default."""
+    helps = {command: " ".join(run(cli, command, "--help").stdout.split()) for command in ("reconstruct", "render")}
+    docs = {"build": clustersurf.reconstruct.__doc__, "mesh": clustersurf.Tree.mesh.__doc__,
+            "render": clustersurf.Tree.render.__doc__}
     for spec in clustersurf.option_schema():
+        help_text = helps["render" if spec["stage"] == "render" else "reconstruct"]
         flag = "--" + spec["name"].replace("_", "-")
         if spec["alias"]:
             flag += ",--" + spec["alias"].replace("_", "-")

@@ -13,7 +13,7 @@ import clustersurf._clustersurf as native
 
 PACKAGE = pathlib.Path(clustersurf.__file__).parent
 # The option schema's stages whose keywords a binding taking **kwargs has spelled out in its stub.
-SCHEMA_STAGES = {"reconstruct": {"build"}, "Tree.mesh": {"mesh"}}
+SCHEMA_STAGES = {"reconstruct": {"build"}, "Tree.mesh": {"mesh"}, "Tree.render": {"render"}}
 # Members every pybind11 class has, or that pickling adds; not part of the typed interface.
 IGNORED_MEMBERS = {"__init__", "__new__", "__module__", "__doc__", "__dict__", "__weakref__", "__getstate__",
                    "__setstate__", "__repr__", "__hash__", "__eq__"}

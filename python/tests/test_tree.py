@@ -163,7 +163,7 @@ def test_point_cloud_object_and_options(sphere):
     ({"min_points": -5}, 'not "-5"'),
     ({"alpha": 0.0}, 'alpha must be a positive number, not "0"'),
     ({"error": "mean"}, 'error must be rms or max, not "mean"'),
-    ({"alpha": [1]}, "option alpha takes a number, a bool or a word, not a list"),
+    ({"alpha": [1]}, "option alpha takes a number, a bool, a word or (x, y, z), not a list"),
     ({"smoothness": 1}, 'unknown option "smoothness"'),
     ({"resolution": 64}, 'unknown option "resolution"'),
 ])

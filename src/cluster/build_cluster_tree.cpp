@@ -83,14 +83,11 @@ ClusterTree build_cluster_tree(const CloudIndex& cloud_index, const BuildOptions
                             scale, options, progress);
 }
 
-ClusterTree detail::build_tree(const PointCloud& cloud, std::vector<std::uint32_t> ids, const Points& clustered,
-                               const Points& support_points, const Points* support_normals, const KdTree& support_index,
-                               const BuildScale& scale, const BuildOptions& options, const ProgressCallback& progress) {
-  validate(cloud, options);
-  if (ids.empty()) throw OptionError("cannot build a tree without points to cluster");
-  ClusterTree tree;
-  tree.input_points = static_cast<std::uint64_t>(cloud.size());
-  TreeParameters& p = tree.parameters;
+namespace {
+
+/// The parameters the tree records of `options` (min_points decided later).
+TreeParameters tree_parameters(const BuildOptions& options) {
+  TreeParameters p;
   p.proxy = options.proxy;
   p.splitter = options.splitter;
   p.metric = options.metric;
@@ -107,6 +104,32 @@ ClusterTree detail::build_tree(const PointCloud& cloud, std::vector<std::uint32_
   p.support_factor = options.support_factor;
   p.seed = options.seed;
   p.creases = options.creases;
+  return p;
+}
+
+/// Each input point's leaf (-1 for points not clustered): leaf n holds perm[begins[n] ...] in order.
+std::vector<std::int32_t> point_leaves(const ClusterTree& tree, const std::vector<std::uint32_t>& begins,
+                                       const std::vector<std::uint32_t>& perm, Eigen::Index input_points) {
+  std::vector<std::int32_t> leaf(static_cast<std::size_t>(input_points), -1);
+  for (std::size_t n = 0; n < tree.nodes.size(); ++n) {
+    if (!tree.nodes[n].is_leaf()) continue;
+    for (std::uint32_t k = 0; k < tree.nodes[n].point_count; ++k)
+      leaf[perm[begins[n] + k]] = static_cast<std::int32_t>(n);
+  }
+  return leaf;
+}
+
+}  // namespace
+
+ClusterTree detail::build_tree(const PointCloud& cloud, std::vector<std::uint32_t> ids, const Points& clustered,
+                               const Points& support_points, const Points* support_normals, const KdTree& support_index,
+                               const BuildScale& scale, const BuildOptions& options, const ProgressCallback& progress) {
+  validate(cloud, options);
+  if (ids.empty()) throw OptionError("cannot build a tree without points to cluster");
+  ClusterTree tree;
+  tree.input_points = static_cast<std::uint64_t>(cloud.size());
+  tree.parameters = tree_parameters(options);
+  TreeParameters& p = tree.parameters;
 
   // The input normals, indexed like the input (the working set's ids), outliers or not.
   const bool use_normals = options.use_normals && cloud.normals.rows() == cloud.positions.rows() && cloud.size() > 0;
@@ -158,14 +181,7 @@ ClusterTree detail::build_tree(const PointCloud& cloud, std::vector<std::uint32_
 
   std::vector<std::uint32_t> begins;
   detail::flatten(root, tree, options.keep_point_leaves ? &begins : nullptr);
-  if (options.keep_point_leaves) {
-    tree.point_leaf.assign(static_cast<std::size_t>(cloud.size()), -1);
-    for (std::size_t n = 0; n < tree.nodes.size(); ++n) {
-      if (!tree.nodes[n].is_leaf()) continue;
-      for (std::uint32_t k = 0; k < tree.nodes[n].point_count; ++k)
-        tree.point_leaf[perm[begins[n] + k]] = static_cast<std::int32_t>(n);
-    }
-  }
+  if (options.keep_point_leaves) tree.point_leaf = point_leaves(tree, begins, perm, cloud.size());
   return tree;
 }
 

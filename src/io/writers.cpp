@@ -22,6 +22,79 @@ double at_origin(double x, double origin) { return origin == 0 ? x : x + origin;
 
 static_assert(std::endian::native == std::endian::little, "binary writers assume a little-endian host");
 
+/// The records of a PLY body, binary or ascii, buffered into an atomic file in blocks of about 1 MiB.
+class PlyBody {
+ public:
+  PlyBody(io::AtomicFile& out, const PlyWriteOptions& o) : out_(out), o_(o) { buf_.reserve(1 << 20); }
+
+  /// A vertex record: position at `origin`, then the normal, color and attributes given.
+  void vertex(Eigen::Index i, const Points& v, const Eigen::Vector3d& origin, const Points* n, const Colors* c,
+              const std::vector<const PointAttribute*>& extra) {
+    if (o_.binary) {
+      for (int k = 0; k < 3; ++k) put_real(at_origin(v(i, k), origin(k)));
+      if (n)
+        for (int k = 0; k < 3; ++k) put_real((*n)(i, k));
+      if (c)
+        for (int k = 0; k < 3; ++k) put((*c)(i, k));
+      for (const PointAttribute* a : extra) put(a->values(i));
+    } else {
+      for (int k = 0; k < 3; ++k) {
+        if (k > 0) buf_.push_back(' ');
+        text_real(at_origin(v(i, k), origin(k)));
+      }
+      if (n)
+        for (int k = 0; k < 3; ++k) buf_.push_back(' '), text_real((*n)(i, k));
+      if (c) fmt::format_to(std::back_inserter(buf_), " {} {} {}", (*c)(i, 0), (*c)(i, 1), (*c)(i, 2));
+      for (const PointAttribute* a : extra) fmt::format_to(std::back_inserter(buf_), " {}", a->values(i));
+      buf_.push_back('\n');
+    }
+    flush_if_full();
+  }
+
+  /// A face record of the triangle `t`.
+  void triangle(const Triangles& tris, Eigen::Index t) {
+    if (o_.binary) {
+      put(static_cast<std::uint8_t>(3));
+      for (int k = 0; k < 3; ++k) put(tris(t, k));
+    } else {
+      fmt::format_to(std::back_inserter(buf_), "3 {} {} {}\n", tris(t, 0), tris(t, 1), tris(t, 2));
+    }
+    flush_if_full();
+  }
+
+  void flush() {
+    out_.write(buf_.data(), buf_.size());
+    buf_.clear();
+  }
+
+ private:
+  void flush_if_full() {
+    if (buf_.size() > (1u << 20) - 256) flush();
+  }
+  template <class T>
+  void put(const T& value) {
+    const char* p = reinterpret_cast<const char*>(&value);
+    buf_.append(p, p + sizeof(value));
+  }
+  void put_real(double x) {
+    if (o_.double_precision)
+      put(x);
+    else
+      put(static_cast<float>(x));
+  }
+  /// The shortest text that reads back to the same value ({} in fmt).
+  void text_real(double x) {
+    if (o_.double_precision)
+      fmt::format_to(std::back_inserter(buf_), "{}", x);
+    else
+      fmt::format_to(std::back_inserter(buf_), "{}", static_cast<float>(x));
+  }
+
+  io::AtomicFile& out_;
+  const PlyWriteOptions& o_;
+  fmt::memory_buffer buf_;
+};
+
 void write_ply_impl(const std::filesystem::path& file, const Points& v, const Eigen::Vector3d& origin, UpAxis up,
                     const Points& n, const Colors& c, const std::vector<PointAttribute>& attributes,
                     const Triangles* tris, PlyWriteOptions o) {
@@ -40,69 +113,13 @@ void write_ply_impl(const std::filesystem::path& file, const Points& v, const Ei
       io::ply_header(static_cast<std::uint64_t>(nv),
                      tris != nullptr ? std::optional(static_cast<std::uint64_t>(tris->rows())) : std::nullopt, o.binary,
                      o.double_precision, has_n, has_c, names, up);
-
   io::AtomicFile out(file);
   out.write(h);
-  std::vector<char> buf;
-  buf.reserve(1 << 20);
-  auto flush_if_full = [&] {
-    if (buf.size() > (1u << 20) - 256) {
-      out.write(buf.data(), buf.size());
-      buf.clear();
-    }
-  };
-  auto put = [&](const auto& value) {
-    const char* p = reinterpret_cast<const char*>(&value);
-    buf.insert(buf.end(), p, p + sizeof(value));
-  };
-  auto put_real = [&](double x) {
-    if (o.double_precision)
-      put(x);
-    else
-      put(static_cast<float>(x));
-  };
-  fmt::memory_buffer text;
-  for (Eigen::Index i = 0; i < nv; ++i) {
-    if (o.binary) {
-      for (int k = 0; k < 3; ++k) put_real(at_origin(v(i, k), origin(k)));
-      if (has_n)
-        for (int k = 0; k < 3; ++k) put_real(n(i, k));
-      if (has_c)
-        for (int k = 0; k < 3; ++k) put(c(i, k));
-      for (const PointAttribute* a : extra) put(a->values(i));
-      flush_if_full();
-    } else {
-      // Shortest representation that reads back to the same value ({} in fmt).
-      auto fmt_real = [&](double x) {
-        if (o.double_precision)
-          fmt::format_to(std::back_inserter(text), "{}", x);
-        else
-          fmt::format_to(std::back_inserter(text), "{}", static_cast<float>(x));
-      };
-      fmt_real(at_origin(v(i, 0), origin(0))), text.push_back(' '), fmt_real(at_origin(v(i, 1), origin(1))),
-          text.push_back(' '), fmt_real(at_origin(v(i, 2), origin(2)));
-      if (has_n)
-        for (int k = 0; k < 3; ++k) text.push_back(' '), fmt_real(n(i, k));
-      if (has_c) fmt::format_to(std::back_inserter(text), " {} {} {}", c(i, 0), c(i, 1), c(i, 2));
-      for (const PointAttribute* a : extra) fmt::format_to(std::back_inserter(text), " {}", a->values(i));
-      text.push_back('\n');
-      if (text.size() > (1u << 20)) out.write(text.data(), text.size()), text.clear();
-    }
-  }
-  if (tris != nullptr) {
-    for (Eigen::Index f = 0; f < tris->rows(); ++f) {
-      if (o.binary) {
-        put(static_cast<std::uint8_t>(3));
-        for (int k = 0; k < 3; ++k) put((*tris)(f, k));
-        flush_if_full();
-      } else {
-        fmt::format_to(std::back_inserter(text), "3 {} {} {}\n", (*tris)(f, 0), (*tris)(f, 1), (*tris)(f, 2));
-        if (text.size() > (1u << 20)) out.write(text.data(), text.size()), text.clear();
-      }
-    }
-  }
-  out.write(buf.data(), buf.size());
-  out.write(text.data(), text.size());
+  PlyBody body(out, o);
+  for (Eigen::Index i = 0; i < nv; ++i) body.vertex(i, v, origin, has_n ? &n : nullptr, has_c ? &c : nullptr, extra);
+  if (tris != nullptr)
+    for (Eigen::Index t = 0; t < tris->rows(); ++t) body.triangle(*tris, t);
+  body.flush();
   out.commit();
 }
 

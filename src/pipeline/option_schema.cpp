@@ -1,6 +1,8 @@
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/pipeline/option_schema.hpp>
 
+#include "core/option_builders.hpp"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -9,55 +11,11 @@
 
 namespace clustersurf {
 
-std::string number_text(double value) {
-  char buffer[64];
-  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return ec == std::errc() ? std::string(buffer, end) : std::to_string(value);
-}
-
 namespace {
 
-std::string in_quotes(std::string_view text) { return "\"" + std::string(text) + "\""; }
-
-std::string word_list(const std::vector<std::string>& words) {
-  std::string out;
-  for (std::size_t i = 0; i < words.size(); ++i)
-    out += (i == 0 ? "" : i + 1 == words.size() ? " or " : ", ") + words[i];
-  return out;
-}
-
-/// A whole number from `low` to `high` as the whole text; OptionError naming `name` otherwise.
-std::uint64_t whole(std::string_view name, std::string_view text, std::uint64_t low, std::uint64_t high,
-                    std::string_view word = {}) {
-  std::uint64_t value = 0;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (text.empty() || ec != std::errc() || end != text.data() + text.size() || value < low || value > high)
-    throw OptionError(std::string(name) + " must be " + (word.empty() ? "" : in_quotes(word) + " or ") +
-                      "a whole number from " + std::to_string(low) + " to " + std::to_string(high) + ", not " +
-                      in_quotes(text));
-  return value;
-}
-
-enum class Bound : std::uint8_t { NonNegative, Positive };
-
-/// A finite real number, >= 0 or > 0, as the whole text; OptionError naming `name` otherwise.
-double real(std::string_view name, std::string_view text, Bound bound, std::string_view word = {}) {
-  double value = 0;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  const bool in_range = bound == Bound::Positive ? value > 0 : value >= 0;
-  if (text.empty() || ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value) || !in_range)
-    throw OptionError(std::string(name) + " must be " + (word.empty() ? "" : in_quotes(word) + " or ") + "a " +
-                      (bound == Bound::Positive ? "positive number" : "number >= 0") + ", not " + in_quotes(text));
-  return value;
-}
-
-bool flag(std::string_view name, std::string_view text) {
-  if (text == "true") return true;
-  if (text == "false") return false;
-  throw OptionError(std::string(name) + " must be true or false, not " + in_quotes(text));
-}
-
-std::string flag_text(bool on) { return on ? "true" : "false"; }
+using detail::unset_by_default;
+using detail::with_alias;
+using detail::with_words;
 
 constexpr std::uint32_t kMaxUint32 = std::numeric_limits<std::uint32_t>::max();
 constexpr std::uint64_t kMaxSize = std::numeric_limits<std::int64_t>::max();
@@ -66,51 +24,19 @@ using Get = std::function<std::string(const ReconstructOptions&)>;
 using Set = std::function<void(ReconstructOptions&, std::string_view)>;
 
 OptionSpec spec(std::string name, OptionStage stage, OptionKind kind, std::string help, Get get, Set set) {
-  OptionSpec s;
-  s.name = std::move(name);
-  s.stage = stage;
-  s.kind = kind;
-  s.help = std::move(help);
-  s.get = std::move(get);
-  s.set = std::move(set);
-  return s;
+  return detail::spec<ReconstructOptions>(std::move(name), stage, kind, std::move(help), std::move(get),
+                                          std::move(set));
 }
 
-OptionSpec with_words(OptionSpec s, std::vector<std::string> words) {
-  s.words = std::move(words);
-  return s;
-}
-
-OptionSpec with_alias(OptionSpec s, std::string alias) {
-  s.alias = std::move(alias);
-  return s;
-}
-
-OptionSpec unset_by_default(OptionSpec s) {
-  s.optional = true;
-  return s;
-}
-
-/// A flag bound to the bool `field` of the options; `negated`: the flag turns the field off.
 template <class Field>
 OptionSpec flag_spec(std::string name, OptionStage stage, std::string help, Field field, bool negated = false) {
-  return spec(
-      name, stage, OptionKind::Flag, std::move(help),
-      [field, negated](const ReconstructOptions& o) { return flag_text(field(o) != negated); },
-      [field, negated, name](ReconstructOptions& o, std::string_view text) { field(o) = flag(name, text) != negated; });
+  return detail::flag_spec<ReconstructOptions>(std::move(name), stage, std::move(help), field, negated);
 }
 
-/// A word from `words` bound through a parser and to_string() of the field's enum.
 template <class Field, class Parse>
 OptionSpec word_spec(std::string name, OptionStage stage, std::vector<std::string> words, std::string help, Field field,
                      Parse parse) {
-  auto get = [field](const ReconstructOptions& o) { return std::string(to_string(field(o))); };
-  auto set = [field, parse, n = name, words](ReconstructOptions& o, std::string_view text) {
-    if (std::find(words.begin(), words.end(), text) == words.end())
-      throw OptionError(n + " must be " + word_list(words) + ", not " + in_quotes(text));
-    field(o) = parse(text);
-  };
-  return with_words(spec(std::move(name), stage, OptionKind::Word, std::move(help), get, set), words);
+  return detail::word_spec<ReconstructOptions>(std::move(name), stage, std::move(words), std::move(help), field, parse);
 }
 
 BuildOptions& build(ReconstructOptions& o) { return o.build; }
@@ -126,21 +52,22 @@ OptionSpec build_whole(std::string name, std::string help, T BuildOptions::*memb
       name, OptionStage::Build, OptionKind::Whole, std::move(help),
       [member](const ReconstructOptions& o) { return std::to_string(build(o).*member); },
       [member, name, low, high](ReconstructOptions& o, std::string_view text) {
-        build(o).*member = static_cast<T>(whole(name, text, low, high));
+        build(o).*member = static_cast<T>(parse_whole(name, text, low, high));
       });
 }
 
 /// A real field of BuildOptions within `bound`.
-OptionSpec build_real(std::string name, std::string help, double BuildOptions::*member, Bound bound) {
+OptionSpec build_real(std::string name, std::string help, double BuildOptions::*member, RealBound bound) {
   return spec(
       name, OptionStage::Build, OptionKind::Number, std::move(help),
       [member](const ReconstructOptions& o) { return number_text(build(o).*member); },
       [member, name, bound](ReconstructOptions& o, std::string_view text) {
-        build(o).*member = real(name, text, bound);
+        build(o).*member = parse_real(name, text, bound);
       });
 }
 
-std::vector<OptionSpec> build_options() {
+/// The build options on the proxies, the splitter and the leaves' error threshold.
+std::vector<OptionSpec> build_threshold_options() {
   const BuildOptions defaults;
   std::vector<OptionSpec> out;
   out.push_back(word_spec(
@@ -169,7 +96,7 @@ std::vector<OptionSpec> build_options() {
                   b.tolerance = BuildOptions{}.tolerance;
                   return;
                 }
-                b.tolerance = real("tolerance", text, Bound::NonNegative, "auto");
+                b.tolerance = parse_real("tolerance", text, RealBound::NonNegative, "auto");
               }),
           {"auto"}),
       "max_error"));
@@ -183,7 +110,7 @@ std::vector<OptionSpec> build_options() {
                                },
                                [](ReconstructOptions& o, std::string_view text) {
                                  BuildOptions& b = build(o);
-                                 b.tolerance = real("absolute_tolerance", text, Bound::NonNegative);
+                                 b.tolerance = parse_real("absolute_tolerance", text, RealBound::NonNegative);
                                  b.threshold_mode = ThresholdMode::Absolute;
                                })),
                            "absolute_error"));
@@ -202,12 +129,18 @@ std::vector<OptionSpec> build_options() {
           },
           [](ReconstructOptions& o, std::string_view text) {
             build(o).min_points =
-                text == "auto" ? 0 : static_cast<std::uint32_t>(whole("min_points", text, 1, 1u << 30, "auto"));
+                text == "auto" ? 0 : static_cast<std::uint32_t>(parse_whole("min_points", text, 1, 1u << 30, "auto"));
           }),
       {"auto"}));
+  return out;
+}
+
+/// The build options on the tree's depth, the splitter's search, the supports and the inputs' use.
+std::vector<OptionSpec> build_fit_options() {
+  std::vector<OptionSpec> out;
   out.push_back(build_whole("max_depth", "Maximum tree depth", &BuildOptions::max_depth, 0, kMaxUint32));
   out.push_back(
-      build_real("alpha", "Support radius = alpha x cluster bbox diagonal", &BuildOptions::alpha, Bound::Positive));
+      build_real("alpha", "Support radius = alpha x cluster bbox diagonal", &BuildOptions::alpha, RealBound::Positive));
   out.push_back(build_whole("kstep", "Split-plane sweep step (0: at most 64 candidates per split)",
                             &BuildOptions::kstep, 0, kMaxUint32));
   out.push_back(
@@ -217,11 +150,11 @@ std::vector<OptionSpec> build_options() {
   out.push_back(build_real("noise_factor",
                            "Noise counted in the threshold = this x the estimated noise (0: ignore the noise, no "
                            "estimate)",
-                           &BuildOptions::noise_factor, Bound::NonNegative));
+                           &BuildOptions::noise_factor, RealBound::NonNegative));
   out.push_back(build_real("support_factor",
                            "A leaf's weighted RMS error over the points in its support sphere must be <= this x the "
                            "threshold (0: no check)",
-                           &BuildOptions::support_factor, Bound::NonNegative));
+                           &BuildOptions::support_factor, RealBound::NonNegative));
   out.push_back(build_whole("support_points",
                             "A leaf's support grows until it holds this many input points (MPU's N_min; 0: no growth)",
                             &BuildOptions::support_points, 0, kMaxUint32));
@@ -248,14 +181,16 @@ std::vector<OptionSpec> build_options() {
 
 /// An optional real field of SurfaceMeshOptions, unset by default.
 OptionSpec optional_real(std::string name, std::string help, std::optional<double>& (*field)(ReconstructOptions&),
-                         const std::optional<double>& (*read)(const ReconstructOptions&), Bound bound) {
+                         const std::optional<double>& (*read)(const ReconstructOptions&), RealBound bound) {
   return unset_by_default(spec(
       name, OptionStage::Mesh, OptionKind::Number, std::move(help),
       [read](const ReconstructOptions& o) {
         const std::optional<double>& v = read(o);
         return v ? number_text(*v) : std::string();
       },
-      [field, name, bound](ReconstructOptions& o, std::string_view text) { field(o) = real(name, text, bound); }));
+      [field, name, bound](ReconstructOptions& o, std::string_view text) {
+        field(o) = parse_real(name, text, bound);
+      }));
 }
 
 std::vector<OptionSpec> mesh_options() {
@@ -278,14 +213,14 @@ std::vector<OptionSpec> mesh_options() {
             m.auto_resolution = text == "auto";
             m.grid.resolution = m.auto_resolution
                                     ? SurfaceMeshOptions{}.grid.resolution
-                                    : static_cast<std::uint32_t>(whole("resolution", text, 2, 100000, "auto"));
+                                    : static_cast<std::uint32_t>(parse_whole("resolution", text, 2, 100000, "auto"));
           }),
       {"auto"}));
   out.push_back(optional_real(
       "voxel_size", "Mesh grid cell size (overrides resolution)",
       [](ReconstructOptions& o) -> std::optional<double>& { return meshing(o).grid.voxel_size; },
       [](const ReconstructOptions& o) -> const std::optional<double>& { return meshing(o).grid.voxel_size; },
-      Bound::Positive));
+      RealBound::Positive));
   out.push_back(unset_by_default(spec(
       "lod_depth", OptionStage::Mesh, OptionKind::Whole, "Blend the tree cut at this depth instead of the leaves",
       [](const ReconstructOptions& o) {
@@ -293,13 +228,13 @@ std::vector<OptionSpec> mesh_options() {
         return d ? std::to_string(*d) : std::string();
       },
       [](ReconstructOptions& o, std::string_view text) {
-        meshing(o).lod_depth = static_cast<std::uint32_t>(whole("lod_depth", text, 0, kMaxUint32));
+        meshing(o).lod_depth = static_cast<std::uint32_t>(parse_whole("lod_depth", text, 0, kMaxUint32));
       })));
   out.push_back(optional_real(
       "lod_error", "Blend the shallowest nodes with error <= this fraction of the diagonal",
       [](ReconstructOptions& o) -> std::optional<double>& { return meshing(o).lod_error; },
       [](const ReconstructOptions& o) -> const std::optional<double>& { return meshing(o).lod_error; },
-      Bound::NonNegative));
+      RealBound::NonNegative));
   out.push_back(word_spec(
       "color", OptionStage::Mesh, {"input", "none", "leaf", "distance", "intensity"},
       "Vertex colors: input (the input points' own colors, when they have them: a scan's RGB), none, leaf (per "
@@ -318,7 +253,7 @@ std::vector<OptionSpec> mesh_finishing_options() {
       "needs the input points. 0 keeps every triangle",
       [](const ReconstructOptions& o) { return number_text(meshing(o).trim.spread_factor); },
       [](ReconstructOptions& o, std::string_view text) {
-        meshing(o).trim.spread_factor = real("trim", text, Bound::NonNegative);
+        meshing(o).trim.spread_factor = parse_real("trim", text, RealBound::NonNegative);
       }));
   out.push_back(spec(
       "min_component_points", OptionStage::Mesh, OptionKind::Whole,
@@ -326,7 +261,7 @@ std::vector<OptionSpec> mesh_finishing_options() {
       "does). 0 keeps every fragment",
       [](const ReconstructOptions& o) { return std::to_string(meshing(o).trim.min_component_points); },
       [](ReconstructOptions& o, std::string_view text) {
-        meshing(o).trim.min_component_points = whole("min_component_points", text, 0, kMaxSize);
+        meshing(o).trim.min_component_points = parse_whole("min_component_points", text, 0, kMaxSize);
       }));
   out.push_back(flag_spec(
       "close_pinholes", OptionStage::Mesh,
@@ -339,7 +274,7 @@ std::vector<OptionSpec> mesh_finishing_options() {
       "rims fixed). 0 keeps them all",
       [](const ReconstructOptions& o) { return std::to_string(meshing(o).decimation.target_triangles); },
       [](ReconstructOptions& o, std::string_view text) {
-        meshing(o).decimation.target_triangles = whole("decimate", text, 0, kMaxSize);
+        meshing(o).decimation.target_triangles = parse_whole("decimate", text, 0, kMaxSize);
       }));
   out.push_back(spec(
       "decimate_tolerance", OptionStage::Mesh, OptionKind::Number,
@@ -347,7 +282,7 @@ std::vector<OptionSpec> mesh_finishing_options() {
       "whichever comes first. 0: no such reduction",
       [](const ReconstructOptions& o) { return number_text(meshing(o).decimation.max_deviation); },
       [](ReconstructOptions& o, std::string_view text) {
-        meshing(o).decimation.max_deviation = real("decimate_tolerance", text, Bound::NonNegative);
+        meshing(o).decimation.max_deviation = parse_real("decimate_tolerance", text, RealBound::NonNegative);
       }));
   out.push_back(flag_spec(
       "watertight", OptionStage::Mesh,
@@ -360,7 +295,7 @@ std::vector<OptionSpec> mesh_finishing_options() {
       "hole",
       [](const ReconstructOptions& o) { return number_text(meshing(o).closing.max_hole_size); },
       [](ReconstructOptions& o, std::string_view text) {
-        meshing(o).closing.max_hole_size = real("fill_holes", text, Bound::NonNegative);
+        meshing(o).closing.max_hole_size = parse_real("fill_holes", text, RealBound::NonNegative);
       }));
   return out;
 }
@@ -368,33 +303,14 @@ std::vector<OptionSpec> mesh_finishing_options() {
 }  // namespace
 
 std::vector<OptionSpec> reconstruct_option_schema() {
-  std::vector<OptionSpec> out = build_options();
-  for (auto* part : {&mesh_options, &mesh_finishing_options})
+  std::vector<OptionSpec> out = build_threshold_options();
+  for (auto* part : {&build_fit_options, &mesh_options, &mesh_finishing_options})
     for (OptionSpec& s : part()) out.push_back(std::move(s));
   return out;
 }
 
-std::string default_text(const OptionSpec& spec) { return spec.get(ReconstructOptions{}); }
-
 void set_options(ReconstructOptions& o, const OptionValues& values, std::vector<OptionStage> stages) {
-  const std::vector<OptionSpec> schema = reconstruct_option_schema();
-  std::vector<const std::pair<std::string, std::string>*> given(schema.size(), nullptr);
-  for (const auto& value : values) {
-    const std::string& name = value.first;
-    const auto it = std::find_if(schema.begin(), schema.end(), [&](const OptionSpec& s) {
-      return (s.name == name || (!s.alias.empty() && s.alias == name)) &&
-             std::find(stages.begin(), stages.end(), s.stage) != stages.end();
-    });
-    if (it == schema.end()) throw OptionError("unknown option " + in_quotes(name));
-    const auto i = static_cast<std::size_t>(it - schema.begin());
-    if (given[i])
-      throw OptionError(given[i]->first == name
-                            ? "option " + name + " is given twice"
-                            : "give " + it->name + " or its older name " + it->alias + ", not both");
-    given[i] = &value;
-  }
-  for (std::size_t i = 0; i < schema.size(); ++i)
-    if (given[i]) schema[i].set(o, given[i]->second);
+  set_options(o, reconstruct_option_schema(), values, stages);
 }
 
 }  // namespace clustersurf

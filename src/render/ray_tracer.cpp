@@ -222,7 +222,7 @@ Image render_tree(const ClusterTree& tree, const RenderOptions& options, RenderS
     throw OptionError("highlight: node " + std::to_string(*options.highlight) + " does not exist (the tree has " +
                       std::to_string(tree.nodes.size()) + " nodes)");
   if (options.show == ShowMode::Error && (options.reference_points == nullptr || options.reference_points->rows() == 0))
-    throw OptionError("the error view needs the input points (RenderOptions::reference_points)");
+    throw OptionError("show error needs the input points (points)");
 
   const Camera camera = render::scene_camera(options, tree.bbox, tree.origin, tree.up);
   Scene scene{

@@ -60,6 +60,59 @@ std::filesystem::path default_work_directory(const std::filesystem::path& output
   return work;
 }
 
+namespace {
+
+/// The partition of an out-of-core run: regions, buffers and blocks within its memory limit.
+PartitionOptions partition_within(const OutOfCoreOptions& out_of_core) {
+  PartitionOptions partition;
+  partition.regions.max_points = out_of_core.max_region_points > 0 ? out_of_core.max_region_points
+                                                                   : region_points_for_memory(out_of_core.memory_limit);
+  partition.read = out_of_core.read;
+  // An eighth of the working memory for the region files' buffers, a sixteenth for a block of
+  // points (48 bytes each).
+  const std::uint64_t working = out_of_core.memory_limit - kProcessBytes;
+  partition.buffer_bytes = static_cast<std::size_t>(std::min<std::uint64_t>(partition.buffer_bytes, working / 8));
+  partition.block_points =
+      static_cast<std::size_t>(std::clamp<std::uint64_t>(working / 16 / 48, 4096, partition.block_points));
+  return partition;
+}
+
+/// Runs the tasks of stage `name` that are not done, through the runner or one after another
+/// here, reporting under `label`; returns how many there were.
+std::size_t run_stage(const TiledRun& run, const char* name, const char* label, const ReconstructOptions& options,
+                      const OutOfCoreOptions& out_of_core, const ProgressCallback& progress) {
+  const auto n = static_cast<std::int32_t>(run.regions());
+  std::vector<std::int32_t> todo;
+  for (std::int32_t k = 0; k < n; ++k)
+    if (!run.done(name, k)) todo.push_back(k);
+  const auto report = [&](std::string_view, double fraction) {
+    const double done =
+        static_cast<double>(n - static_cast<std::int32_t>(todo.size())) + fraction * static_cast<double>(todo.size());
+    return !progress || progress(label, done / static_cast<double>(n));
+  };
+  if (out_of_core.run_tasks) {
+    out_of_core.run_tasks(name, todo, report);
+    for (const std::int32_t k : todo)
+      if (!run.done(name, k))
+        throw Error(std::string("the ") + name + " task of region " + std::to_string(k) + " did not finish");
+    return todo.size();
+  }
+  for (std::size_t i = 0; i < todo.size(); ++i) {
+    if (!report(name, static_cast<double>(i) / static_cast<double>(todo.size()))) throw Cancelled();
+    const std::int32_t k = todo[i];
+    const std::string_view which = name;
+    if (which == "survey")
+      run.survey(k, options.build);
+    else if (which == "build")
+      run.build(k, options.build);
+    else
+      run.mesh(k, options);
+  }
+  return todo.size();
+}
+
+}  // namespace
+
 OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& input, const ReconstructOptions& options,
                                                 const OutOfCoreOptions& out_of_core, const ProgressCallback& progress) {
   if (out_of_core.work_directory.empty()) throw OptionError("an out-of-core run needs a work directory");
@@ -67,16 +120,6 @@ OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& inp
     throw OptionError("an out-of-core run writes its mesh to a file: give one");
   if (options.mesh) require_tiled_meshing(options.meshing);
   const auto start = std::chrono::steady_clock::now();
-  PartitionOptions partition;
-  partition.regions.max_points = out_of_core.max_region_points > 0 ? out_of_core.max_region_points
-                                                                   : region_points_for_memory(out_of_core.memory_limit);
-  partition.read = out_of_core.read;
-  // The partition's buffers and blocks within the limit too: an eighth of the working memory
-  // for the region files' buffers, a sixteenth for a block of points (48 bytes each).
-  const std::uint64_t working = out_of_core.memory_limit - kProcessBytes;
-  partition.buffer_bytes = static_cast<std::size_t>(std::min<std::uint64_t>(partition.buffer_bytes, working / 8));
-  partition.block_points =
-      static_cast<std::size_t>(std::clamp<std::uint64_t>(working / 16 / 48, 4096, partition.block_points));
   OutOfCoreReconstruction out;
   auto lap = std::chrono::steady_clock::now();
   const auto timed = [&](const char* name) {
@@ -84,47 +127,18 @@ OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& inp
     out.stage_seconds.emplace_back(name, std::chrono::duration<double>(now - lap).count());
     lap = now;
   };
-  const TiledRun run = TiledRun::partition(input, out_of_core.work_directory, partition, progress);
+  const TiledRun run = TiledRun::partition(input, out_of_core.work_directory, partition_within(out_of_core), progress);
   run.claim(options);
   if (options.mesh) run.check_output(out_of_core.mesh_output);  // before any work, not after it
   timed("partition");
-  const auto n = static_cast<std::int32_t>(run.regions());
   out.regions = run.regions();
   out.input_points = run.input_points();
-  // Each stage's missing tasks, through the runner or one after another here.
   const auto stage = [&](const char* name, const char* label) {
-    std::vector<std::int32_t> todo;
-    for (std::int32_t k = 0; k < n; ++k)
-      if (!run.done(name, k)) todo.push_back(k);
-    out.stage_tasks.emplace_back(name, todo.size());
-    const auto report = [&](std::string_view, double fraction) {
-      const double done =
-          static_cast<double>(n - static_cast<std::int32_t>(todo.size())) + fraction * static_cast<double>(todo.size());
-      return !progress || progress(label, done / static_cast<double>(n));
-    };
-    if (out_of_core.run_tasks) {
-      out_of_core.run_tasks(name, todo, report);
-      for (const std::int32_t k : todo)
-        if (!run.done(name, k))
-          throw Error(std::string("the ") + name + " task of region " + std::to_string(k) + " did not finish");
-      return;
-    }
-    for (std::size_t i = 0; i < todo.size(); ++i) {
-      if (!report(name, static_cast<double>(i) / static_cast<double>(todo.size()))) throw Cancelled();
-      const std::int32_t k = todo[i];
-      const std::string_view which = name;
-      if (which == "survey")
-        run.survey(k, options.build);
-      else if (which == "build")
-        run.build(k, options.build);
-      else
-        run.mesh(k, options);
-    }
+    out.stage_tasks.emplace_back(name, run_stage(run, name, label, options, out_of_core, progress));
+    timed(name);
   };
   stage("survey", "surveying regions");
-  timed("survey");
   stage("build", "building regions");
-  timed("build");
   run.merge();  // not held while the tiles are meshed: the tasks read the region trees
   out.orientation = run.orientation();
   timed("merge");
@@ -132,7 +146,6 @@ OutOfCoreReconstruction reconstruct_out_of_core(const std::filesystem::path& inp
   if (options.mesh) {
     const auto mesh_start = std::chrono::steady_clock::now();
     stage("mesh", "meshing tiles");
-    timed("mesh");
     if (progress && !progress("joining tiles", 1)) throw Cancelled();
     out.mesh = run.write_mesh(out_of_core.mesh_output, options.meshing, out_of_core.ply);
     timed("join");
