@@ -3,6 +3,7 @@
 // and a refusal names the option.
 
 #include "option_leaves.hpp"
+#include "option_test_values.hpp"
 
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/pipeline/option_schema.hpp>
@@ -18,6 +19,7 @@
 using namespace clustersurf;
 using clustersurf::test::for_each_leaf;
 using clustersurf::test::leaf_values;
+using clustersurf::test::other_value;
 
 namespace {
 
@@ -49,24 +51,6 @@ const std::set<std::string> kApiOnly = {"mesh",
 
 bool api_only(const std::string& path) { return kApiOnly.contains(path); }
 
-/// A value the option takes other than its default.
-std::string other_value(const OptionSpec& spec) {
-  const std::string d = default_text(spec);
-  switch (spec.kind) {
-    case OptionKind::Flag:
-      return d == "true" ? "false" : "true";
-    case OptionKind::Word:
-      return *std::find_if(spec.words.begin(), spec.words.end(), [&](const std::string& w) { return w != d; });
-    case OptionKind::Whole:
-      return d.empty() || d == "auto" ? "7" : std::to_string(std::stoull(d) + 1);
-    case OptionKind::Number:
-      return d.empty() || d == "auto" ? "0.25" : number_text(std::stod(d) * 2 + 0.5);
-    case OptionKind::Vector:
-      return "1,2,3";
-  }
-  return d;
-}
-
 /// The plain fields whose values differ between `a` and `b`.
 std::set<std::string> changed_fields(const ReconstructOptions& a, const ReconstructOptions& b) {
   std::map<std::string, std::string> before;
@@ -82,12 +66,7 @@ std::set<std::string> changed_fields(const ReconstructOptions& a, const Reconstr
 std::string refusal(const OptionValues& values,
                     std::vector<OptionStage> stages = {OptionStage::Build, OptionStage::Mesh}) {
   ReconstructOptions o;
-  try {
-    set_options(o, values, std::move(stages));
-  } catch (const OptionError& e) {
-    return e.what();
-  }
-  return "accepted";
+  return test::refusal_of([&] { set_options(o, values, std::move(stages)); });
 }
 
 }  // namespace

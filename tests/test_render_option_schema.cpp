@@ -1,6 +1,8 @@
 // The render option schema against RenderOptions: its defaults are the struct's, each option
 // sets what it names and reads back what it set, and a refusal names the option.
 
+#include "option_test_values.hpp"
+
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/render/render_option_schema.hpp>
 
@@ -11,6 +13,7 @@
 #include <string>
 
 using namespace clustersurf;
+using clustersurf::test::other_value;
 
 namespace {
 
@@ -21,32 +24,9 @@ std::vector<std::string> schema_values(const RenderOptions& o) {
   return out;
 }
 
-/// A value the option takes other than its default.
-std::string other_value(const RenderOptionSpec& spec) {
-  const std::string d = default_text(spec);
-  switch (spec.kind) {
-    case OptionKind::Flag:
-      return d == "true" ? "false" : "true";
-    case OptionKind::Word:
-      return *std::find_if(spec.words.begin(), spec.words.end(), [&](const std::string& w) { return w != d; });
-    case OptionKind::Whole:
-      return d.empty() ? "7" : std::to_string(std::stoull(d) + 1);
-    case OptionKind::Number:
-      return d.empty() ? "0.25" : number_text(std::stod(d) / 2 + 0.5);
-    case OptionKind::Vector:
-      return "1,2,3";
-  }
-  return d;
-}
-
 std::string refusal(const OptionValues& values) {
   RenderOptions o;
-  try {
-    set_options(o, values);
-  } catch (const OptionError& e) {
-    return e.what();
-  }
-  return "accepted";
+  return test::refusal_of([&] { set_options(o, values); });
 }
 
 }  // namespace
