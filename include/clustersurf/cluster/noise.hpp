@@ -35,14 +35,12 @@ struct NoiseOptions {
   double noisy_width_ratio = 12;
   /// Also estimate the noise from the differences of neighbouring points' residuals in the
   /// narrowest fits (Rice's difference estimator): independent noise counts twice in them,
-  /// detail the fit leaves is nearly the same at neighbours and cancels. Taken where clearly
-  /// lower (below 0.9 times the fits' estimate, beyond the two estimates' agreement on pure
-  /// noise). Off by default: it assumes noise independent from point to point, and a real range
-  /// scan's is not (Stanford's bun000: 0.54 times the fits' estimate, its leaves then held at
-  /// min_points missing the threshold); on independent noise over a detailed model (the
-  /// benchmark's noisy ogre and beast) it is within 15 % of the noise where the fits read 1.5
-  /// times it.
-  bool residual_differences = false;
+  /// detail the fit leaves is nearly the same at neighbours and cancels. Taken where the fits
+  /// read more than twice as much: relief the fits cannot follow, as in a sparse scan of a
+  /// detailed model, not noise. Noise correlated from point to point (a real range scan's:
+  /// Stanford's bun000 reads 0.55 of the fits' in the differences) and the faceting of clean
+  /// mesh samples (about 0.75) keep the fits' estimate.
+  bool residual_differences = true;
   /// With input normals (estimate_noise()'s `normals`; the tree builder passes the input's
   /// unless BuildOptions::use_normals is off), each local fit keeps the neighbours facing its
   /// centre's way: the two sides of a thin part or of a narrow fold are two surfaces, not one
@@ -67,11 +65,10 @@ void for_each_field(Options& o, F&& f) {
 /// corrected for the fit's degrees of freedom, taken on a subsample coarse enough that the
 /// neighbourhoods are wide relative to the noise, and at the narrowest of three widths where
 /// the residual is still shrinking (detail, not noise; where noise dominates, after correcting
-/// each width for the noise its fit follows); or, on request and when clearly lower, the median
+/// each width for the noise its fit follows); or, where less than half of that, the median
 /// estimate from the differences of neighbouring residuals in the narrowest fits
-/// (NoiseOptions::residual_differences, off by default), which detail the fits leave hardly
-/// reaches. Smooth noise-free samples give a value near 0; clean scans of detailed models a
-/// value well below their detail's misfit at the widest scale.
+/// (NoiseOptions::residual_differences), which detail the fits leave hardly reaches. Smooth noise-free samples give a
+/// value near 0; clean scans of detailed models a value well below their detail's misfit at the widest scale.
 double estimate_noise(const Points& points, const NoiseOptions& options = {});
 /// The same estimate with a k-d tree of `points` the caller already has. With `normals` (one
 /// row per point, oriented consistently, or null) and NoiseOptions::facing_normals, each local
