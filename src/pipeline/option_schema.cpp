@@ -3,9 +3,6 @@
 
 #include "core/option_builders.hpp"
 
-#include <algorithm>
-#include <charconv>
-#include <cmath>
 #include <cstdint>
 #include <limits>
 
