@@ -21,13 +21,13 @@ TEST(WalkGrid, CornersAreQueuedOnceAndKeepTheirValues) {
                    -0.25f * static_cast<float>(c[0] + 2 * c[1] + 4 * c[2]));
   walk.set_value(far, std::numeric_limits<float>::quiet_NaN());
   SurfaceCell cell{far, {}};
-  walk.values(cell);
+  walk.values({&cell, 1});
   EXPECT_TRUE(std::isnan(cell.values[0]));
   for (std::size_t c = 1; c < 8; ++c) EXPECT_EQ(cell.values[c], -0.25f * static_cast<float>(c));
   EXPECT_FALSE(walk.queue(far));  // a value keeps the corner queued
   EXPECT_EQ(walk.queued(), 8u);
   SurfaceCell unqueued{{0, 0, 0}, {}};
-  EXPECT_THROW(walk.values(unqueued), std::logic_error);
+  EXPECT_THROW(walk.values({&unqueued, 1}), std::logic_error);
 }
 
 TEST(WalkGrid, CellsAreVisitedOnce) {
@@ -50,11 +50,11 @@ TEST(WalkGrid, SurfaceCellsGetTheirCornersInOrder) {
       }
   for (const GridIndex corner : {GridIndex{0, 0, 0}, GridIndex{1, 0, 0}}) {
     SurfaceCell cell{corner, {}};
-    walk.values(cell);
+    walk.values({&cell, 1});
     for (std::size_t c = 0; c < 8; ++c)
       EXPECT_EQ(cell.values[c], code(cell.corner[0] + kCellCorner[c][0], cell.corner[1] + kCellCorner[c][1],
                                      cell.corner[2] + kCellCorner[c][2]));
   }
   SurfaceCell beyond{{2, 0, 0}, {}};  // its far corners were never queued
-  EXPECT_THROW(walk.values(beyond), std::logic_error);
+  EXPECT_THROW(walk.values({&beyond, 1}), std::logic_error);
 }

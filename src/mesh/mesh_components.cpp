@@ -33,4 +33,11 @@ std::vector<std::int32_t> vertex_components(const TriangleMesh& mesh, const std:
   return component;
 }
 
+std::size_t component_count(const TriangleMesh& mesh) {
+  const std::vector<std::int32_t> component = vertex_components(mesh);
+  std::size_t count = 0;
+  for (std::size_t v = 0; v < component.size(); ++v) count += component[v] == static_cast<std::int32_t>(v);
+  return count;
+}
+
 }  // namespace clustersurf::detail

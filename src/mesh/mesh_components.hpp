@@ -14,4 +14,7 @@ namespace clustersurf::detail {
 /// when `keep` is null).
 std::vector<std::int32_t> vertex_components(const TriangleMesh& mesh, const std::vector<std::uint8_t>* keep = nullptr);
 
+/// How many components vertex_components() finds among all of the mesh's triangles.
+std::size_t component_count(const TriangleMesh& mesh);
+
 }  // namespace clustersurf::detail

@@ -5,6 +5,8 @@
 
 #include <Eigen/Geometry>
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cstddef>
 #include <vector>
@@ -31,23 +33,30 @@ MeshTopology mesh_topology(const TriangleMesh& mesh) {
   for (std::size_t v = 0; v < t.vertices; ++v) first[v + 1] += first[v];
   std::vector<HalfEdge> half(3 * t.triangles);
   std::vector<std::size_t> next(first.begin(), first.end() - 1);
-  std::vector<double> triangle_area(t.triangles);
-  for (Eigen::Index f = 0; f < mesh.triangles.rows(); ++f) {
+  for (Eigen::Index f = 0; f < mesh.triangles.rows(); ++f)
     for (int k = 0; k < 3; ++k) {
       const std::int32_t a = mesh.triangles(f, k), b = mesh.triangles(f, (k + 1) % 3);
       half[next[static_cast<std::size_t>(std::min(a, b))]++] = {std::min(a, b), std::max(a, b), a < b};
     }
-    const Eigen::Vector3d p0 = mesh.vertices.row(mesh.triangles(f, 0)).transpose();
-    const Eigen::Vector3d p1 = mesh.vertices.row(mesh.triangles(f, 1)).transpose();
-    const Eigen::Vector3d p2 = mesh.vertices.row(mesh.triangles(f, 2)).transpose();
-    t.signed_volume += p0.dot(p1.cross(p2)) / 6.0;
-    triangle_area[static_cast<std::size_t>(f)] = 0.5 * (p1 - p0).cross(p2 - p0).norm();
-    t.area += triangle_area[static_cast<std::size_t>(f)];
-  }
-  for (std::size_t v = 0; v < t.vertices; ++v)
-    std::sort(
-        half.begin() + static_cast<std::ptrdiff_t>(first[v]), half.begin() + static_cast<std::ptrdiff_t>(first[v + 1]),
-        [](const HalfEdge& a, const HalfEdge& b) { return a.hi < b.hi || (a.hi == b.hi && a.forward < b.forward); });
+  // Each triangle's area and volume in parallel, summed in triangle order.
+  std::vector<double> triangle_area(t.triangles), triangle_volume(t.triangles);
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, mesh.triangles.rows(), 4096), [&](const auto& r) {
+    for (Eigen::Index f = r.begin(); f != r.end(); ++f) {
+      const Eigen::Vector3d p0 = mesh.vertices.row(mesh.triangles(f, 0)).transpose();
+      const Eigen::Vector3d p1 = mesh.vertices.row(mesh.triangles(f, 1)).transpose();
+      const Eigen::Vector3d p2 = mesh.vertices.row(mesh.triangles(f, 2)).transpose();
+      triangle_volume[static_cast<std::size_t>(f)] = p0.dot(p1.cross(p2)) / 6.0;
+      triangle_area[static_cast<std::size_t>(f)] = 0.5 * (p1 - p0).cross(p2 - p0).norm();
+    }
+  });
+  for (std::size_t f = 0; f < t.triangles; ++f) t.signed_volume += triangle_volume[f], t.area += triangle_area[f];
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, t.vertices, 4096), [&](const auto& r) {
+    for (std::size_t v = r.begin(); v != r.end(); ++v)
+      std::sort(half.begin() + static_cast<std::ptrdiff_t>(first[v]),
+                half.begin() + static_cast<std::ptrdiff_t>(first[v + 1]), [](const HalfEdge& a, const HalfEdge& b) {
+                  return a.hi < b.hi || (a.hi == b.hi && a.forward < b.forward);
+                });
+  });
   for (std::size_t i = 0; i < half.size();) {
     std::size_t j = i;
     std::size_t forward = 0;

@@ -12,6 +12,7 @@
 #include "spatial/spatial_order.hpp"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <Eigen/Geometry>
 
@@ -138,11 +139,24 @@ std::vector<std::uint8_t> detail::vertices_near_data(const TriangleMesh& mesh, c
 
 namespace {
 
+/// The row of the vertex nearest to `x` (ties by row) among those `component` gives a component,
+/// from `index` over all the mesh's vertices; -1 when none has one.
+std::int64_t nearest_kept(const KdTree& index, const std::vector<std::int32_t>& component, const Eigen::Vector3d& x,
+                          std::vector<Neighbor>& nb) {
+  for (std::size_t k = 1;; k *= 4) {
+    index.knn(x, k, nb);
+    for (const Neighbor& n : nb)
+      if (component[n.index] >= 0) return n.index;
+    if (nb.size() < k) return -1;
+  }
+}
+
 /// Clears keep[t] for the triangles of every component (triangles sharing a vertex) on which
 /// fewer than `min_points` input points have their nearest vertex; the best-supported
-/// component always stays. Returns how many components went.
+/// component always stays. `vertex_index`, over all of the mesh's vertices, or null to build
+/// one over those of the kept triangles. Returns how many components went.
 std::size_t drop_unsupported_components(const TriangleMesh& mesh, const Points& points, std::size_t min_points,
-                                        std::vector<std::uint8_t>& keep) {
+                                        std::vector<std::uint8_t>& keep, const KdTree* vertex_index) {
   const std::vector<std::int32_t> component = detail::vertex_components(mesh, &keep);
   std::vector<Eigen::Index> rows;  // the vertices the kept triangles use
   std::size_t components = 0;
@@ -153,20 +167,30 @@ std::size_t drop_unsupported_components(const TriangleMesh& mesh, const Points& 
   }
   if (components < 2) return 0;  // the best-supported component always stays
 
-  // Each input point votes for the component of its nearest vertex.
-  const Points vertices = mesh.vertices(rows, Eigen::all);
-  const KdTree index(vertices);
-  std::vector<std::uint32_t> voted(static_cast<std::size_t>(points.rows()));
+  // Each input point votes for the component of its nearest kept vertex.
+  std::vector<std::int32_t> voted(static_cast<std::size_t>(points.rows()));
   const std::vector<std::uint32_t> order = detail::spatial_order(points);  // queries in spatial order
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1024), [&](const auto& r) {
-    std::vector<Neighbor> nb;
-    for (std::size_t o = r.begin(); o != r.end(); ++o) {
-      index.knn(points.row(order[o]).transpose(), 1, nb);
-      voted[order[o]] = nb[0].index;
-    }
-  });
+  if (vertex_index != nullptr) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1024), [&](const auto& r) {
+      std::vector<Neighbor> nb;
+      for (std::size_t o = r.begin(); o != r.end(); ++o) {
+        const std::int64_t v = nearest_kept(*vertex_index, component, points.row(order[o]).transpose(), nb);
+        voted[order[o]] = component[static_cast<std::size_t>(v)];
+      }
+    });
+  } else {
+    const Points vertices = mesh.vertices(rows, Eigen::all);
+    const KdTree index(vertices);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1024), [&](const auto& r) {
+      std::vector<Neighbor> nb;
+      for (std::size_t o = r.begin(); o != r.end(); ++o) {
+        index.knn(points.row(order[o]).transpose(), 1, nb);
+        voted[order[o]] = component[static_cast<std::size_t>(rows[nb[0].index])];
+      }
+    });
+  }
   std::vector<std::size_t> votes(component.size(), 0);
-  for (const auto row : voted) ++votes[static_cast<std::size_t>(component[static_cast<std::size_t>(rows[row])])];
+  for (const auto c : voted) ++votes[static_cast<std::size_t>(c)];
   std::size_t best = 0;
   for (const auto v : rows)
     if (component[static_cast<std::size_t>(v)] == v) best = std::max(best, votes[static_cast<std::size_t>(v)]);
@@ -200,8 +224,14 @@ TriangleMesh trim_to_points(const TriangleMesh& mesh, const KdTree& data, const 
   std::vector<std::uint8_t> keep(static_cast<std::size_t>(mesh.triangles.rows()), 1);
   const bool enough_points = points.rows() > static_cast<Eigen::Index>(options.neighbors);
   const bool use_index = enough_points && !keep.empty();
+  const bool vote = options.min_component_points > 0 && points.rows() > 0 && !keep.empty();
+  std::optional<KdTree> vertex_index;  // for the vote, built while the trim measures where a mesh has pieces
   if (options.spread_factor > 0 && use_index) {
-    const std::vector<std::uint8_t> near = detail::vertices_near_data(mesh, data, options, spread);
+    std::vector<std::uint8_t> near;
+    tbb::parallel_invoke([&] { near = detail::vertices_near_data(mesh, data, options, spread); },
+                         [&] {
+                           if (vote && detail::component_count(mesh) > 1) vertex_index.emplace(mesh.vertices);
+                         });
     for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
       const auto tri = mesh.triangles.row(t);
       keep[static_cast<std::size_t>(t)] = near[static_cast<std::size_t>(tri(0))] &&
@@ -210,8 +240,9 @@ TriangleMesh trim_to_points(const TriangleMesh& mesh, const KdTree& data, const 
     }
   }
   std::size_t dropped_components = 0;
-  if (options.min_component_points > 0 && points.rows() > 0 && !keep.empty())
-    dropped_components = drop_unsupported_components(mesh, points, options.min_component_points, keep);
+  if (vote)
+    dropped_components = drop_unsupported_components(mesh, points, options.min_component_points, keep,
+                                                     vertex_index ? &*vertex_index : nullptr);
   // An if, not ?: between the const lvalue and the call: GCC 12 with ASan leaked that prvalue.
   TriangleMesh out;
   if (std::find(keep.begin(), keep.end(), 0) == keep.end())

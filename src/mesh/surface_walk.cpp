@@ -3,6 +3,7 @@
 #include "mesh/surface_walk.hpp"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <Eigen/Geometry>
 
@@ -45,6 +46,24 @@ Eigen::Vector3d any_tangent(const Eigen::Vector3d& n) {
 // For each face direction (−x, +x, −y, +y, −z, +z): the 4 corners on that face, and the step.
 constexpr int kFaceCorners[6][4] = {{0, 2, 4, 6}, {1, 3, 5, 7}, {0, 1, 4, 5}, {2, 3, 6, 7}, {0, 1, 2, 3}, {4, 5, 6, 7}};
 constexpr int kFaceStep[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+
+/// Which faces of a cell with corner `values` the surface crosses (bit f for face f, in
+/// kFaceCorners' order) and, in bit 6, whether it crosses the cell; 0 where a value is undefined.
+std::uint8_t crossings(const std::array<float, 8>& values) {
+  bool any_neg = false, any_pos = false;
+  for (const float value : values) {
+    if (std::isnan(value)) return 0;
+    (value < 0 ? any_neg : any_pos) = true;
+  }
+  if (!any_neg || !any_pos) return 0;
+  std::uint8_t crossed = 1u << 6;
+  for (int f = 0; f < 6; ++f) {
+    bool neg = false, pos = false;
+    for (int c : kFaceCorners[f]) (values[static_cast<std::size_t>(c)] < 0 ? neg : pos) = true;
+    if (neg && pos) crossed |= static_cast<std::uint8_t>(1u << f);
+  }
+  return crossed;
+}
 
 /// The points a proxy's seed is projected from, in steps of r/3 along its two tangents: the
 /// centre first.
@@ -119,7 +138,7 @@ std::vector<Key> seed_cells(const ImplicitSurface& surface, const Lattice& latti
   if (clip != nullptr && clip->seeds != nullptr)
     for (Eigen::Index p = 0; p < clip->seeds->rows(); ++p)
       frontier.push_back(lattice.cell_of(clip->seeds->row(p).transpose()));
-  std::sort(frontier.begin(), frontier.end());
+  tbb::parallel_sort(frontier.begin(), frontier.end());
   frontier.erase(std::unique(frontier.begin(), frontier.end()), frontier.end());
   if (clip != nullptr) std::erase_if(frontier, [&](Key cell) { return !lattice.allowed(cell); });
   return frontier;
@@ -144,28 +163,28 @@ Walk walk_surface(const Field& field, const Lattice& lattice, std::vector<Key> f
     const std::vector<float> values = corner_values(field, lattice, todo);
     for (std::size_t t = 0; t < todo.size(); ++t) grid.set_value(todo[t], values[t]);
 
+    // The frontier's cells read in parallel: whether the surface crosses each, and which of its
+    // faces it crosses (bit f for face f, bit 6 for the cell); then, in order, the cells kept
+    // and their unvisited neighbours across those faces queued.
+    std::vector<SurfaceCell> cells(frontier.size());
+    for (std::size_t t = 0; t < frontier.size(); ++t) cells[t].corner = grid_index(frontier[t]);
+    grid.values(cells);
+    std::vector<std::uint8_t> crossed(frontier.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.size(), 4096), [&](const auto& r) {
+      for (std::size_t t = r.begin(); t != r.end(); ++t) crossed[t] = crossings(cells[t].values);
+    });
     std::vector<Key> next;
-    for (Key cell : frontier) {
-      const auto [i, j, k] = unpack(cell);
-      SurfaceCell here{grid_index(cell), {}};
-      grid.values(here);
-      const auto& v = here.values;
-      bool defined = true, any_neg = false, any_pos = false;
-      for (const float value : v) {
-        defined = defined && !std::isnan(value);
-        (value < 0 ? any_neg : any_pos) = true;
-      }
-      if (!defined || !any_neg || !any_pos) continue;
-      out.cells.push_back(here);
+    for (std::size_t t = 0; t < frontier.size(); ++t) {
+      if (crossed[t] == 0) continue;
+      out.cells.push_back(cells[t]);
+      const auto [i, j, k] = unpack(frontier[t]);
       for (int f = 0; f < 6; ++f) {
-        bool neg = false, pos = false;
-        for (int c : kFaceCorners[f]) (v[static_cast<std::size_t>(c)] < 0 ? neg : pos) = true;
-        if (!(neg && pos)) continue;
+        if ((crossed[t] & (1u << f)) == 0) continue;
         const Key nb = pack(i + kFaceStep[f][0], j + kFaceStep[f][1], k + kFaceStep[f][2]);
         if ((lattice.clip == nullptr || lattice.allowed(nb)) && grid.visit(grid_index(nb))) next.push_back(nb);
       }
     }
-    std::sort(next.begin(), next.end());
+    tbb::parallel_sort(next.begin(), next.end());  // distinct keys: one order on any thread count
     frontier = std::move(next);
     // The walk's length is unknown in advance: report the share of cells already settled.
     const double done =
@@ -173,7 +192,8 @@ Walk walk_surface(const Field& field, const Lattice& lattice, std::vector<Key> f
     const auto permille = static_cast<std::uint64_t>(900 * done);
     if (permille > reported) reporter.advance(permille - reported), reported = permille;
   }
-  std::sort(out.cells.begin(), out.cells.end(), [](const SurfaceCell& a, const SurfaceCell& b) {
+  // Distinct cells: one order on any thread count.
+  tbb::parallel_sort(out.cells.begin(), out.cells.end(), [](const SurfaceCell& a, const SurfaceCell& b) {
     return std::tie(a.corner[2], a.corner[1], a.corner[0]) < std::tie(b.corner[2], b.corner[1], b.corner[0]);
   });
   out.corners = grid.queued();

@@ -2,6 +2,9 @@
 
 #include <openvdb/openvdb.h>
 
+#include <tbb/parallel_for.h>
+
+#include <atomic>
 #include <stdexcept>
 
 namespace clustersurf::detail {
@@ -34,13 +37,21 @@ void WalkGrid::set_value(const GridIndex& corner, float value) {
   impl_->corner_access.setValueOnly(coord(corner), value);
 }
 
-void WalkGrid::values(SurfaceCell& cell) {
-  for (std::size_t c = 0; c < 8; ++c) {
-    const openvdb::Coord at(cell.corner[0] + kCellCorner[c][0], cell.corner[1] + kCellCorner[c][1],
-                            cell.corner[2] + kCellCorner[c][2]);
-    if (!impl_->corner_access.probeValue(at, cell.values[c]))
-      throw std::logic_error("mesh walk: a corner read before it was queued");
-  }
+void WalkGrid::values(std::span<SurfaceCell> cells) const {
+  std::atomic<bool> unqueued = false;
+  const openvdb::FloatGrid& corners = *impl_->corners;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.size(), 4096), [&](const auto& r) {
+    const openvdb::FloatGrid::ConstAccessor access = corners.getConstAccessor();
+    for (std::size_t t = r.begin(); t != r.end(); ++t) {
+      SurfaceCell& cell = cells[t];
+      for (std::size_t c = 0; c < 8; ++c) {
+        const openvdb::Coord at(cell.corner[0] + kCellCorner[c][0], cell.corner[1] + kCellCorner[c][1],
+                                cell.corner[2] + kCellCorner[c][2]);
+        if (!access.probeValue(at, cell.values[c])) unqueued = true;
+      }
+    }
+  });
+  if (unqueued) throw std::logic_error("mesh walk: a corner read before it was queued");
 }
 
 bool WalkGrid::visit(const GridIndex& cell) {

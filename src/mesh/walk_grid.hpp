@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <span>
 
 namespace clustersurf::detail {
 
@@ -29,9 +30,9 @@ class WalkGrid {
   bool queue(const GridIndex& corner);
   /// The value of f at a queued corner (NaN where f is undefined).
   void set_value(const GridIndex& corner, float value);
-  /// Fills cell.values with the values set at its 8 corners (SurfaceCell's order). Throws
-  /// std::logic_error for a corner never queued.
-  void values(SurfaceCell& cell);
+  /// Fills each cell's values with the values set at its 8 corners (SurfaceCell's order), the
+  /// cells read in parallel. Throws std::logic_error for a corner never queued.
+  void values(std::span<SurfaceCell> cells) const;
   /// Marks `cell` visited: true the first time, false when it was visited before.
   bool visit(const GridIndex& cell);
   /// How many corners were queued.

@@ -11,6 +11,9 @@
 
 #include <Eigen/Core>
 
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -58,11 +61,13 @@ struct Blocks {
 template <class Cell>
 Blocks group_by_block(std::size_t n, Cell&& cell) {
   std::vector<std::pair<Key, std::uint32_t>> keyed(n);
-  for (std::size_t t = 0; t < n; ++t) {
-    const auto [i, j, k] = cell(t);
-    keyed[t] = {pack(i >> kBlockShift, j >> kBlockShift, k >> kBlockShift), static_cast<std::uint32_t>(t)};
-  }
-  std::sort(keyed.begin(), keyed.end());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
+    for (std::size_t t = r.begin(); t != r.end(); ++t) {
+      const auto [i, j, k] = cell(t);
+      keyed[t] = {pack(i >> kBlockShift, j >> kBlockShift, k >> kBlockShift), static_cast<std::uint32_t>(t)};
+    }
+  });
+  tbb::parallel_sort(keyed.begin(), keyed.end());  // distinct pairs: one order on any thread count
   Blocks blocks;
   blocks.order.resize(n);
   for (std::size_t t = 0; t < n; ++t) {

@@ -1,5 +1,7 @@
 #include <clustersurf/spatial/kd_tree.hpp>
 
+#include "spatial/spatial_order.hpp"
+
 #include <nanoflann.hpp>
 
 #include <algorithm>
@@ -33,13 +35,39 @@ bool closer(const Neighbor& a, const Neighbor& b) {
 
 }  // namespace
 
+/// The rows of `points` in Morton order, or as they are when a coordinate is not finite.
+std::vector<std::uint32_t> layout_order(const Points& points) {
+  if (!points.allFinite()) {
+    std::vector<std::uint32_t> rows(static_cast<std::size_t>(points.rows()));
+    for (std::size_t i = 0; i < rows.size(); ++i) rows[i] = static_cast<std::uint32_t>(i);
+    return rows;
+  }
+  return detail::spatial_order(points);
+}
+
+/// The rows `rows` of `points`, in that order.
+Points gathered(const Points& points, const std::vector<std::uint32_t>& rows) {
+  Points out(static_cast<Eigen::Index>(rows.size()), 3);
+  for (std::size_t i = 0; i < rows.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = points.row(rows[i]);
+  return out;
+}
+
 struct KdTree::Impl {
+  const Points* caller;
+  std::vector<std::uint32_t> rows;  ///< rows[i]: the caller's row of local point i
+  Points local;                     ///< the caller's points in Morton order: a query reads nearby memory
   PointsAdaptor adaptor;
   Index index;
   Impl(const Points& points, int leaf_size)
-      : adaptor{&points},
+      : caller(&points),
+        rows(layout_order(points)),
+        local(gathered(points, rows)),
+        adaptor{&local},
         index(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(static_cast<std::size_t>(std::max(1, leaf_size)))) {
   }
+
+  /// The neighbour found at local point `i`, by the caller's row.
+  Neighbor found(std::uint32_t i, double d2) const { return Neighbor{rows[i], d2}; }
 
   /// Every point with squared distance <= r2 (inclusive), sorted by distance then index.
   void within(const Eigen::Vector3d& query, double r2, std::vector<Neighbor>& out) const {
@@ -52,7 +80,7 @@ struct KdTree::Impl {
     out.clear();
     out.reserve(found.size());
     for (const auto& [i, d2] : found)
-      if (d2 <= r2) out.push_back(Neighbor{i, d2});
+      if (d2 <= r2) out.push_back(this->found(i, d2));
     std::sort(out.begin(), out.end(), closer);
   }
 };
@@ -62,8 +90,8 @@ KdTree::~KdTree() = default;
 KdTree::KdTree(KdTree&&) noexcept = default;
 KdTree& KdTree::operator=(KdTree&&) noexcept = default;
 
-std::size_t KdTree::size() const noexcept { return impl_->adaptor.kdtree_get_point_count(); }
-const Points& KdTree::points() const noexcept { return *impl_->adaptor.points; }
+std::size_t KdTree::size() const noexcept { return impl_->rows.size(); }
+const Points& KdTree::points() const noexcept { return *impl_->caller; }
 
 void KdTree::knn(const Eigen::Vector3d& query, std::size_t k, std::vector<Neighbor>& out) const {
   k = std::min(k, size());
@@ -80,7 +108,7 @@ void KdTree::knn(const Eigen::Vector3d& query, std::size_t k, std::vector<Neighb
   impl_->index.findNeighbors(result, query.data(), nanoflann::SearchParams());
   const std::size_t found = result.size();
   out.reserve(found);
-  for (std::size_t i = 0; i < found; ++i) out.push_back(Neighbor{idx[i], d2[i]});
+  for (std::size_t i = 0; i < found; ++i) out.push_back(impl_->found(idx[i], d2[i]));
   std::sort(out.begin(), out.end(), closer);
   // nanoflann keeps the first points it meets at the worst distance, so when the (k+1)-th
   // candidate ties with the k-th, other points at that distance may have been left out and the
@@ -115,7 +143,7 @@ void KdTree::radius_unsorted(const Eigen::Vector3d& query, double radius, std::v
   impl_->index.radiusSearch(query.data(), std::nextafter(r2, std::numeric_limits<double>::infinity()), found,
                             nanoflann::SearchParams(32, 0, false));
   for (const auto& [i, d2] : found)
-    if (d2 <= r2) out.push_back(Neighbor{i, d2});
+    if (d2 <= r2) out.push_back(impl_->found(i, d2));
 }
 
 std::vector<Neighbor> KdTree::radius(const Eigen::Vector3d& query, double radius) const {

@@ -14,9 +14,11 @@ struct Neighbor {
   double distance_squared;
 };
 
-/// Static k-d tree over the rows of a Points matrix. The matrix is referenced, not copied: it
-/// must outlive the tree and not change. Queries are const and safe to run concurrently.
-/// Results are sorted by distance, ties by index, so they never depend on tree internals.
+/// Static k-d tree over the rows of a Points matrix. The tree searches its own copy of the
+/// points in Morton order (24 bytes a point), so that a query reads nearby memory; points() is
+/// the caller's matrix, which must outlive the tree and not change. Queries are const and safe
+/// to run concurrently. Results are sorted by distance, ties by index, so they never depend on
+/// tree internals.
 class KdTree {
  public:
   /// Builds the tree; `leaf_size` is the bucket size of the leaves (nanoflann's default is 10).
