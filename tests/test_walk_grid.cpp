@@ -6,7 +6,9 @@
 
 #include <cmath>
 #include <limits>
+#include <span>
 #include <stdexcept>
+#include <vector>
 
 using namespace clustersurf::detail;
 
@@ -16,10 +18,11 @@ TEST(WalkGrid, CornersAreQueuedOnceAndKeepTheirValues) {
   // Every corner of the cell at `far` is queued; one of them twice.
   for (const auto& c : kCellCorner) EXPECT_TRUE(walk.queue({far[0] + c[0], far[1] + c[1], far[2] + c[2]}));
   EXPECT_FALSE(walk.queue(far));
-  for (const auto& c : kCellCorner)
-    walk.set_value({far[0] + c[0], far[1] + c[1], far[2] + c[2]},
-                   -0.25f * static_cast<float>(c[0] + 2 * c[1] + 4 * c[2]));
-  walk.set_value(far, std::numeric_limits<float>::quiet_NaN());
+  std::vector<float> values;
+  for (const auto& c : kCellCorner) values.push_back(-0.25f * static_cast<float>(c[0] + 2 * c[1] + 4 * c[2]));
+  values[0] = std::numeric_limits<float>::quiet_NaN();  // the corner at `far`
+  EXPECT_THROW(walk.set_values(std::span<const float>(values).first(7)), std::logic_error);
+  walk.set_values(values);
   SurfaceCell cell{far, {}};
   walk.values({&cell, 1});
   EXPECT_TRUE(std::isnan(cell.values[0]));
@@ -42,12 +45,14 @@ TEST(WalkGrid, SurfaceCellsGetTheirCornersInOrder) {
   WalkGrid walk;
   // Two cells sharing a face; every corner's value encodes its coordinates.
   const auto code = [](int i, int j, int k) { return static_cast<float>(100 * i + 10 * j + k); };
+  std::vector<float> values;
   for (int i = 0; i <= 2; ++i)
     for (int j = 0; j <= 1; ++j)
       for (int k = 0; k <= 1; ++k) {
         ASSERT_TRUE(walk.queue({i, j, k}));
-        walk.set_value({i, j, k}, code(i, j, k));
+        values.push_back(code(i, j, k));
       }
+  walk.set_values(values);
   for (const GridIndex corner : {GridIndex{0, 0, 0}, GridIndex{1, 0, 0}}) {
     SurfaceCell cell{corner, {}};
     walk.values({&cell, 1});

@@ -2,6 +2,7 @@
 
 #include "mesh/position_ids.hpp"
 
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
 #include <cmath>
@@ -24,12 +25,15 @@ std::vector<std::int32_t> position_ids(const Points& v) {
     return a < b;
   };
   tbb::parallel_sort(order.begin(), order.end(), less);
+  // Each vertex takes the id of the first of its run of equal positions in that order.
   std::vector<std::int32_t> id(order.size());
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    const std::int32_t i = order[k];
-    id[static_cast<std::size_t>(i)] =
-        k > 0 && v.row(i) == v.row(order[k - 1]) ? id[static_cast<std::size_t>(order[k - 1])] : i;
-  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 4096), [&](const auto& r) {
+    for (std::size_t k = r.begin(); k != r.end(); ++k) {
+      std::size_t first = k;
+      while (first > 0 && v.row(order[first]) == v.row(order[first - 1])) --first;
+      id[static_cast<std::size_t>(order[k])] = order[first];
+    }
+  });
   return id;
 }
 

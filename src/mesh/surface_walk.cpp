@@ -147,8 +147,9 @@ std::vector<Key> seed_cells(const ImplicitSurface& surface, const Lattice& latti
 Walk walk_surface(const Field& field, const Lattice& lattice, std::vector<Key> frontier, ProgressReporter& reporter) {
   WalkGrid grid;  // corners queued (with f, NaN where undefined) and cells visited
   for (Key cell : frontier) grid.visit(grid_index(cell));
-  Walk out;
-  std::vector<GridIndex> todo;  // corners to evaluate
+  std::vector<std::vector<SurfaceCell>> rounds;  // the surface cells each round found
+  std::size_t settled = 0;                       // how many
+  std::vector<GridIndex> todo;                   // corners to evaluate
   std::uint64_t reported = 0;
   while (!frontier.empty()) {
     reporter.check();
@@ -160,8 +161,7 @@ Walk walk_surface(const Field& field, const Lattice& lattice, std::vector<Key> f
         if (grid.queue(corner)) todo.push_back(corner);
       }
     }
-    const std::vector<float> values = corner_values(field, lattice, todo);
-    for (std::size_t t = 0; t < todo.size(); ++t) grid.set_value(todo[t], values[t]);
+    grid.set_values(corner_values(field, lattice, todo));
 
     // The frontier's cells read in parallel: whether the surface crosses each, and which of its
     // faces it crosses (bit f for face f, bit 6 for the cell); then, in order, the cells kept
@@ -174,9 +174,12 @@ Walk walk_surface(const Field& field, const Lattice& lattice, std::vector<Key> f
       for (std::size_t t = r.begin(); t != r.end(); ++t) crossed[t] = crossings(cells[t].values);
     });
     std::vector<Key> next;
+    std::vector<SurfaceCell>& kept = rounds.emplace_back();
+    kept.reserve(
+        static_cast<std::size_t>(std::count_if(crossed.begin(), crossed.end(), [](auto c) { return c != 0; })));
     for (std::size_t t = 0; t < frontier.size(); ++t) {
       if (crossed[t] == 0) continue;
-      out.cells.push_back(cells[t]);
+      kept.push_back(cells[t]);
       const auto [i, j, k] = unpack(frontier[t]);
       for (int f = 0; f < 6; ++f) {
         if ((crossed[t] & (1u << f)) == 0) continue;
@@ -187,11 +190,15 @@ Walk walk_surface(const Field& field, const Lattice& lattice, std::vector<Key> f
     tbb::parallel_sort(next.begin(), next.end());  // distinct keys: one order on any thread count
     frontier = std::move(next);
     // The walk's length is unknown in advance: report the share of cells already settled.
-    const double done =
-        static_cast<double>(out.cells.size()) / static_cast<double>(out.cells.size() + frontier.size() + 1);
+    settled += kept.size();
+    const double done = static_cast<double>(settled) / static_cast<double>(settled + frontier.size() + 1);
     const auto permille = static_cast<std::uint64_t>(900 * done);
     if (permille > reported) reporter.advance(permille - reported), reported = permille;
   }
+  Walk out;
+  out.cells.reserve(settled);
+  for (const auto& round : rounds) out.cells.insert(out.cells.end(), round.begin(), round.end());
+  rounds.clear();
   // Distinct cells: one order on any thread count.
   tbb::parallel_sort(out.cells.begin(), out.cells.end(), [](const SurfaceCell& a, const SurfaceCell& b) {
     return std::tie(a.corner[2], a.corner[1], a.corner[0]) < std::tie(b.corner[2], b.corner[1], b.corner[0]);

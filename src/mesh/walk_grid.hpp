@@ -17,8 +17,9 @@ namespace clustersurf::detail {
 /// Integer grid coordinates (i, j, k) of a corner or of a cell (its lowest corner).
 using GridIndex = std::array<std::int32_t, 3>;
 
-/// Corners and cells of a walk. Lookups of neighbouring coordinates are cheap (the grids'
-/// accessors cache the last leaf). Not thread-safe.
+/// Corners and cells of a walk: each corner queued gets the next id, its value is kept by id.
+/// Lookups of neighbouring coordinates are cheap (the grids' accessors cache the last leaf).
+/// Not thread-safe, but for values(), which reads in parallel.
 class WalkGrid {
  public:
   WalkGrid();
@@ -28,8 +29,9 @@ class WalkGrid {
 
   /// Queues `corner` for evaluation: true the first time, false when it was queued before.
   bool queue(const GridIndex& corner);
-  /// The value of f at a queued corner (NaN where f is undefined).
-  void set_value(const GridIndex& corner, float value);
+  /// The values of f (NaN where f is undefined) at the corners queued since the last call, in
+  /// the order they were queued. Throws std::logic_error when the counts differ.
+  void set_values(std::span<const float> values);
   /// Fills each cell's values with the values set at its 8 corners (SurfaceCell's order), the
   /// cells read in parallel. Throws std::logic_error for a corner never queued.
   void values(std::span<SurfaceCell> cells) const;
