@@ -154,7 +154,7 @@ std::int64_t nearest_kept(const KdTree& index, const std::vector<std::int32_t>& 
 /// Clears keep[t] for the triangles of every component (triangles sharing a vertex) on which
 /// fewer than `min_points` input points have their nearest vertex; the best-supported
 /// component always stays. `vertex_index`, over all of the mesh's vertices, or null to build
-/// one over those of the kept triangles. Returns how many components went.
+/// it. Returns how many components went.
 std::size_t drop_unsupported_components(const TriangleMesh& mesh, const Points& points, std::size_t min_points,
                                         std::vector<std::uint8_t>& keep, const KdTree* vertex_index) {
   const std::vector<std::int32_t> component = detail::vertex_components(mesh, &keep);
@@ -170,25 +170,15 @@ std::size_t drop_unsupported_components(const TriangleMesh& mesh, const Points& 
   // Each input point votes for the component of its nearest kept vertex.
   std::vector<std::int32_t> voted(static_cast<std::size_t>(points.rows()));
   const std::vector<std::uint32_t> order = detail::spatial_order(points);  // queries in spatial order
-  if (vertex_index != nullptr) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1024), [&](const auto& r) {
-      std::vector<Neighbor> nb;
-      for (std::size_t o = r.begin(); o != r.end(); ++o) {
-        const std::int64_t v = nearest_kept(*vertex_index, component, points.row(order[o]).transpose(), nb);
-        voted[order[o]] = component[static_cast<std::size_t>(v)];
-      }
-    });
-  } else {
-    const Points vertices = mesh.vertices(rows, Eigen::all);
-    const KdTree index(vertices);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1024), [&](const auto& r) {
-      std::vector<Neighbor> nb;
-      for (std::size_t o = r.begin(); o != r.end(); ++o) {
-        index.knn(points.row(order[o]).transpose(), 1, nb);
-        voted[order[o]] = component[static_cast<std::size_t>(rows[nb[0].index])];
-      }
-    });
-  }
+  std::optional<KdTree> own;
+  const KdTree& index = vertex_index != nullptr ? *vertex_index : own.emplace(mesh.vertices);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1024), [&](const auto& r) {
+    std::vector<Neighbor> nb;
+    for (std::size_t o = r.begin(); o != r.end(); ++o) {
+      const std::int64_t v = nearest_kept(index, component, points.row(order[o]).transpose(), nb);
+      voted[order[o]] = component[static_cast<std::size_t>(v)];
+    }
+  });
   std::vector<std::size_t> votes(component.size(), 0);
   for (const auto c : voted) ++votes[static_cast<std::size_t>(c)];
   std::size_t best = 0;

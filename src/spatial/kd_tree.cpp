@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <utility>
 
 namespace clustersurf {
@@ -33,16 +34,12 @@ bool closer(const Neighbor& a, const Neighbor& b) {
   return a.distance_squared < b.distance_squared || (a.distance_squared == b.distance_squared && a.index < b.index);
 }
 
-}  // namespace
-
 /// The rows of `points` in Morton order, or as they are when a coordinate is not finite.
 std::vector<std::uint32_t> layout_order(const Points& points) {
-  if (!points.allFinite()) {
-    std::vector<std::uint32_t> rows(static_cast<std::size_t>(points.rows()));
-    for (std::size_t i = 0; i < rows.size(); ++i) rows[i] = static_cast<std::uint32_t>(i);
-    return rows;
-  }
-  return detail::spatial_order(points);
+  if (points.allFinite()) return detail::spatial_order(points);
+  std::vector<std::uint32_t> rows(static_cast<std::size_t>(points.rows()));
+  std::iota(rows.begin(), rows.end(), 0u);
+  return rows;
 }
 
 /// The rows `rows` of `points`, in that order.
@@ -51,6 +48,8 @@ Points gathered(const Points& points, const std::vector<std::uint32_t>& rows) {
   for (std::size_t i = 0; i < rows.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = points.row(rows[i]);
   return out;
 }
+
+}  // namespace
 
 struct KdTree::Impl {
   const Points* caller;
