@@ -49,6 +49,7 @@ TEST(OptionFields, EveryStructListsEachOfItsFields) {
   EXPECT_EQ(listed_fields<BuildOptions>(), field_count<BuildOptions>());
   EXPECT_EQ(listed_fields<MeshOptions>(), field_count<MeshOptions>());
   EXPECT_EQ(listed_fields<TrimOptions>(), field_count<TrimOptions>());
+  EXPECT_EQ(listed_fields<VertexRefitOptions>(), field_count<VertexRefitOptions>());
   EXPECT_EQ(listed_fields<ClosingOptions>(), field_count<ClosingOptions>());
   EXPECT_EQ(listed_fields<DecimationOptions>(), field_count<DecimationOptions>());
   EXPECT_EQ(listed_fields<SurfaceMeshOptions>(), field_count<SurfaceMeshOptions>());

@@ -45,6 +45,7 @@ const std::set<std::string> kApiOnly = {"mesh",
                                         "meshing.grid.fill_cells",
                                         "meshing.grid.memory_limit",
                                         "meshing.trim.neighbors",
+                                        "meshing.refit.rings",
                                         "meshing.closing.resolution",
                                         "meshing.decimation.lock_boundary",
                                         "meshing.distance_scale"};

@@ -38,7 +38,9 @@ TEST(Reconstruct, IsTheStagesInOrder) {
   MeshOptions grid;
   grid.voxel_size = cell_size_for_points(cloud);
   const ImplicitSurface surface(tree);
-  TriangleMesh mesh = trim_to_points(extract_mesh(surface, grid), clustered_points(tree, cloud.positions));
+  const Points clustered = clustered_points(tree, cloud.positions);
+  TriangleMesh mesh = trim_to_points(extract_mesh(surface, grid), clustered);
+  refit_vertices(mesh, KdTree(clustered), surface);
   mesh.colors = colors_by_distance(mesh, cloud.positions, 0.005 * tree.bbox.diagonal());
   EXPECT_TRUE(same_mesh(r.mesh->mesh, mesh));
   EXPECT_GT(r.mesh->mesh.triangles.rows(), 1000);

@@ -270,6 +270,7 @@ class Tree:
         trim: float = 2.0,
         min_component_points: int = 30,
         close_pinholes: bool = False,
+        refit_points: int = 12,
         decimate: int = 0,
         decimate_tolerance: float = 0.0,
         watertight: bool = False,

@@ -2,6 +2,7 @@
 
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/mesh/mesh_colors.hpp>
+#include <clustersurf/mesh/vertex_refit.hpp>
 #include <clustersurf/pipeline/reconstruct.hpp>
 #include <clustersurf/spatial/cloud_stats.hpp>
 
@@ -59,6 +60,11 @@ TriangleMesh closed_mesh(const ImplicitSurface& surface, const SurfaceMeshOption
   if (options.closing.max_hole_size > 0)
     out.closing.opened_holes =
         detail::open_large_fills(mesh, mesh.attributes.back().values, options.closing.max_hole_size);
+  if (data != nullptr) {
+    const Eigen::VectorXf& filled = mesh.attributes.back().values;
+    out.refit = refit_vertices(mesh, *data, surface, options.refit,
+                               std::span<const float>(filled.data(), static_cast<std::size_t>(filled.size())));
+  }
   // A closed mesh is for solids and printers: no triangle may pass through another.
   detail::UntangleReport untangled = detail::untangle(mesh);
   out.closing.untangled_intersections = untangled.intersections_before - untangled.remaining.count;
@@ -126,6 +132,7 @@ SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options
       const bool spread_known = data.spread_neighbors == options.trim.neighbors;
       out.mesh = trim_to_points(out.mesh, data.index, options.trim, &out.trim,
                                 spread_known ? data.spread : std::span<const double>());
+      out.refit = refit_vertices(out.mesh, data.index, surface, options.refit);
     }
   }
   if (options.decimation.enabled()) {

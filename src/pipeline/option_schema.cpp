@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <string>
 
 namespace clustersurf {
 
@@ -265,6 +266,19 @@ std::vector<OptionSpec> mesh_finishing_options() {
       "Close the small holes the input points cover with a fan each (fewer boundary edges, a little less accuracy; "
       "needs the input points, as trim does)",
       [](auto& o) -> auto& { return meshing(o).trim.close_pinholes; }));
+  out.push_back(spec(
+      "refit_points", OptionStage::Mesh, OptionKind::Whole,
+      "Move each vertex towards a quadratic fitted to this many nearest input points, by the share of the move that "
+      "stands above the estimated noise (needs the input points, as trim does). 0 keeps the vertices where the "
+      "leaves' blend puts them",
+      [](const ReconstructOptions& o) { return std::to_string(meshing(o).refit.points); },
+      [](ReconstructOptions& o, std::string_view text) {
+        const std::uint64_t points = parse_whole("refit_points", text, 0, kMaxUint32);
+        if (points > 0 && points < kMinRefitPoints)
+          throw OptionError("refit_points must be 0 or at least " + std::to_string(kMinRefitPoints) +
+                            " (a quadratic's coefficients), not " + std::to_string(points));
+        meshing(o).refit.points = static_cast<std::uint32_t>(points);
+      }));
   out.push_back(spec(
       "decimate", OptionStage::Mesh, OptionKind::Whole,
       "Reduce the mesh to at most this many triangles (edge collapses that keep vertices in place and the mesh's "

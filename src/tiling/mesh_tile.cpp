@@ -2,6 +2,7 @@
 
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/mesh/mesh_colors.hpp>
+#include <clustersurf/mesh/vertex_refit.hpp>
 #include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/tiling/tiling.hpp>
 
@@ -56,8 +57,8 @@ Eigen::VectorXf vertex_votes(const TriangleMesh& mesh, const Points& data, std::
 }  // namespace
 
 MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::int32_t region_index,
-                   const RegionCloud& region, const MeshOptions& grid, const TrimOptions& trim, bool input_colors,
-                   const ProgressCallback& progress) {
+                   const RegionCloud& region, const MeshOptions& grid, const TrimOptions& trim,
+                   const VertexRefitOptions& refit, bool input_colors, const ProgressCallback& progress) {
   if (region_index < 0 || static_cast<std::size_t>(region_index) >= plan.regions())
     throw OptionError("region " + std::to_string(region_index) + " is not in the plan");
   if (!grid.voxel_size || !(*grid.voxel_size > 0) || !std::isfinite(*grid.voxel_size))
@@ -95,6 +96,8 @@ MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::
   // does gets them when the tiles are joined).
   const std::vector<std::uint8_t> owned = owned_triangles(mesh, plan, region_index);
   const Eigen::VectorXf votes = vertex_votes(mesh, data, own_data);
+  // Refitted after the votes, as the whole mesh is after its trim's fragment test.
+  refit_vertices(mesh, index, surface, refit);
   // Keep the owned triangles and every voted vertex (a voted vertex no owned triangle uses
   // joins its owner's copy, or goes with its own triangles when the join drops them).
   Triangles kept(mesh.triangles.rows(), 3);

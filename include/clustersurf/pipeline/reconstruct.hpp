@@ -10,6 +10,7 @@
 #include <clustersurf/mesh/mesh_decimation.hpp>
 #include <clustersurf/mesh/mesh_extraction.hpp>
 #include <clustersurf/mesh/mesh_trim.hpp>
+#include <clustersurf/mesh/vertex_refit.hpp>
 #include <clustersurf/spatial/cloud_index.hpp>
 #include <clustersurf/surface/implicit_surface.hpp>
 #include <clustersurf/surface/orientation.hpp>
@@ -51,6 +52,9 @@ struct SurfaceMeshOptions {
   bool auto_resolution = true;
   /// Applied when the input points are given.
   TrimOptions trim;
+  /// The trimmed mesh's vertices moved onto local fits of the input points, as far as the
+  /// noise lets them (refit_vertices()); applied when the input points are given.
+  VertexRefitOptions refit;
   /// A closed mesh (off by default): the holes filled from the harmonic fill of a
   /// ClosedSurface, the trim then only marking what the data does not reach (the "filled"
   /// vertex attribute) and dropping unsupported fragments.
@@ -70,6 +74,7 @@ void for_each_field(Options& o, F&& f) {
   f("grid", o.grid);
   f("auto_resolution", o.auto_resolution);
   f("trim", o.trim);
+  f("refit", o.refit);
   f("closing", o.closing);
   f("decimation", o.decimation);
   f("coloring", o.coloring);
@@ -95,6 +100,7 @@ struct SurfaceMesh {
   TriangleMesh mesh;
   MeshReport grid;
   TrimReport trim;
+  VertexRefitReport refit;
   DecimationReport decimation;
   ClosingReport closing;
   std::size_t blended_nodes = 0;

@@ -37,12 +37,14 @@ struct MeshTile {
 /// size grid.voxel_size (required) anchored at the tree's box: the lattice is meshed over the
 /// region's cell and a margin of cells around it, seeded on the blended proxies and on the
 /// region's points, and trimmed with `trim` to the region's points but its outliers (without the
-/// fragment test, which join_tiles() decides, and without closing pinholes); with
+/// fragment test, which join_tiles() decides, and without closing pinholes), its vertices
+/// refitted to those points (refit_vertices() with `refit`, as mesh_tree() does); with
 /// `input_colors`, colored from those points (colors_from_points()) when they have colors.
 /// Deterministic. Throws OptionError for invalid options.
 MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::int32_t region_index,
                    const RegionCloud& region, const MeshOptions& grid, const TrimOptions& trim = {},
-                   bool input_colors = true, const ProgressCallback& progress = {});
+                   const VertexRefitOptions& refit = {}, bool input_colors = true,
+                   const ProgressCallback& progress = {});
 
 /// Cells of lattice a tile meshes beyond its region (mesh_tile()): a triangle whose centroid
 /// lies in the region comes from cells within two of it (a quad spans the two cells on each side

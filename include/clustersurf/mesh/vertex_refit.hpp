@@ -1,0 +1,62 @@
+#pragma once
+// A mesh's vertices moved onto a local fit of the input points around each of them, by the
+// share of the move that stands above the noise.
+
+#include <clustersurf/core/option_fields.hpp>
+#include <clustersurf/core/point_cloud.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
+#include <clustersurf/surface/implicit_surface.hpp>
+
+#include <cstdint>
+#include <span>
+
+namespace clustersurf {
+
+/// The fewest points a vertex's local fit takes: a quadratic's six coefficients.
+inline constexpr std::uint32_t kMinRefitPoints = 6;
+
+/// Options of refit_vertices().
+struct VertexRefitOptions {
+  /// Input points each vertex's local fit takes: its nearest, weighted by (1 − d²/h²)³ with h
+  /// the farthest one's distance (the fewest a quadratic's refit takes, as a leaf's support's).
+  /// 0 leaves the vertices where the blend of the leaves puts them; otherwise at least
+  /// kMinRefitPoints.
+  std::uint32_t points = 12;
+  /// The rings of mesh neighbours over which a vertex's move is weighed against the noise.
+  std::uint32_t rings = 2;
+};
+
+/// Calls f(name, field) for every field of `o`, in declaration order.
+template <OptionsOf<VertexRefitOptions> Options, class F>
+void for_each_field(Options& o, F&& f) {
+  f("points", o.points);
+  f("rings", o.rings);
+}
+
+/// What refit_vertices() did.
+struct VertexRefitReport {
+  std::size_t refitted = 0;  ///< vertices whose local fit was determined
+  double mean_move = 0;      ///< mean |move| over all vertices, in the mesh's units
+  double mean_share = 0;     ///< mean share of the local fits' moves taken (0: none, 1: all)
+};
+
+/// Moves each vertex of `mesh` (a mesh of `surface`) along its normal (mesh.normals;
+/// recomputed from the triangles when absent) towards the weighted quadratic height field
+/// fitted, in the frame of that normal, to its VertexRefitOptions::points nearest points of
+/// `data` (its tree's clustered input). Of that local fit's move c, whose variance under the
+/// noise is s² (the tree's noise estimate, or what the fit's residuals show where that is more,
+/// through the weighted least squares), it takes the Wiener share P / (P + s²), with
+/// P = max(0, ⟨c²⟩ − ⟨s²⟩) the moves' power above their noise, the means over the vertex and
+/// its mesh neighbours within `rings` rings: where the moves are the noise's the vertices stay,
+/// where they stand above it (the blend's error on clean or sparse data) they are taken. A fit
+/// that its points do not determine, that misses the error a cluster of the tree may keep
+/// (cluster_error_threshold(): a sharp edge, both sides of a thin part), or whose move would
+/// reach past its farthest point, moves nothing; nor do the vertices where a crease leaf blends
+/// (its planes hold the sharp edge) and those whose `fixed` value is positive (a closed mesh's
+/// filled vertices). The normals are kept. Deterministic for any thread count and any
+/// numbering of the vertices and of the data. Throws OptionError when options.points is below
+/// kMinRefitPoints but not 0.
+VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const ImplicitSurface& surface,
+                                 const VertexRefitOptions& options = {}, std::span<const float> fixed = {});
+
+}  // namespace clustersurf

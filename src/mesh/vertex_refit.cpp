@@ -1,0 +1,306 @@
+// Each vertex moved towards a local quadratic fit of the input points, by the share of the
+// move that stands above the noise (a Wiener gain: the local power of the fits' moves above
+// their noise, against the noise of the vertex's own move).
+
+#include <clustersurf/core/errors.hpp>
+#include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/mesh/vertex_refit.hpp>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace clustersurf {
+
+namespace {
+
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+using Matrix6 = Eigen::Matrix<double, 6, 6>;
+
+/// A fit whose normal equations have a pivot below this share of the largest is undetermined
+/// (the points on a line, or too few around the vertex).
+constexpr double kMinPivot = 1e-8;
+
+/// One vertex's local fit: the move it asks for along the normal, and that move's variance
+/// under the noise.
+struct LocalFit {
+  double move = 0;
+  double variance = 0;
+  double radius = 0;  ///< the farthest of its points
+  bool valid = false;
+};
+
+/// The tests of the noise allow its mean square over m independent samples a margin of
+/// kNoiseMargin √(2/m) (about two standard deviations of a chi-square mean), as the tree's do.
+constexpr double kNoiseMargin = 2;
+
+/// A triangle the moves turn by more than 60 degrees has folded; its corners stay.
+constexpr double kMaxTurnCos = 0.5;
+
+/// The weighted quadratic height field over the `near` points of `data` around `x` in the frame
+/// of `normal`, evaluated at x: its height is the move. Undetermined (not valid) where its
+/// weighted RMS residual exceeds what `tree` allows a cluster of as many effective points: the
+/// points are not one smooth sheet there (a sharp edge, both sides of a thin part).
+LocalFit fit_at(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const Points& data,
+                const std::vector<Neighbor>& near, const ClusterTree& tree) {
+  LocalFit out;
+  if (near.size() < 6 || !(normal.squaredNorm() > 0)) return out;
+  const double h2 = near.back().distance_squared * (1 + 1e-4);
+  if (!(h2 > 0)) return out;
+  const double h = std::sqrt(h2);
+  const Eigen::Vector3d n = normal.normalized();
+  const Eigen::Vector3d t1 = n.unitOrthogonal();
+  const Eigen::Vector3d t2 = n.cross(t1);
+  const auto row = [&](const Neighbor& nb, Vector6& m, double& w) {
+    const Eigen::Vector3d d = (data.row(nb.index).transpose() - x) / h;
+    const double s = 1 - nb.distance_squared / h2;
+    w = s * s * s;
+    const double u = d.dot(t1), v = d.dot(t2);
+    m << 1, u, v, u * u, u * v, v * v;
+    return d.dot(n);
+  };
+  Matrix6 a = Matrix6::Zero(), b = Matrix6::Zero();
+  Vector6 rhs = Vector6::Zero();
+  Vector6 m;
+  double w = 0;
+  for (const Neighbor& nb : near) {
+    const double z = row(nb, m, w);
+    a.selfadjointView<Eigen::Lower>().rankUpdate(m, w);
+    b.selfadjointView<Eigen::Lower>().rankUpdate(m, w * w);
+    rhs += w * z * m;
+  }
+  a = a.selfadjointView<Eigen::Lower>();
+  b = b.selfadjointView<Eigen::Lower>();
+  const Eigen::LDLT<Matrix6> solver(a);
+  const Vector6 pivots = solver.vectorD().cwiseAbs();
+  if (solver.info() != Eigen::Success || !(pivots.minCoeff() > kMinPivot * pivots.maxCoeff())) return out;
+  const Vector6 c = solver.solve(rhs);
+  double residual = 0, weight = 0, weight2 = 0;
+  for (const Neighbor& nb : near) {
+    const double r = row(nb, m, w) - m.dot(c);
+    residual += w * r * r;
+    weight += w;
+    weight2 += w * w;
+  }
+  if (!(weight > 0) || !(h * std::sqrt(residual / weight) <= cluster_error_threshold(tree, weight * weight / weight2)))
+    return out;
+  const Vector6 g = solver.solve(Vector6::Unit(0));  // the height's weights on the rows: A⁻¹ e₀
+  out.move = h * c(0);
+  // The move's variance: the noise the residuals show here (Σw r² over its expectation per unit
+  // variance, Σw − tr(A⁻¹B)), or the tree's, whichever is larger, through the least squares.
+  const double dof = weight - solver.solve(b).trace();
+  const double local = dof > 0 ? h * h * residual / dof : 0.0;
+  out.variance = std::max(local, tree.noise_sigma * tree.noise_sigma) * std::max(0.0, g.dot(b * g));
+  out.radius = h;
+  out.valid = std::isfinite(out.move) && std::isfinite(out.variance) && std::abs(out.move) < h;
+  if (!out.valid) out.move = out.variance = 0;
+  return out;
+}
+
+/// Each vertex's neighbours along the triangles' edges, in compressed rows.
+struct VertexRings {
+  std::vector<std::uint32_t> begin, neighbors;
+};
+
+VertexRings edge_neighbors(const TriangleMesh& mesh) {
+  const auto n = static_cast<std::size_t>(mesh.vertices.rows());
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+  edges.reserve(static_cast<std::size_t>(mesh.triangles.rows()) * 6);
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const auto a = static_cast<std::uint32_t>(mesh.triangles(t, k));
+      const auto b = static_cast<std::uint32_t>(mesh.triangles(t, (k + 1) % 3));
+      edges.emplace_back(a, b);
+      edges.emplace_back(b, a);
+    }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  VertexRings r;
+  r.begin.assign(n + 1, 0);
+  r.neighbors.reserve(edges.size());
+  for (const auto& [a, b] : edges) ++r.begin[a + 1], r.neighbors.push_back(b);
+  for (std::size_t v = 0; v < n; ++v) r.begin[v + 1] += r.begin[v];
+  // Each ring in the order of its vertices' positions, not of their numbers: a tile of the same
+  // surface, numbered otherwise, sums the same values in the same order.
+  const auto before = [&](std::uint32_t x, std::uint32_t y) {
+    const auto px = mesh.vertices.row(x), py = mesh.vertices.row(y);
+    return std::lexicographical_compare(px.begin(), px.end(), py.begin(), py.end());
+  };
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t v) {
+    std::sort(r.neighbors.begin() + r.begin[v], r.neighbors.begin() + r.begin[v + 1], before);
+  });
+  return r;
+}
+
+/// `values` averaged over each vertex and its edge neighbours, `rounds` times.
+std::vector<double> ring_mean(const VertexRings& rings, std::vector<double> values, std::uint32_t rounds) {
+  std::vector<double> next(values.size());
+  for (std::uint32_t round = 0; round < rounds; ++round) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, values.size(), 4096), [&](const auto& range) {
+      for (std::size_t v = range.begin(); v != range.end(); ++v) {
+        double sum = values[v];
+        for (std::uint32_t k = rings.begin[v]; k < rings.begin[v + 1]; ++k) sum += values[rings.neighbors[k]];
+        next[v] = sum / static_cast<double>(1 + rings.begin[v + 1] - rings.begin[v]);
+      }
+    });
+    values.swap(next);
+  }
+  return values;
+}
+
+/// The number of vertices that `rounds` rounds of ring_mean() average over, as (Σk)² / Σk² of
+/// its kernel k on the regular triangulation (valence 6).
+double kernel_vertices(std::uint32_t rounds) {
+  const int size = 2 * static_cast<int>(rounds) + 1, c = static_cast<int>(rounds);
+  std::vector<double> k(static_cast<std::size_t>(size * size), 0.0), next(k.size());
+  const auto at = [&](std::vector<double>& g, int q, int r) -> double& {
+    return g[static_cast<std::size_t>(q * size + r)];
+  };
+  at(k, c, c) = 1;
+  constexpr int kSteps[6][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}};
+  for (std::uint32_t round = 0; round < rounds; ++round) {
+    for (int q = 0; q < size; ++q)
+      for (int r = 0; r < size; ++r) {
+        double sum = at(k, q, r);
+        for (const auto& d : kSteps) {
+          const int a = q + d[0], b = r + d[1];
+          if (a >= 0 && a < size && b >= 0 && b < size) sum += at(k, a, b);
+        }
+        at(next, q, r) = sum / 7;
+      }
+    k.swap(next);
+  }
+  double sum = 0, squares = 0;
+  for (const double x : k) sum += x, squares += x * x;
+  return sum * sum / squares;
+}
+
+/// Each vertex's share of the mesh's area, (√3 / 2) times the mean square of its edges (exact
+/// on the regular triangulation), summed in its ring's order: the same bits in any tile.
+std::vector<double> vertex_areas(const TriangleMesh& mesh, const VertexRings& rings) {
+  std::vector<double> area(static_cast<std::size_t>(mesh.vertices.rows()), 0.0);
+  for (std::size_t v = 0; v + 1 < rings.begin.size(); ++v) {
+    double sum = 0;
+    for (std::uint32_t k = rings.begin[v]; k < rings.begin[v + 1]; ++k)
+      sum += (mesh.vertices.row(rings.neighbors[k]) - mesh.vertices.row(static_cast<Eigen::Index>(v))).squaredNorm();
+    const std::uint32_t count = rings.begin[v + 1] - rings.begin[v];
+    if (count > 0) area[v] = std::numbers::sqrt3 / 2 * sum / count;
+  }
+  return area;
+}
+
+/// Puts back where they were (`before`) the corners of each triangle that the moves turned by
+/// more than 60 degrees, round after round until none is (each round undoes at least one move):
+/// a move that folds the mesh (a vertex pushed past its neighbours where the surface bends
+/// within a few cells) is not taken. Zeroes the moves it undoes.
+void unfold(TriangleMesh& mesh, const Points& before, std::vector<double>& moves) {
+  const auto normal = [](const Points& x, const Eigen::RowVector3i& t) {
+    return Eigen::Vector3d((x.row(t(1)) - x.row(t(0))).cross(x.row(t(2)) - x.row(t(0))).transpose());
+  };
+  for (;;) {
+    std::vector<std::uint32_t> folded;
+    for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+      const Eigen::RowVector3i tri = mesh.triangles.row(t);
+      if (moves[static_cast<std::size_t>(tri(0))] == 0 && moves[static_cast<std::size_t>(tri(1))] == 0 &&
+          moves[static_cast<std::size_t>(tri(2))] == 0)
+        continue;
+      const Eigen::Vector3d was = normal(before, tri), is = normal(mesh.vertices, tri);
+      if (!(is.dot(was) > kMaxTurnCos * is.norm() * was.norm()))
+        for (int k = 0; k < 3; ++k) folded.push_back(static_cast<std::uint32_t>(tri(k)));
+    }
+    if (folded.empty()) return;
+    for (const std::uint32_t v : folded) {
+      mesh.vertices.row(v) = before.row(v);
+      moves[v] = 0;
+    }
+  }
+}
+
+/// Whether a crease leaf blends at x: its two planes hold a sharp edge there that a quadratic
+/// would round.
+bool on_crease(const ImplicitSurface& surface, const Eigen::Vector3d& x) {
+  bool crease = false;
+  surface.for_each_support(x, [&](std::int32_t i, double) {
+    const Proxy& proxy = surface.tree().nodes[static_cast<std::size_t>(i)].proxy;
+    crease = crease || std::holds_alternative<CreaseProxy>(proxy.variant());
+  });
+  return crease;
+}
+
+}  // namespace
+
+VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const ImplicitSurface& surface,
+                                 const VertexRefitOptions& options, std::span<const float> fixed) {
+  const ClusterTree& tree = surface.tree();
+  if (options.points > 0 && options.points < kMinRefitPoints)
+    throw OptionError("refit_points must be 0 or at least " + std::to_string(kMinRefitPoints) +
+                      " (a quadratic's coefficients), not " + std::to_string(options.points));
+  VertexRefitReport report;
+  const auto n = static_cast<std::size_t>(mesh.vertices.rows());
+  if (options.points == 0 || n == 0 || data.size() < 6) return report;
+  const Points normals = mesh.normals.rows() == mesh.vertices.rows() ? mesh.normals : vertex_normals(mesh);
+  std::vector<LocalFit> fits(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
+    std::vector<Neighbor> near;
+    for (std::size_t v = range.begin(); v != range.end(); ++v) {
+      if (v < fixed.size() && fixed[v] > 0) continue;
+      const Eigen::Vector3d x = mesh.vertices.row(static_cast<Eigen::Index>(v)).transpose();
+      if (on_crease(surface, x)) continue;
+      data.knn(x, options.points, near);
+      // Equally distant points in the order of their positions: the same sums whatever the
+      // data's row order (a tile's points are numbered otherwise than the whole cloud's).
+      std::sort(near.begin(), near.end(), [&](const Neighbor& p, const Neighbor& q) {
+        if (p.distance_squared != q.distance_squared) return p.distance_squared < q.distance_squared;
+        const auto a = data.points().row(p.index), b = data.points().row(q.index);
+        return std::lexicographical_compare(a.begin(), a.end(), b.begin(), b.end());
+      });
+      fits[v] = fit_at(x, normals.row(static_cast<Eigen::Index>(v)).transpose(), data.points(), near, tree);
+    }
+  });
+  const VertexRings rings = edge_neighbors(mesh);
+  std::vector<double> squared(n), variance(n);
+  for (std::size_t v = 0; v < n; ++v) {
+    squared[v] = fits[v].move * fits[v].move;
+    variance[v] = fits[v].variance;
+  }
+  // How many independent fits the window holds: its area over a fit's (neighbouring vertices'
+  // fits share most of their points, so their moves are one sample of the noise, not several).
+  const std::vector<double> area = vertex_areas(mesh, rings);
+  std::vector<double> coverage(n, 0.0);
+  for (std::size_t v = 0; v < n; ++v)
+    if (fits[v].valid) coverage[v] = area[v] / (std::numbers::pi * fits[v].radius * fits[v].radius);
+  const std::vector<double> mean_squared = ring_mean(rings, std::move(squared), options.rings);
+  const std::vector<double> mean_variance = ring_mean(rings, std::move(variance), options.rings);
+  const std::vector<double> mean_coverage = ring_mean(rings, std::move(coverage), options.rings);
+  const double window = kernel_vertices(options.rings);
+  const Points before = mesh.vertices;
+  std::vector<double> moves(n, 0.0), shares(n, 0.0);
+  for (std::size_t v = 0; v < n; ++v) {
+    if (!fits[v].valid) continue;
+    ++report.refitted;
+    const double c2 = mean_squared[v];
+    // The moves' power above the noise around the vertex, against the noise of its own move.
+    const double samples = std::max(1.0, window * mean_coverage[v]);
+    const double signal = std::max(0.0, c2 - (1 + kNoiseMargin * std::sqrt(2 / samples)) * mean_variance[v]);
+    const double share = signal + fits[v].variance > 0 ? signal / (signal + fits[v].variance) : 1.0;
+    const auto row = static_cast<Eigen::Index>(v);
+    moves[v] = share * fits[v].move;
+    shares[v] = share;
+    mesh.vertices.row(row) += moves[v] * normals.row(row).normalized();
+  }
+  unfold(mesh, before, moves);
+  double moved = 0, shared = 0;
+  for (std::size_t v = 0; v < n; ++v) moved += std::abs(moves[v]), shared += moves[v] != 0 ? shares[v] : 0.0;
+  report.mean_move = moved / static_cast<double>(n);
+  report.mean_share = report.refitted > 0 ? shared / static_cast<double>(report.refitted) : 0.0;
+  return report;
+}
+
+}  // namespace clustersurf
