@@ -6,12 +6,15 @@
 #include <clustersurf/io/point_cloud_io.hpp>
 #include <clustersurf/mesh/vertex_refit.hpp>
 
+#include "spatial/spatial_order.hpp"
+
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <span>
 #include <string>
@@ -69,26 +72,27 @@ LocalFit fit_at(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const P
   Matrix6 a = Matrix6::Zero(), b = Matrix6::Zero();
   Vector6 rhs = Vector6::Zero();
   Vector6 m;
-  double w = 0;
+  double w = 0, zz = 0;
   for (const Neighbor& nb : near) {
     const double z = row(nb, m, w);
-    a.selfadjointView<Eigen::Lower>().rankUpdate(m, w);
-    b.selfadjointView<Eigen::Lower>().rankUpdate(m, w * w);
+    for (int j = 0; j < 6; ++j)
+      for (int i = j; i < 6; ++i) {
+        const double mm = m(i) * m(j);
+        a(i, j) += w * mm;
+        b(i, j) += w * w * mm;
+      }
     rhs += w * z * m;
+    zz += w * z * z;
   }
-  a = a.selfadjointView<Eigen::Lower>();
-  b = b.selfadjointView<Eigen::Lower>();
+  for (int j = 0; j < 6; ++j)
+    for (int i = j + 1; i < 6; ++i) a(j, i) = a(i, j), b(j, i) = b(i, j);
   const Eigen::LDLT<Matrix6> solver(a);
   const Vector6 pivots = solver.vectorD().cwiseAbs();
   if (solver.info() != Eigen::Success || !(pivots.minCoeff() > kMinPivot * pivots.maxCoeff())) return out;
   const Vector6 c = solver.solve(rhs);
-  double residual = 0, weight = 0, weight2 = 0;
-  for (const Neighbor& nb : near) {
-    const double r = row(nb, m, w) - m.dot(c);
-    residual += w * r * r;
-    weight += w;
-    weight2 += w * w;
-  }
+  // Σw r² of the least-squares solution: Σw z² − cᵀ(Σw z m).
+  const double residual = std::max(0.0, zz - c.dot(rhs));
+  const double weight = a(0, 0), weight2 = b(0, 0);  // Σw and Σw², the constant monomial's
   if (!(weight > 0) || !(h * std::sqrt(residual / weight) <= cluster_error_threshold(tree, weight * weight / weight2)))
     return out;
   const Vector6 g = solver.solve(Vector6::Unit(0));  // the height's weights on the rows: A⁻¹ e₀
@@ -111,31 +115,39 @@ struct VertexRings {
 
 VertexRings edge_neighbors(const TriangleMesh& mesh) {
   const auto n = static_cast<std::size_t>(mesh.vertices.rows());
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
-  edges.reserve(static_cast<std::size_t>(mesh.triangles.rows()) * 6);
+  // Each corner of a triangle gives its vertex the two others: counted, placed, then each
+  // vertex's list sorted and its repeats dropped.
+  std::vector<std::uint32_t> begin(n + 1, 0);
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
+    for (int k = 0; k < 3; ++k) begin[static_cast<std::size_t>(mesh.triangles(t, k)) + 1] += 2;
+  for (std::size_t v = 0; v < n; ++v) begin[v + 1] += begin[v];
+  std::vector<std::uint32_t> slots(n, 0), listed(begin.back());
   for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
     for (int k = 0; k < 3; ++k) {
-      const auto a = static_cast<std::uint32_t>(mesh.triangles(t, k));
-      const auto b = static_cast<std::uint32_t>(mesh.triangles(t, (k + 1) % 3));
-      edges.emplace_back(a, b);
-      edges.emplace_back(b, a);
+      const auto v = static_cast<std::size_t>(mesh.triangles(t, k));
+      listed[begin[v] + slots[v]++] = static_cast<std::uint32_t>(mesh.triangles(t, (k + 1) % 3));
+      listed[begin[v] + slots[v]++] = static_cast<std::uint32_t>(mesh.triangles(t, (k + 2) % 3));
     }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-  VertexRings r;
-  r.begin.assign(n + 1, 0);
-  r.neighbors.reserve(edges.size());
-  for (const auto& [a, b] : edges) ++r.begin[a + 1], r.neighbors.push_back(b);
-  for (std::size_t v = 0; v < n; ++v) r.begin[v + 1] += r.begin[v];
   // Each ring in the order of its vertices' positions, not of their numbers: a tile of the same
   // surface, numbered otherwise, sums the same values in the same order.
   const auto before = [&](std::uint32_t x, std::uint32_t y) {
     const auto px = mesh.vertices.row(x), py = mesh.vertices.row(y);
     return std::lexicographical_compare(px.begin(), px.end(), py.begin(), py.end());
   };
-  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t v) {
-    std::sort(r.neighbors.begin() + r.begin[v], r.neighbors.begin() + r.begin[v + 1], before);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+    for (std::size_t v = range.begin(); v != range.end(); ++v) {
+      const auto first = listed.begin() + begin[v], last = listed.begin() + begin[v + 1];
+      std::sort(first, last);
+      slots[v] = static_cast<std::uint32_t>(std::unique(first, last) - first);
+      std::sort(first, first + slots[v], before);
+    }
   });
+  VertexRings r;
+  r.begin.assign(n + 1, 0);
+  for (std::size_t v = 0; v < n; ++v) r.begin[v + 1] = r.begin[v] + slots[v];
+  r.neighbors.resize(r.begin.back());
+  for (std::size_t v = 0; v < n; ++v)
+    std::copy_n(listed.begin() + begin[v], slots[v], r.neighbors.begin() + r.begin[v]);
   return r;
 }
 
@@ -223,16 +235,36 @@ void unfold(TriangleMesh& mesh, const Points& before, std::vector<double>& moves
   }
 }
 
-/// Whether a crease leaf blends at x: its two planes hold a sharp edge there that a quadratic
-/// would round.
-bool on_crease(const ImplicitSurface& surface, const Eigen::Vector3d& x) {
-  bool crease = false;
-  surface.for_each_support(x, [&](std::int32_t i, double) {
-    const Proxy& proxy = surface.tree().nodes[static_cast<std::size_t>(i)].proxy;
-    crease = crease || std::holds_alternative<CreaseProxy>(proxy.variant());
-  });
-  return crease;
-}
+/// The supports of the crease leaves a surface blends: where one reaches, its two planes hold a
+/// sharp edge that a quadratic would round.
+class CreaseSupports {
+ public:
+  explicit CreaseSupports(const ImplicitSurface& surface) {
+    for (const std::int32_t i : surface.cut()) {
+      const ClusterNode& node = surface.tree().nodes[static_cast<std::size_t>(i)];
+      if (!std::holds_alternative<CreaseProxy>(node.proxy.variant())) continue;
+      supports_.push_back(Sphere{node.support.center, surface.radius(i)});
+      reach_ = std::max(reach_, supports_.back().radius);
+    }
+    centers_.resize(static_cast<Eigen::Index>(supports_.size()), 3);
+    for (std::size_t k = 0; k < supports_.size(); ++k)
+      centers_.row(static_cast<Eigen::Index>(k)) = supports_[k].center.transpose();
+    if (!supports_.empty()) index_ = std::make_unique<KdTree>(centers_);
+  }
+
+  /// Whether a crease leaf's support contains x.
+  bool contain(const Eigen::Vector3d& x, std::vector<Neighbor>& near) const {
+    if (!index_) return false;
+    index_->radius_unsorted(x, reach_, near);
+    return std::any_of(near.begin(), near.end(), [&](const Neighbor& nb) { return supports_[nb.index].contains(x); });
+  }
+
+ private:
+  std::vector<Sphere> supports_;
+  Points centers_;
+  std::unique_ptr<KdTree> index_;
+  double reach_ = 0;
+};
 
 }  // namespace
 
@@ -246,13 +278,17 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
   const auto n = static_cast<std::size_t>(mesh.vertices.rows());
   if (options.points == 0 || n == 0 || data.size() < 6) return report;
   const Points normals = mesh.normals.rows() == mesh.vertices.rows() ? mesh.normals : vertex_normals(mesh);
+  const CreaseSupports creases(surface);
   std::vector<LocalFit> fits(n);
+  // Queried in spatial order: consecutive queries visit the same part of the k-d tree.
+  const std::vector<std::uint32_t> order = detail::spatial_order(mesh.vertices);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
     std::vector<Neighbor> near;
-    for (std::size_t v = range.begin(); v != range.end(); ++v) {
+    for (std::size_t o = range.begin(); o != range.end(); ++o) {
+      const std::size_t v = order[o];
       if (v < fixed.size() && fixed[v] > 0) continue;
       const Eigen::Vector3d x = mesh.vertices.row(static_cast<Eigen::Index>(v)).transpose();
-      if (on_crease(surface, x)) continue;
+      if (creases.contain(x, near)) continue;
       data.knn(x, options.points, near);
       // Equally distant points in the order of their positions: the same sums whatever the
       // data's row order (a tile's points are numbered otherwise than the whole cloud's).
