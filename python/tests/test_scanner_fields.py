@@ -186,4 +186,6 @@ def test_tree_keeps_the_origin_of_its_input():
     np.testing.assert_array_equal(mesh.world_vertices, mesh.vertices + [600000.0, 0, 0])
     plain = clustersurf.reconstruct(points, normals=normals)
     np.testing.assert_array_equal(plain.origin, np.zeros(3))
-    np.testing.assert_array_equal(plain.mesh(resolution=32).vertices, again.mesh(resolution=32).vertices)
+    # A loaded tree has no points: it meshes without the trim and the vertex refit they drive.
+    np.testing.assert_array_equal(plain.mesh(resolution=32, refit_points=0).vertices,
+                                  again.mesh(resolution=32).vertices)
