@@ -212,7 +212,7 @@ std::vector<double> vertex_areas(const TriangleMesh& mesh, const VertexRings& ri
 /// more than 60 degrees, round after round until none is (each round undoes at least one move):
 /// a move that folds the mesh (a vertex pushed past its neighbours where the surface bends
 /// within a few cells) is not taken. Zeroes the moves it undoes.
-void unfold(TriangleMesh& mesh, const Points& before, std::vector<double>& moves) {
+void undo_folds(TriangleMesh& mesh, const Points& before, std::vector<double>& moves) {
   const auto normal = [](const Points& x, const Eigen::RowVector3i& t) {
     return Eigen::Vector3d((x.row(t(1)) - x.row(t(0))).cross(x.row(t(2)) - x.row(t(0))).transpose());
   };
@@ -331,7 +331,7 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
     shares[v] = share;
     mesh.vertices.row(row) += moves[v] * normals.row(row).normalized();
   }
-  unfold(mesh, before, moves);
+  undo_folds(mesh, before, moves);
   double moved = 0, shared = 0;
   for (std::size_t v = 0; v < n; ++v) moved += std::abs(moves[v]), shared += moves[v] != 0 ? shares[v] : 0.0;
   report.mean_move = moved / static_cast<double>(n);
