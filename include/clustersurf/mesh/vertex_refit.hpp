@@ -46,14 +46,16 @@ struct VertexRefitReport {
 /// `data` (its tree's clustered input). Of that local fit's move c, whose variance under the
 /// noise is s² (the tree's noise estimate, or what the fit's residuals show where that is more,
 /// through the weighted least squares), it takes the Wiener share P / (P + s²), with
-/// P = max(0, ⟨c²⟩ − ⟨s²⟩) the moves' power above their noise, the means over the vertex and
-/// its mesh neighbours within `rings` rings: where the moves are the noise's the vertices stay,
-/// where they stand above it (the blend's error on clean or sparse data) they are taken. A fit
-/// that its points do not determine, that misses the error a cluster of the tree may keep
-/// (cluster_error_threshold(): a sharp edge, both sides of a thin part), or whose move would
-/// reach past its farthest point, moves nothing; nor do the vertices where a crease leaf blends
-/// (its planes hold the sharp edge) and those whose `fixed` value is positive (a closed mesh's
-/// filled vertices). The normals are kept. Deterministic for any thread count and any
+/// P = max(0, ⟨c²⟩ − (1 + 2 √(2/m)) ⟨s²⟩) the moves' power above their noise: the means over
+/// the vertex and its mesh neighbours within `rings` rings, m the independent fits that window
+/// holds (its area over a fit's), the margin the tree's noise tests allow. Where the moves are
+/// the noise's the vertices stay; where they stand above it (the blend's error on clean or
+/// sparse data) they are taken. A fit that its points do not determine, that misses the error
+/// a cluster of the tree may keep (cluster_error_threshold(): a sharp edge, both sides of a
+/// thin part), or whose move would reach past its farthest point, moves nothing; nor do the
+/// vertices where a crease leaf blends (its planes hold the sharp edge), those whose `fixed`
+/// value is positive (a closed mesh's filled vertices) and the corners of a triangle the moves
+/// would turn by more than 60 degrees (a fold). The normals are kept. Deterministic for any thread count and any
 /// numbering of the vertices and of the data. Throws OptionError when options.points is below
 /// kMinRefitPoints but not 0.
 VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const ImplicitSurface& surface,
