@@ -40,6 +40,7 @@
 #include <clustersurf/mesh/mesh_decimation.hpp>
 #include <clustersurf/mesh/mesh_extraction.hpp>
 #include <clustersurf/mesh/mesh_trim.hpp>
+#include <clustersurf/mesh/vertex_refit.hpp>
 #include <clustersurf/pipeline/reconstruct.hpp>
 #include <clustersurf/tiling/tiled_run.hpp>
 #include <clustersurf/tiling/tiling.hpp>
