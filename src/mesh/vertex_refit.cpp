@@ -268,12 +268,16 @@ class CreaseSupports {
 
 }  // namespace
 
-VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const ImplicitSurface& surface,
-                                 const VertexRefitOptions& options, std::span<const float> fixed) {
-  const ClusterTree& tree = surface.tree();
+void check_refit_options(const VertexRefitOptions& options) {
   if (options.points > 0 && options.points < kMinRefitPoints)
     throw OptionError("refit_points must be 0 or at least " + std::to_string(kMinRefitPoints) +
                       " (a quadratic's coefficients), not " + std::to_string(options.points));
+}
+
+VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const ImplicitSurface& surface,
+                                 const VertexRefitOptions& options, std::span<const float> fixed) {
+  const ClusterTree& tree = surface.tree();
+  check_refit_options(options);
   VertexRefitReport report;
   const auto n = static_cast<std::size_t>(mesh.vertices.rows());
   if (options.points == 0 || n == 0 || data.size() < 6) return report;

@@ -5,7 +5,6 @@
 
 #include <cstdint>
 #include <limits>
-#include <string>
 
 namespace clustersurf {
 
@@ -273,11 +272,8 @@ std::vector<OptionSpec> mesh_finishing_options() {
       "leaves' blend puts them",
       [](const ReconstructOptions& o) { return std::to_string(meshing(o).refit.points); },
       [](ReconstructOptions& o, std::string_view text) {
-        const std::uint64_t points = parse_whole("refit_points", text, 0, kMaxUint32);
-        if (points > 0 && points < kMinRefitPoints)
-          throw OptionError("refit_points must be 0 or at least " + std::to_string(kMinRefitPoints) +
-                            " (a quadratic's coefficients), not " + std::to_string(points));
-        meshing(o).refit.points = static_cast<std::uint32_t>(points);
+        meshing(o).refit.points = static_cast<std::uint32_t>(parse_whole("refit_points", text, 0, kMaxUint32));
+        check_refit_options(meshing(o).refit);
       }));
   out.push_back(spec(
       "decimate", OptionStage::Mesh, OptionKind::Whole,

@@ -26,6 +26,10 @@ struct VertexRefitOptions {
   std::uint32_t rings = 2;
 };
 
+/// Throws OptionError, naming refit_points, when options.points is neither 0 nor at least
+/// kMinRefitPoints.
+void check_refit_options(const VertexRefitOptions& options);
+
 /// Calls f(name, field) for every field of `o`, in declaration order.
 template <OptionsOf<VertexRefitOptions> Options, class F>
 void for_each_field(Options& o, F&& f) {
@@ -56,8 +60,8 @@ struct VertexRefitReport {
 /// vertices where a crease leaf blends (its planes hold the sharp edge), those whose `fixed`
 /// value is positive (a closed mesh's filled vertices) and the corners of a triangle the moves
 /// would turn by more than 60 degrees (a fold). The normals are kept. Deterministic for any thread count and any
-/// numbering of the vertices and of the data. Throws OptionError when options.points is below
-/// kMinRefitPoints but not 0.
+/// numbering of the vertices and of the data. Throws OptionError for invalid options
+/// (check_refit_options()).
 VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const ImplicitSurface& surface,
                                  const VertexRefitOptions& options = {}, std::span<const float> fixed = {});
 
