@@ -6,6 +6,7 @@
 #include <clustersurf/io/point_cloud_io.hpp>
 #include <clustersurf/mesh/vertex_refit.hpp>
 
+#include "cluster/build_state.hpp"
 #include "spatial/spatial_order.hpp"
 
 #include <Eigen/Cholesky>
@@ -39,10 +40,6 @@ struct LocalFit {
   double radius = 0;  ///< the farthest of its points
   bool valid = false;
 };
-
-/// The tests of the noise allow its mean square over m independent samples a margin of
-/// kNoiseMargin √(2/m) (about two standard deviations of a chi-square mean), as the tree's do.
-constexpr double kNoiseMargin = 2;
 
 /// A triangle the moves turn by more than 60 degrees has folded; its corners stay.
 constexpr double kMaxTurnCos = 0.5;
@@ -281,7 +278,9 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
   VertexRefitReport report;
   const auto n = static_cast<std::size_t>(mesh.vertices.rows());
   if (options.points == 0 || n == 0 || data.size() < 6) return report;
-  const Points normals = mesh.normals.rows() == mesh.vertices.rows() ? mesh.normals : vertex_normals(mesh);
+  const bool has_normals = mesh.normals.rows() == mesh.vertices.rows();
+  const Points computed = has_normals ? Points() : vertex_normals(mesh);
+  const Points& normals = has_normals ? mesh.normals : computed;
   const CreaseSupports creases(surface);
   std::vector<LocalFit> fits(n);
   // Queried in spatial order: consecutive queries visit the same part of the k-d tree.
@@ -328,7 +327,8 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
     const double c2 = mean_squared[v];
     // The moves' power above the noise around the vertex, against the noise of its own move.
     const double samples = std::max(1.0, window * mean_coverage[v]);
-    const double signal = std::max(0.0, c2 - (1 + kNoiseMargin * std::sqrt(2 / samples)) * mean_variance[v]);
+    // The margin the tree's noise tests allow a mean square over that many samples.
+    const double signal = std::max(0.0, c2 - (1 + detail::kNoiseMargin * std::sqrt(2 / samples)) * mean_variance[v]);
     const double share = signal + fits[v].variance > 0 ? signal / (signal + fits[v].variance) : 1.0;
     const auto row = static_cast<Eigen::Index>(v);
     moves[v] = share * fits[v].move;
