@@ -13,6 +13,7 @@
 #include <fstream>
 
 #include "io_test_files.hpp"
+#include "tiling/tiles.hpp"
 
 using namespace clustersurf;
 

@@ -1,10 +1,10 @@
 // Regions and tiles: a cloud split into regions built apart and meshed as tiles of one lattice
 // gives the in-core surface, without seams along the tile borders.
 
+#include "tiling/tiles.hpp"
 #include <clustersurf/cluster/tree_file.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/evaluation/surface_comparison.hpp>
-#include <clustersurf/tiling/tiling.hpp>
 
 #include <gtest/gtest.h>
 

@@ -21,7 +21,7 @@ int run_check(Console& console, const CheckArgs& args) {
   const MeshCheck check = check_mesh(mesh);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (console.options().json) {
-    nlohmann::json j = mesh_check_json(check);
+    nlohmann::json j = check_report_json(check);
     j["file"] = args.mesh;
     j["seconds"] = seconds;
     std::cout << j.dump(2) << "\n";

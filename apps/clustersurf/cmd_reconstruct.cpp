@@ -46,16 +46,7 @@ int run_out_of_core(Console& console, const ReconstructArgs& args, const Reconst
   if (!args.tree_output.empty()) save_tree(args.tree_output, result.tree);
   nlohmann::json mesh;
   if (result.mesh) {
-    const WrittenMesh& m = *result.mesh;
-    mesh = {{"file", m.file.string()},
-            {"vertices", m.vertices},
-            {"triangles", m.triangles},
-            {"streamed", m.streamed},
-            {"blended_nodes", m.blended_nodes},
-            {"voxel_size", m.grid.voxel_size},
-            {"surface_cells", m.grid.surface_cells},
-            {"removed_components", m.removed_components},
-            {"mesh_seconds", m.seconds}};
+    mesh = nlohmann::json::parse(written_mesh_json(*result.mesh));
   }
   if (console.options().json) {
     nlohmann::json j = tree_report_json(result.tree);

@@ -15,27 +15,7 @@ std::string plural(std::size_t n, const char* one, const char* many) {
 
 }  // namespace
 
-nlohmann::json mesh_check_json(const MeshCheck& c) {
-  const MeshTopology& t = c.topology;
-  nlohmann::json pairs = nlohmann::json::array();
-  for (const auto& p : c.intersecting_pairs) pairs.push_back({p[0], p[1]});
-  return {{"vertices", t.vertices},
-          {"triangles", t.triangles},
-          {"edges", t.edges},
-          {"boundary_edges", t.boundary_edges},
-          {"non_manifold_edges", t.non_manifold_edges},
-          {"inconsistent_edges", t.inconsistent_edges},
-          {"components", t.components},
-          {"euler_characteristic", t.euler_characteristic},
-          {"genus", c.genus >= 0 ? nlohmann::json(c.genus) : nlohmann::json(nullptr)},
-          {"volume", std::isnan(c.volume) ? nlohmann::json(nullptr) : nlohmann::json(c.volume)},
-          {"self_intersections", c.self_intersections},
-          {"intersecting_pairs", pairs},
-          {"watertight", c.watertight},
-          {"consistently_oriented", c.consistently_oriented},
-          {"printable", c.printable},
-          {"problems", printing_problems(c)}};
-}
+nlohmann::json check_report_json(const MeshCheck& c) { return nlohmann::json::parse(mesh_check_json(c)); }
 
 std::vector<std::string> mesh_check_lines(const MeshCheck& c) {
   const MeshTopology& t = c.topology;

@@ -11,11 +11,8 @@
 
 namespace clustersurf::cli {
 
-/// JSON object: vertices, triangles, edges, boundary_edges, non_manifold_edges,
-/// inconsistent_edges, components, euler_characteristic, genus (null when not defined), volume
-/// (null when not closed), self_intersections, intersecting_pairs (the first ones, [i, j]),
-/// watertight, consistently_oriented, printable, problems.
-nlohmann::json mesh_check_json(const MeshCheck& check);
+/// The library's report of the check (clustersurf::mesh_check_json()), as JSON to add to.
+nlohmann::json check_report_json(const MeshCheck& check);
 /// The same as human-readable lines.
 std::vector<std::string> mesh_check_lines(const MeshCheck& check);
 

@@ -48,7 +48,7 @@ nlohmann::json write_surface_mesh(Console& console, const SurfaceMesh& result, c
   nlohmann::json check;
   if (result.closing.closed) {
     for (const auto& line : mesh_check_lines(result.closing.check)) console.print(line);
-    check = mesh_check_json(result.closing.check);
+    check = check_report_json(result.closing.check);
   }
   console.print("wrote           " + output);
   nlohmann::json report = {{"file", output},

@@ -41,9 +41,9 @@
 #include <clustersurf/mesh/mesh_extraction.hpp>
 #include <clustersurf/mesh/mesh_trim.hpp>
 #include <clustersurf/mesh/vertex_refit.hpp>
+#include <clustersurf/pipeline/option_schema.hpp>
 #include <clustersurf/pipeline/reconstruct.hpp>
 #include <clustersurf/tiling/tiled_run.hpp>
-#include <clustersurf/tiling/tiling.hpp>
 
 // pictures (clustersurf::render)
 #include <clustersurf/render/camera.hpp>

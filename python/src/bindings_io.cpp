@@ -79,14 +79,8 @@ TriangleMesh surface_to_sample(const py::handle& vertices, const py::handle& fac
   return mesh;
 }
 
-py::dict topology_dict(const MeshTopology& t) {
-  return py::dict("vertices"_a = t.vertices, "faces"_a = t.triangles, "edges"_a = t.edges,
-                  "boundary_edges"_a = t.boundary_edges, "non_manifold_edges"_a = t.non_manifold_edges,
-                  "inconsistent_edges"_a = t.inconsistent_edges, "euler_characteristic"_a = t.euler_characteristic,
-                  "components"_a = t.components, "small_components"_a = t.small_components, "area"_a = t.area,
-                  "boundary_length"_a = t.boundary_length, "boundary_per_sqrt_area"_a = boundary_per_sqrt_area(t),
-                  "signed_volume"_a = t.signed_volume, "watertight"_a = is_watertight(t));
-}
+/// A library JSON report as a dict.
+py::dict json_dict(const std::string& json) { return py::module_::import("json").attr("loads")(json); }
 
 /// Reading points and meshes, writing them.
 void bind_files(py::module_& m) {
@@ -201,26 +195,16 @@ indices) or IoError.)doc");
           py::gil_scoped_release release;
           return check_mesh(mesh);
         }();
-        py::dict out = topology_dict(c.topology);
-        const auto nan_none = [](double x) {
-          return std::isnan(x) ? py::object(py::none()) : py::object(py::float_(x));
-        };
-        out["genus"] = c.genus >= 0 ? py::object(py::int_(c.genus)) : py::object(py::none());
-        out["volume"] = nan_none(c.volume);
-        out["self_intersections"] = c.self_intersections;
-        out["intersecting_pairs"] = c.intersecting_pairs;
-        out["consistently_oriented"] = c.consistently_oriented;
-        out["printable"] = c.printable;
-        out["problems"] = printing_problems(c);
-        return out;
+        return json_dict(mesh_check_json(c));
       },
       py::arg("vertices"), py::arg("faces") = py::none(), R"doc(
 Is a mesh ready to print? As ``clustersurf check``: ``vertices`` (n, 3) and ``faces`` (m, 3),
-or a mesh object in place of both. Returns a dict: the topology (vertices, faces, edges,
-boundary_edges, non_manifold_edges, inconsistent_edges, euler_characteristic, components,
-small_components, area, boundary_length, boundary_per_sqrt_area, signed_volume, watertight), genus and volume (None when not closed), self_intersections (pairs
+or a mesh object in place of both. Returns the dict ``clustersurf --json check`` prints: the topology
+(vertices, triangles, edges, boundary_edges, non_manifold_edges, inconsistent_edges, components,
+small_components, euler_characteristic, area, boundary_length, boundary_per_sqrt_area,
+signed_volume, watertight), genus and volume (None when not defined), self_intersections (pairs
 of triangles crossing other than where they connect) with the first intersecting_pairs,
-consistently_oriented, printable and problems (why not, one phrase each, as ``clustersurf check``).)doc");
+consistently_oriented, printable and problems (why not, one phrase each).)doc");
 }
 
 /// Benchmark inputs: points sampled on a mesh, virtual scans.
@@ -328,8 +312,8 @@ void bind_comparison(py::module_& m) {
             "far_share"_a = std::isnan(e.far_share) ? py::object(py::none()) : py::object(py::float_(e.far_share)),
             "reference_spacing"_a = e.reference_spacing,
             "samples"_a = py::dict("reconstruction"_a = e.reconstruction_samples, "reference"_a = e.reference_samples),
-            "reconstruction_mesh"_a = topology_dict(e.reconstruction_topology),
-            "reference_mesh"_a = topology_dict(e.reference_topology));
+            "reconstruction_mesh"_a = json_dict(mesh_topology_json(e.reconstruction_topology)),
+            "reference_mesh"_a = json_dict(mesh_topology_json(e.reference_topology)));
       },
       py::arg("recon_vertices"), py::arg("recon_faces") = py::none(), py::arg("ref_vertices") = py::none(),
       py::arg("ref_faces") = py::none(), py::arg("recon_normals") = py::none(), py::arg("ref_normals") = py::none(),

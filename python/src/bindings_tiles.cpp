@@ -21,9 +21,7 @@ struct RunRef {
 
 /// What TiledRun::write_mesh() wrote, as a dict.
 py::dict written_mesh_dict(const WrittenMesh& m) {
-  return py::dict("file"_a = m.file, "vertices"_a = m.vertices, "triangles"_a = m.triangles, "streamed"_a = m.streamed,
-                  "removed_components"_a = m.removed_components, "blended_nodes"_a = m.blended_nodes,
-                  "voxel_size"_a = m.grid.voxel_size, "seconds"_a = m.seconds);
+  return py::module_::import("json").attr("loads")(written_mesh_json(m));
 }
 
 /// The one driver of a tiled run (reconstruct_out_of_core()): its tasks here, or through a Python

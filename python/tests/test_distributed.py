@@ -84,6 +84,33 @@ def test_cluster_gives_the_serial_runs_mesh(cloud_file, serial_mesh, client, tmp
     assert not (tmp_path / "run").exists()  # the run's files are removed at the end, and the folder it made
 
 
+def test_one_input_through_the_three_paths(cloud_file, serial_mesh, client, tmp_path):
+    """The same cloud in core, out of core (the library's driver, its tasks in this process) and on
+    Dask: the two tiled paths write the same bytes; the in-core mesh differs from them only by the
+    leaves along the region borders (a tiled tree's leaves stop at its regions' cells), within a
+    small share of the point spacing, with the same topology."""
+    out_of_core = tmp_path / "out_of_core.ply"
+    _, report = clustersurf._clustersurf._run_regions(cloud_file, mesh=out_of_core, max_region_points=REGION_POINTS,
+                                                      work_dir=tmp_path / "run")
+    assert report["regions"] >= 4
+    dask = tmp_path / "dask.ply"
+    cd.reconstruct_distributed(cloud_file, client=client, work_dir=tmp_path / "dask-run", mesh=dask,
+                               max_region_points=REGION_POINTS)
+    assert out_of_core.read_bytes() == dask.read_bytes() == serial_mesh
+
+    cloud = clustersurf.read_points(cloud_file)
+    tree = clustersurf.reconstruct(cloud.positions, cloud.normals)
+    in_core = tree.mesh(points=cloud.positions)
+    tiled = clustersurf.read_mesh(out_of_core)
+    spacing = tree.info()["point_spacing"]
+    diagonal = float(np.linalg.norm(cloud.positions.max(axis=0) - cloud.positions.min(axis=0)))
+    compared = clustersurf.compare_surfaces(in_core.vertices, in_core.faces, tiled.vertices, tiled.faces)
+    assert compared["chamfer"] * diagonal < 0.05 * spacing and compared["hausdorff"] * diagonal < 0.5 * spacing, compared
+    for mesh in (in_core, tiled):
+        check = clustersurf.check_mesh(mesh.vertices, mesh.faces)
+        assert check["boundary_edges"] == 0 and check["components"] == 1 and check["genus"] == 1, check
+
+
 def _users_folder(path):
     path.mkdir()
     (path / "thesis.txt").write_text("my thesis\n")

@@ -83,5 +83,5 @@ def test_evaluate_identical_surfaces(bunny_file):
     e = clustersurf.compare_surfaces(mesh.vertices, mesh.faces, mesh.vertices, mesh.faces, samples=2000)
     assert e["chamfer"] < 1e-9
     assert e["fscore"][0]["fscore"] == pytest.approx(1.0)
-    assert e["reference_mesh"]["faces"] == len(mesh.faces)
+    assert e["reference_mesh"]["triangles"] == len(mesh.faces)
     assert e["normal_consistency"] == pytest.approx(1.0)  # meshes: triangle normals

@@ -30,8 +30,8 @@ constexpr std::size_t kSample = 1024;
 /// a thin part (an ear, a blade: normals near 180 degrees apart) as a sharp wedge, and a crease
 /// would end the part at its edge; the splits (and the sheet split, with input normals) deal
 /// with them. Right angles and the slightly obtuse ones of machined and moulded parts (draft
-/// angles, a model's facets) are creases: a limit at 90 degrees refused about half of them,
-/// depending on which side of 90 their fitted faces came out (docs/benchmarks.md).
+/// angles, a model's facets) are creases, whichever side of 90 degrees the angle between
+/// their fitted faces comes out.
 constexpr double kMinFaceNormalCos = -0.5;
 
 double plane_value(const PlaneProxy& p, const Eigen::Vector3d& x) { return p.normal.dot(x - p.point); }

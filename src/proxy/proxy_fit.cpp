@@ -197,7 +197,7 @@ PolyProxy fit_poly_in_frame(const Frame& frame, const Points& points, std::span<
   rows([&](const Eigen::Matrix<double, 7, 1>& r) { detail::add_outer_lower(gram, r); });
   // A pivot at most 1e-8 of the largest diagonal entry sends the fit to the QR: the normal
   // equations would lose most of their digits. Above it, in this scaled monomial basis, the
-  // fits agree with the QR's to rounding (the same trees but for rounding, docs/benchmarks.md).
+  // normal equations' fit agrees with the QR's to rounding.
   const auto gram_solver = detail::GramSolver<7>::factor(gram, 1e-8);
   const Eigen::Matrix<double, 6, 1> c = gram_solver ? gram_solver->solution() : solve_by_qr(hermite ? 3 * n : n, rows);
   // Back to unscaled coordinates: w = s·c0 + c1 u + c2 v + (c3 u² + c4 uv + c5 v²) / s.

@@ -1,10 +1,10 @@
 // One tile of a tiled mesh: the lattice around a region, meshed, trimmed and cut to the region.
 
+#include "tiling/tiles.hpp"
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/mesh/mesh_colors.hpp>
 #include <clustersurf/mesh/vertex_refit.hpp>
 #include <clustersurf/spatial/kd_tree.hpp>
-#include <clustersurf/tiling/tiling.hpp>
 
 #include "mesh/clipped_extraction.hpp"
 #include "mesh/mesh_subset.hpp"

@@ -4,6 +4,7 @@
 #include <clustersurf/tiling/tiled_run.hpp>
 
 #include "tiling/tiled_run_files.hpp"
+#include "tiling/tiles.hpp"
 
 #include <algorithm>
 #include <chrono>

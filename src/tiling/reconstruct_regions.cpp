@@ -1,9 +1,9 @@
 // The pipeline over the regions of a plan: survey, build, merge, mesh by tiles.
 
+#include "tiling/tiles.hpp"
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/mesh/mesh_colors.hpp>
 #include <clustersurf/spatial/cloud_stats.hpp>
-#include <clustersurf/tiling/tiling.hpp>
 
 #include "core/progress_reporter.hpp"
 #include "tiling/region_stages.hpp"

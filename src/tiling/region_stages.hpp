@@ -4,7 +4,7 @@
 // out-of-core run and Dask) and the regions of a cloud in memory (reconstruct_regions()); only
 // where their inputs and results are kept differs.
 
-#include <clustersurf/tiling/tiling.hpp>
+#include "tiling/tiles.hpp"
 
 #include <functional>
 #include <vector>

@@ -1,7 +1,7 @@
 // The tiles of a tiled mesh welded into one, and the trim's fragment test over the whole.
 
+#include "tiling/tiles.hpp"
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/tiling/tiling.hpp>
 
 #include "mesh/mesh_components.hpp"
 #include "mesh/mesh_subset.hpp"

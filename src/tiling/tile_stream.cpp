@@ -1,8 +1,8 @@
 // The tiles of a tiled mesh joined straight into a PLY file, one tile in memory at a time.
 
+#include "tiling/tiles.hpp"
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/mesh/mesh_colors.hpp>
-#include <clustersurf/tiling/tiling.hpp>
 
 #include "io/ply_mesh_stream.hpp"
 

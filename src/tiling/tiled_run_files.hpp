@@ -5,6 +5,8 @@
 #include <clustersurf/surface/orientation.hpp>
 #include <clustersurf/tiling/tiled_run.hpp>
 
+#include "tiling/tiles.hpp"
+
 #include <filesystem>
 #include <optional>
 #include <string>

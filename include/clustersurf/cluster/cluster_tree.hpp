@@ -71,8 +71,8 @@ struct BuildOptions {
   double support_factor = 1.0;
   /// A leaf's support grows beyond alpha × its extent until it holds this many input points
   /// (MPU's N_min; at most 4 times that radius): small leaves overlap their neighbours instead
-  /// of leaving gaps. The default is the fewest points its refit takes; a larger count reaches
-  /// past where the leaves' quadratics hold (docs/benchmarks.md). 0: no growth.
+  /// of leaving gaps. The default is the fewest points its refit takes; a larger count makes
+  /// supports reach past where the leaves' quadratics hold. 0: no growth.
   std::uint32_t support_points = 12;
   /// Leave isolated points (find_outliers(): scanner strays, points in the air) out of every
   /// cluster, the noise estimate and the support checks; their point_leaf is -1.

@@ -61,6 +61,17 @@ struct MeshCheck {
 /// triangles face inward)", ...), as both front ends report it; empty when it is.
 std::vector<std::string> printing_problems(const MeshCheck& check);
 
+/// The report of `topology` as one JSON object, the same for every front end: vertices,
+/// triangles, edges, boundary_edges, non_manifold_edges, inconsistent_edges, components,
+/// small_components, euler_characteristic, area, boundary_length, boundary_per_sqrt_area,
+/// signed_volume, watertight.
+std::string mesh_topology_json(const MeshTopology& topology);
+/// The report of `check` as one JSON object: mesh_topology_json()'s fields, then genus (null
+/// when not defined), volume (null when not closed), self_intersections, intersecting_pairs (the
+/// first ones, [i, j]), watertight, consistently_oriented, printable and problems
+/// (printing_problems()).
+std::string mesh_check_json(const MeshCheck& check);
+
 /// Topology (mesh_topology()), genus, volume and self-intersections of `mesh`. Deterministic,
 /// and the same whatever the number of threads.
 MeshCheck check_mesh(const TriangleMesh& mesh, const MeshCheckOptions& options = {});

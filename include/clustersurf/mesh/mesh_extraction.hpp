@@ -14,9 +14,9 @@
 
 namespace clustersurf {
 
-/// cell_size_for_points()'s default: cells this many median point spacings wide. On Igea
-/// sampled at 100 k and 1 M points (docs/benchmarks.md) finer grids gained nothing (100 k: a 256
-/// grid beat 512) and coarser ones lost detail.
+/// cell_size_for_points()'s default: cells this many median point spacings wide. Finer cells add
+/// vertices faster than accuracy: the leaves' blend, not the grid, bounds the error there; coarser
+/// cells lose relief.
 inline constexpr double kSpacingsPerCell = 2.0;
 
 /// Options of extract_mesh().
@@ -57,8 +57,8 @@ void for_each_field(Options& o, F&& f) {
 }
 
 /// Bytes a walk takes per surface cell, all its stages together (the walk's grids, the
-/// polygons, the mesh with its normals): measured 420 on Igea sampled at 1 M points and 385 on
-/// a clumped sphere (docs/benchmarks.md), with a margin.
+/// polygons, the mesh with its normals): about 420 on a detailed statue sampled at 1 M points
+/// and 385 on a clumped sphere, with a margin.
 inline constexpr double kMeshBytesPerSurfaceCell = 450;
 
 /// What a walk of extract_mesh() will cost, estimated from the blended proxies before any cell is

@@ -32,7 +32,7 @@ struct TrimOptions {
   /// the data (spread_factor spreads, 2 with the trim off) is closed by a fan, facing like its
   /// surroundings. The data is there, so the hole is the mesher's (a few grid cells where the
   /// blend was undefined), not the scan's; holes with no data inside stay open. Off by default:
-  /// the flat fans cost 0–7 % of Chamfer distance on the benchmark (docs/benchmarks.md).
+  /// the flat fans lie up to a few percent farther from the true surface than an open hole does.
   bool close_pinholes = false;
 };
 

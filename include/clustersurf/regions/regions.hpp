@@ -2,7 +2,7 @@
 // A cloud split into regions that build their subtrees apart: the way to clouds larger than
 // memory and to many machines. A partition of unity is local, so a region needs only its own
 // points and a halo of its neighbours' around them, and the union of the regions' leaves is one
-// tree (docs/architecture.md, "Regions and tiles"). Meshing the regions as tiles: tiling.hpp.
+// tree (docs/architecture.md, "Regions and tiles"). Meshing the regions as tiles: tiled_run.hpp.
 
 #include <clustersurf/cluster/cluster_tree.hpp>
 #include <clustersurf/core/point_cloud.hpp>

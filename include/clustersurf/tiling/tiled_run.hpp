@@ -6,7 +6,8 @@
 // (the Python module clustersurf.distributed runs them on Dask).
 
 #include <clustersurf/io/point_cloud_io.hpp>
-#include <clustersurf/tiling/tiling.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
+#include <clustersurf/regions/regions.hpp>
 
 #include <filesystem>
 #include <functional>
@@ -33,7 +34,7 @@ struct PartitionOptions {
 /// The most points a region may hold with its halo for its build and its tile to fit in
 /// `memory_limit` bytes: kRegionBytesPerPoint per point (the points, their k-d trees, the tree
 /// under construction, the tile's lattice and mesh) over kProcessBytes (the program itself),
-/// as measured (docs/benchmarks.md). Throws OptionError for a limit under 128 MiB.
+/// as measured on 100 M points. Throws OptionError for a limit under 128 MiB.
 std::uint64_t region_points_for_memory(std::uint64_t memory_limit);
 inline constexpr std::uint64_t kRegionBytesPerPoint = 1400;
 inline constexpr std::uint64_t kProcessBytes = std::uint64_t{64} << 20;
@@ -69,6 +70,11 @@ struct WrittenMesh {
   DecimationReport decimation;
   double seconds = 0;
 };
+
+/// The report of `mesh` as one JSON object, the same for every front end: file, vertices,
+/// triangles, streamed, blended_nodes, voxel_size, surface_cells, removed_components and
+/// mesh_seconds.
+std::string written_mesh_json(const WrittenMesh& mesh);
 
 /// A work directory of a tiled reconstruction. Every task writes its result atomically (a
 /// temporary file renamed into place) and does nothing when that result is already there, so
@@ -186,8 +192,8 @@ using RegionTaskRunner = std::function<void(std::string_view stage, std::span<co
 struct OutOfCoreOptions {
   /// Memory for one region's build and tile, in bytes: sets the regions' size
   /// (region_points_for_memory()). The merge holds the merged tree (about 24 bytes per input
-  /// point), and the join 13 bytes per output vertex: 100 M points within 4G peaked at 3.8 GB
-  /// (docs/benchmarks.md).
+  /// point), and the join 13 bytes per output vertex: 100 M points within 4G peak at
+  /// about 3.8 GB.
   std::uint64_t memory_limit = std::uint64_t{4} << 30;
   /// The most points a region holds with its halo; 0: region_points_for_memory(memory_limit).
   std::uint64_t max_region_points = 0;
