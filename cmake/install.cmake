@@ -42,7 +42,7 @@ install(TARGETS ${_clustersurf_targets}
         EXPORT clustersurfTargets
         ARCHIVE DESTINATION "${CMAKE_INSTALL_LIBDIR}"
         INCLUDES DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}")
-if(CLUSTERSURF_MESHING)
+if(TARGET clustersurf_cli)
   install(TARGETS clustersurf_cli RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}")
 endif()
 install(EXPORT clustersurfTargets NAMESPACE clustersurf:: DESTINATION "${CLUSTERSURF_INSTALL_CMAKEDIR}")

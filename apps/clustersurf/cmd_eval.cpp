@@ -2,6 +2,7 @@
 
 #include <clustersurf/evaluation/surface_comparison.hpp>
 #include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/mesh/mesh_check.hpp>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -12,19 +13,6 @@
 namespace clustersurf::cli {
 
 namespace {
-
-nlohmann::json facts(const MeshTopology& t) {
-  return {{"vertices", t.vertices},
-          {"faces", t.triangles},
-          {"boundary_edges", t.boundary_edges},
-          {"non_manifold_edges", t.non_manifold_edges},
-          {"components", t.components},
-          {"small_components", t.small_components},
-          {"area", t.area},
-          {"boundary_length", t.boundary_length},
-          {"boundary_per_sqrt_area", boundary_per_sqrt_area(t)},
-          {"watertight", is_watertight(t)}};
-}
 
 std::string describe(const MeshTopology& t) {
   if (t.triangles == 0) return fmt::format("point cloud, {} points", t.vertices);
@@ -60,8 +48,8 @@ int run_eval(Console& console, const EvalArgs& args) {
                      {"far_share", or_null(e.far_share)},
                      {"reference_spacing", e.reference_spacing},
                      {"samples", {{"reconstruction", e.reconstruction_samples}, {"reference", e.reference_samples}}},
-                     {"reconstruction_mesh", facts(e.reconstruction_topology)},
-                     {"reference_mesh", facts(e.reference_topology)}};
+                     {"reconstruction_mesh", nlohmann::json::parse(mesh_topology_json(e.reconstruction_topology))},
+                     {"reference_mesh", nlohmann::json::parse(mesh_topology_json(e.reference_topology))}};
     for (const FScore& f : e.fscores)
       j["fscore"].push_back(
           {{"tau", f.threshold}, {"precision", f.precision}, {"recall", f.recall}, {"fscore", f.fscore}});
