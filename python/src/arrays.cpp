@@ -264,4 +264,6 @@ PointCloud cloud_argument(const py::handle& object, const py::handle& normals, c
   return cloud;
 }
 
+py::dict json_dict(const std::string& json) { return py::module_::import("json").attr("loads")(json); }
+
 }  // namespace clustersurf::python

@@ -127,6 +127,9 @@ NodeRef node_at(const TreeRef& t, std::int64_t index);
 /// A 3-vector as a numpy array of 3 float64.
 py::array_t<double> vector_array(const Eigen::Vector3d& v);
 
+/// A library report (a JSON object) as a dict.
+py::dict json_dict(const std::string& json);
+
 /// The options of reconstruct() and of a mesh from keyword arguments named as the option schema's
 /// (reconstruct_option_schema()): only those of `stages`; a None value leaves the default.
 /// OptionError for an unknown name or a bad value.

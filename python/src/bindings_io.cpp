@@ -79,9 +79,6 @@ TriangleMesh surface_to_sample(const py::handle& vertices, const py::handle& fac
   return mesh;
 }
 
-/// A library JSON report as a dict.
-py::dict json_dict(const std::string& json) { return py::module_::import("json").attr("loads")(json); }
-
 /// Reading points and meshes, writing them.
 void bind_files(py::module_& m) {
   m.def(

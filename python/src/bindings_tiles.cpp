@@ -20,9 +20,7 @@ struct RunRef {
 };
 
 /// What TiledRun::write_mesh() wrote, as a dict.
-py::dict written_mesh_dict(const WrittenMesh& m) {
-  return py::module_::import("json").attr("loads")(written_mesh_json(m));
-}
+py::dict written_mesh_dict(const WrittenMesh& m) { return json_dict(written_mesh_json(m)); }
 
 /// The one driver of a tiled run (reconstruct_out_of_core()): its tasks here, or through a Python
 /// runner `run_tasks(stage, regions, report)` (clustersurf.distributed: Dask).

@@ -23,9 +23,7 @@ namespace {
 using namespace pybind11::literals;
 
 /// The library's report of the tree (tree_info_json(), the CLI's `--json info`) as a dict.
-py::dict info_dict(const ClusterTree& tree) {
-  return py::module_::import("json").attr("loads")(tree_info_json(tree)).cast<py::dict>();
-}
+py::dict info_dict(const ClusterTree& tree) { return json_dict(tree_info_json(tree)); }
 
 /// f (or ∇f) at every row of xyz, NaN where undefined or not above min_weight.
 py::array_t<double> sample(const ClusterTree& tree, const py::handle& xyz, double min_weight,

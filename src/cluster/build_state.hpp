@@ -3,6 +3,7 @@
 // nodes under construction, and the error a test over n points allows.
 
 #include <clustersurf/cluster/cluster_tree.hpp>
+#include <clustersurf/cluster/noise.hpp>
 
 #include <cmath>
 #include <cstdint>
@@ -13,15 +14,10 @@
 
 namespace clustersurf::detail {
 
-/// The noise a test allows is σ² (1 + kNoiseMargin √(2/n)) for an RMS over n (effective)
-/// points: the RMS² of pure noise varies by a relative √(2/n), so a cluster or a support is not
-/// split or shrunk for noise alone (about 2 standard deviations of margin).
-inline constexpr double kNoiseMargin = 2;
-
-/// The error a test over n points allows: the tolerance plus the noise with its margin.
+/// The error a test over n points allows: the tolerance plus the noise with its margin
+/// (noise_variance_margin()), so a cluster or a support is not split or shrunk for noise alone.
 inline double allowed_error(double tolerance, double noise, double n) {
-  const double margin = n > 0 ? 1 + kNoiseMargin * std::sqrt(2 / n) : 1;
-  return std::sqrt(tolerance * tolerance + noise * noise * margin);
+  return std::sqrt(tolerance * tolerance + noise * noise * noise_variance_margin(n));
 }
 
 /// A node under construction: its cluster's rows start at `begin` in the working set.

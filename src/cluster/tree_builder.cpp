@@ -293,7 +293,7 @@ class Builder {
   /// threshold the error alone decides, and nothing is computed.
   bool systematic_misfit(const Proxy& proxy, const Frame& frame, std::span<const std::uint32_t> range) const {
     if (!(noise_ > 0)) return false;
-    const double limit = detail::kNoiseMargin * std::sqrt(2 / static_cast<double>(range.size()));
+    const double limit = kNoiseMargin * std::sqrt(2 / static_cast<double>(range.size()));
     return detail::residual_correlation(points_, range, frame, proxy) > limit;
   }
 

@@ -41,7 +41,6 @@ std::string mesh_check_json(const MeshCheck& c) {
   j["volume"] = number_or_null(c.volume);
   j["self_intersections"] = c.self_intersections;
   j["intersecting_pairs"] = pairs;
-  j["watertight"] = c.watertight;
   j["consistently_oriented"] = c.consistently_oriented;
   j["printable"] = c.printable;
   j["problems"] = printing_problems(c);

@@ -2,11 +2,11 @@
 // move that stands above the noise (a Wiener gain: the local power of the fits' moves above
 // their noise, against the noise of the vertex's own move).
 
+#include <clustersurf/cluster/noise.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/io/point_cloud_io.hpp>
 #include <clustersurf/mesh/vertex_refit.hpp>
 
-#include "cluster/build_state.hpp"
 #include "spatial/spatial_order.hpp"
 
 #include <Eigen/Cholesky>
@@ -328,7 +328,7 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
     // The moves' power above the noise around the vertex, against the noise of its own move.
     const double samples = std::max(1.0, window * mean_coverage[v]);
     // The margin the tree's noise tests allow a mean square over that many samples.
-    const double signal = std::max(0.0, c2 - (1 + detail::kNoiseMargin * std::sqrt(2 / samples)) * mean_variance[v]);
+    const double signal = std::max(0.0, c2 - noise_variance_margin(samples) * mean_variance[v]);
     const double share = signal + fits[v].variance > 0 ? signal / (signal + fits[v].variance) : 1.0;
     const auto row = static_cast<Eigen::Index>(v);
     moves[v] = share * fits[v].move;

@@ -5,6 +5,8 @@
 #include <clustersurf/core/point_cloud.hpp>
 #include <clustersurf/spatial/kd_tree.hpp>
 
+#include <cmath>
+
 namespace clustersurf {
 
 /// Options of estimate_noise().
@@ -75,5 +77,13 @@ double estimate_noise(const Points& points, const NoiseOptions& options = {});
 /// fit keeps only the neighbours whose normal is within 90° of its centre point's.
 double estimate_noise(const Points& points, const KdTree& index, const NoiseOptions& options = {},
                       const Points* normals = nullptr);
+
+/// Standard deviations of margin a test of noise allows: the mean of n (effective) squared
+/// residuals of pure noise varies by a relative √(2/n), so a fit is not taken for detail for
+/// noise alone.
+inline constexpr double kNoiseMargin = 2;
+/// The factor 1 + kNoiseMargin √(2/n) by which such a test lets a mean of n squared residuals
+/// exceed the noise's variance (1 for n ≤ 0).
+inline double noise_variance_margin(double n) { return n > 0 ? 1 + kNoiseMargin * std::sqrt(2 / n) : 1; }
 
 }  // namespace clustersurf
