@@ -43,6 +43,14 @@ std::size_t lloyd_split(const Points& points, std::span<std::uint32_t> range, co
 std::size_t split_at_gap(const Points& points, std::span<std::uint32_t> range, const Frame& frame,
                          std::uint32_t min_points);
 
+/// Splits a cluster whose points form two groups apart: the longest edge of their minimum
+/// spanning tree is cut when it is more than kLinkageGapRatio times longer than every edge
+/// left within either group (a gap, not a sparser stretch of one surface) and each group keeps
+/// `min_side` points. Points of two parts of the model that a sparse sample leaves a few
+/// spacings apart (two legs) fall in one cluster that no smooth proxy fits. Returns k as the
+/// other splitters (the first group first), or 0. Quadratic in the cluster's size: for leaves.
+std::size_t split_at_linkage_gap(const Points& points, std::span<std::uint32_t> range, std::size_t min_side);
+
 /// Splits a cluster whose points lie on two sheets facing apart (normals.row(ids[row]) falls
 /// into two groups by 2-means whose means are more than 90 degrees apart: both sides of a thin
 /// part, the faces of a deep fold): the rows of each group become one child, each with at least
