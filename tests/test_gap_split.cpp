@@ -51,7 +51,10 @@ TEST(LinkageGapSplit, ASparserStretchOfOneRowIsNoGap) {
   // One row whose spacing grows from 1 to 1.8: no edge is twice every other.
   Points p(12, 3);
   double x = 0;
-  for (int i = 0; i < 12; ++i) p.row(i) << x, 0.1 * (i % 2), 0, x += i < 6 ? 1.0 : 1.8;
+  for (int i = 0; i < 12; ++i) {
+    p.row(i) << x, 0.1 * (i % 2), 0;
+    x += i < 6 ? 1.0 : 1.8;
+  }
   std::vector<std::uint32_t> rows = all_rows(p);
   EXPECT_EQ(detail::split_at_linkage_gap(p, rows, 3), 0u);
   // Rows 2.0 apart with a unit step: the gap is not twice the step within them.
