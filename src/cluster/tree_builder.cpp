@@ -112,10 +112,11 @@ class Builder {
     // A crease leaf is one already: its two faces are the two planes it holds.
     if ((k == 0 || k >= range.size()) && normals_ != nullptr && depth < options_.max_depth && !smooth)
       k = detail::split_two_sheets(points_, *normals_, work_.ids, range, kMinSheetPoints);
-    // A would-be leaf that misses the threshold on two groups of points apart (two legs of a
-    // sparse sample) becomes one leaf per group, below min_points if need be (when min_points
-    // is "auto", as for detail_split()).
-    if ((k == 0 || k >= range.size()) && detail_splits_ && e > threshold && depth < options_.max_depth && !smooth)
+    // A leaf held at min_points that misses the threshold on two groups of points apart (two
+    // legs of a sparse sample) becomes one leaf per group, below min_points if need be (when
+    // min_points is "auto", as for detail_split()).
+    if ((k == 0 || k >= range.size()) && detail_splits_ && !can_split && e > threshold && depth < options_.max_depth &&
+        !smooth)
       k = detail::split_at_linkage_gap(points_, range, kMinSheetPoints);
     if (k == 0 || k >= range.size()) {
       // A leaf that cannot be split (too few points, or no split helps) but whose proxy is off
