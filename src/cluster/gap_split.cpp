@@ -70,20 +70,17 @@ std::size_t split_at_linkage_gap(const Points& points, std::span<std::uint32_t> 
     next = best;
   }
   // The longest edge, and the two groups it separates: the subtree below its lower end.
-  std::size_t cut = 0;
-  for (std::size_t k = 1; k < n; ++k)
-    if (length[joined[k]] > length[joined[cut]] || cut == 0) cut = k;
+  std::size_t cut = 1;  // the root, joined[0], has no edge
+  for (std::size_t k = 2; k < n; ++k)
+    if (length[joined[k]] > length[joined[cut]]) cut = k;
   const std::size_t low = joined[cut];
   std::vector<std::uint8_t> below(n, 0);
   below[low] = 1;
   for (std::size_t k = cut + 1; k < n; ++k) below[joined[k]] = below[parent[joined[k]]];
-  std::size_t size = 0;
-  double inner = 0;
-  for (std::size_t k = 1; k < n; ++k) {
-    const std::size_t v = joined[k];
-    size += below[v];
+  const auto size = static_cast<std::size_t>(std::count(below.begin(), below.end(), std::uint8_t{1}));
+  double inner = 0;  // the longest edge left (the root's length is 0)
+  for (std::size_t v = 0; v < n; ++v)
     if (v != low) inner = std::max(inner, length[v]);
-  }
   if (size < min_side || n - size < min_side || !(length[low] > kLinkageGapRatio * kLinkageGapRatio * inner)) return 0;
   std::vector<std::uint32_t> grouped;
   grouped.reserve(n);
