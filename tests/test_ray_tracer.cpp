@@ -97,7 +97,7 @@ TEST(RayTracer, ImplicitAndBruteForceGiveTheSamePicture) {
   const Image b = render_tree(t, o);
   std::size_t same = 0;
   for (std::size_t i = 0; i < a.pixels.size(); ++i) same += a.pixels[i] == b.pixels[i];
-  EXPECT_GE(static_cast<double>(same), 0.999 * static_cast<double>(a.pixels.size()));
+  EXPECT_EQ(same, a.pixels.size());  // the tiles' and blocks' culls keep every support a ray crosses
   EXPECT_GT(covered(a), 0u);
 }
 

@@ -18,9 +18,10 @@ double radians(double degrees) { return degrees * std::numbers::pi / 180.0; }
 
 double Camera::focal_pixels() const { return 0.5 * height / std::tan(0.5 * radians(fov)); }
 
-Ray Camera::ray(double x, double y) const {
-  const double f = focal_pixels();
-  const Eigen::Vector3d d = f * forward + (x - 0.5 * width) * right - (y - 0.5 * height) * up;
+Ray Camera::ray(double x, double y) const { return ray(x, y, focal_pixels()); }
+
+Ray Camera::ray(double x, double y, double focal) const {
+  const Eigen::Vector3d d = focal * forward + (x - 0.5 * width) * right - (y - 0.5 * height) * up;
   return {eye, d.normalized()};
 }
 

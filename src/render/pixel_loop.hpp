@@ -11,6 +11,7 @@
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 
@@ -32,7 +33,9 @@ Camera scene_camera(const RenderOptions& options, const BoundingBox& own, const 
 
 /// Traces options.samples rays per pixel of `camera`. `make_tracer(x0, y0, x1, y1)` is called
 /// once per tile (pixels [x0, x1) × [y0, y1)) and returns a callable (const Ray&, std::uint64_t seed) → SampleResult
-/// owning its scratch memory. The picture does not depend on the thread count.
+/// owning its scratch memory; a tracer with enter_block(x0, y0, x1, y1) is told each block of at
+/// most 4 × 4 pixels of its tile before that block's rays. The picture does not depend on the
+/// thread count.
 template <class MakeTracer>
 Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer&& make_tracer, RenderStats* stats,
                   const ProgressCallback& progress_callback) {
@@ -44,33 +47,41 @@ Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer
                                     static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h));
   std::atomic<std::uint64_t> hits{0};
   const auto start = std::chrono::steady_clock::now();
-  constexpr int kTile = 16;
+  constexpr int kTile = 16, kBlock = 4;
+  const double focal = camera.focal_pixels();
   tbb::parallel_for(tbb::blocked_range2d<int>(0, h, kTile, 0, w, kTile), [&](const tbb::blocked_range2d<int>& tile) {
     progress.check();
-    auto trace = make_tracer(tile.cols().begin(), tile.rows().begin(), tile.cols().end(), tile.rows().end());
+    const int tx0 = tile.cols().begin(), ty0 = tile.rows().begin(), tx1 = tile.cols().end(), ty1 = tile.rows().end();
+    auto trace = make_tracer(tx0, ty0, tx1, ty1);
     std::uint64_t tile_hits = 0;
-    for (int y = tile.rows().begin(); y != tile.rows().end(); ++y) {
-      for (int x = tile.cols().begin(); x != tile.cols().end(); ++x) {
-        const std::uint64_t pixel =
-            static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(w) + static_cast<std::uint64_t>(x);
-        Color sum = Color::Zero();  // premultiplied
-        double coverage = 0;
-        for (int k = 0; k < samples; ++k) {
-          const std::uint64_t seed = detail::splitmix64(pixel * 1024 + static_cast<std::uint64_t>(k));
-          double jx = 0.5, jy = 0.5;
-          if (samples > 1)
-            jx = unit_interval(detail::splitmix64(seed ^ 0x1234)),
-            jy = unit_interval(detail::splitmix64(seed ^ 0x5678));
-          const SampleResult r = trace(camera.ray(x + jx, y + jy), seed);
-          sum += r.alpha * r.rgb;
-          coverage += r.alpha;
-          if (k == 0 && r.alpha > 0) ++tile_hits;
+    for (int by = ty0; by < ty1; by += kBlock) {
+      for (int bx = tx0; bx < tx1; bx += kBlock) {
+        const int bx1 = std::min(bx + kBlock, tx1), by1 = std::min(by + kBlock, ty1);
+        if constexpr (requires { trace.enter_block(bx, by, bx1, by1); }) trace.enter_block(bx, by, bx1, by1);
+        for (int y = by; y != by1; ++y) {
+          for (int x = bx; x != bx1; ++x) {
+            const std::uint64_t pixel =
+                static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(w) + static_cast<std::uint64_t>(x);
+            Color sum = Color::Zero();  // premultiplied
+            double coverage = 0;
+            for (int k = 0; k < samples; ++k) {
+              const std::uint64_t seed = detail::splitmix64(pixel * 1024 + static_cast<std::uint64_t>(k));
+              double jx = 0.5, jy = 0.5;
+              if (samples > 1)
+                jx = unit_interval(detail::splitmix64(seed ^ 0x1234)),
+                jy = unit_interval(detail::splitmix64(seed ^ 0x5678));
+              const SampleResult r = trace(camera.ray(x + jx, y + jy, focal), seed);
+              sum += r.alpha * r.rgb;
+              coverage += r.alpha;
+              if (k == 0 && r.alpha > 0) ++tile_hits;
+            }
+            sum /= samples;
+            coverage /= samples;
+            const Color premultiplied = sum + (1 - coverage) * background_alpha * background;
+            const double alpha = coverage + (1 - coverage) * background_alpha;
+            image.at(x, y) = alpha > 0 ? to_pixel(premultiplied / alpha, alpha) : Rgba8{0, 0, 0, 0};
+          }
         }
-        sum /= samples;
-        coverage /= samples;
-        const Color premultiplied = sum + (1 - coverage) * background_alpha * background;
-        const double alpha = coverage + (1 - coverage) * background_alpha;
-        image.at(x, y) = alpha > 0 ? to_pixel(premultiplied / alpha, alpha) : Rgba8{0, 0, 0, 0};
       }
     }
     hits += tile_hits;

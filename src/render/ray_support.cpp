@@ -166,6 +166,29 @@ void SupportIndex::gather(std::span<const std::int32_t> nodes, SupportSet& out) 
   }
 }
 
+void cull_to_cone(const SupportSet& in, const RayCone& cone, SupportSet& out) {
+  // A sphere (c, r) meets the cone only if c lies within r of the cone's boundary line in the
+  // plane through the axis and c: d⊥ cos θ − d∥ sin θ ≤ r, with d∥ and d⊥ the distances of c
+  // along and off the axis. Angle and radius get a little slack against rounding.
+  constexpr double kAngleSlack = 1e-9, kRadiusSlack = 1e-9;
+  const double cos_a = std::cos(cone.half_angle + kAngleSlack), sin_a = std::sin(cone.half_angle + kAngleSlack);
+  const double ax = cone.axis.x(), ay = cone.axis.y(), az = cone.axis.z();
+  const std::size_t n = in.nodes.size();
+  out.nodes.resize(n), out.x.resize(n), out.y.resize(n), out.z.resize(n), out.r2.resize(n);
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double vx = in.x[k] - cone.apex.x(), vy = in.y[k] - cone.apex.y(), vz = in.z[k] - cone.apex.z();
+    const double along = vx * ax + vy * ay + vz * az;
+    const double wx = vx - along * ax, wy = vy - along * ay, wz = vz - along * az;
+    const double gap = std::sqrt(wx * wx + wy * wy + wz * wz) * cos_a - along * sin_a;
+    // Written unconditionally, kept by advancing the count: no branch to mispredict.
+    out.nodes[kept] = in.nodes[k];
+    out.x[kept] = in.x[k], out.y[kept] = in.y[k], out.z[kept] = in.z[k], out.r2[kept] = in.r2[k];
+    kept += static_cast<std::size_t>(gap <= 0 || gap * gap <= in.r2[k] * (1 + kRadiusSlack));
+  }
+  out.nodes.resize(kept), out.x.resize(kept), out.y.resize(kept), out.z.resize(kept), out.r2.resize(kept);
+}
+
 void SupportIndex::collect_from(const Ray& ray, double t_min, double t_max, const SupportSet& set,
                                 std::vector<SupportSpan>& out) const {
   out.clear();

@@ -49,6 +49,17 @@ struct SupportSet {
   mutable std::vector<double> b, disc;  // collect_from()'s scratch: one set per thread
 };
 
+/// The rays from `apex` within `half_angle` (radians) of the unit `axis`.
+struct RayCone {
+  Eigen::Vector3d apex = Eigen::Vector3d::Zero();
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+  double half_angle = 0;
+};
+
+/// The supports of `in` that may meet a ray of `cone`: a conservative superset of those that do,
+/// in the order of `in`, found by one branch-free pass (no tree walk).
+void cull_to_cone(const SupportSet& in, const RayCone& cone, SupportSet& out);
+
 /// The blended nodes (a cut of the tree) and how to find the supports along a ray.
 class SupportIndex {
  public:

@@ -74,26 +74,43 @@ std::optional<SurfaceHit> proxy_patch_hit(const Scene& scene, std::int32_t node,
   return hit;
 }
 
+/// The cone of the rays through pixels [x0, x1) × [y0, y1): its axis through the rectangle's
+/// center, its half-angle that of the farthest corner (the angle to the axis is largest at a
+/// corner of a convex region of the image plane).
+render::RayCone pixel_cone(const Camera& camera, int x0, int y0, int x1, int y1) {
+  render::RayCone cone;
+  cone.apex = camera.eye;
+  cone.axis = camera.ray(0.5 * (x0 + x1), 0.5 * (y0 + y1)).direction;
+  for (const auto& [x, y] : {std::pair{x0, y0}, std::pair{x1, y0}, std::pair{x0, y1}, std::pair{x1, y1}})
+    cone.half_angle =
+        std::max(cone.half_angle, std::acos(std::clamp(camera.ray(x, y).direction.dot(cone.axis), -1.0, 1.0)));
+  return cone;
+}
+
 /// Traces one tile's rays; owns the tile's scratch memory.
 class TreeTracer {
  public:
   /// The tracer of the pixels [x0, x1) × [y0, y1): the supports its rays may cross are found
   /// once, through the hierarchy, from the cone of the tile's rays (brute force: all of them).
-  TreeTracer(const Scene& scene, const Camera& camera, int x0, int y0, int x1, int y1) : s_(scene) {
+  TreeTracer(const Scene& scene, const Camera& camera, int x0, int y0, int x1, int y1) : s_(scene), camera_(camera) {
     if (s_.search == render::SupportSearch::BruteForce) {
       s_.index.gather(s_.index.cut(), tile_supports_);
       return;
     }
-    const Eigen::Vector3d axis = camera.ray(0.5 * (x0 + x1), 0.5 * (y0 + y1)).direction;
-    double half_angle = 0;
-    for (const auto& [x, y] : {std::pair{x0, y0}, std::pair{x1, y0}, std::pair{x0, y1}, std::pair{x1, y1}})
-      half_angle = std::max(half_angle, std::acos(std::clamp(camera.ray(x, y).direction.dot(axis), -1.0, 1.0)));
-    s_.index.collect_in_cone(camera.eye, axis, half_angle, tile_nodes_);
+    const render::RayCone cone = pixel_cone(camera, x0, y0, x1, y1);
+    s_.index.collect_in_cone(cone.apex, cone.axis, cone.half_angle, tile_nodes_);
     s_.index.gather(tile_nodes_, tile_supports_);
   }
 
+  /// Narrows the tile's supports to those the rays of pixels [x0, x1) × [y0, y1) may cross.
+  void enter_block(int x0, int y0, int x1, int y1) {
+    if (s_.search == render::SupportSearch::BruteForce) return;
+    render::cull_to_cone(tile_supports_, pixel_cone(camera_, x0, y0, x1, y1), block_supports_);
+    supports_ = &block_supports_;
+  }
+
   SampleResult operator()(const Ray& ray, std::uint64_t seed) {
-    s_.index.collect_from(ray, 0, kInfinity, tile_supports_, spans_);
+    s_.index.collect_from(ray, 0, kInfinity, *supports_, spans_);
     switch (s_.options.show) {
       case ShowMode::Spheres:
         return spheres(ray);
@@ -189,8 +206,11 @@ class TreeTracer {
   }
 
   const Scene& s_;
+  const Camera& camera_;
   std::vector<std::int32_t> tile_nodes_;
-  render::SupportSet tile_supports_;  // their supports, side by side
+  render::SupportSet tile_supports_;   // their supports, side by side
+  render::SupportSet block_supports_;  // those of the current block
+  const render::SupportSet* supports_ = &tile_supports_;
   std::vector<SupportSpan> spans_;
   std::vector<SupportSpan> ao_spans_;
 };

@@ -40,6 +40,8 @@ struct Camera {
   double focal_pixels() const;
   /// The ray from the eye through image position (x, y) (pixel units, y down).
   Ray ray(double x, double y) const;
+  /// ray(x, y) given focal_pixels(), for loops over many rays of one camera.
+  Ray ray(double x, double y, double focal) const;
 };
 
 /// The camera framing `box` per `options` for a width × height picture. Throws OptionError for
