@@ -120,8 +120,8 @@ TEST(OptionSchema, NamesAreUniqueAndTheCliWords) {
 }
 
 TEST(OptionSchema, RefusalsNameTheOption) {
-  EXPECT_EQ(refusal({{"alpha", "-1"}}), "alpha must be a positive number, not \"-1\"");
-  EXPECT_EQ(refusal({{"alpha", "nan"}}), "alpha must be a positive number, not \"nan\"");
+  EXPECT_EQ(refusal({{"alpha", "-1"}}), "alpha must be \"auto\" or a positive number, not \"-1\"");
+  EXPECT_EQ(refusal({{"alpha", "nan"}}), "alpha must be \"auto\" or a positive number, not \"nan\"");
   EXPECT_EQ(refusal({{"trim", "2x"}}), "trim must be a number >= 0, not \"2x\"");
   EXPECT_EQ(refusal({{"decimate", "-3"}}).substr(0, 32), "decimate must be a whole number ");
   EXPECT_EQ(refusal({{"proxy", "cubic"}}), "proxy must be plane, poly or quadric, not \"cubic\"");

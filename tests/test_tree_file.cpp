@@ -168,6 +168,7 @@ TEST(TreeFile, ReadsVersion1Files) {
   version1.frames_from_normals = false;
   version1.fit_normals = false;
   version1.min_points = old.parameters.min_points;
+  version1.alpha = old.parameters.alpha;
   version1.noise.facing_normals = false;
   version1.noise.noisy_width_ratio = 0;
   version1.support_points = 30;

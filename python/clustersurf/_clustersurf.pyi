@@ -101,7 +101,7 @@ def reconstruct(
     error: str = "rms",
     min_points: Union[str, int] = "auto",
     max_depth: int = 200,
-    alpha: float = 0.75,
+    alpha: Union[str, float] = "auto",
     kstep: int = 0,
     lloyd_restarts: int = 4,
     proxy_lloyd: int = 0,

@@ -19,7 +19,7 @@ def test_info_has_the_cli_keys(sphere_tree):
     assert info["nodes"] == len(sphere_tree) == 2 * info["leaves"] - 1
     assert info["input_points"] == 2000
     p = info["parameters"]
-    # min_points "auto" resolves, for this clean sphere, to the clean floor.
+    # min_points and alpha "auto" resolve, for this clean sphere, to the clean values.
     assert (p["proxy"], p["splitter"], p["min_points"], p["alpha"], p["support_factor"], p["seed"]) == (
         "poly", "split-plane", 12, 0.75, 1.0, 1)
 
@@ -161,7 +161,7 @@ def test_point_cloud_object_and_options(sphere):
     ({"min_points": 0}, 'min_points must be "auto" or a whole number from 1 to 1073741824, not "0"'),
     ({"min_points": "many"}, 'min_points must be "auto" or a whole number from 1 to 1073741824, not "many"'),
     ({"min_points": -5}, 'not "-5"'),
-    ({"alpha": 0.0}, 'alpha must be a positive number, not "0"'),
+    ({"alpha": 0.0}, 'alpha must be "auto" or a positive number, not "0"'),
     ({"error": "mean"}, 'error must be rms or max, not "mean"'),
     ({"alpha": [1]}, "option alpha takes a number, a bool, a word or (x, y, z), not a list"),
     ({"smoothness": 1}, 'unknown option "smoothness"'),

@@ -32,7 +32,7 @@ void validate(const PointCloud& cloud, const BuildOptions& o) {
   if (cloud.size() > std::numeric_limits<std::int32_t>::max()) throw OptionError("too many points (at most 2^31-1)");
   if (!(o.tolerance >= 0) || !std::isfinite(o.tolerance)) throw OptionError("tolerance must be a non-negative number");
   if (!(o.noise_factor >= 0) || !std::isfinite(o.noise_factor)) throw OptionError("noise factor must be >= 0");
-  if (!(o.alpha > 0) || !std::isfinite(o.alpha)) throw OptionError("alpha must be positive");
+  if (!(o.alpha >= 0) || !std::isfinite(o.alpha)) throw OptionError("alpha must be positive (or 0: automatic)");
   if (!(o.support_factor >= 0) || !std::isfinite(o.support_factor)) throw OptionError("support factor must be >= 0");
 }
 
@@ -148,9 +148,11 @@ ClusterTree detail::build_tree(const PointCloud& cloud, std::vector<std::uint32_
   }
   tree.error_threshold = std::hypot(tolerance, noise);
 
-  BuildOptions resolved = options;  // the options with min_points decided
+  BuildOptions resolved = options;  // the options with min_points and alpha decided
   if (resolved.min_points == 0) resolved.min_points = leaf_min_points(noise, scale.point_spacing);
+  if (resolved.alpha == 0) resolved.alpha = support_alpha(noise, scale.point_spacing);
   p.min_points = resolved.min_points;
+  p.alpha = resolved.alpha;
 
   const auto n = ids.size();
   detail::WorkingSet work{clustered, std::move(ids), std::vector<std::uint32_t>(n)};

@@ -53,6 +53,14 @@ std::uint32_t leaf_min_points(double noise, double spacing) {
   return static_cast<std::uint32_t>(std::clamp(std::ceil(n), kSparse, kNoisy));
 }
 
+double support_alpha(double noise, double spacing) {
+  constexpr double kNarrow = 0.75, kWide = 1.0;
+  constexpr double kLowNoise = 0.15, kHighNoise = 0.5;  // σ / h where the widening starts and ends
+  if (!(noise > 0) || !(spacing > 0)) return kNarrow;
+  const double share = std::clamp((noise / spacing - kLowNoise) / (kHighNoise - kLowNoise), 0.0, 1.0);
+  return kNarrow + share * (kWide - kNarrow);
+}
+
 double cluster_error_threshold(const ClusterTree& tree, double points) {
   const TreeParameters& p = tree.parameters;
   const double noise = p.threshold_mode == ThresholdMode::Auto ? p.noise_factor * tree.noise_sigma : 0.0;

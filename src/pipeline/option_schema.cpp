@@ -136,8 +136,19 @@ std::vector<OptionSpec> build_threshold_options() {
 std::vector<OptionSpec> build_fit_options() {
   std::vector<OptionSpec> out;
   out.push_back(build_whole("max_depth", "Maximum tree depth", &BuildOptions::max_depth, 0, kMaxUint32));
-  out.push_back(
-      build_real("alpha", "Support radius = alpha x cluster bbox diagonal", &BuildOptions::alpha, RealBound::Positive));
+  out.push_back(with_words(
+      spec(
+          "alpha", OptionStage::Build, OptionKind::Number,
+          "Support radius = alpha x cluster bbox diagonal, or auto: from the estimated noise against the point "
+          "spacing (0.75 for clean or sparse data up to 1 for noise of half a spacing or more)",
+          [](const ReconstructOptions& o) {
+            const double a = build(o).alpha;
+            return a == 0 ? std::string("auto") : number_text(a);
+          },
+          [](ReconstructOptions& o, std::string_view text) {
+            build(o).alpha = text == "auto" ? 0 : parse_real("alpha", text, RealBound::Positive, "auto");
+          }),
+      {"auto"}));
   out.push_back(build_whole("kstep", "Split-plane sweep step (0: at most 64 candidates per split)",
                             &BuildOptions::kstep, 0, kMaxUint32));
   out.push_back(

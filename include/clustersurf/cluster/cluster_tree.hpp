@@ -56,8 +56,10 @@ struct BuildOptions {
   /// leaf of that size whose quadratic misses the threshold is split into halves of two thirds
   /// of it when they resolve the misfit (relief finer than the clusters).
   std::uint32_t min_points = 0;
-  std::uint32_t max_depth = 200;             ///< nodes at this depth are leaves (root: 0)
-  double alpha = 0.75;                       ///< support radius = alpha × cluster bbox diagonal
+  std::uint32_t max_depth = 200;  ///< nodes at this depth are leaves (root: 0)
+  /// Support radius = alpha × cluster bbox diagonal; 0: support_alpha() of the noise and the
+  /// point spacing.
+  double alpha = 0;
   std::uint32_t kstep = 0;                   ///< split-plane sweep step; 0: ≤ 64 candidates
   std::uint32_t lloyd_restarts = 4;          ///< Lloyd splitter: 2-means restarts
   std::uint32_t proxy_lloyd_iterations = 0;  ///< Lloyd splitter: proxy refinement rounds
@@ -179,7 +181,7 @@ struct TreeParameters {
   double noise_factor = 1.0;
   std::uint32_t min_points = 20;  ///< the value used (leaf_min_points() where the options said 0)
   std::uint32_t max_depth = 200;
-  double alpha = 0.75;
+  double alpha = 0.75;  ///< the value used (support_alpha() where the options said 0)
   std::uint32_t kstep = 0;
   std::uint32_t lloyd_restarts = 4;
   std::uint32_t proxy_lloyd_iterations = 0;
@@ -233,6 +235,14 @@ double cluster_error_threshold(const ClusterTree& tree, double points);
 /// spacing or more takes 20 (its support fit averages over more). Noise 0 gives 12, a spacing
 /// of 0 gives 20.
 std::uint32_t leaf_min_points(double noise, double spacing);
+
+/// The support radius over the cluster extent when BuildOptions::alpha is 0, from the noise σ
+/// against the point spacing h: 0.75 (the thesis's) up to σ = 0.15 h, rising linearly to 1 at
+/// σ = h / 2 and staying there. Where the noise is a sizable share of the spacing (noisy scans,
+/// layers of misregistered scans), the blend averages it over wider overlaps; clean and sparse
+/// data (σ about h / 10) keep the narrower supports that hold fine relief. A spacing of 0 gives
+/// 0.75.
+double support_alpha(double noise, double spacing);
 
 /// Builds the tree. Deterministic: the same cloud and options give the same tree for any
 /// thread count. Throws OptionError for invalid options, Cancelled when `progress` says stop.
