@@ -19,6 +19,8 @@
 #include <utility>
 #include <vector>
 
+#include "test_support.hpp"
+
 using namespace clustersurf;
 
 namespace {
@@ -45,16 +47,8 @@ PointCloud noisy_cylinder(int n, double sigma, std::uint64_t seed) {
 /// The height field z = a sin(2π f x) sin(2π f y) over the unit square, `n` points with Gaussian
 /// noise of standard deviation `sigma` on every coordinate, no normals.
 PointCloud noisy_relief(int n, double sigma, double a, double f, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0, 1);
-  std::normal_distribution<double> g(0, sigma);
-  PointCloud c;
-  c.positions.resize(n, 3);
-  for (int i = 0; i < n; ++i) {
-    const double x = u(rng), y = u(rng);
-    c.positions.row(i) << x + g(rng), y + g(rng), a * std::sin(2 * M_PI * f * x) * std::sin(2 * M_PI * f * y) + g(rng);
-  }
-  return c;
+  return test::noisy_heightfield(
+      n, sigma, [&](double x, double y) { return a * std::sin(2 * M_PI * f * x) * std::sin(2 * M_PI * f * y); }, seed);
 }
 
 /// The heights of the mesh's vertices over the inner [0.1, 0.9]² off the relief: their RMS and

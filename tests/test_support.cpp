@@ -112,4 +112,18 @@ void add_normal_noise(PointCloud& c, double sigma, std::uint64_t seed) {
   for (Eigen::Index i = 0; i < c.size(); ++i) c.positions.row(i) += g(rng) * c.normals.row(i);
 }
 
+PointCloud noisy_heightfield(int n, double sigma, const std::function<double(double, double)>& height,
+                             std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::normal_distribution<double> g(0, sigma);
+  PointCloud c;
+  c.positions.resize(n, 3);
+  for (int i = 0; i < n; ++i) {
+    const double x = u(rng), y = u(rng);
+    c.positions.row(i) << x + g(rng), y + g(rng), height(x, y) + g(rng);
+  }
+  return c;
+}
+
 }  // namespace clustersurf::test

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -43,5 +44,9 @@ PointCloud sample_torus(int n, double R = 1.0, double r = 0.35);
 PointCloud sample_plane(int nx, int ny);
 /// Moves every point along its normal by Gaussian noise of standard deviation `sigma` (seeded).
 void add_normal_noise(PointCloud& c, double sigma, std::uint64_t seed);
+/// `n` points of the height field z = height(x, y) over the unit square, Gaussian noise of
+/// standard deviation `sigma` on every coordinate (seeded), no normals.
+PointCloud noisy_heightfield(int n, double sigma, const std::function<double(double, double)>& height,
+                             std::uint64_t seed);
 
 }  // namespace clustersurf::test
