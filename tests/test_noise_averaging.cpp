@@ -2,6 +2,7 @@
 // standard errors σ/√n of the truth (n the points a support holds), and relief of three σ stays.
 
 #include <clustersurf/cluster/cluster_tree.hpp>
+#include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/surface/implicit_surface.hpp>
 #include <clustersurf/surface/orientation.hpp>
 
@@ -37,15 +38,16 @@ std::vector<double> values_on_truth(const ClusterTree& t, const std::function<do
   return out;
 }
 
-/// The mean count of clustered points inside the leaves' supports.
+/// The mean count of input points inside the leaves' supports.
 double mean_support_points(const ClusterTree& t, const PointCloud& c) {
+  const KdTree index(c.positions);
+  std::vector<Neighbor> inside;
   double sum = 0;
   std::size_t leaves = 0;
   for (const ClusterNode& n : t.nodes) {
     if (!n.is_leaf()) continue;
-    const double r2 = n.support.radius * n.support.radius;
-    for (Eigen::Index i = 0; i < c.size(); ++i)
-      sum += (c.positions.row(i).transpose() - n.support.center).squaredNorm() < r2;
+    index.radius_unsorted(n.support.center, n.support.radius, inside);
+    sum += static_cast<double>(inside.size());
     ++leaves;
   }
   return sum / static_cast<double>(leaves);

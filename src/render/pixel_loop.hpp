@@ -49,41 +49,43 @@ Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer
   const auto start = std::chrono::steady_clock::now();
   constexpr int kTile = 16, kBlock = 4;
   const double focal = camera.focal_pixels();
+  // Pixel (x, y) traced with options.samples rays and composited over the background; returns
+  // whether its first ray hit.
+  const auto trace_pixel = [&](auto& trace, int x, int y) {
+    const std::uint64_t pixel =
+        static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(w) + static_cast<std::uint64_t>(x);
+    Color sum = Color::Zero();  // premultiplied
+    double coverage = 0;
+    bool hit = false;
+    for (int k = 0; k < samples; ++k) {
+      const std::uint64_t seed = detail::splitmix64(pixel * 1024 + static_cast<std::uint64_t>(k));
+      double jx = 0.5, jy = 0.5;
+      if (samples > 1)
+        jx = unit_interval(detail::splitmix64(seed ^ 0x1234)), jy = unit_interval(detail::splitmix64(seed ^ 0x5678));
+      const SampleResult r = trace(camera.ray(x + jx, y + jy, focal), seed);
+      sum += r.alpha * r.rgb;
+      coverage += r.alpha;
+      hit = hit || (k == 0 && r.alpha > 0);
+    }
+    sum /= samples;
+    coverage /= samples;
+    const Color premultiplied = sum + (1 - coverage) * background_alpha * background;
+    const double alpha = coverage + (1 - coverage) * background_alpha;
+    image.at(x, y) = alpha > 0 ? to_pixel(premultiplied / alpha, alpha) : Rgba8{0, 0, 0, 0};
+    return hit;
+  };
   tbb::parallel_for(tbb::blocked_range2d<int>(0, h, kTile, 0, w, kTile), [&](const tbb::blocked_range2d<int>& tile) {
     progress.check();
     const int tx0 = tile.cols().begin(), ty0 = tile.rows().begin(), tx1 = tile.cols().end(), ty1 = tile.rows().end();
     auto trace = make_tracer(tx0, ty0, tx1, ty1);
     std::uint64_t tile_hits = 0;
-    for (int by = ty0; by < ty1; by += kBlock) {
+    for (int by = ty0; by < ty1; by += kBlock)
       for (int bx = tx0; bx < tx1; bx += kBlock) {
         const int bx1 = std::min(bx + kBlock, tx1), by1 = std::min(by + kBlock, ty1);
         if constexpr (requires { trace.enter_block(bx, by, bx1, by1); }) trace.enter_block(bx, by, bx1, by1);
-        for (int y = by; y != by1; ++y) {
-          for (int x = bx; x != bx1; ++x) {
-            const std::uint64_t pixel =
-                static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(w) + static_cast<std::uint64_t>(x);
-            Color sum = Color::Zero();  // premultiplied
-            double coverage = 0;
-            for (int k = 0; k < samples; ++k) {
-              const std::uint64_t seed = detail::splitmix64(pixel * 1024 + static_cast<std::uint64_t>(k));
-              double jx = 0.5, jy = 0.5;
-              if (samples > 1)
-                jx = unit_interval(detail::splitmix64(seed ^ 0x1234)),
-                jy = unit_interval(detail::splitmix64(seed ^ 0x5678));
-              const SampleResult r = trace(camera.ray(x + jx, y + jy, focal), seed);
-              sum += r.alpha * r.rgb;
-              coverage += r.alpha;
-              if (k == 0 && r.alpha > 0) ++tile_hits;
-            }
-            sum /= samples;
-            coverage /= samples;
-            const Color premultiplied = sum + (1 - coverage) * background_alpha * background;
-            const double alpha = coverage + (1 - coverage) * background_alpha;
-            image.at(x, y) = alpha > 0 ? to_pixel(premultiplied / alpha, alpha) : Rgba8{0, 0, 0, 0};
-          }
-        }
+        for (int y = by; y != by1; ++y)
+          for (int x = bx; x != bx1; ++x) tile_hits += trace_pixel(trace, x, y) ? 1 : 0;
       }
-    }
     hits += tile_hits;
     progress.advance(tile.rows().size() * tile.cols().size());
   });
