@@ -45,33 +45,11 @@ nlohmann::json write_surface_mesh(Console& console, const SurfaceMesh& result, c
                               result.decimation.deviation));
   console.print(fmt::format("mesh time       {:.3f} s", result.seconds));
   // A closed mesh is meant for printing and solids: say whether it is ready for that.
-  nlohmann::json check;
-  if (result.closing.closed) {
+  if (result.closing.closed)
     for (const auto& line : mesh_check_lines(result.closing.check)) console.print(line);
-    check = check_report_json(result.closing.check);
-  }
   console.print("wrote           " + output);
-  nlohmann::json report = {{"file", output},
-                           {"vertices", topo.vertices},
-                           {"triangles", topo.triangles},
-                           {"boundary_edges", topo.boundary_edges},
-                           {"non_manifold_edges", topo.non_manifold_edges},
-                           {"euler_characteristic", topo.euler_characteristic},
-                           {"blended_nodes", result.blended_nodes},
-                           {"voxel_size", result.grid.voxel_size},
-                           {"surface_cells", result.grid.surface_cells},
-                           {"evaluated_corners", result.grid.evaluated_corners},
-                           {"trimmed_triangles", trimmed.removed_triangles},
-                           {"removed_components", trimmed.removed_components},
-                           {"closed_pinholes", trimmed.closed_pinholes},
-                           {"watertight", is_watertight(topo)},
-                           {"filled_vertices", result.closing.filled_vertices},
-                           {"filled_triangles", result.closing.filled_triangles},
-                           {"opened_holes", result.closing.opened_holes},
-                           {"decimated_from_triangles", result.decimation.triangles_before},
-                           {"decimation_deviation", result.decimation.deviation},
-                           {"mesh_seconds", result.seconds}};
-  if (!check.is_null()) report["check"] = check;
+  nlohmann::json report = nlohmann::json::parse(surface_mesh_json(result, topo));
+  report["file"] = output;
   return report;
 }
 

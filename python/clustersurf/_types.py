@@ -119,6 +119,10 @@ class Mesh:
     attributes: dict name -> (n,) float32, one value per vertex (``"filled"``: 1 where a
     watertight mesh was filled in, not fitted). up: "y" or "z", the up axis of the input it was
     made from (PLY files record "z"; GLB files turn such a mesh to glTF's +y up).
+    report: what made a mesh that Tree.mesh(), reconstruct_mesh() or a run's join() returns
+    (the JSON report of ``clustersurf mesh --json``: vertices, triangles, boundary_edges,
+    voxel_size, surface_cells, trimmed_triangles, refitted_vertices, mesh_seconds, ...; a
+    closed mesh's ``check``); empty for a mesh read from a file or made by hand.
     """
 
     vertices: np.ndarray
@@ -128,6 +132,7 @@ class Mesh:
     origin: np.ndarray = field(default_factory=lambda: np.zeros(3))
     attributes: Dict[str, np.ndarray] = field(default_factory=dict)
     up: str = "y"
+    report: Dict[str, Any] = field(default_factory=dict)
 
     def __setattr__(self, name: str, value: Any) -> None:
         if name == "origin":

@@ -155,6 +155,13 @@ py::object cloud_object(PointCloud&& cloud) {
       "scanner_of_point"_a = scanner_of_point, "up"_a = cloud.up == UpAxis::Z ? "z" : "y");
 }
 
+py::object mesh_object(SurfaceMesh&& made) {
+  py::dict report = json_dict(surface_mesh_json(made));
+  py::object mesh = mesh_object(std::move(made.mesh));
+  mesh.attr("report") = report;
+  return mesh;
+}
+
 py::object mesh_object(TriangleMesh&& mesh) {
   using namespace pybind11::literals;
   py::dict attributes;

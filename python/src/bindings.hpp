@@ -44,6 +44,8 @@ py::object to_array_or_none(Colors&& m);
 /// (3,) float64 array and the attributes a dict of float32 arrays.
 py::object cloud_object(PointCloud&& cloud);
 py::object mesh_object(TriangleMesh&& mesh);
+/// mesh_object() of the mesh the pipeline made, its `report` the library's surface_mesh_json().
+py::object mesh_object(SurfaceMesh&& mesh);
 
 /// (x, y, z) from any 3-element sequence or array (None: zero); OptionError naming `name` else.
 Eigen::Vector3d to_vector3(const py::handle& value, const char* name);

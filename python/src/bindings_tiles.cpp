@@ -209,7 +209,7 @@ void bind_run_output(py::class_<RunRef>& run) {
              py::gil_scoped_release release;
              return r.run->join(o.meshing);
            }();
-           return mesh_object(std::move(mesh.mesh));
+           return mesh_object(std::move(mesh));
          },
          "Stage 5: the tiles welded into one Mesh (after every mesh task), decimated and colored as the keyword "
          "options say.")

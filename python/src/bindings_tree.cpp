@@ -105,7 +105,7 @@ option_schema() lists them), checked by the library (OptionError):
         SurfaceMesh mesh = run_released(progress, [&](const ProgressCallback& callback) {
           return std::move(*reconstruct(cloud, o, callback).mesh);
         });
-        return mesh_object(std::move(mesh.mesh));
+        return mesh_object(std::move(mesh));
       },
       py::arg("points"), py::arg("normals") = py::none(), py::kw_only(), py::arg("progress") = py::none(), R"doc(
 The whole pipeline in one call, as ``clustersurf reconstruct IN --mesh OUT`` does (the library's
@@ -289,7 +289,7 @@ void bind_tree_mesh(py::class_<TreeRef>& tree_class) {
               const CloudIndex index(*input);
               return mesh_tree(*t.tree, o, &index, callback);
             });
-            return mesh_object(std::move(mesh.mesh));
+            return mesh_object(std::move(mesh));
           },
           py::kw_only(), py::arg("points") = py::none(), py::arg("progress") = py::none(),
           (R"doc(

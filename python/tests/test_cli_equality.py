@@ -75,6 +75,25 @@ def test_trimmed_mesh_equals_reconstruct(tmp_path, cli, bunny_file):
     assert len(untrimmed.faces) >= len(mesh.faces)
 
 
+@pytest.mark.parametrize("kwargs, flags", [({}, []), ({"watertight": True}, ["--watertight"])])
+def test_mesh_report_equals_the_cli(tmp_path, cli, bunny_file, kwargs, flags):
+    # One report, made by the library: what `mesh --json` prints is the Mesh's report.
+    run(cli, "reconstruct", bunny_file, "-o", tmp_path / "b.cstree")
+    cli_report = json.loads(subprocess.run([cli, "--json", "mesh", str(tmp_path / "b.cstree"), "--points",
+                                            str(bunny_file), "-o", str(tmp_path / "cli.ply"), *flags],
+                                           capture_output=True, text=True, check=True).stdout)
+    mesh = clustersurf.load(tmp_path / "b.cstree").mesh(points=clustersurf.read_points(bunny_file), **kwargs)
+    report = dict(mesh.report)
+    assert report["vertices"] == len(mesh.vertices) and report["triangles"] == len(mesh.faces)
+    assert report["refitted_vertices"] > 0 and report["voxel_size"] > 0
+    assert ("check" in report) == bool(kwargs)
+    for r in (report, cli_report):
+        assert r.pop("mesh_seconds") >= 0
+    assert cli_report.pop("file") == str(tmp_path / "cli.ply")
+    assert report == cli_report
+    assert clustersurf.read_mesh(tmp_path / "cli.ply").report == {}
+
+
 def test_auto_resolution_equals_the_cli(tmp_path, cli, bunny_file):
     # The grid matched to the points' spacing: the same mesh from both, and none without points.
     run(cli, "reconstruct", bunny_file, "-o", tmp_path / "b.cstree", "--mesh", tmp_path / "cli.ply", "--resolution", "auto")

@@ -16,6 +16,7 @@
 #include <clustersurf/surface/orientation.hpp>
 
 #include <optional>
+#include <string>
 #include <string_view>
 
 namespace clustersurf {
@@ -106,6 +107,17 @@ struct SurfaceMesh {
   std::size_t blended_nodes = 0;
   double seconds = 0;  ///< wall time of the mesh step
 };
+
+/// The report of `mesh` as one JSON object, the same for every front end: its `topology`
+/// (vertices, triangles, boundary_edges, non_manifold_edges, euler_characteristic, watertight),
+/// blended_nodes, the grid's voxel_size, surface_cells and evaluated_corners, the trim's
+/// trimmed_triangles, removed_components and closed_pinholes, the refit's refitted_vertices and
+/// refit_mean_move, the closing's filled_vertices, filled_triangles and opened_holes, the
+/// decimation's decimated_from_triangles and decimation_deviation, mesh_seconds and, for a
+/// closed mesh, check (mesh_check_json()).
+std::string surface_mesh_json(const SurfaceMesh& mesh, const MeshTopology& topology);
+/// surface_mesh_json() with the topology measured here (mesh_topology()).
+std::string surface_mesh_json(const SurfaceMesh& mesh);
 
 /// Meshes the tree's surface f = 0 (extract_mesh()), trims it to the clustered input points
 /// (trim_to_points()), decimates it on request (decimate()) and colors it; the mesh carries the
