@@ -8,27 +8,22 @@
 namespace clustersurf {
 
 std::string surface_mesh_json(const SurfaceMesh& m, const MeshTopology& topology) {
-  nlohmann::json j = {{"vertices", topology.vertices},
-                      {"triangles", topology.triangles},
-                      {"boundary_edges", topology.boundary_edges},
-                      {"non_manifold_edges", topology.non_manifold_edges},
-                      {"euler_characteristic", topology.euler_characteristic},
-                      {"watertight", is_watertight(topology)},
-                      {"blended_nodes", m.blended_nodes},
-                      {"voxel_size", m.grid.voxel_size},
-                      {"surface_cells", m.grid.surface_cells},
-                      {"evaluated_corners", m.grid.evaluated_corners},
-                      {"trimmed_triangles", m.trim.removed_triangles},
-                      {"removed_components", m.trim.removed_components},
-                      {"closed_pinholes", m.trim.closed_pinholes},
-                      {"refitted_vertices", m.refit.refitted},
-                      {"refit_mean_move", m.refit.mean_move},
-                      {"filled_vertices", m.closing.filled_vertices},
-                      {"filled_triangles", m.closing.filled_triangles},
-                      {"opened_holes", m.closing.opened_holes},
-                      {"decimated_from_triangles", m.decimation.triangles_before},
-                      {"decimation_deviation", m.decimation.deviation},
-                      {"mesh_seconds", m.seconds}};
+  nlohmann::json j = nlohmann::json::parse(mesh_topology_json(topology));
+  j.update({{"blended_nodes", m.blended_nodes},
+            {"voxel_size", m.grid.voxel_size},
+            {"surface_cells", m.grid.surface_cells},
+            {"evaluated_corners", m.grid.evaluated_corners},
+            {"trimmed_triangles", m.trim.removed_triangles},
+            {"removed_components", m.trim.removed_components},
+            {"closed_pinholes", m.trim.closed_pinholes},
+            {"refitted_vertices", m.refit.refitted},
+            {"refit_mean_move", m.refit.mean_move},
+            {"filled_vertices", m.closing.filled_vertices},
+            {"filled_triangles", m.closing.filled_triangles},
+            {"opened_holes", m.closing.opened_holes},
+            {"decimated_from_triangles", m.decimation.triangles_before},
+            {"decimation_deviation", m.decimation.deviation},
+            {"mesh_seconds", m.seconds}});
   if (m.closing.closed) j["check"] = nlohmann::json::parse(mesh_check_json(m.closing.check));
   return j.dump();
 }

@@ -108,9 +108,8 @@ struct SurfaceMesh {
   double seconds = 0;  ///< wall time of the mesh step
 };
 
-/// The report of `mesh` as one JSON object, the same for every front end: its `topology`
-/// (vertices, triangles, boundary_edges, non_manifold_edges, euler_characteristic, watertight),
-/// blended_nodes, the grid's voxel_size, surface_cells and evaluated_corners, the trim's
+/// The report of `mesh` as one JSON object, the same for every front end: mesh_topology_json()
+/// of its `topology`, then blended_nodes, the grid's voxel_size, surface_cells and evaluated_corners, the trim's
 /// trimmed_triangles, removed_components and closed_pinholes, the refit's refitted_vertices and
 /// refit_mean_move, the closing's filled_vertices, filled_triangles and opened_holes, the
 /// decimation's decimated_from_triangles and decimation_deviation, mesh_seconds and, for a
