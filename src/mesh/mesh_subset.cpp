@@ -2,16 +2,36 @@
 
 #include "mesh/mesh_subset.hpp"
 
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+
 namespace clustersurf::detail {
 
 namespace {
 
+/// The rows of `from` listed in `rows`, gathered in parallel.
+template <class Matrix>
+Matrix gathered(const Matrix& from, const std::vector<Eigen::Index>& rows) {
+  Matrix out(static_cast<Eigen::Index>(rows.size()), from.cols());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rows.size(), 8192), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) out.row(static_cast<Eigen::Index>(i)) = from.row(rows[i]);
+  });
+  return out;
+}
+
 /// The vertices of `mesh` that `triangles` (indices into them) use, with those triangles.
 TriangleMesh compact(const TriangleMesh& mesh, const Triangles& triangles) {
   const Eigen::Index nv = mesh.vertices.rows();
+  // Each used vertex marked, then numbered in its order; every step but the numbering runs in
+  // parallel (the marks are one value, written with relaxed atomics).
   std::vector<std::int32_t> remap(static_cast<std::size_t>(nv), -1);
-  for (Eigen::Index t = 0; t < triangles.rows(); ++t)
-    for (int k = 0; k < 3; ++k) remap[static_cast<std::size_t>(triangles(t, k))] = 0;
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, triangles.rows(), 16384), [&](const auto& r) {
+    for (Eigen::Index t = r.begin(); t != r.end(); ++t)
+      for (int k = 0; k < 3; ++k)
+        std::atomic_ref<std::int32_t>(remap[static_cast<std::size_t>(triangles(t, k))])
+            .store(0, std::memory_order_relaxed);
+  });
   std::vector<Eigen::Index> rows;
   for (Eigen::Index v = 0; v < nv; ++v)
     if (remap[static_cast<std::size_t>(v)] == 0)
@@ -19,14 +39,16 @@ TriangleMesh compact(const TriangleMesh& mesh, const Triangles& triangles) {
   TriangleMesh out;
   out.origin = mesh.origin;
   out.up = mesh.up;
-  out.vertices = mesh.vertices(rows, Eigen::all);
-  if (mesh.normals.rows() == nv) out.normals = mesh.normals(rows, Eigen::all);
-  if (mesh.colors.rows() == nv) out.colors = mesh.colors(rows, Eigen::all);
+  out.vertices = gathered(mesh.vertices, rows);
+  if (mesh.normals.rows() == nv) out.normals = gathered(mesh.normals, rows);
+  if (mesh.colors.rows() == nv) out.colors = gathered(mesh.colors, rows);
   for (const PointAttribute& a : mesh.attributes)
-    if (a.values.size() == nv) out.attributes.push_back({a.name, a.values(rows)});
+    if (a.values.size() == nv) out.attributes.push_back({a.name, gathered(a.values, rows)});
   out.triangles.resize(triangles.rows(), 3);
-  for (Eigen::Index t = 0; t < triangles.rows(); ++t)
-    for (int k = 0; k < 3; ++k) out.triangles(t, k) = remap[static_cast<std::size_t>(triangles(t, k))];
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, triangles.rows(), 16384), [&](const auto& r) {
+    for (Eigen::Index t = r.begin(); t != r.end(); ++t)
+      for (int k = 0; k < 3; ++k) out.triangles(t, k) = remap[static_cast<std::size_t>(triangles(t, k))];
+  });
   return out;
 }
 
