@@ -69,7 +69,7 @@ except ImportError:
 else:
     o3d_mesh = o3d.geometry.TriangleMesh(o3d.utility.Vector3dVector(vertices), o3d.utility.Vector3iVector(faces))
     o3d_mesh.vertex_normals = o3d.utility.Vector3dVector(normals)
-    print(f"Open3D mesh: {o3d_mesh}, watertight: {o3d_mesh.is_watertight()}")
+    print(f"Open3D mesh: {o3d_mesh}, edge manifold: {o3d_mesh.is_edge_manifold()}")
     # ... and back: an Open3D mesh (say, from o3d.io.read_triangle_mesh) into clustersurf.
     v, f = np.asarray(o3d_mesh.vertices), np.asarray(o3d_mesh.triangles)
     samples = clustersurf.sample_surface(v, f, n=5000, seed=2)
