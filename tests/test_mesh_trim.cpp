@@ -295,3 +295,47 @@ TEST(MeshTrim, GivenSpreadsAreUsedAndMeasuredOnesAreTheSame) {
   spread.pop_back();
   EXPECT_THROW(trim_to_points(full, index, options, nullptr, spread), OptionError);
 }
+
+// Where the points thin out past the dense part of a scan (a rim seen at a grazing angle), their
+// spread, and with it the reach, grows; the reach stays within max_reach_spreads typical spreads
+// (measured at the mesh's vertices, or given), and without the bound the mesh runs on past them.
+TEST(MeshTrim, ReachIsBoundedWhereThePointsThinOut) {
+  const double dense = 0.02, sparse = 0.1;  // the strip's points lie 5 spacings apart
+  std::vector<Eigen::RowVector3d> rows;
+  for (int i = 0; i <= 50; ++i)
+    for (int j = 0; j <= 50; ++j) rows.emplace_back(-1 + i * dense, -0.5 + j * dense, 0);
+  for (int i = 1; i <= 2; ++i)
+    for (int j = 0; j <= 10; ++j) rows.emplace_back(i * sparse, -0.5 + j * sparse, 0);
+  Points data(static_cast<Eigen::Index>(rows.size()), 3);
+  for (std::size_t r = 0; r < rows.size(); ++r) data.row(static_cast<Eigen::Index>(r)) = rows[r];
+  TriangleMesh plane;  // x in [-1, 0.6], y in [-0.5, 0.5], 0.01 apart: most of it over the dense part
+  const int nx = 161, ny = 101;
+  plane.vertices.resize(nx * ny, 3);
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j) plane.vertices.row(i * ny + j) << -1 + i * 0.01, -0.5 + j * 0.01, 0;
+  plane.triangles.resize(2 * (nx - 1) * (ny - 1), 3);
+  Eigen::Index t = 0;
+  for (int i = 0; i + 1 < nx; ++i)
+    for (int j = 0; j + 1 < ny; ++j) {
+      const int a = i * ny + j;
+      plane.triangles.row(t++) << a, a + ny, a + 1;
+      plane.triangles.row(t++) << a + 1, a + ny, a + ny + 1;
+    }
+  const auto farthest = [&](const TrimOptions& options) {
+    return trim_to_points(plane, data, options).vertices.col(0).maxCoeff();
+  };
+  // The typical spread is the dense part's (about 0.024): past the last column (x = 0.2) the
+  // reach is at most 3 x 0.024, and 1.5 times that where data lies all around.
+  const TrimOptions bounded;
+  EXPECT_LT(farthest(bounded), 0.2 + 1.5 * 3 * 0.025 + 0.01);
+  EXPECT_GT(farthest(bounded), 0.2);
+  TrimOptions unbounded;
+  unbounded.max_reach_spreads = 0;
+  EXPECT_GT(farthest(unbounded), 0.2 + 2 * sparse);  // the sparse points' spread is about 0.13
+  // A typical spread given (a whole cloud's, in a tile of it) is the one the bound counts in.
+  TrimOptions given;
+  given.typical_spread = 2 * dense;
+  EXPECT_GT(farthest(given), farthest(bounded));
+  given.max_reach_spreads = -1;
+  EXPECT_THROW(farthest(given), OptionError);
+}

@@ -48,6 +48,7 @@ const std::set<std::string> kApiOnly = {"mesh",
                                         "meshing.refit.rings",
                                         "meshing.closing.resolution",
                                         "meshing.decimation.lock_boundary",
+                                        "meshing.trim.typical_spread",
                                         "meshing.distance_scale"};
 
 bool api_only(const std::string& path) { return kApiOnly.contains(path); }

@@ -268,6 +268,7 @@ class Tree:
         lod_error: Optional[float] = None,
         color: str = "input",
         trim: float = 2.0,
+        max_reach_spreads: float = 3.0,
         min_component_points: int = 30,
         close_pinholes: bool = False,
         refit_points: int = 12,

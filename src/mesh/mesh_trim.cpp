@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <span>
@@ -113,10 +114,24 @@ std::vector<std::uint8_t> detail::vertices_near_data(const TriangleMesh& mesh, c
   std::vector<double> measured;
   if (given.empty()) measured = spreads_of_nearest(index, nearest, options.neighbors);
   const std::span<const double> spread = given.empty() ? std::span<const double>(measured) : given;
+  // The reach of a point, options.spread_factor times its spread, bounded by
+  // options.max_reach_spreads typical spreads (in the surrounding test too, through the spread).
+  double typical = options.typical_spread;
+  if (!(typical > 0) && options.max_reach_spreads > 0) {  // the median over the mesh's vertices
+    std::vector<double> at_vertices(nearest.size());
+    for (std::size_t v = 0; v < nearest.size(); ++v) at_vertices[v] = spread[nearest[v].index];
+    const auto middle = at_vertices.begin() + static_cast<std::ptrdiff_t>(at_vertices.size() / 2);
+    std::nth_element(at_vertices.begin(), middle, at_vertices.end());
+    typical = at_vertices.empty() ? 0.0 : *middle;
+  }
+  const double max_spread = options.max_reach_spreads > 0 && typical > 0
+                                ? options.max_reach_spreads * typical / options.spread_factor
+                                : std::numeric_limits<double>::infinity();
+  const auto spread_of = [&](const Neighbor& n) { return std::min(max_spread, spread[n.index]); };
   std::vector<std::uint8_t> near(static_cast<std::size_t>(nv));
   std::vector<Eigen::Index> between;  // beyond the reach, within kSurroundedReach times it
   for (std::size_t v = 0; v < near.size(); ++v) {
-    const double d = std::sqrt(nearest[v].distance_squared), reach = options.spread_factor * spread[nearest[v].index];
+    const double d = std::sqrt(nearest[v].distance_squared), reach = options.spread_factor * spread_of(nearest[v]);
     near[v] = d <= reach;
     if (!near[v] && d <= kSurroundedReach * reach) between.push_back(static_cast<Eigen::Index>(v));
   }
@@ -131,7 +146,7 @@ std::vector<std::uint8_t> detail::vertices_near_data(const TriangleMesh& mesh, c
       const Eigen::Index v = between[b];
       index.knn(mesh.vertices.row(v).transpose(), surrounding, around);
       near[static_cast<std::size_t>(v)] = surrounded(mesh.vertices.row(v).transpose(), index.points(), around,
-                                                     spread[nearest[static_cast<std::size_t>(v)].index], angles);
+                                                     spread_of(nearest[static_cast<std::size_t>(v)]), angles);
     }
   });
   return near;
@@ -198,6 +213,23 @@ std::size_t drop_unsupported_components(const TriangleMesh& mesh, const Points& 
 
 }  // namespace
 
+double typical_spread(const ClusterTree& tree) {
+  std::vector<std::pair<double, double>> leaves;  // spread, area weight
+  double total = 0;
+  for (const ClusterNode& node : tree.nodes)
+    if (node.is_leaf() && node.point_count >= 2 && node.extent > 0) {
+      leaves.emplace_back(node.extent / std::sqrt(2.0 * node.point_count), node.extent * node.extent);
+      total += leaves.back().second;
+    }
+  std::sort(leaves.begin(), leaves.end());
+  double below = 0, median = 0;
+  for (const auto& [spacing, weight] : leaves) {
+    median = spacing;
+    if ((below += weight) >= total / 2) break;
+  }
+  return median;
+}
+
 TriangleMesh trim_to_points(const TriangleMesh& mesh, const Points& points, const TrimOptions& options,
                             TrimReport* report) {
   return trim_to_points(mesh, KdTree(points), options, report);
@@ -209,6 +241,10 @@ TriangleMesh trim_to_points(const TriangleMesh& mesh, const KdTree& data, const 
   if (!(options.spread_factor >= 0) || !std::isfinite(options.spread_factor))
     throw OptionError("mesh trim: the spread factor must be finite and >= 0 (0 keeps every triangle)");
   if (options.neighbors < 1) throw OptionError("mesh trim: neighbors must be at least 1");
+  if (!(options.max_reach_spreads >= 0) || !std::isfinite(options.max_reach_spreads))
+    throw OptionError("mesh trim: max_reach_spreads must be finite and >= 0 (0: no bound)");
+  if (!(options.typical_spread >= 0) || !std::isfinite(options.typical_spread))
+    throw OptionError("mesh trim: the typical spread must be finite and >= 0 (0: measured at the vertices)");
   if (report != nullptr) *report = {};
   const Eigen::Index nv = mesh.vertices.rows();
   std::vector<std::uint8_t> keep(static_cast<std::size_t>(mesh.triangles.rows()), 1);

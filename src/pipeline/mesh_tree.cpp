@@ -50,7 +50,9 @@ TriangleMesh closed_mesh(const ImplicitSurface& surface, const SurfaceMeshOption
     throw OptionError("the largest hole to fill must be a finite size >= 0 (0: fill every hole)");
   const ClosedSurface closed(surface, options.closing, grid.min_weight, progress);
   TriangleMesh mesh = extract_mesh(closed, grid, &out.grid, progress);
-  mesh.attributes.push_back({"filled", detail::filled_vertices(mesh, closed, data, options.trim)});
+  TrimOptions reach = options.trim;
+  reach.typical_spread = typical_spread(surface.tree());
+  mesh.attributes.push_back({"filled", detail::filled_vertices(mesh, closed, data, reach)});
   if (data != nullptr) {
     TrimOptions debris = options.trim;
     debris.spread_factor = 0;  // keep every triangle: the holes are closed on purpose
@@ -130,8 +132,10 @@ SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options
     if (input != nullptr) {
       const CloudIndex::Subset data = clustered_subset(*input, tree);
       const bool spread_known = data.spread_neighbors == options.trim.neighbors;
-      out.mesh = trim_to_points(out.mesh, data.index, options.trim, &out.trim,
-                                spread_known ? data.spread : std::span<const double>());
+      TrimOptions trim = options.trim;
+      trim.typical_spread = typical_spread(tree);
+      out.mesh =
+          trim_to_points(out.mesh, data.index, trim, &out.trim, spread_known ? data.spread : std::span<const double>());
       out.refit = refit_vertices(out.mesh, data.index, surface, options.refit);
     }
   }

@@ -264,6 +264,14 @@ std::vector<OptionSpec> mesh_finishing_options() {
         meshing(o).trim.spread_factor = parse_real("trim", text, RealBound::NonNegative);
       }));
   out.push_back(spec(
+      "max_reach_spreads", OptionStage::Mesh, OptionKind::Number,
+      "The trim's reach never exceeds this many typical spreads of the points over the surface, where they thin out "
+      "(a scan's rim seen at a grazing angle) and their spread grows; 0: no bound",
+      [](const ReconstructOptions& o) { return number_text(meshing(o).trim.max_reach_spreads); },
+      [](ReconstructOptions& o, std::string_view text) {
+        meshing(o).trim.max_reach_spreads = parse_real("max_reach_spreads", text, RealBound::NonNegative);
+      }));
+  out.push_back(spec(
       "min_component_points", OptionStage::Mesh, OptionKind::Whole,
       "Drop loose fragments on which fewer than this many input points lie nearest (needs the input points, as trim "
       "does). 0 keeps every fragment",

@@ -89,6 +89,7 @@ MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::
   TrimOptions reach = trim;
   reach.min_component_points = 0;
   reach.close_pinholes = false;
+  reach.typical_spread = typical_spread(surface.tree());  // as in core
   mesh = trim_to_points(mesh, index, reach);
 
   // The triangles the region owns, and the votes of its own points for their nearest vertex of

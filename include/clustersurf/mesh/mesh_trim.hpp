@@ -5,10 +5,12 @@
 // a small inner shell between two scan layers) is debris, not surface: it goes too. On request,
 // a small hole the data covers (the mesher's, not the scan's) is closed.
 
+#include <clustersurf/cluster/cluster_tree.hpp>
 #include <clustersurf/core/option_fields.hpp>
 #include <clustersurf/core/point_cloud.hpp>
 #include <clustersurf/spatial/kd_tree.hpp>
 
+#include <algorithm>
 #include <cstddef>
 #include <span>
 
@@ -24,6 +26,15 @@ struct TrimOptions {
   /// edge. 0 keeps every triangle.
   double spread_factor = 2.0;
   std::size_t neighbors = 8;
+  /// The reach never exceeds this many typical spreads (`typical_spread`), whatever the
+  /// nearest point's: where the points thin out towards a scan's rim (views at a grazing angle),
+  /// their spread grows past what they resolve, and the blend's extrapolation past the rim (a
+  /// lip curling inwards, several spacings off the data) would stay within the reach. 3 is 1.5
+  /// times the reach of a point of typical spread. 0: no bound.
+  double max_reach_spreads = 3.0;
+  /// The points' typical spread over the surface: the pipeline gives typical_spread() of its
+  /// tree, the same in every tile; 0: the median spread of the mesh vertices' nearest points.
+  double typical_spread = 0;
   /// A connected component is kept only when at least this many input points have their
   /// nearest mesh vertex on it (about what the support of a small leaf holds); 0 keeps every
   /// component. A real part as small as one cluster of the tree is kept.
@@ -41,9 +52,18 @@ template <OptionsOf<TrimOptions> Options, class F>
 void for_each_field(Options& o, F&& f) {
   f("spread_factor", o.spread_factor);
   f("neighbors", o.neighbors);
+  f("max_reach_spreads", o.max_reach_spreads);
+  f("typical_spread", o.typical_spread);
   f("min_component_points", o.min_component_points);
   f("close_pinholes", o.close_pinholes);
 }
+
+/// TrimOptions::typical_spread for a mesh of `tree`: the median over the surface's area of its
+/// leaves' point spacings (a leaf's extent over √(2 × its points), weighted by its extent
+/// squared), about the mean distance of a point to its 8 nearest on evenly sampled data. Over
+/// the area, not the points: where points come in clumps, the surface is mostly where they are
+/// sparse.
+double typical_spread(const ClusterTree& tree);
 
 /// What trim_to_points() removed.
 struct TrimReport {
