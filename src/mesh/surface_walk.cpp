@@ -12,7 +12,6 @@
 #include <cmath>
 #include <limits>
 #include <optional>
-#include <tuple>
 
 namespace clustersurf::detail {
 
@@ -103,6 +102,22 @@ std::vector<float> corner_values(const Field& field, const Lattice& lattice, con
     }
   });
   return values;
+}
+
+/// The cells of all rounds sorted by (k, j, i), which is their keys' order: one order on any
+/// thread count. Keys and places are sorted, then the cells gathered, both in parallel.
+std::vector<SurfaceCell> in_key_order(const std::vector<std::vector<SurfaceCell>>& rounds, std::size_t count) {
+  std::vector<std::pair<Key, const SurfaceCell*>> keyed;
+  keyed.reserve(count);
+  for (const auto& round : rounds)
+    for (const SurfaceCell& cell : round)
+      keyed.emplace_back(pack(cell.corner[0], cell.corner[1], cell.corner[2]), &cell);
+  tbb::parallel_sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<SurfaceCell> out(keyed.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keyed.size(), 4096), [&](const auto& r) {
+    for (std::size_t t = r.begin(); t != r.end(); ++t) out[t] = *keyed[t].second;
+  });
+  return out;
 }
 
 }  // namespace
@@ -196,13 +211,7 @@ Walk walk_surface(const Field& field, const Lattice& lattice, std::vector<Key> f
     if (permille > reported) reporter.advance(permille - reported), reported = permille;
   }
   Walk out;
-  out.cells.reserve(settled);
-  for (const auto& round : rounds) out.cells.insert(out.cells.end(), round.begin(), round.end());
-  rounds.clear();
-  // Distinct cells: one order on any thread count.
-  tbb::parallel_sort(out.cells.begin(), out.cells.end(), [](const SurfaceCell& a, const SurfaceCell& b) {
-    return std::tie(a.corner[2], a.corner[1], a.corner[0]) < std::tie(b.corner[2], b.corner[1], b.corner[0]);
-  });
+  out.cells = in_key_order(rounds, settled);
   out.corners = grid.queued();
   return out;
 }
