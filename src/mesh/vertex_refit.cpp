@@ -195,13 +195,15 @@ double kernel_vertices(std::uint32_t rounds) {
 /// on the regular triangulation), summed in its ring's order: the same bits in any tile.
 std::vector<double> vertex_areas(const TriangleMesh& mesh, const VertexRings& rings) {
   std::vector<double> area(static_cast<std::size_t>(mesh.vertices.rows()), 0.0);
-  for (std::size_t v = 0; v + 1 < rings.begin.size(); ++v) {
-    double sum = 0;
-    for (std::uint32_t k = rings.begin[v]; k < rings.begin[v + 1]; ++k)
-      sum += (mesh.vertices.row(rings.neighbors[k]) - mesh.vertices.row(static_cast<Eigen::Index>(v))).squaredNorm();
-    const std::uint32_t count = rings.begin[v + 1] - rings.begin[v];
-    if (count > 0) area[v] = std::numbers::sqrt3 / 2 * sum / count;
-  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, area.size(), 4096), [&](const auto& range) {
+    for (std::size_t v = range.begin(); v != range.end(); ++v) {
+      double sum = 0;
+      for (std::uint32_t k = rings.begin[v]; k < rings.begin[v + 1]; ++k)
+        sum += (mesh.vertices.row(rings.neighbors[k]) - mesh.vertices.row(static_cast<Eigen::Index>(v))).squaredNorm();
+      const std::uint32_t count = rings.begin[v + 1] - rings.begin[v];
+      if (count > 0) area[v] = std::numbers::sqrt3 / 2 * sum / count;
+    }
+  });
   return area;
 }
 
@@ -213,22 +215,31 @@ void undo_folds(TriangleMesh& mesh, const Points& before, std::vector<double>& m
   const auto normal = [](const Points& x, const Eigen::RowVector3i& t) {
     return Eigen::Vector3d((x.row(t(1)) - x.row(t(0))).cross(x.row(t(2)) - x.row(t(0))).transpose());
   };
+  std::vector<std::uint8_t> turned(static_cast<std::size_t>(mesh.triangles.rows()));
   for (;;) {
-    std::vector<std::uint32_t> folded;
+    // Each triangle tested in parallel; the corners of those turned put back after.
+    tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, mesh.triangles.rows(), 4096), [&](const auto& range) {
+      for (Eigen::Index t = range.begin(); t != range.end(); ++t) {
+        const Eigen::RowVector3i tri = mesh.triangles.row(t);
+        turned[static_cast<std::size_t>(t)] = 0;
+        if (moves[static_cast<std::size_t>(tri(0))] == 0 && moves[static_cast<std::size_t>(tri(1))] == 0 &&
+            moves[static_cast<std::size_t>(tri(2))] == 0)
+          continue;
+        const Eigen::Vector3d was = normal(before, tri), is = normal(mesh.vertices, tri);
+        turned[static_cast<std::size_t>(t)] = !(is.dot(was) > kMaxTurnCos * is.norm() * was.norm());
+      }
+    });
+    bool any = false;
     for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
-      const Eigen::RowVector3i tri = mesh.triangles.row(t);
-      if (moves[static_cast<std::size_t>(tri(0))] == 0 && moves[static_cast<std::size_t>(tri(1))] == 0 &&
-          moves[static_cast<std::size_t>(tri(2))] == 0)
-        continue;
-      const Eigen::Vector3d was = normal(before, tri), is = normal(mesh.vertices, tri);
-      if (!(is.dot(was) > kMaxTurnCos * is.norm() * was.norm()))
-        for (int k = 0; k < 3; ++k) folded.push_back(static_cast<std::uint32_t>(tri(k)));
+      if (turned[static_cast<std::size_t>(t)] == 0) continue;
+      any = true;
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Index v = mesh.triangles(t, k);
+        mesh.vertices.row(v) = before.row(v);
+        moves[static_cast<std::size_t>(v)] = 0;
+      }
     }
-    if (folded.empty()) return;
-    for (const std::uint32_t v : folded) {
-      mesh.vertices.row(v) = before.row(v);
-      moves[v] = 0;
-    }
+    if (!any) return;
   }
 }
 
@@ -304,37 +315,40 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
     }
   });
   const VertexRings rings = edge_neighbors(mesh);
-  std::vector<double> squared(n), variance(n);
-  for (std::size_t v = 0; v < n; ++v) {
-    squared[v] = fits[v].move * fits[v].move;
-    variance[v] = fits[v].variance;
-  }
   // How many independent fits the window holds: its area over a fit's (neighbouring vertices'
   // fits share most of their points, so their moves are one sample of the noise, not several).
   const std::vector<double> area = vertex_areas(mesh, rings);
-  std::vector<double> coverage(n, 0.0);
-  for (std::size_t v = 0; v < n; ++v)
-    if (fits[v].valid) coverage[v] = area[v] / (std::numbers::pi * fits[v].radius * fits[v].radius);
+  std::vector<double> squared(n), variance(n), coverage(n, 0.0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+    for (std::size_t v = range.begin(); v != range.end(); ++v) {
+      squared[v] = fits[v].move * fits[v].move;
+      variance[v] = fits[v].variance;
+      if (fits[v].valid) coverage[v] = area[v] / (std::numbers::pi * fits[v].radius * fits[v].radius);
+    }
+  });
   const std::vector<double> mean_squared = ring_mean(rings, std::move(squared), options.rings);
   const std::vector<double> mean_variance = ring_mean(rings, std::move(variance), options.rings);
   const std::vector<double> mean_coverage = ring_mean(rings, std::move(coverage), options.rings);
   const double window = kernel_vertices(options.rings);
   const Points before = mesh.vertices;
   std::vector<double> moves(n, 0.0), shares(n, 0.0);
-  for (std::size_t v = 0; v < n; ++v) {
-    if (!fits[v].valid) continue;
-    ++report.refitted;
-    const double c2 = mean_squared[v];
-    // The moves' power above the noise around the vertex, against the noise of its own move.
-    const double samples = std::max(1.0, window * mean_coverage[v]);
-    // The margin the tree's noise tests allow a mean square over that many samples.
-    const double signal = std::max(0.0, c2 - noise_variance_margin(samples) * mean_variance[v]);
-    const double share = signal + fits[v].variance > 0 ? signal / (signal + fits[v].variance) : 1.0;
-    const auto row = static_cast<Eigen::Index>(v);
-    moves[v] = share * fits[v].move;
-    shares[v] = share;
-    mesh.vertices.row(row) += moves[v] * normals.row(row).normalized();
-  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+    for (std::size_t v = range.begin(); v != range.end(); ++v) {
+      if (!fits[v].valid) continue;
+      const double c2 = mean_squared[v];
+      // The moves' power above the noise around the vertex, against the noise of its own move.
+      const double samples = std::max(1.0, window * mean_coverage[v]);
+      // The margin the tree's noise tests allow a mean square over that many samples.
+      const double signal = std::max(0.0, c2 - noise_variance_margin(samples) * mean_variance[v]);
+      const double share = signal + fits[v].variance > 0 ? signal / (signal + fits[v].variance) : 1.0;
+      const auto row = static_cast<Eigen::Index>(v);
+      moves[v] = share * fits[v].move;
+      shares[v] = share;
+      mesh.vertices.row(row) += moves[v] * normals.row(row).normalized();
+    }
+  });
+  report.refitted =
+      static_cast<std::size_t>(std::count_if(fits.begin(), fits.end(), [](const LocalFit& f) { return f.valid; }));
   undo_folds(mesh, before, moves);
   double moved = 0, shared = 0;
   for (std::size_t v = 0; v < n; ++v) moved += std::abs(moves[v]), shared += moves[v] != 0 ? shares[v] : 0.0;
