@@ -145,22 +145,34 @@ std::size_t unfold(TriangleMesh& mesh, const detail::CellPolygons& polygons, con
   const auto normal = [&](std::uint32_t v) -> Eigen::Vector3d { return mesh.normals.row(v).transpose(); };
   std::vector<std::uint8_t> placed_back(polygons.vertices.size(), 0);
   std::size_t moved = 0;
+  const std::size_t quads = polygons.quads.size();
+  std::vector<std::uint8_t> turned(2 * quads + polygons.triangles.size());
   for (int round = 0; round < kUnfoldRounds; ++round) {
-    std::vector<std::uint32_t> folded;
-    const auto check = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    // Each triangle tested in parallel (two of each quad, then the triangles); the corners of
+    // those folded, not placed back before, listed after.
+    const auto folds = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) -> std::uint8_t {
       const Eigen::Vector3d face = (at(b) - at(a)).cross(at(c) - at(a));
-      if (face.dot(normal(a) + normal(b) + normal(c)) < 0)
-        for (const std::uint32_t v : {a, b, c})
-          if (!placed_back[v]) folded.push_back(v);
+      return face.dot(normal(a) + normal(b) + normal(c)) < 0;
     };
-    for (const auto& [a, b, c, d] : polygons.quads) {
+    const auto triangle = [&](std::size_t slot) -> std::array<std::uint32_t, 3> {
+      if (slot >= 2 * quads) return polygons.triangles[slot - 2 * quads];
+      const auto& [a, b, c, d] = polygons.quads[slot / 2];
       // The triangles with_triangles() will make of the quad.
       if ((at(a) - at(c)).squaredNorm() <= (at(b) - at(d)).squaredNorm())
-        check(a, b, c), check(a, c, d);
-      else
-        check(a, b, d), check(b, c, d);
-    }
-    for (const auto& [a, b, c] : polygons.triangles) check(a, b, c);
+        return slot % 2 == 0 ? std::array{a, b, c} : std::array{a, c, d};
+      return slot % 2 == 0 ? std::array{a, b, d} : std::array{b, c, d};
+    };
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, turned.size(), 4096), [&](const auto& r) {
+      for (std::size_t slot = r.begin(); slot != r.end(); ++slot) {
+        const auto [a, b, c] = triangle(slot);
+        turned[slot] = folds(a, b, c);
+      }
+    });
+    std::vector<std::uint32_t> folded;
+    for (std::size_t slot = 0; slot < turned.size(); ++slot)
+      if (turned[slot] != 0)
+        for (const std::uint32_t v : triangle(slot))
+          if (!placed_back[v]) folded.push_back(v);
     std::sort(folded.begin(), folded.end());
     folded.erase(std::unique(folded.begin(), folded.end()), folded.end());
     if (folded.empty()) break;
@@ -184,30 +196,47 @@ std::size_t unfold(TriangleMesh& mesh, const detail::CellPolygons& polygons, con
 /// them collapses with its edge, where dropping it alone would leave a hole.
 TriangleMesh with_triangles(TriangleMesh mesh, const detail::CellPolygons& polygons, double h) {
   const std::vector<std::int32_t> same = detail::position_ids(mesh.vertices);
-  std::vector<std::array<std::int32_t, 3>> tris;
-  auto add = [&](std::int32_t a, std::int32_t b, std::int32_t c) {
+  // Each polygon's triangles in slots of their own (two of each quad, then the triangles), made
+  // in parallel; those kept, in slot order.
+  const std::size_t quads = polygons.quads.size();
+  std::vector<std::array<std::int32_t, 3>> slots(2 * quads + polygons.triangles.size());
+  std::vector<std::uint8_t> kept(slots.size(), 0);
+  const auto add = [&](std::size_t slot, std::int32_t a, std::int32_t b, std::int32_t c) {
     a = same[static_cast<std::size_t>(a)], b = same[static_cast<std::size_t>(b)], c = same[static_cast<std::size_t>(c)];
     if (a == b || b == c || a == c) return;
     const Eigen::Vector3d pa = mesh.vertices.row(a).transpose(), pb = mesh.vertices.row(b).transpose(),
                           pc = mesh.vertices.row(c).transpose();
     if ((pb - pa).cross(pc - pa).norm() <= 1e-12 * h * h) return;
-    tris.push_back({a, b, c});
+    slots[slot] = {a, b, c};
+    kept[slot] = 1;
   };
-  for (const auto& quad : polygons.quads) {
-    const auto a = static_cast<std::int32_t>(quad[0]), b = static_cast<std::int32_t>(quad[1]),
-               c = static_cast<std::int32_t>(quad[2]), d = static_cast<std::int32_t>(quad[3]);
-    const double ac = (mesh.vertices.row(a) - mesh.vertices.row(c)).squaredNorm();
-    const double bd = (mesh.vertices.row(b) - mesh.vertices.row(d)).squaredNorm();
-    if (ac <= bd)
-      add(a, b, c), add(a, c, d);
-    else
-      add(a, b, d), add(b, c, d);
-  }
-  for (const auto& tri : polygons.triangles)
-    add(static_cast<std::int32_t>(tri[0]), static_cast<std::int32_t>(tri[1]), static_cast<std::int32_t>(tri[2]));
-  mesh.triangles.resize(static_cast<Eigen::Index>(tris.size()), 3);
-  for (std::size_t t = 0; t < tris.size(); ++t)
-    for (int k = 0; k < 3; ++k) mesh.triangles(static_cast<Eigen::Index>(t), k) = tris[t][static_cast<std::size_t>(k)];
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, quads, 4096), [&](const auto& r) {
+    for (std::size_t q = r.begin(); q != r.end(); ++q) {
+      const auto& quad = polygons.quads[q];
+      const auto a = static_cast<std::int32_t>(quad[0]), b = static_cast<std::int32_t>(quad[1]),
+                 c = static_cast<std::int32_t>(quad[2]), d = static_cast<std::int32_t>(quad[3]);
+      const double ac = (mesh.vertices.row(a) - mesh.vertices.row(c)).squaredNorm();
+      const double bd = (mesh.vertices.row(b) - mesh.vertices.row(d)).squaredNorm();
+      if (ac <= bd)
+        add(2 * q, a, b, c), add(2 * q + 1, a, c, d);
+      else
+        add(2 * q, a, b, d), add(2 * q + 1, b, c, d);
+    }
+  });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, polygons.triangles.size(), 4096), [&](const auto& r) {
+    for (std::size_t t = r.begin(); t != r.end(); ++t) {
+      const auto& tri = polygons.triangles[t];
+      add(2 * quads + t, static_cast<std::int32_t>(tri[0]), static_cast<std::int32_t>(tri[1]),
+          static_cast<std::int32_t>(tri[2]));
+    }
+  });
+  mesh.triangles.resize(std::count(kept.begin(), kept.end(), std::uint8_t{1}), 3);
+  Eigen::Index row = 0;
+  for (std::size_t slot = 0; slot < slots.size(); ++slot)
+    if (kept[slot] != 0) {
+      for (int k = 0; k < 3; ++k) mesh.triangles(row, k) = slots[slot][static_cast<std::size_t>(k)];
+      ++row;
+    }
   return detail::without_unused_vertices(mesh);
 }
 
