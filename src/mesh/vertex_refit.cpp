@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <span>
@@ -49,7 +50,7 @@ constexpr double kMaxTurnCos = 0.5;
 /// weighted RMS residual exceeds what `tree` allows a cluster of as many effective points: the
 /// points are not one smooth sheet there (a sharp edge, both sides of a thin part).
 LocalFit fit_at(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const Points& data,
-                const std::vector<Neighbor>& near, const ClusterTree& tree) {
+                std::span<const Neighbor> near, const ClusterTree& tree) {
   LocalFit out;
   if (near.size() < 6 || !(normal.squaredNorm() > 0)) return out;
   const double h2 = near.back().distance_squared * (1 + 1e-4);
@@ -103,6 +104,33 @@ LocalFit fit_at(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const P
   out.valid = std::isfinite(out.move) && std::isfinite(out.variance) && std::abs(out.move) < h;
   if (!out.valid) out.move = out.variance = 0;
   return out;
+}
+
+/// How many widths a vertex's fit is tried at: VertexRefitOptions::points nearest points, then
+/// twice as many, and so on.
+constexpr int kFitWidths = 2;
+
+/// The widest of the fits at x to the nearest 1, 2, … kFitWidths times `points` of `near`
+/// (sorted by distance) whose confidence interval, move ± kNoiseMargin standard deviations,
+/// meets those of all narrower ones (Goldenshluger and Nemirovski's intersection of confidence
+/// intervals): a wider fit averages more noise away and is taken while its bias does not show.
+LocalFit widest_consistent_fit(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const Points& data,
+                               std::span<const Neighbor> near, std::size_t points, const ClusterTree& tree) {
+  LocalFit best = fit_at(x, normal, data, near.first(std::min(points, near.size())), tree);
+  if (!best.valid) return best;
+  double low = -std::numeric_limits<double>::infinity(), high = std::numeric_limits<double>::infinity();
+  const auto meet = [&](const LocalFit& f) {
+    const double margin = kNoiseMargin * std::sqrt(f.variance);
+    low = std::max(low, f.move - margin), high = std::min(high, f.move + margin);
+    return low <= high;
+  };
+  meet(best);
+  for (std::size_t k = 2 * points, width = 1; width < kFitWidths && k <= near.size(); k *= 2, ++width) {
+    const LocalFit wider = fit_at(x, normal, data, near.first(k), tree);
+    if (!wider.valid || !meet(wider)) break;
+    best = wider;
+  }
+  return best;
 }
 
 /// Each vertex's neighbours along the triangles' edges, in compressed rows.
@@ -303,7 +331,7 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
       if (v < fixed.size() && fixed[v] > 0) continue;
       const Eigen::Vector3d x = mesh.vertices.row(static_cast<Eigen::Index>(v)).transpose();
       if (creases.contain(x, near)) continue;
-      data.knn(x, options.points, near);
+      data.knn(x, options.points << (kFitWidths - 1), near);
       // Equally distant points in the order of their positions: the same sums whatever the
       // data's row order (a tile's points are numbered otherwise than the whole cloud's).
       std::sort(near.begin(), near.end(), [&](const Neighbor& p, const Neighbor& q) {
@@ -311,7 +339,8 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
         const auto a = data.points().row(p.index), b = data.points().row(q.index);
         return std::lexicographical_compare(a.begin(), a.end(), b.begin(), b.end());
       });
-      fits[v] = fit_at(x, normals.row(static_cast<Eigen::Index>(v)).transpose(), data.points(), near, tree);
+      fits[v] = widest_consistent_fit(x, normals.row(static_cast<Eigen::Index>(v)).transpose(), data.points(), near,
+                                      options.points, tree);
     }
   });
   const VertexRings rings = edge_neighbors(mesh);

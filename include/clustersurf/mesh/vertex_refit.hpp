@@ -46,8 +46,12 @@ struct VertexRefitReport {
 
 /// Moves each vertex of `mesh` (a mesh of `surface`) along its normal (mesh.normals;
 /// recomputed from the triangles when absent) towards the weighted quadratic height field
-/// fitted, in the frame of that normal, to its VertexRefitOptions::points nearest points of
-/// `data` (its tree's clustered input). Of that local fit's move c, whose variance under the
+/// fitted, in the frame of that normal, to its nearest points of `data` (its tree's clustered
+/// input): VertexRefitOptions::points of them, or twice as many where the wider fit's move lies
+/// within the confidence interval of the narrower's (both intervals ±2 standard deviations
+/// under the noise, the margin of the tree's noise tests, and intersecting: the rule of the
+/// intersection of confidence intervals, which widens a fit while its bias stays below its
+/// noise). Of that local fit's move c, whose variance under the
 /// noise is s² (the tree's noise estimate, or what the fit's residuals show where that is more,
 /// through the weighted least squares), it takes the Wiener share P / (P + s²), with
 /// P = max(0, ⟨c²⟩ − (1 + 2 √(2/m)) ⟨s²⟩) the moves' power above their noise: the means over
