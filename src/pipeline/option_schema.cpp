@@ -286,9 +286,10 @@ std::vector<OptionSpec> mesh_finishing_options() {
       [](auto& o) -> auto& { return meshing(o).trim.close_pinholes; }));
   out.push_back(spec(
       "refit_points", OptionStage::Mesh, OptionKind::Whole,
-      "Move each vertex towards a quadratic fitted to this many nearest input points, by the share of the move that "
-      "stands above the estimated noise (needs the input points, as trim does). 0 keeps the vertices where the "
-      "leaves' blend puts them",
+      "Move each vertex towards a quadratic fitted to this many nearest input points, or to twice as many where that "
+      "wider fit agrees with the narrow one within its confidence interval, by the share of the move that stands "
+      "above the estimated noise (needs the input points, as trim does). 0 keeps the vertices where the leaves' "
+      "blend puts them",
       [](const ReconstructOptions& o) { return std::to_string(meshing(o).refit.points); },
       [](ReconstructOptions& o, std::string_view text) {
         meshing(o).refit.points = static_cast<std::uint32_t>(parse_whole("refit_points", text, 0, kMaxUint32));

@@ -17,8 +17,9 @@ inline constexpr std::uint32_t kMinRefitPoints = 6;
 
 /// Options of refit_vertices().
 struct VertexRefitOptions {
-  /// Input points each vertex's local fit takes: its nearest, weighted by (1 − d²/h²)³ with h
-  /// the farthest one's distance (the fewest a quadratic's refit takes, as a leaf's support's).
+  /// Input points each vertex's narrowest local fit takes (a wider one takes twice as many): its
+  /// nearest, weighted by (1 − d²/h²)³ with h the farthest one's distance (the fewest a
+  /// quadratic's refit takes, as a leaf's support's).
   /// 0 leaves the vertices where the blend of the leaves puts them; otherwise at least
   /// kMinRefitPoints.
   std::uint32_t points = 12;
