@@ -131,6 +131,23 @@ TriangleMesh placed_vertices(const detail::CellPolygons& polygons, const Field& 
   return mesh;
 }
 
+/// How many triangles with_triangles() makes of `polygons`: two of each quad, then the triangles.
+std::size_t triangle_slots(const detail::CellPolygons& polygons) {
+  return 2 * polygons.quads.size() + polygons.triangles.size();
+}
+
+/// Triangle `slot` of `polygons` (triangle_slots()' order), each quad split along its shorter
+/// diagonal between `vertices`.
+std::array<std::uint32_t, 3> polygon_triangle(const detail::CellPolygons& polygons, const Points& vertices,
+                                              std::size_t slot) {
+  const std::size_t quads = polygons.quads.size();
+  if (slot >= 2 * quads) return polygons.triangles[slot - 2 * quads];
+  const auto& [a, b, c, d] = polygons.quads[slot / 2];
+  if ((vertices.row(a) - vertices.row(c)).squaredNorm() <= (vertices.row(b) - vertices.row(d)).squaredNorm())
+    return slot % 2 == 0 ? std::array{a, b, c} : std::array{a, c, d};
+  return slot % 2 == 0 ? std::array{a, b, d} : std::array{b, c, d};
+}
+
 /// Rounds of unfold().
 constexpr int kUnfoldRounds = 3;
 
@@ -145,33 +162,21 @@ std::size_t unfold(TriangleMesh& mesh, const detail::CellPolygons& polygons, con
   const auto normal = [&](std::uint32_t v) -> Eigen::Vector3d { return mesh.normals.row(v).transpose(); };
   std::vector<std::uint8_t> placed_back(polygons.vertices.size(), 0);
   std::size_t moved = 0;
-  const std::size_t quads = polygons.quads.size();
-  std::vector<std::uint8_t> turned(2 * quads + polygons.triangles.size());
+  std::vector<std::uint8_t> turned(triangle_slots(polygons));
   for (int round = 0; round < kUnfoldRounds; ++round) {
-    // Each triangle tested in parallel (two of each quad, then the triangles); the corners of
-    // those folded, not placed back before, listed after.
-    const auto folds = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) -> std::uint8_t {
-      const Eigen::Vector3d face = (at(b) - at(a)).cross(at(c) - at(a));
-      return face.dot(normal(a) + normal(b) + normal(c)) < 0;
-    };
-    const auto triangle = [&](std::size_t slot) -> std::array<std::uint32_t, 3> {
-      if (slot >= 2 * quads) return polygons.triangles[slot - 2 * quads];
-      const auto& [a, b, c, d] = polygons.quads[slot / 2];
-      // The triangles with_triangles() will make of the quad.
-      if ((at(a) - at(c)).squaredNorm() <= (at(b) - at(d)).squaredNorm())
-        return slot % 2 == 0 ? std::array{a, b, c} : std::array{a, c, d};
-      return slot % 2 == 0 ? std::array{a, b, d} : std::array{b, c, d};
-    };
+    // Each of the triangles with_triangles() will make tested in parallel; the corners of those
+    // folded, not placed back before, listed after.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, turned.size(), 4096), [&](const auto& r) {
       for (std::size_t slot = r.begin(); slot != r.end(); ++slot) {
-        const auto [a, b, c] = triangle(slot);
-        turned[slot] = folds(a, b, c);
+        const auto [a, b, c] = polygon_triangle(polygons, mesh.vertices, slot);
+        const Eigen::Vector3d face = (at(b) - at(a)).cross(at(c) - at(a));
+        turned[slot] = face.dot(normal(a) + normal(b) + normal(c)) < 0;
       }
     });
     std::vector<std::uint32_t> folded;
     for (std::size_t slot = 0; slot < turned.size(); ++slot)
       if (turned[slot] != 0)
-        for (const std::uint32_t v : triangle(slot))
+        for (const std::uint32_t v : polygon_triangle(polygons, mesh.vertices, slot))
           if (!placed_back[v]) folded.push_back(v);
     std::sort(folded.begin(), folded.end());
     folded.erase(std::unique(folded.begin(), folded.end()), folded.end());
@@ -196,38 +201,21 @@ std::size_t unfold(TriangleMesh& mesh, const detail::CellPolygons& polygons, con
 /// them collapses with its edge, where dropping it alone would leave a hole.
 TriangleMesh with_triangles(TriangleMesh mesh, const detail::CellPolygons& polygons, double h) {
   const std::vector<std::int32_t> same = detail::position_ids(mesh.vertices);
-  // Each polygon's triangles in slots of their own (two of each quad, then the triangles), made
-  // in parallel; those kept, in slot order.
-  const std::size_t quads = polygons.quads.size();
-  std::vector<std::array<std::int32_t, 3>> slots(2 * quads + polygons.triangles.size());
+  // Each polygon's triangles in slots of their own (triangle_slots()), made in parallel; those
+  // kept, in slot order.
+  std::vector<std::array<std::int32_t, 3>> slots(triangle_slots(polygons));
   std::vector<std::uint8_t> kept(slots.size(), 0);
-  const auto add = [&](std::size_t slot, std::int32_t a, std::int32_t b, std::int32_t c) {
-    a = same[static_cast<std::size_t>(a)], b = same[static_cast<std::size_t>(b)], c = same[static_cast<std::size_t>(c)];
-    if (a == b || b == c || a == c) return;
-    const Eigen::Vector3d pa = mesh.vertices.row(a).transpose(), pb = mesh.vertices.row(b).transpose(),
-                          pc = mesh.vertices.row(c).transpose();
-    if ((pb - pa).cross(pc - pa).norm() <= 1e-12 * h * h) return;
-    slots[slot] = {a, b, c};
-    kept[slot] = 1;
-  };
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, quads, 4096), [&](const auto& r) {
-    for (std::size_t q = r.begin(); q != r.end(); ++q) {
-      const auto& quad = polygons.quads[q];
-      const auto a = static_cast<std::int32_t>(quad[0]), b = static_cast<std::int32_t>(quad[1]),
-                 c = static_cast<std::int32_t>(quad[2]), d = static_cast<std::int32_t>(quad[3]);
-      const double ac = (mesh.vertices.row(a) - mesh.vertices.row(c)).squaredNorm();
-      const double bd = (mesh.vertices.row(b) - mesh.vertices.row(d)).squaredNorm();
-      if (ac <= bd)
-        add(2 * q, a, b, c), add(2 * q + 1, a, c, d);
-      else
-        add(2 * q, a, b, d), add(2 * q + 1, b, c, d);
-    }
-  });
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, polygons.triangles.size(), 4096), [&](const auto& r) {
-    for (std::size_t t = r.begin(); t != r.end(); ++t) {
-      const auto& tri = polygons.triangles[t];
-      add(2 * quads + t, static_cast<std::int32_t>(tri[0]), static_cast<std::int32_t>(tri[1]),
-          static_cast<std::int32_t>(tri[2]));
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, slots.size(), 4096), [&](const auto& r) {
+    for (std::size_t slot = r.begin(); slot != r.end(); ++slot) {
+      std::array<std::int32_t, 3> t;
+      const auto corners = polygon_triangle(polygons, mesh.vertices, slot);
+      for (std::size_t k = 0; k < 3; ++k) t[k] = same[corners[k]];
+      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
+      const Eigen::Vector3d pa = mesh.vertices.row(t[0]).transpose(), pb = mesh.vertices.row(t[1]).transpose(),
+                            pc = mesh.vertices.row(t[2]).transpose();
+      if ((pb - pa).cross(pc - pa).norm() <= 1e-12 * h * h) continue;
+      slots[slot] = t;
+      kept[slot] = 1;
     }
   });
   mesh.triangles.resize(std::count(kept.begin(), kept.end(), std::uint8_t{1}), 3);

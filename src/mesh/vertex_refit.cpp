@@ -125,8 +125,8 @@ LocalFit widest_consistent_fit(const Eigen::Vector3d& x, const Eigen::Vector3d& 
     return low <= high;
   };
   meet(best);
-  for (std::size_t k = 2 * points, width = 1; width < kFitWidths && k <= near.size(); k *= 2, ++width) {
-    const LocalFit wider = fit_at(x, normal, data, near.first(k), tree);
+  for (int width = 1; width < kFitWidths && (points << width) <= near.size(); ++width) {
+    const LocalFit wider = fit_at(x, normal, data, near.first(points << width), tree);
     if (!wider.valid || !meet(wider)) break;
     best = wider;
   }

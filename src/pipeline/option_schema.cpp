@@ -251,26 +251,29 @@ std::vector<OptionSpec> mesh_options() {
   return out;
 }
 
+/// A real field of the mesh options (`field(o)` gives it) within `bound`.
+template <class Field>
+OptionSpec mesh_real(std::string name, std::string help, Field field, RealBound bound) {
+  return spec(
+      name, OptionStage::Mesh, OptionKind::Number, std::move(help),
+      [field](const ReconstructOptions& o) { return number_text(field(o)); },
+      [field, name, bound](ReconstructOptions& o, std::string_view text) { field(o) = parse_real(name, text, bound); });
+}
+
 /// The mesh options on the trim, the closing and the decimation.
 std::vector<OptionSpec> mesh_finishing_options() {
   std::vector<OptionSpec> out;
-  out.push_back(spec(
-      "trim", OptionStage::Mesh, OptionKind::Number,
+  out.push_back(mesh_real(
+      "trim",
       "Drop triangles farther from the input points than this x the nearest point's spread (mean distance to its 8 "
       "neighbours), where the data stops (up to 1.5x that where the data lies all around: a gap between samples); "
       "needs the input points. 0 keeps every triangle",
-      [](const ReconstructOptions& o) { return number_text(meshing(o).trim.spread_factor); },
-      [](ReconstructOptions& o, std::string_view text) {
-        meshing(o).trim.spread_factor = parse_real("trim", text, RealBound::NonNegative);
-      }));
-  out.push_back(spec(
-      "max_reach_spreads", OptionStage::Mesh, OptionKind::Number,
+      [](auto& o) -> auto& { return meshing(o).trim.spread_factor; }, RealBound::NonNegative));
+  out.push_back(mesh_real(
+      "max_reach_spreads",
       "The trim's reach never exceeds this many typical spreads of the points over the surface, where they thin out "
       "(a scan's rim seen at a grazing angle) and their spread grows; 0: no bound",
-      [](const ReconstructOptions& o) { return number_text(meshing(o).trim.max_reach_spreads); },
-      [](ReconstructOptions& o, std::string_view text) {
-        meshing(o).trim.max_reach_spreads = parse_real("max_reach_spreads", text, RealBound::NonNegative);
-      }));
+      [](auto& o) -> auto& { return meshing(o).trim.max_reach_spreads; }, RealBound::NonNegative));
   out.push_back(spec(
       "min_component_points", OptionStage::Mesh, OptionKind::Whole,
       "Drop loose fragments on which fewer than this many input points lie nearest (needs the input points, as trim "
@@ -303,27 +306,21 @@ std::vector<OptionSpec> mesh_finishing_options() {
       [](ReconstructOptions& o, std::string_view text) {
         meshing(o).decimation.target_triangles = parse_whole("decimate", text, 0, kMaxSize);
       }));
-  out.push_back(spec(
-      "decimate_tolerance", OptionStage::Mesh, OptionKind::Number,
+  out.push_back(mesh_real(
+      "decimate_tolerance",
       "Reduce the mesh while the surface moves by at most this distance (input units); with decimate, stop at "
       "whichever comes first. 0: no such reduction",
-      [](const ReconstructOptions& o) { return number_text(meshing(o).decimation.max_deviation); },
-      [](ReconstructOptions& o, std::string_view text) {
-        meshing(o).decimation.max_deviation = parse_real("decimate_tolerance", text, RealBound::NonNegative);
-      }));
+      [](auto& o) -> auto& { return meshing(o).decimation.max_deviation; }, RealBound::NonNegative));
   out.push_back(flag_spec(
       "watertight", OptionStage::Mesh,
       "A closed, manifold mesh whatever holes the data has: where the leaves define the surface it is the same; "
       "elsewhere the surface is filled smoothly and its vertices are marked (\"filled\")",
       [](auto& o) -> auto& { return meshing(o).closing.enabled; }));
-  out.push_back(spec(
-      "fill_holes", OptionStage::Mesh, OptionKind::Number,
+  out.push_back(mesh_real(
+      "fill_holes",
       "With watertight: fill only holes up to this size (input units); larger openings stay open. 0 fills every "
       "hole",
-      [](const ReconstructOptions& o) { return number_text(meshing(o).closing.max_hole_size); },
-      [](ReconstructOptions& o, std::string_view text) {
-        meshing(o).closing.max_hole_size = parse_real("fill_holes", text, RealBound::NonNegative);
-      }));
+      [](auto& o) -> auto& { return meshing(o).closing.max_hole_size; }, RealBound::NonNegative));
   return out;
 }
 
