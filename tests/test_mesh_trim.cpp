@@ -239,6 +239,30 @@ TEST(MeshTrim, KeepsTheSurfaceOverAGapBetweenSamplesButNotPastTheDataOrOffIt) {
   EXPECT_EQ(lifted(trim_to_points(bulge, all.positions)), 0u);
 }
 
+namespace {
+
+/// A grid mesh of `rows` x `columns` vertices at `corner` + i `down` + j `across`, every normal
+/// `normal`.
+TriangleMesh grid_mesh(int rows, int columns, const Eigen::RowVector3d& corner, const Eigen::RowVector3d& down,
+                       const Eigen::RowVector3d& across, const Eigen::RowVector3d& normal) {
+  TriangleMesh m;
+  m.vertices.resize(rows * columns, 3);
+  for (int i = 0; i < rows; ++i)
+    for (int j = 0; j < columns; ++j) m.vertices.row(i * columns + j) = corner + i * down + j * across;
+  m.triangles.resize(2 * (rows - 1) * (columns - 1), 3);
+  Eigen::Index t = 0;
+  for (int i = 0; i + 1 < rows; ++i)
+    for (int j = 0; j + 1 < columns; ++j) {
+      const int a = i * columns + j;
+      m.triangles.row(t++) << a, a + columns, a + 1;
+      m.triangles.row(t++) << a + 1, a + columns, a + columns + 1;
+    }
+  m.normals = normal.replicate(m.vertices.rows(), 1);
+  return m;
+}
+
+}  // namespace
+
 // A sheet midway between two layers of data (a slot's two walls, two scans apart), 2.5 reaches
 // from each: its neighbours surround it in projection, but they lie on two sheets, not one.
 TEST(MeshTrim, CutsASheetBetweenTwoLayersOfData) {
@@ -248,23 +272,45 @@ TEST(MeshTrim, CutsASheetBetweenTwoLayersOfData) {
   for (const double z : {-gap / 2, gap / 2})
     for (int i = 0; i <= 40; ++i)
       for (int j = 0; j <= 40; ++j) layers.row(row++) << (i - 20) * spacing, (j - 20) * spacing, z;
-  TriangleMesh sheet;  // the mid-plane, 0.3 wide
-  sheet.vertices.resize(13 * 13, 3);
-  for (int i = 0; i < 13; ++i)
-    for (int j = 0; j < 13; ++j) sheet.vertices.row(i * 13 + j) << (i - 6) * spacing, (j - 6) * spacing, 0;
-  sheet.triangles.resize(2 * 12 * 12, 3);
-  Eigen::Index t = 0;
-  for (int i = 0; i < 12; ++i)
-    for (int j = 0; j < 12; ++j) {
-      const int a = i * 13 + j;
-      sheet.triangles.row(t++) << a, a + 13, a + 1;
-      sheet.triangles.row(t++) << a + 1, a + 13, a + 14;
-    }
-  sheet.normals = Points::Zero(sheet.vertices.rows(), 3);
-  sheet.normals.col(2).setOnes();
+  const TriangleMesh sheet =  // the mid-plane, 0.3 wide
+      grid_mesh(13, 13, {-6 * spacing, -6 * spacing, 0}, {spacing, 0, 0}, {0, spacing, 0}, {0, 0, 1});
   TrimOptions reach_only;
   reach_only.min_component_points = 0;
   EXPECT_EQ(trim_to_points(sheet, layers, reach_only).triangles.rows(), 0);
+}
+
+// A flap standing up off a flat sheet of data, all of it within the reach of the data's points
+// (as the blend raises one between two close parts of a sparse scan), is not the data's surface:
+// it goes; the sheet's own surface, level with the data, stays.
+TEST(MeshTrim, CutsAFlapStandingOffTheDataAndKeepsTheSheet) {
+  const double spacing = 0.025;  // the points' spread (mean distance to 8 neighbours): about 0.03
+  Points data(41 * 41, 3);
+  for (int i = 0; i <= 40; ++i)
+    for (int j = 0; j <= 40; ++j) data.row(i * 41 + j) << (i - 20) * spacing, (j - 20) * spacing, 0;
+  const TriangleMesh sheet =
+      grid_mesh(13, 13, {-6 * spacing, -6 * spacing, 0}, {spacing, 0, 0}, {0, spacing, 0}, {0, 0, 1});
+  // The flap: 0.02 to 0.05 above the data, between two columns of points (under 0.052 from
+  // the nearest point: within the reach of 2 spreads); its rows at 0.035 and 0.05 lie more
+  // than a spread off the data's plane, next to each other.
+  const TriangleMesh flap =
+      grid_mesh(3, 9, {spacing / 2, -4 * spacing, 0.02}, {0, 0, 0.015}, {0, spacing, 0}, {1, 0, 0});
+  TriangleMesh both = sheet;
+  both.vertices.conservativeResize(sheet.vertices.rows() + flap.vertices.rows(), 3);
+  both.vertices.bottomRows(flap.vertices.rows()) = flap.vertices;
+  both.normals.conservativeResize(both.vertices.rows(), 3);
+  both.normals.bottomRows(flap.normals.rows()) = flap.normals;
+  both.triangles.conservativeResize(sheet.triangles.rows() + flap.triangles.rows(), 3);
+  both.triangles.bottomRows(flap.triangles.rows()) =
+      flap.triangles.array() + static_cast<std::int32_t>(sheet.vertices.rows());
+  TrimOptions reach_only;
+  reach_only.min_component_points = 0;
+  const TriangleMesh kept = trim_to_points(both, data, reach_only);
+  EXPECT_EQ(kept.triangles.rows(), sheet.triangles.rows());
+  EXPECT_LT(kept.vertices.col(2).cwiseAbs().maxCoeff(), 1e-12);
+  // The same flap laid level, 0.01 above the data, is the data's surface: it stays.
+  const TriangleMesh level =
+      grid_mesh(3, 9, {spacing / 2, -4 * spacing, 0.01}, {0.015, 0, 0}, {0, spacing, 0}, {0, 0, 1});
+  EXPECT_EQ(trim_to_points(level, data, reach_only).triangles.rows(), level.triangles.rows());
 }
 
 TEST(MeshTrim, GivenSpreadsAreUsedAndMeasuredOnesAreTheSame) {
@@ -308,19 +354,8 @@ TEST(MeshTrim, ReachIsBoundedWhereThePointsThinOut) {
     for (int j = 0; j <= 10; ++j) rows.emplace_back(i * sparse, -0.5 + j * sparse, 0);
   Points data(static_cast<Eigen::Index>(rows.size()), 3);
   for (std::size_t r = 0; r < rows.size(); ++r) data.row(static_cast<Eigen::Index>(r)) = rows[r];
-  TriangleMesh plane;  // x in [-1, 0.6], y in [-0.5, 0.5], 0.01 apart: most of it over the dense part
-  const int nx = 161, ny = 101;
-  plane.vertices.resize(nx * ny, 3);
-  for (int i = 0; i < nx; ++i)
-    for (int j = 0; j < ny; ++j) plane.vertices.row(i * ny + j) << -1 + i * 0.01, -0.5 + j * 0.01, 0;
-  plane.triangles.resize(2 * (nx - 1) * (ny - 1), 3);
-  Eigen::Index t = 0;
-  for (int i = 0; i + 1 < nx; ++i)
-    for (int j = 0; j + 1 < ny; ++j) {
-      const int a = i * ny + j;
-      plane.triangles.row(t++) << a, a + ny, a + 1;
-      plane.triangles.row(t++) << a + 1, a + ny, a + ny + 1;
-    }
+  // x in [-1, 0.6], y in [-0.5, 0.5], 0.01 apart: most of it over the dense part
+  const TriangleMesh plane = grid_mesh(161, 101, {-1, -0.5, 0}, {0.01, 0, 0}, {0, 0.01, 0}, {0, 0, 1});
   const auto farthest = [&](const TrimOptions& options) {
     return trim_to_points(plane, data, options).vertices.col(0).maxCoeff();
   };

@@ -47,18 +47,37 @@ constexpr double kMaxSheetVarianceRatio = 0.25;
 /// neighbours: no angle between consecutive neighbours around it reaches π. Past the data's
 /// edge they all lie to one side; over a gap between samples they lie all around.
 constexpr double kMaxSurroundingGap = std::numbers::pi;
+/// A vertex within the reach but farther than this share of its nearest point's spread from it
+/// is tested against the data's sheet: nearer, it lies on the data.
+constexpr double kOnDataSpreads = 0.5;
+
+/// The least-squares plane of the points `around` when they lie on one sheet
+/// (kMaxSheetVarianceRatio), else none.
+std::optional<PlaneProxy> data_sheet(const Eigen::Vector3d& x, const Points& points, std::span<const Neighbor> around) {
+  if (around.size() < 3) return std::nullopt;
+  PlaneMoments moments(x);
+  for (const auto& nb : around) moments.add(points.row(nb.index).transpose());
+  const Eigen::Vector3d variances = moments.spreads();                                // ascending
+  if (!(variances(0) <= kMaxSheetVarianceRatio * variances(1))) return std::nullopt;  // not one sheet
+  return moments.fit();
+}
+
+/// Whether the points `around` `x` lie on one sheet and x lies farther than `spread` from its
+/// plane: surface near the data that is not the data's surface. Where the points are not one
+/// sheet (both sides of a thin part, an edge), nothing is decided: false.
+bool off_sheet(const Eigen::Vector3d& x, const Points& points, std::span<const Neighbor> around, double spread) {
+  const std::optional<PlaneProxy> plane = data_sheet(x, points, around);
+  return plane && std::abs((x - plane->point).dot(plane->normal)) > spread;
+}
 
 /// Whether the points `around` `x` lie on one sheet (kMaxSheetVarianceRatio), `x` lies within
 /// `spread` of their least-squares plane, and they leave no angular gap of kMaxSurroundingGap
 /// or more around it in that plane. `angles` is scratch space.
 bool surrounded(const Eigen::Vector3d& x, const Points& points, std::span<const Neighbor> around, double spread,
                 std::vector<double>& angles) {
-  if (around.size() < 3) return false;
-  PlaneMoments moments(x);
-  for (const auto& nb : around) moments.add(points.row(nb.index).transpose());
-  const Eigen::Vector3d variances = moments.spreads();                         // ascending
-  if (!(variances(0) <= kMaxSheetVarianceRatio * variances(1))) return false;  // not one sheet
-  const PlaneProxy plane = moments.fit();
+  const std::optional<PlaneProxy> sheet = data_sheet(x, points, around);
+  if (!sheet) return false;
+  const PlaneProxy& plane = *sheet;
   if (std::abs((x - plane.point).dot(plane.normal)) > spread) return false;  // off the data's surface
   const Eigen::Vector3d u = plane.normal.unitOrthogonal(), w = plane.normal.cross(u);
   angles.clear();
@@ -130,10 +149,12 @@ std::vector<std::uint8_t> detail::vertices_near_data(const TriangleMesh& mesh, c
   const auto spread_of = [&](const Neighbor& n) { return std::min(max_spread, spread[n.index]); };
   std::vector<std::uint8_t> near(static_cast<std::size_t>(nv));
   std::vector<Eigen::Index> between;  // beyond the reach, within kSurroundedReach times it
+  std::vector<Eigen::Index> within;   // within the reach, not on the data
   for (std::size_t v = 0; v < near.size(); ++v) {
     const double d = std::sqrt(nearest[v].distance_squared), reach = options.spread_factor * spread_of(nearest[v]);
     near[v] = d <= reach;
     if (!near[v] && d <= kSurroundedReach * reach) between.push_back(static_cast<Eigen::Index>(v));
+    if (near[v] && d > kOnDataSpreads * spread_of(nearest[v])) within.push_back(static_cast<Eigen::Index>(v));
   }
   // A vertex a little beyond the reach, on the data's surface, with data all around it, sits
   // over a gap between samples, not past the data's edge (where all its data lies to one side),
@@ -149,6 +170,35 @@ std::vector<std::uint8_t> detail::vertices_near_data(const TriangleMesh& mesh, c
                                                      spread_of(nearest[static_cast<std::size_t>(v)]), angles);
     }
   });
+  // A vertex within the reach but off the sheet the data forms around it is not the data's
+  // surface either: a flap the blend raises between two close parts, a bubble's wall.
+  std::vector<std::uint8_t> off(static_cast<std::size_t>(nv), 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, within.size(), 64), [&](const auto& r) {
+    std::vector<Neighbor> around;
+    for (std::size_t b = r.begin(); b != r.end(); ++b) {
+      const Eigen::Index v = within[b];
+      const Eigen::Vector3d x = mesh.vertices.row(v).transpose();
+      index.knn(x, surrounding, around);
+      off[static_cast<std::size_t>(v)] =
+          off_sheet(x, index.points(), around, spread_of(nearest[static_cast<std::size_t>(v)]));
+    }
+  });
+  // One such vertex among vertices on the data is a spike of the blend (the refit takes it
+  // back), not a flap: it stays, where cutting it would leave a pinhole. It goes with a
+  // neighbour off the sheet or beyond the reach.
+  std::vector<std::uint8_t> joined(static_cast<std::size_t>(nv), 0);
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+    const auto tri = mesh.triangles.row(t);
+    int away = 0;
+    for (int k = 0; k < 3; ++k) {
+      const auto v = static_cast<std::size_t>(tri(k));
+      away += off[v] || !near[v];
+    }
+    if (away < 2) continue;
+    for (int k = 0; k < 3; ++k) joined[static_cast<std::size_t>(tri(k))] = 1;
+  }
+  for (std::size_t v = 0; v < near.size(); ++v)
+    if (off[v] && joined[v]) near[v] = 0;
   return near;
 }
 

@@ -5,6 +5,7 @@
 #include <clustersurf/cluster/noise.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/mesh/mesh_trim.hpp>
 #include <clustersurf/mesh/vertex_refit.hpp>
 
 #include "spatial/spatial_order.hpp"
@@ -321,6 +322,7 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
   const Points computed = has_normals ? Points() : vertex_normals(mesh);
   const Points& normals = has_normals ? mesh.normals : computed;
   const CreaseSupports creases(surface);
+  const double max_move = typical_spread(tree);
   std::vector<LocalFit> fits(n);
   // Queried in spatial order: consecutive queries visit the same part of the k-d tree.
   const std::vector<std::uint32_t> order = detail::spatial_order(mesh.vertices);
@@ -341,6 +343,9 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
       });
       fits[v] = widest_consistent_fit(x, normals.row(static_cast<Eigen::Index>(v)).transpose(), data.points(), near,
                                       options.points, tree);
+      // The blend lies within a spread of the data; a fit asking for more is not its sag (a
+      // vertex at a rim left by the trim, fitted to points of another part).
+      if (!(std::abs(fits[v].move) <= max_move)) fits[v] = LocalFit{};
     }
   });
   const VertexRings rings = edge_neighbors(mesh);

@@ -266,8 +266,9 @@ std::vector<OptionSpec> mesh_finishing_options() {
   out.push_back(mesh_real(
       "trim",
       "Drop triangles farther from the input points than this x the nearest point's spread (mean distance to its 8 "
-      "neighbours), where the data stops (up to 1.5x that where the data lies all around: a gap between samples); "
-      "needs the input points. 0 keeps every triangle",
+      "neighbours), where the data stops (up to 1.5x that where the data lies all around: a gap between samples), "
+      "and within that reach the flaps that stand more than a spread off the sheet the points form; needs the input "
+      "points. 0 keeps every triangle",
       [](auto& o) -> auto& { return meshing(o).trim.spread_factor; }, RealBound::NonNegative));
   out.push_back(mesh_real(
       "max_reach_spreads",

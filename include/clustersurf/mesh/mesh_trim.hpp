@@ -23,7 +23,11 @@ struct TrimOptions {
   /// 3 sample spacings by default. A vertex within 1.5 times that reach is kept when its 16
   /// nearest points lie on one sheet, it lies within a spread of their plane, and they lie all
   /// around it: a gap between random samples (or a hole or slit as narrow), not the data's
-  /// edge. 0 keeps every triangle.
+  /// edge. Within the reach, a vertex farther than half a spread from the nearest point goes
+  /// when its 16 nearest points lie on one sheet, it lies more than a spread off their plane,
+  /// and a neighbour along its triangles is as far off or beyond the reach: a flap or bubble
+  /// the blend raises near the data, not the data's surface (a lone such vertex is a spike,
+  /// which the refit takes back). 0 keeps every triangle.
   double spread_factor = 2.0;
   std::size_t neighbors = 8;
   /// The reach never exceeds this many typical spreads (`typical_spread`), whatever the

@@ -61,12 +61,13 @@ struct VertexRefitReport {
 /// the noise's the vertices stay; where they stand above it (the blend's error on clean or
 /// sparse data) they are taken. A fit that its points do not determine, that misses the error
 /// a cluster of the tree may keep (cluster_error_threshold(): a sharp edge, both sides of a
-/// thin part), or whose move would reach past its farthest point, moves nothing; nor do the
-/// vertices where a crease leaf blends (its planes hold the sharp edge), those whose `fixed`
-/// value is positive (a closed mesh's filled vertices) and the corners of a triangle the moves
-/// would turn by more than 60 degrees (a fold). The normals are kept. Deterministic for any thread count and any
-/// numbering of the vertices and of the data. Throws OptionError for invalid options
-/// (check_refit_options()).
+/// thin part), or whose move would reach past its farthest point or farther than the points'
+/// typical spread (typical_spread() of the tree: the blend lies within it), moves nothing; nor
+/// do the vertices where a crease leaf blends (its planes hold the sharp edge), those whose
+/// `fixed` value is positive (a closed mesh's filled vertices) and the corners of a triangle
+/// the moves would turn by more than 60 degrees (a fold). The normals are kept. Deterministic
+/// for any thread count and any numbering of the vertices and of the data. Throws OptionError
+/// for invalid options (check_refit_options()).
 VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const ImplicitSurface& surface,
                                  const VertexRefitOptions& options = {}, std::span<const float> fixed = {});
 
