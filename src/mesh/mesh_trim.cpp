@@ -149,7 +149,7 @@ std::vector<std::uint8_t> detail::vertices_near_data(const TriangleMesh& mesh, c
   const auto spread_of = [&](const Neighbor& n) { return std::min(max_spread, spread[n.index]); };
   std::vector<std::uint8_t> near(static_cast<std::size_t>(nv));
   std::vector<Eigen::Index> between;  // beyond the reach, within kSurroundedReach times it
-  std::vector<Eigen::Index> within;   // within the reach, not on the data
+  std::vector<Eigen::Index> within;   // within the reach, over half a spread from the data
   for (std::size_t v = 0; v < near.size(); ++v) {
     const double d = std::sqrt(nearest[v].distance_squared), reach = options.spread_factor * spread_of(nearest[v]);
     near[v] = d <= reach;
