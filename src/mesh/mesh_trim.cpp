@@ -62,12 +62,17 @@ std::optional<PlaneProxy> data_sheet(const Eigen::Vector3d& x, const Points& poi
   return moments.fit();
 }
 
+/// Whether `x` lies farther than `spread` from `plane`.
+bool off_plane(const PlaneProxy& plane, const Eigen::Vector3d& x, double spread) {
+  return std::abs((x - plane.point).dot(plane.normal)) > spread;
+}
+
 /// Whether the points `around` `x` lie on one sheet and x lies farther than `spread` from its
 /// plane: surface near the data that is not the data's surface. Where the points are not one
 /// sheet (both sides of a thin part, an edge), nothing is decided: false.
 bool off_sheet(const Eigen::Vector3d& x, const Points& points, std::span<const Neighbor> around, double spread) {
   const std::optional<PlaneProxy> plane = data_sheet(x, points, around);
-  return plane && std::abs((x - plane->point).dot(plane->normal)) > spread;
+  return plane && off_plane(*plane, x, spread);
 }
 
 /// Whether the points `around` `x` lie on one sheet (kMaxSheetVarianceRatio), `x` lies within
@@ -76,9 +81,8 @@ bool off_sheet(const Eigen::Vector3d& x, const Points& points, std::span<const N
 bool surrounded(const Eigen::Vector3d& x, const Points& points, std::span<const Neighbor> around, double spread,
                 std::vector<double>& angles) {
   const std::optional<PlaneProxy> sheet = data_sheet(x, points, around);
-  if (!sheet) return false;
+  if (!sheet || off_plane(*sheet, x, spread)) return false;  // not one sheet, or off the data's surface
   const PlaneProxy& plane = *sheet;
-  if (std::abs((x - plane.point).dot(plane.normal)) > spread) return false;  // off the data's surface
   const Eigen::Vector3d u = plane.normal.unitOrthogonal(), w = plane.normal.cross(u);
   angles.clear();
   for (const auto& nb : around) {
