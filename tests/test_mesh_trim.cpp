@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <numbers>
+
 #include "test_support.hpp"
 
 using namespace clustersurf;
@@ -261,6 +263,18 @@ TriangleMesh grid_mesh(int rows, int columns, const Eigen::RowVector3d& corner, 
   return m;
 }
 
+/// The meshes `a` and `b` as one (b's rows after a's).
+TriangleMesh joined(const TriangleMesh& a, const TriangleMesh& b) {
+  TriangleMesh both = a;
+  both.vertices.conservativeResize(a.vertices.rows() + b.vertices.rows(), 3);
+  both.vertices.bottomRows(b.vertices.rows()) = b.vertices;
+  both.normals.conservativeResize(both.vertices.rows(), 3);
+  both.normals.bottomRows(b.normals.rows()) = b.normals;
+  both.triangles.conservativeResize(a.triangles.rows() + b.triangles.rows(), 3);
+  both.triangles.bottomRows(b.triangles.rows()) = b.triangles.array() + static_cast<std::int32_t>(a.vertices.rows());
+  return both;
+}
+
 }  // namespace
 
 // A sheet midway between two layers of data (a slot's two walls, two scans apart), 2.5 reaches
@@ -294,14 +308,7 @@ TEST(MeshTrim, CutsAFlapStandingOffTheDataAndKeepsTheSheet) {
   // than a spread off the data's plane, next to each other.
   const TriangleMesh flap =
       grid_mesh(3, 9, {spacing / 2, -4 * spacing, 0.02}, {0, 0, 0.015}, {0, spacing, 0}, {1, 0, 0});
-  TriangleMesh both = sheet;
-  both.vertices.conservativeResize(sheet.vertices.rows() + flap.vertices.rows(), 3);
-  both.vertices.bottomRows(flap.vertices.rows()) = flap.vertices;
-  both.normals.conservativeResize(both.vertices.rows(), 3);
-  both.normals.bottomRows(flap.normals.rows()) = flap.normals;
-  both.triangles.conservativeResize(sheet.triangles.rows() + flap.triangles.rows(), 3);
-  both.triangles.bottomRows(flap.triangles.rows()) =
-      flap.triangles.array() + static_cast<std::int32_t>(sheet.vertices.rows());
+  const TriangleMesh both = joined(sheet, flap);
   TrimOptions reach_only;
   reach_only.min_component_points = 0;
   const TriangleMesh kept = trim_to_points(both, data, reach_only);
@@ -311,6 +318,50 @@ TEST(MeshTrim, CutsAFlapStandingOffTheDataAndKeepsTheSheet) {
   const TriangleMesh level =
       grid_mesh(3, 9, {spacing / 2, -4 * spacing, 0.01}, {0.015, 0, 0}, {0, spacing, 0}, {0, 0, 1});
   EXPECT_EQ(trim_to_points(level, data, reach_only).triangles.rows(), level.triangles.rows());
+}
+
+// A flap standing off a thin tube of sparse data (a leg of a sparse scan): the 16 points
+// nearest to it wrap around the tube, so they are no one sheet; the 8 nearest, on the tube's
+// near side, are, and the flap stands off them: it goes; the tube's own surface stays.
+TEST(MeshTrim, CutsAFlapStandingOffAThinTube) {
+  // Rings of 6 points, each turned half a step from the last, 1.5 chords apart: the spread
+  // (mean distance to 8 neighbours) is about 0.019, the reach 0.037.
+  const double radius = 0.012, chord = radius, pitch = 1.5 * chord;
+  const int rings = 41, around = 6;
+  Points data(rings * around, 3);
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < around; ++j) {
+      const double a = (j + 0.5 * (i % 2)) * 2 * std::numbers::pi / around;
+      data.row(i * around + j) << (i - rings / 2) * pitch, radius * std::cos(a), radius * std::sin(a);
+    }
+  // The tube's surface, 24 facets around, over its middle.
+  const int segments = 24, stations = 21;
+  TriangleMesh tube;
+  tube.vertices.resize(stations * segments, 3);
+  tube.normals.resize(stations * segments, 3);
+  for (int i = 0; i < stations; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const double a = j * 2 * std::numbers::pi / segments;
+      tube.vertices.row(i * segments + j) << (i - stations / 2) * pitch / 2, radius * std::cos(a), radius * std::sin(a);
+      tube.normals.row(i * segments + j) << 0, std::cos(a), std::sin(a);
+    }
+  tube.triangles.resize(2 * (stations - 1) * segments, 3);
+  Eigen::Index t = 0;
+  for (int i = 0; i + 1 < stations; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const int a = i * segments + j, b = i * segments + (j + 1) % segments;
+      tube.triangles.row(t++) << a, a + segments, b;
+      tube.triangles.row(t++) << b, a + segments, b + segments;
+    }
+  // The flap: 0.024 to 0.032 above the tube's top, within the reach, more than a spread off
+  // the plane of the points under it.
+  const TriangleMesh flap = grid_mesh(3, 9, {-4 * pitch, 0, radius + 0.024}, {0, 0, 0.004}, {pitch, 0, 0}, {0, 1, 0});
+  const TriangleMesh both = joined(tube, flap);
+  TrimOptions reach_only;
+  reach_only.min_component_points = 0;
+  const TriangleMesh kept = trim_to_points(both, data, reach_only);
+  EXPECT_EQ(kept.triangles.rows(), tube.triangles.rows());
+  EXPECT_LT(kept.vertices.col(2).maxCoeff(), radius + 1e-12);
 }
 
 TEST(MeshTrim, GivenSpreadsAreUsedAndMeasuredOnesAreTheSame) {

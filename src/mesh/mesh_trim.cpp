@@ -50,6 +50,11 @@ constexpr double kMaxSurroundingGap = std::numbers::pi;
 /// A vertex within the reach but farther than this share of its nearest point's spread from it
 /// is tested against the data's sheet: nearer, it lies on the data.
 constexpr double kOnDataSpreads = 0.5;
+/// Where the surrounding neighbours wrap around a thin part, this many nearest of them (the
+/// near side's) are judged as a sheet instead...
+constexpr std::size_t kThinSheetNeighbors = 8;
+/// ...when they lie within this share of a spread of their plane (RMS): one side of the part.
+constexpr double kThinSheetSpreads = 0.5;
 
 /// The least-squares plane of the points `around` when they lie on one sheet
 /// (kMaxSheetVarianceRatio), else none.
@@ -67,11 +72,24 @@ bool off_plane(const PlaneProxy& plane, const Eigen::Vector3d& x, double spread)
   return std::abs((x - plane.point).dot(plane.normal)) > spread;
 }
 
-/// Whether the points `around` `x` lie on one sheet and x lies farther than `spread` from its
-/// plane: surface near the data that is not the data's surface. Where the points are not one
-/// sheet (both sides of a thin part, an edge), nothing is decided: false.
+/// The least-squares plane of the points `near` when they lie within kThinSheetSpreads ×
+/// `spread` of it (RMS), else none.
+std::optional<PlaneProxy> thin_sheet(const Eigen::Vector3d& x, const Points& points, std::span<const Neighbor> near,
+                                     double spread) {
+  if (near.size() < 3) return std::nullopt;
+  PlaneMoments moments(x);
+  for (const auto& nb : near) moments.add(points.row(nb.index).transpose());
+  if (!(moments.rms_error() <= kThinSheetSpreads * spread)) return std::nullopt;
+  return moments.fit();
+}
+
+/// Whether the points `around` `x` (nearest first) lie on one sheet and x lies farther than
+/// `spread` from its plane: surface near the data that is not the data's surface. Where they
+/// are not one sheet (they wrap around a thin part), the kThinSheetNeighbors nearest decide
+/// when they are one thin sheet (thin_sheet()); else (an edge, a corner) nothing is decided: false.
 bool off_sheet(const Eigen::Vector3d& x, const Points& points, std::span<const Neighbor> around, double spread) {
-  const std::optional<PlaneProxy> plane = data_sheet(x, points, around);
+  std::optional<PlaneProxy> plane = data_sheet(x, points, around);
+  if (!plane) plane = thin_sheet(x, points, around.first(std::min(around.size(), kThinSheetNeighbors)), spread);
   return plane && off_plane(*plane, x, spread);
 }
 
