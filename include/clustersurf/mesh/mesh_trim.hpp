@@ -24,7 +24,8 @@ struct TrimOptions {
   /// nearest points lie on one sheet, it lies within a spread of their plane, and they lie all
   /// around it: a gap between random samples (or a hole or slit as narrow), not the data's
   /// edge. Within the reach, a vertex farther than half a spread from the nearest point goes
-  /// when its 16 nearest points lie on one sheet, it lies more than a spread off their plane,
+  /// when its 16 nearest points lie on one sheet (or, where they wrap around a thin part, its
+  /// 8 nearest lie within half a spread of theirs), it lies more than a spread off that plane,
   /// and a neighbour along its triangles is as far off or beyond the reach: a flap or bubble
   /// the blend raises near the data, not the data's surface (a lone such vertex is a spike,
   /// which the refit takes back). 0 keeps every triangle.
