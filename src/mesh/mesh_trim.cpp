@@ -56,12 +56,18 @@ constexpr std::size_t kThinSheetNeighbors = 8;
 /// ...when they lie within this share of a spread of their plane (RMS): one side of the part.
 constexpr double kThinSheetSpreads = 0.5;
 
+/// The moments of the points `near`, taken relative to `x`.
+PlaneMoments moments_of(const Eigen::Vector3d& x, const Points& points, std::span<const Neighbor> near) {
+  PlaneMoments moments(x);
+  for (const auto& nb : near) moments.add(points.row(nb.index).transpose());
+  return moments;
+}
+
 /// The least-squares plane of the points `around` when they lie on one sheet
 /// (kMaxSheetVarianceRatio), else none.
 std::optional<PlaneProxy> data_sheet(const Eigen::Vector3d& x, const Points& points, std::span<const Neighbor> around) {
   if (around.size() < 3) return std::nullopt;
-  PlaneMoments moments(x);
-  for (const auto& nb : around) moments.add(points.row(nb.index).transpose());
+  const PlaneMoments moments = moments_of(x, points, around);
   const Eigen::Vector3d variances = moments.spreads();                                // ascending
   if (!(variances(0) <= kMaxSheetVarianceRatio * variances(1))) return std::nullopt;  // not one sheet
   return moments.fit();
@@ -77,8 +83,7 @@ bool off_plane(const PlaneProxy& plane, const Eigen::Vector3d& x, double spread)
 std::optional<PlaneProxy> thin_sheet(const Eigen::Vector3d& x, const Points& points, std::span<const Neighbor> near,
                                      double spread) {
   if (near.size() < 3) return std::nullopt;
-  PlaneMoments moments(x);
-  for (const auto& nb : near) moments.add(points.row(nb.index).transpose());
+  const PlaneMoments moments = moments_of(x, points, near);
   if (!(moments.rms_error() <= kThinSheetSpreads * spread)) return std::nullopt;
   return moments.fit();
 }
