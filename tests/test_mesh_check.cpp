@@ -434,6 +434,34 @@ TEST(MeshCheck, SameCountAsEveryPairTested) {
   EXPECT_TRUE(std::is_sorted(sb.pairs.begin(), sb.pairs.end()));
 }
 
+TEST(MeshCheck, SuspectsFindThePairsTheyAreIn) {
+  // Two overlapping spheres, one of them small enough that its triangles' boxes are far smaller
+  // than the other's: every pair found with some triangles suspected is a pair of the full
+  // search with a suspect in it, and every such pair is found.
+  const TriangleMesh mesh = join(uv_sphere(64, 32), uv_sphere(16, 8, 0.5, Vec(0.9, 0.1, 0.05)));
+  MeshCheckOptions all;
+  all.max_pairs = 100'000;
+  const SelfIntersections full = find_self_intersections(mesh, all);
+  ASSERT_GT(full.count, 50u);
+  std::mt19937_64 rng(3);
+  std::bernoulli_distribution pick(0.1);
+  std::vector<std::uint8_t> suspect(static_cast<std::size_t>(mesh.triangles.rows()));
+  for (auto& s : suspect) s = pick(rng);
+  std::vector<std::array<std::int32_t, 2>> expected;
+  for (const auto& p : full.pairs)
+    if (suspect[static_cast<std::size_t>(p[0])] != 0 || suspect[static_cast<std::size_t>(p[1])] != 0)
+      expected.push_back(p);
+  ASSERT_GT(expected.size(), 5u);
+  ASSERT_LT(expected.size(), full.count);
+  const SelfIntersections found = find_self_intersections(mesh, suspect, all);
+  EXPECT_EQ(found.count, expected.size());
+  EXPECT_EQ(found.pairs, expected);
+  // No suspect, no pair; every triangle suspected, the full search.
+  EXPECT_EQ(find_self_intersections(mesh, std::vector<std::uint8_t>(suspect.size(), 0), all).count, 0u);
+  EXPECT_EQ(find_self_intersections(mesh, std::vector<std::uint8_t>(suspect.size(), 1), all).pairs, full.pairs);
+  EXPECT_THROW(find_self_intersections(mesh, std::vector<std::uint8_t>(3, 1), all), OptionError);
+}
+
 TEST(MeshCheck, SameResultWithOneThread) {
   const TriangleMesh overlapping = join(uv_sphere(64, 32), uv_sphere(64, 32, 0.8, Vec(0.9, 0.1, 0.05)));
   const SelfIntersections many = find_self_intersections(overlapping);

@@ -195,8 +195,9 @@ struct Search {
   const TriangleMesh* mesh = nullptr;
   const std::vector<std::int32_t>* vertex_id = nullptr;  // one id per position
   const std::vector<Plane>* planes = nullptr;
-  const std::vector<std::int32_t>* tested = nullptr;  // Embree primitive → triangle (ascending)
-  const std::vector<Box>* boxes = nullptr;            // per Embree primitive
+  const std::vector<std::int32_t>* tested = nullptr;   // Embree primitive → triangle (ascending)
+  const std::vector<Box>* boxes = nullptr;             // per Embree primitive
+  const std::vector<std::uint8_t>* suspect = nullptr;  // per triangle; null: every pair is tested
   double tolerance = 0;
   tbb::enumerable_thread_specific<std::vector<std::array<std::int32_t, 2>>> found;
   std::mutex failure_mutex;
@@ -231,6 +232,7 @@ struct Search {
         const unsigned int i = collisions[k].primID0, j = collisions[k].primID1;
         if (i >= j) continue;
         const std::int32_t f = (*s->tested)[i], g = (*s->tested)[j];
+        if (s->suspect != nullptr && (*s->suspect)[f] == 0 && (*s->suspect)[g] == 0) continue;
         if (s->test(f, g)) out.push_back({f, g});
       }
     } catch (...) {
@@ -276,7 +278,83 @@ bool triangles_intersect(const std::array<Eigen::Vector3d, 3>& a, const std::arr
   return pair_intersects(a, ia, plane_of(a, tolerance), b, ib, plane_of(b, tolerance), tolerance);
 }
 
-SelfIntersections find_self_intersections(const TriangleMesh& mesh, const MeshCheckOptions& options) {
+namespace {
+
+bool overlap(const Box& a, const Box& b) {
+  for (int axis = 0; axis < 3; ++axis)
+    if (a.upper[axis] < b.lower[axis] || b.upper[axis] < a.lower[axis]) return false;
+  return true;
+}
+
+/// The primitives of `tested` (with their `boxes`) whose box meets the box of a suspect one,
+/// found through a hash of the suspects' boxes on a grid of their largest extent.
+std::vector<std::uint8_t> near_suspects(const std::vector<std::int32_t>& tested, const std::vector<Box>& boxes,
+                                        const std::vector<std::uint8_t>& suspect) {
+  std::vector<std::uint8_t> near(tested.size(), 0);
+  double cell = 0;
+  std::array<double, 3> origin{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+                               std::numeric_limits<double>::infinity()};
+  std::vector<std::size_t> suspects;
+  for (std::size_t k = 0; k < tested.size(); ++k) {
+    if (suspect[static_cast<std::size_t>(tested[k])] == 0) continue;
+    suspects.push_back(k);
+    near[k] = 1;
+    for (int axis = 0; axis < 3; ++axis) {
+      cell = std::max(cell, static_cast<double>(boxes[k].upper[axis]) - boxes[k].lower[axis]);
+      origin[static_cast<std::size_t>(axis)] =
+          std::min(origin[static_cast<std::size_t>(axis)], static_cast<double>(boxes[k].lower[axis]));
+    }
+  }
+  if (suspects.empty()) return near;
+  if (!(cell > 0) || !std::isfinite(cell)) cell = 1;
+  // Cell coordinates clamped to 21 bits each, packed in one key; a clamped cell only merges
+  // far boxes, which the overlap test then tells apart.
+  constexpr std::int64_t kMaxCell = (std::int64_t{1} << 21) - 1;
+  const auto coordinate = [&](double x, int axis) {
+    const double c = std::floor((x - origin[static_cast<std::size_t>(axis)]) / cell);
+    return static_cast<std::int64_t>(std::clamp(c, 0.0, static_cast<double>(kMaxCell)));
+  };
+  const auto key = [](std::int64_t i, std::int64_t j, std::int64_t k) {
+    return static_cast<std::uint64_t>((i << 42) | (j << 21) | k);
+  };
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> cells;  // (key, suspect), sorted
+  for (std::size_t s = 0; s < suspects.size(); ++s) {
+    const Box& b = boxes[suspects[s]];
+    for (std::int64_t i = coordinate(b.lower[0], 0); i <= coordinate(b.upper[0], 0); ++i)
+      for (std::int64_t j = coordinate(b.lower[1], 1); j <= coordinate(b.upper[1], 1); ++j)
+        for (std::int64_t k = coordinate(b.lower[2], 2); k <= coordinate(b.upper[2], 2); ++k)
+          cells.emplace_back(key(i, j, k), static_cast<std::uint32_t>(suspects[s]));
+  }
+  tbb::parallel_sort(cells.begin(), cells.end());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tested.size(), 4096), [&](const auto& range) {
+    for (std::size_t p = range.begin(); p != range.end(); ++p) {
+      if (near[p] != 0) continue;
+      const Box& b = boxes[p];
+      const std::int64_t i0 = coordinate(b.lower[0], 0), i1 = coordinate(b.upper[0], 0);
+      const std::int64_t j0 = coordinate(b.lower[1], 1), j1 = coordinate(b.upper[1], 1);
+      const std::int64_t k0 = coordinate(b.lower[2], 2), k1 = coordinate(b.upper[2], 2);
+      if ((i1 - i0 + 1) * (j1 - j0 + 1) * (k1 - k0 + 1) > 64) {  // a box far larger than the suspects'
+        near[p] = 1;
+        continue;
+      }
+      for (std::int64_t i = i0; i <= i1 && near[p] == 0; ++i)
+        for (std::int64_t j = j0; j <= j1 && near[p] == 0; ++j)
+          for (std::int64_t k = k0; k <= k1 && near[p] == 0; ++k) {
+            const std::uint64_t at = key(i, j, k);
+            auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(at, std::uint32_t{0}));
+            for (; it != cells.end() && it->first == at; ++it)
+              if (overlap(b, boxes[it->second])) {
+                near[p] = 1;
+                break;
+              }
+          }
+    }
+  });
+  return near;
+}
+
+SelfIntersections search(const TriangleMesh& mesh, const MeshCheckOptions& options,
+                         const std::vector<std::uint8_t>* suspect) {
   check_tolerance(options.tolerance);
   SelfIntersections result;
   const Eigen::Index nt = mesh.triangles.rows();
@@ -314,7 +392,19 @@ SelfIntersections find_self_intersections(const TriangleMesh& mesh, const MeshCh
     }
   });
 
+  if (suspect != nullptr) {
+    // Only the suspects and the triangles whose boxes meet theirs go into the BVH.
+    const std::vector<std::uint8_t> near = near_suspects(tested, boxes, *suspect);
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < tested.size(); ++k)
+      if (near[k] != 0) tested[kept] = tested[k], boxes[kept] = boxes[k], ++kept;
+    tested.resize(kept);
+    boxes.resize(kept);
+    if (tested.size() < 2) return result;
+  }
+
   Search search;
+  search.suspect = suspect;
   search.mesh = &mesh;
   search.vertex_id = &vertex_id;
   search.planes = &planes;
@@ -346,6 +436,19 @@ SelfIntersections find_self_intersections(const TriangleMesh& mesh, const MeshCh
   if (pairs.size() > options.max_pairs) pairs.resize(options.max_pairs);
   result.pairs = std::move(pairs);
   return result;
+}
+
+}  // namespace
+
+SelfIntersections find_self_intersections(const TriangleMesh& mesh, const MeshCheckOptions& options) {
+  return search(mesh, options, nullptr);
+}
+
+SelfIntersections find_self_intersections(const TriangleMesh& mesh, const std::vector<std::uint8_t>& suspect,
+                                          const MeshCheckOptions& options) {
+  if (suspect.size() != static_cast<std::size_t>(mesh.triangles.rows()))
+    throw OptionError("mesh check: the suspect marks do not match the triangles");
+  return search(mesh, options, &suspect);
 }
 
 }  // namespace clustersurf

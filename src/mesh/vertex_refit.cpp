@@ -5,6 +5,7 @@
 #include <clustersurf/cluster/noise.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/mesh/mesh_check.hpp>
 #include <clustersurf/mesh/mesh_trim.hpp>
 #include <clustersurf/mesh/vertex_refit.hpp>
 
@@ -96,11 +97,9 @@ LocalFit fit_at(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const P
     return out;
   const Vector6 g = solver.solve(Vector6::Unit(0));  // the height's weights on the rows: A⁻¹ e₀
   out.move = h * c(0);
-  // The move's variance: the noise the residuals show here (Σw r² over its expectation per unit
-  // variance, Σw − tr(A⁻¹B)), or the tree's, whichever is larger, through the least squares.
-  const double dof = weight - solver.solve(b).trace();
-  const double local = dof > 0 ? h * h * residual / dof : 0.0;
-  out.variance = std::max(local, tree.noise_sigma * tree.noise_sigma) * std::max(0.0, g.dot(b * g));
+  // The move's variance: the tree's noise through the least squares. Not the residuals' here: on
+  // clean or sparse data they hold the relief a quadratic leaves, not noise.
+  out.variance = tree.noise_sigma * tree.noise_sigma * std::max(0.0, g.dot(b * g));
   out.radius = h;
   out.valid = std::isfinite(out.move) && std::isfinite(out.variance) && std::abs(out.move) < h;
   if (!out.valid) out.move = out.variance = 0;
@@ -272,6 +271,58 @@ void undo_folds(TriangleMesh& mesh, const Points& before, std::vector<double>& m
   }
 }
 
+/// Moves up to this share of the points' typical spread are not suspected of pushing the surface
+/// through another part of it: they could only cross a part within twice that, closer than the
+/// mesh's cells resolve.
+constexpr double kSuspectMove = 0.1;
+
+/// Puts back where they were (`before`) the corners of each triangle that has a corner moved
+/// more than `least` and intersects another triangle, round after round until none does: a
+/// move that pushes the surface through another part of it (the far side of a thin part) is not
+/// taken. Intersections the moves did not make stay. Zeroes the moves it undoes.
+void undo_crossings(TriangleMesh& mesh, const Points& before, std::vector<double>& moves, double least) {
+  const auto nt = static_cast<std::size_t>(mesh.triangles.rows());
+  const auto moved = [&](std::size_t t) {
+    const auto tri = mesh.triangles.row(static_cast<Eigen::Index>(t));
+    return moves[static_cast<std::size_t>(tri(0))] != 0 || moves[static_cast<std::size_t>(tri(1))] != 0 ||
+           moves[static_cast<std::size_t>(tri(2))] != 0;
+  };
+  // First the triangles with a corner moved more than `least`, then those an undo changed that
+  // still have a moved corner.
+  std::vector<std::uint8_t> suspect(nt), undone(static_cast<std::size_t>(mesh.vertices.rows()), 0);
+  for (std::size_t t = 0; t < nt; ++t) {
+    const auto tri = mesh.triangles.row(static_cast<Eigen::Index>(t));
+    suspect[t] = std::abs(moves[static_cast<std::size_t>(tri(0))]) > least ||
+                 std::abs(moves[static_cast<std::size_t>(tri(1))]) > least ||
+                 std::abs(moves[static_cast<std::size_t>(tri(2))]) > least;
+  }
+  MeshCheckOptions all;
+  all.max_pairs = std::numeric_limits<std::size_t>::max();
+  for (;;) {
+    const SelfIntersections found = find_self_intersections(mesh, suspect, all);
+    std::fill(undone.begin(), undone.end(), 0);
+    bool any = false;
+    for (const auto& pair : found.pairs)
+      for (const std::int32_t t : pair) {
+        if (!moved(static_cast<std::size_t>(t))) continue;
+        any = true;
+        for (int k = 0; k < 3; ++k) {
+          const Eigen::Index v = mesh.triangles(t, k);
+          mesh.vertices.row(v) = before.row(v);
+          moves[static_cast<std::size_t>(v)] = 0;
+          undone[static_cast<std::size_t>(v)] = 1;
+        }
+      }
+    if (!any) return;
+    for (std::size_t t = 0; t < nt; ++t) {
+      const auto tri = mesh.triangles.row(static_cast<Eigen::Index>(t));
+      suspect[t] = (undone[static_cast<std::size_t>(tri(0))] != 0 || undone[static_cast<std::size_t>(tri(1))] != 0 ||
+                    undone[static_cast<std::size_t>(tri(2))] != 0) &&
+                   moved(t);
+    }
+  }
+}
+
 /// The supports of the crease leaves a surface blends: where one reaches, its two planes hold a
 /// sharp edge that a quadratic would round.
 class CreaseSupports {
@@ -384,6 +435,7 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
   report.refitted =
       static_cast<std::size_t>(std::count_if(fits.begin(), fits.end(), [](const LocalFit& f) { return f.valid; }));
   undo_folds(mesh, before, moves);
+  undo_crossings(mesh, before, moves, kSuspectMove * max_move);
   double moved = 0, shared = 0;
   for (std::size_t v = 0; v < n; ++v) moved += std::abs(moves[v]), shared += moves[v] != 0 ? shares[v] : 0.0;
   report.mean_move = moved / static_cast<double>(n);

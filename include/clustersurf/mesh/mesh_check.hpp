@@ -88,6 +88,11 @@ MeshCheck check_mesh(const TriangleMesh& mesh, SelfIntersections intersections);
 /// candidate is computed in double precision with MeshCheckOptions::tolerance. Triangles with
 /// a non-finite coordinate are skipped. Deterministic; the count does not depend on threads.
 SelfIntersections find_self_intersections(const TriangleMesh& mesh, const MeshCheckOptions& options = {});
+/// The same restricted to the pairs of which at least one triangle t is a suspect (suspect[t]
+/// set; one mark per triangle): the pairs find_self_intersections() finds among those, at the
+/// cost of a search over the suspects and the triangles their boxes meet.
+SelfIntersections find_self_intersections(const TriangleMesh& mesh, const std::vector<std::uint8_t>& suspect,
+                                          const MeshCheckOptions& options = {});
 
 /// The test find_self_intersections() applies to a pair of triangles given by their corners
 /// (corners at equal positions are shared). Symmetric in `a` and `b`.

@@ -53,8 +53,8 @@ struct VertexRefitReport {
 /// under the noise, the margin of the tree's noise tests, and intersecting: the rule of the
 /// intersection of confidence intervals, which widens a fit while its bias stays below its
 /// noise). Of that local fit's move c, whose variance under the
-/// noise is s² (the tree's noise estimate, or what the fit's residuals show where that is more,
-/// through the weighted least squares), it takes the Wiener share P / (P + s²), with
+/// noise is s² (the tree's noise estimate through the weighted least squares), it takes the
+/// Wiener share P / (P + s²), with
 /// P = max(0, ⟨c²⟩ − (1 + 2 √(2/m)) ⟨s²⟩) the moves' power above their noise: the means over
 /// the vertex and its mesh neighbours within `rings` rings, m the independent fits that window
 /// holds (its area over a fit's), the margin the tree's noise tests allow. Where the moves are
@@ -64,8 +64,11 @@ struct VertexRefitReport {
 /// thin part), or whose move would reach past its farthest point or farther than the points'
 /// typical spread (typical_spread() of the tree: the blend lies within it), moves nothing; nor
 /// do the vertices where a crease leaf blends (its planes hold the sharp edge), those whose
-/// `fixed` value is positive (a closed mesh's filled vertices) and the corners of a triangle
-/// the moves would turn by more than 60 degrees (a fold). The normals are kept. Deterministic
+/// `fixed` value is positive (a closed mesh's filled vertices), the corners of a triangle
+/// the moves would turn by more than 60 degrees (a fold), and the corners of a triangle that a
+/// move of more than a tenth of the typical spread makes intersect another part of the mesh
+/// (the far side of a thin part; intersections the moves did not make are left as they are).
+/// The normals are kept. Deterministic
 /// for any thread count and any numbering of the vertices and of the data. Throws OptionError
 /// for invalid options (check_refit_options()).
 VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const ImplicitSurface& surface,
