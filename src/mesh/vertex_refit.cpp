@@ -39,7 +39,12 @@ constexpr double kMinPivot = 1e-8;
 /// under the noise.
 struct LocalFit {
   double move = 0;
-  double variance = 0;
+  double variance = 0;       ///< under the tree's noise
+  double unit_variance = 0;  ///< per unit variance of the noise
+  /// The noise variance its residuals show (Σw r² over its expectation per unit variance,
+  /// Σw − tr(A⁻¹B): its degrees of freedom), an upper bound where relief adds to them.
+  double residual_variance = 0;
+  double dof = 0;
   double radius = 0;  ///< the farthest of its points
   bool valid = false;
 };
@@ -97,9 +102,10 @@ LocalFit fit_at(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const P
     return out;
   const Vector6 g = solver.solve(Vector6::Unit(0));  // the height's weights on the rows: A⁻¹ e₀
   out.move = h * c(0);
-  // The move's variance: the tree's noise through the least squares. Not the residuals' here: on
-  // clean or sparse data they hold the relief a quadratic leaves, not noise.
-  out.variance = tree.noise_sigma * tree.noise_sigma * std::max(0.0, g.dot(b * g));
+  out.unit_variance = std::max(0.0, g.dot(b * g));
+  out.variance = tree.noise_sigma * tree.noise_sigma * out.unit_variance;
+  out.dof = std::max(0.0, weight - solver.solve(b).trace());
+  out.residual_variance = out.dof > 0 ? h * h * residual / out.dof : 0.0;
   out.radius = h;
   out.valid = std::isfinite(out.move) && std::isfinite(out.variance) && std::abs(out.move) < h;
   if (!out.valid) out.move = out.variance = 0;
@@ -118,6 +124,7 @@ LocalFit widest_consistent_fit(const Eigen::Vector3d& x, const Eigen::Vector3d& 
                                std::span<const Neighbor> near, std::size_t points, const ClusterTree& tree) {
   LocalFit best = fit_at(x, normal, data, near.first(std::min(points, near.size())), tree);
   if (!best.valid) return best;
+  const LocalFit narrow = best;
   double low = -std::numeric_limits<double>::infinity(), high = std::numeric_limits<double>::infinity();
   const auto meet = [&](const LocalFit& f) {
     const double margin = kNoiseMargin * std::sqrt(f.variance);
@@ -130,6 +137,9 @@ LocalFit widest_consistent_fit(const Eigen::Vector3d& x, const Eigen::Vector3d& 
     if (!wider.valid || !meet(wider)) break;
     best = wider;
   }
+  // The noise is read from the narrowest fit's residuals, where the least relief adds to it.
+  best.residual_variance = narrow.residual_variance;
+  best.dof = narrow.dof;
   return best;
 }
 
@@ -323,6 +333,50 @@ void undo_crossings(TriangleMesh& mesh, const Points& before, std::vector<double
   }
 }
 
+/// What a vertex's Wiener share weighs, each averaged over the vertex's window (ring_mean());
+/// an invalid fit counts zero in each.
+struct WindowMeans {
+  std::vector<double> squared;            ///< the moves' square
+  std::vector<double> unit_variance;      ///< the moves' variance per unit variance of the noise
+  std::vector<double> residual_variance;  ///< the noise the narrowest fits' residuals show
+  std::vector<double> dof;                ///< those residuals' degrees of freedom
+  std::vector<double> valid;              ///< 1 for a valid fit
+  std::vector<double> coverage;           ///< the vertex's area over its fit's
+};
+
+WindowMeans window_means(const std::vector<LocalFit>& fits, const std::vector<double>& area, const VertexRings& rings,
+                         std::uint32_t rounds) {
+  const std::size_t n = fits.size();
+  WindowMeans w;
+  for (auto* values : {&w.squared, &w.unit_variance, &w.residual_variance, &w.dof, &w.valid, &w.coverage})
+    values->assign(n, 0.0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+    for (std::size_t v = range.begin(); v != range.end(); ++v) {
+      const LocalFit& f = fits[v];
+      if (!f.valid) continue;
+      w.squared[v] = f.move * f.move;
+      w.unit_variance[v] = f.unit_variance;
+      w.residual_variance[v] = f.residual_variance;
+      w.dof[v] = f.dof;
+      w.valid[v] = 1;
+      w.coverage[v] = area[v] / (std::numbers::pi * f.radius * f.radius);
+    }
+  });
+  for (auto* values : {&w.squared, &w.unit_variance, &w.residual_variance, &w.dof, &w.valid, &w.coverage})
+    *values = ring_mean(rings, std::move(*values), rounds);
+  return w;
+}
+
+/// The noise variance around vertex v: the smaller of the tree's and the one the narrowest fits'
+/// residuals show over its window, raised by the margin the tree's noise tests allow an
+/// estimate of their degrees of freedom. The tree reads its noise from whole clusters, whose
+/// quadratics leave relief it takes for noise; the narrowest fits leave the least.
+double window_noise(const WindowMeans& w, std::size_t v, const ClusterTree& tree) {
+  const double from_tree = tree.noise_sigma * tree.noise_sigma;
+  if (!(w.valid[v] > 0)) return from_tree;
+  return std::min(from_tree, w.residual_variance[v] / w.valid[v] * noise_variance_margin(w.dof[v] / w.valid[v]));
+}
+
 /// The supports of the crease leaves a surface blends: where one reaches, its two planes hold a
 /// sharp edge that a quadratic would round.
 class CreaseSupports {
@@ -400,32 +454,23 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
     }
   });
   const VertexRings rings = edge_neighbors(mesh);
+  const WindowMeans means = window_means(fits, vertex_areas(mesh, rings), rings, options.rings);
   // How many independent fits the window holds: its area over a fit's (neighbouring vertices'
   // fits share most of their points, so their moves are one sample of the noise, not several).
-  const std::vector<double> area = vertex_areas(mesh, rings);
-  std::vector<double> squared(n), variance(n), coverage(n, 0.0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
-    for (std::size_t v = range.begin(); v != range.end(); ++v) {
-      squared[v] = fits[v].move * fits[v].move;
-      variance[v] = fits[v].variance;
-      if (fits[v].valid) coverage[v] = area[v] / (std::numbers::pi * fits[v].radius * fits[v].radius);
-    }
-  });
-  const std::vector<double> mean_squared = ring_mean(rings, std::move(squared), options.rings);
-  const std::vector<double> mean_variance = ring_mean(rings, std::move(variance), options.rings);
-  const std::vector<double> mean_coverage = ring_mean(rings, std::move(coverage), options.rings);
   const double window = kernel_vertices(options.rings);
   const Points before = mesh.vertices;
   std::vector<double> moves(n, 0.0), shares(n, 0.0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
     for (std::size_t v = range.begin(); v != range.end(); ++v) {
       if (!fits[v].valid) continue;
-      const double c2 = mean_squared[v];
+      const double noise = window_noise(means, v, tree);
       // The moves' power above the noise around the vertex, against the noise of its own move.
-      const double samples = std::max(1.0, window * mean_coverage[v]);
+      const double samples = std::max(1.0, window * means.coverage[v]);
       // The margin the tree's noise tests allow a mean square over that many samples.
-      const double signal = std::max(0.0, c2 - noise_variance_margin(samples) * mean_variance[v]);
-      const double share = signal + fits[v].variance > 0 ? signal / (signal + fits[v].variance) : 1.0;
+      const double signal =
+          std::max(0.0, means.squared[v] - noise_variance_margin(samples) * noise * means.unit_variance[v]);
+      const double variance = noise * fits[v].unit_variance;
+      const double share = signal + variance > 0 ? signal / (signal + variance) : 1.0;
       const auto row = static_cast<Eigen::Index>(v);
       moves[v] = share * fits[v].move;
       shares[v] = share;
