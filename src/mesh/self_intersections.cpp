@@ -203,14 +203,15 @@ struct Search {
   std::mutex failure_mutex;
   std::exception_ptr failure;
 
-  bool test(std::int32_t f, std::int32_t g) const {
+  /// Primitives i and j, triangles f and g.
+  bool test(unsigned int i, unsigned int j, std::int32_t f, std::int32_t g) const {
     const auto& v = mesh->vertices;
     const auto tf = mesh->triangles.row(f), tg = mesh->triangles.row(g);
     const Corners a{v.row(tf(0)).transpose(), v.row(tf(1)).transpose(), v.row(tf(2)).transpose()};
     const Corners b{v.row(tg(0)).transpose(), v.row(tg(1)).transpose(), v.row(tg(2)).transpose()};
     const auto& id = *vertex_id;
     const CornerIds ia{id[tf(0)], id[tf(1)], id[tf(2)]}, ib{id[tg(0)], id[tg(1)], id[tg(2)]};
-    return pair_intersects(a, ia, (*planes)[f], b, ib, (*planes)[g], tolerance);
+    return pair_intersects(a, ia, (*planes)[i], b, ib, (*planes)[j], tolerance);
   }
 
   static void bounds(const RTCBoundsFunctionArguments* args) {
@@ -233,7 +234,7 @@ struct Search {
         if (i >= j) continue;
         const std::int32_t f = (*s->tested)[i], g = (*s->tested)[j];
         if (s->suspect != nullptr && (*s->suspect)[f] == 0 && (*s->suspect)[g] == 0) continue;
-        if (s->test(f, g)) out.push_back({f, g});
+        if (s->test(i, j, f, g)) out.push_back({f, g});
       }
     } catch (...) {
       const std::lock_guard lock(s->failure_mutex);
@@ -286,71 +287,86 @@ bool overlap(const Box& a, const Box& b) {
   return true;
 }
 
-/// The primitives of `tested` (with their `boxes`) whose box meets the box of a suspect one,
-/// found through a hash of the suspects' boxes on a grid of their largest extent.
-std::vector<std::uint8_t> near_suspects(const std::vector<std::int32_t>& tested, const std::vector<Box>& boxes,
-                                        const std::vector<std::uint8_t>& suspect) {
-  std::vector<std::uint8_t> near(tested.size(), 0);
-  double cell = 0;
-  std::array<double, 3> origin{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-                               std::numeric_limits<double>::infinity()};
-  std::vector<std::size_t> suspects;
-  for (std::size_t k = 0; k < tested.size(); ++k) {
-    if (suspect[static_cast<std::size_t>(tested[k])] == 0) continue;
-    suspects.push_back(k);
-    near[k] = 1;
-    for (int axis = 0; axis < 3; ++axis) {
-      cell = std::max(cell, static_cast<double>(boxes[k].upper[axis]) - boxes[k].lower[axis]);
-      origin[static_cast<std::size_t>(axis)] =
-          std::min(origin[static_cast<std::size_t>(axis)], static_cast<double>(boxes[k].lower[axis]));
-    }
+/// Triangle f's box, grown by `tolerance` times its longest edge and rounded outwards to float.
+Box box_of(const TriangleMesh& mesh, Eigen::Index f, double tolerance) {
+  const auto t = mesh.triangles.row(f);
+  const auto p0 = mesh.vertices.row(t(0)), p1 = mesh.vertices.row(t(1)), p2 = mesh.vertices.row(t(2));
+  const double size = std::sqrt(std::max({(p1 - p0).squaredNorm(), (p2 - p1).squaredNorm(), (p0 - p2).squaredNorm()}));
+  const double pad = tolerance * size;
+  Box box;
+  for (int axis = 0; axis < 3; ++axis) {
+    box.lower[axis] = round_down(std::min({p0(axis), p1(axis), p2(axis)}) - pad);
+    box.upper[axis] = round_up(std::max({p0(axis), p1(axis), p2(axis)}) + pad);
   }
-  if (suspects.empty()) return near;
+  return box;
+}
+
+/// The triangles whose boxes (box_of()) meet the box of a suspect one, the suspects among them,
+/// ascending: found through a hash of the suspects' boxes on a grid of their largest extent.
+std::vector<std::int32_t> near_suspects(const TriangleMesh& mesh, const std::vector<std::uint8_t>& suspect,
+                                        double tolerance) {
+  const auto nt = static_cast<std::size_t>(mesh.triangles.rows());
+  std::vector<Box> boxes;
+  for (std::size_t f = 0; f < nt; ++f)
+    if (suspect[f] != 0) boxes.push_back(box_of(mesh, static_cast<Eigen::Index>(f), tolerance));
+  if (boxes.empty()) return {};
+  double cell = 0;
+  std::array<double, 3> origin{};
+  origin.fill(std::numeric_limits<double>::infinity());
+  for (const Box& b : boxes)
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      cell = std::max(cell, static_cast<double>(b.upper[axis]) - b.lower[axis]);
+      origin[axis] = std::min(origin[axis], static_cast<double>(b.lower[axis]));
+    }
   if (!(cell > 0) || !std::isfinite(cell)) cell = 1;
   // Cell coordinates clamped to 21 bits each, packed in one key; a clamped cell only merges
   // far boxes, which the overlap test then tells apart.
   constexpr std::int64_t kMaxCell = (std::int64_t{1} << 21) - 1;
-  const auto coordinate = [&](double x, int axis) {
-    const double c = std::floor((x - origin[static_cast<std::size_t>(axis)]) / cell);
-    return static_cast<std::int64_t>(std::clamp(c, 0.0, static_cast<double>(kMaxCell)));
+  const auto coordinate = [&](double x, std::size_t axis) {
+    const double c = std::floor((x - origin[axis]) / cell);
+    return static_cast<std::int64_t>(std::clamp(std::isfinite(c) ? c : 0.0, 0.0, static_cast<double>(kMaxCell)));
   };
   const auto key = [](std::int64_t i, std::int64_t j, std::int64_t k) {
     return static_cast<std::uint64_t>((i << 42) | (j << 21) | k);
   };
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> cells;  // (key, suspect), sorted
-  for (std::size_t s = 0; s < suspects.size(); ++s) {
-    const Box& b = boxes[suspects[s]];
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> cells;  // (key, suspect box), sorted
+  for (std::size_t s = 0; s < boxes.size(); ++s) {
+    const Box& b = boxes[s];
     for (std::int64_t i = coordinate(b.lower[0], 0); i <= coordinate(b.upper[0], 0); ++i)
       for (std::int64_t j = coordinate(b.lower[1], 1); j <= coordinate(b.upper[1], 1); ++j)
         for (std::int64_t k = coordinate(b.lower[2], 2); k <= coordinate(b.upper[2], 2); ++k)
-          cells.emplace_back(key(i, j, k), static_cast<std::uint32_t>(suspects[s]));
+          cells.emplace_back(key(i, j, k), static_cast<std::uint32_t>(s));
   }
   tbb::parallel_sort(cells.begin(), cells.end());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tested.size(), 4096), [&](const auto& range) {
-    for (std::size_t p = range.begin(); p != range.end(); ++p) {
-      if (near[p] != 0) continue;
-      const Box& b = boxes[p];
+  std::vector<std::uint8_t> near(suspect);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nt, 4096), [&](const auto& range) {
+    for (std::size_t f = range.begin(); f != range.end(); ++f) {
+      if (near[f] != 0) continue;
+      const Box b = box_of(mesh, static_cast<Eigen::Index>(f), tolerance);
       const std::int64_t i0 = coordinate(b.lower[0], 0), i1 = coordinate(b.upper[0], 0);
       const std::int64_t j0 = coordinate(b.lower[1], 1), j1 = coordinate(b.upper[1], 1);
       const std::int64_t k0 = coordinate(b.lower[2], 2), k1 = coordinate(b.upper[2], 2);
       if ((i1 - i0 + 1) * (j1 - j0 + 1) * (k1 - k0 + 1) > 64) {  // a box far larger than the suspects'
-        near[p] = 1;
+        near[f] = 1;
         continue;
       }
-      for (std::int64_t i = i0; i <= i1 && near[p] == 0; ++i)
-        for (std::int64_t j = j0; j <= j1 && near[p] == 0; ++j)
-          for (std::int64_t k = k0; k <= k1 && near[p] == 0; ++k) {
+      for (std::int64_t i = i0; i <= i1 && near[f] == 0; ++i)
+        for (std::int64_t j = j0; j <= j1 && near[f] == 0; ++j)
+          for (std::int64_t k = k0; k <= k1 && near[f] == 0; ++k) {
             const std::uint64_t at = key(i, j, k);
-            auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(at, std::uint32_t{0}));
-            for (; it != cells.end() && it->first == at; ++it)
+            for (auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(at, std::uint32_t{0}));
+                 it != cells.end() && it->first == at; ++it)
               if (overlap(b, boxes[it->second])) {
-                near[p] = 1;
+                near[f] = 1;
                 break;
               }
           }
     }
   });
-  return near;
+  std::vector<std::int32_t> found;
+  for (std::size_t f = 0; f < nt; ++f)
+    if (near[f] != 0) found.push_back(static_cast<std::int32_t>(f));
+  return found;
 }
 
 SelfIntersections search(const TriangleMesh& mesh, const MeshCheckOptions& options,
@@ -363,45 +379,36 @@ SelfIntersections search(const TriangleMesh& mesh, const MeshCheckOptions& optio
   if ((mesh.triangles.array() < 0).any() || (mesh.triangles.array() >= nv).any())
     throw OptionError("mesh check: a triangle refers to a vertex that does not exist");
 
-  const std::vector<std::int32_t> vertex_id = detail::position_ids(mesh.vertices);
-  std::vector<Plane> planes(static_cast<std::size_t>(nt));
-  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, nt), [&](const tbb::blocked_range<Eigen::Index>& r) {
-    for (Eigen::Index f = r.begin(); f < r.end(); ++f) {
-      const auto t = mesh.triangles.row(f);
+  // The triangles searched: all, or the suspects and those whose boxes meet theirs.
+  std::vector<std::int32_t> candidates;
+  if (suspect != nullptr) {
+    candidates = near_suspects(mesh, *suspect, options.tolerance);
+  } else {
+    candidates.resize(static_cast<std::size_t>(nt));
+    std::iota(candidates.begin(), candidates.end(), 0);
+  }
+  std::vector<Plane> candidate_planes(candidates.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size()), [&](const auto& r) {
+    for (std::size_t k = r.begin(); k < r.end(); ++k) {
+      const auto t = mesh.triangles.row(candidates[k]);
       const Corners c{mesh.vertices.row(t(0)).transpose(), mesh.vertices.row(t(1)).transpose(),
                       mesh.vertices.row(t(2)).transpose()};
-      planes[static_cast<std::size_t>(f)] = plane_of(c, options.tolerance);
+      candidate_planes[k] = plane_of(c, options.tolerance);
     }
   });
-  // Triangles with a plane (thin ones and those with a non-finite corner have none) go into the
-  // BVH, their boxes grown by the tolerance and rounded outwards to float.
+  // Those with a plane (thin ones and those with a non-finite corner have none) go into the BVH,
+  // their boxes grown by the tolerance and rounded outwards to float.
   std::vector<std::int32_t> tested;
-  tested.reserve(static_cast<std::size_t>(nt));
-  for (Eigen::Index f = 0; f < nt; ++f)
-    if (!planes[static_cast<std::size_t>(f)].normal.isZero()) tested.push_back(static_cast<std::int32_t>(f));
+  std::vector<Plane> planes;
+  for (std::size_t k = 0; k < candidates.size(); ++k)
+    if (!candidate_planes[k].normal.isZero()) tested.push_back(candidates[k]), planes.push_back(candidate_planes[k]);
+  candidates = {};
+  candidate_planes = {};
   if (tested.size() < 2) return result;
   std::vector<Box> boxes(tested.size());
-  tbb::parallel_for(std::size_t{0}, tested.size(), [&](std::size_t k) {
-    const std::int32_t f = tested[k];
-    const auto t = mesh.triangles.row(f);
-    const double pad = options.tolerance * planes[static_cast<std::size_t>(f)].size;
-    for (int axis = 0; axis < 3; ++axis) {
-      const double a = mesh.vertices(t(0), axis), b = mesh.vertices(t(1), axis), c = mesh.vertices(t(2), axis);
-      boxes[k].lower[axis] = round_down(std::min({a, b, c}) - pad);
-      boxes[k].upper[axis] = round_up(std::max({a, b, c}) + pad);
-    }
-  });
-
-  if (suspect != nullptr) {
-    // Only the suspects and the triangles whose boxes meet theirs go into the BVH.
-    const std::vector<std::uint8_t> near = near_suspects(tested, boxes, *suspect);
-    std::size_t kept = 0;
-    for (std::size_t k = 0; k < tested.size(); ++k)
-      if (near[k] != 0) tested[kept] = tested[k], boxes[kept] = boxes[k], ++kept;
-    tested.resize(kept);
-    boxes.resize(kept);
-    if (tested.size() < 2) return result;
-  }
+  tbb::parallel_for(std::size_t{0}, tested.size(),
+                    [&](std::size_t k) { boxes[k] = box_of(mesh, tested[k], options.tolerance); });
+  const std::vector<std::int32_t> vertex_id = detail::position_ids(mesh.vertices);
 
   Search search;
   search.suspect = suspect;
