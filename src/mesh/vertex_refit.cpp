@@ -5,10 +5,10 @@
 #include <clustersurf/cluster/noise.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/io/point_cloud_io.hpp>
-#include <clustersurf/mesh/mesh_check.hpp>
 #include <clustersurf/mesh/mesh_trim.hpp>
 #include <clustersurf/mesh/vertex_refit.hpp>
 
+#include "mesh/vertex_move_guards.hpp"
 #include "spatial/spatial_order.hpp"
 
 #include <Eigen/Cholesky>
@@ -48,9 +48,6 @@ struct LocalFit {
   double radius = 0;  ///< the farthest of its points
   bool valid = false;
 };
-
-/// A triangle the moves turn by more than 60 degrees has folded; its corners stay.
-constexpr double kMaxTurnCos = 0.5;
 
 /// The weighted quadratic height field over the `near` points of `data` around `x` in the frame
 /// of `normal`, evaluated at x: its height is the move. Undetermined (not valid) where its
@@ -245,93 +242,10 @@ std::vector<double> vertex_areas(const TriangleMesh& mesh, const VertexRings& ri
   return area;
 }
 
-/// Puts back where they were (`before`) the corners of each triangle that the moves turned by
-/// more than 60 degrees, round after round until none is (each round undoes at least one move):
-/// a move that folds the mesh (a vertex pushed past its neighbours where the surface bends
-/// within a few cells) is not taken. Zeroes the moves it undoes.
-void undo_folds(TriangleMesh& mesh, const Points& before, std::vector<double>& moves) {
-  const auto normal = [](const Points& x, const Eigen::RowVector3i& t) {
-    return Eigen::Vector3d((x.row(t(1)) - x.row(t(0))).cross(x.row(t(2)) - x.row(t(0))).transpose());
-  };
-  std::vector<std::uint8_t> turned(static_cast<std::size_t>(mesh.triangles.rows()));
-  for (;;) {
-    // Each triangle tested in parallel; the corners of those turned put back after.
-    tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, mesh.triangles.rows(), 4096), [&](const auto& range) {
-      for (Eigen::Index t = range.begin(); t != range.end(); ++t) {
-        const Eigen::RowVector3i tri = mesh.triangles.row(t);
-        turned[static_cast<std::size_t>(t)] = 0;
-        if (moves[static_cast<std::size_t>(tri(0))] == 0 && moves[static_cast<std::size_t>(tri(1))] == 0 &&
-            moves[static_cast<std::size_t>(tri(2))] == 0)
-          continue;
-        const Eigen::Vector3d was = normal(before, tri), is = normal(mesh.vertices, tri);
-        turned[static_cast<std::size_t>(t)] = !(is.dot(was) > kMaxTurnCos * is.norm() * was.norm());
-      }
-    });
-    bool any = false;
-    for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
-      if (turned[static_cast<std::size_t>(t)] == 0) continue;
-      any = true;
-      for (int k = 0; k < 3; ++k) {
-        const Eigen::Index v = mesh.triangles(t, k);
-        mesh.vertices.row(v) = before.row(v);
-        moves[static_cast<std::size_t>(v)] = 0;
-      }
-    }
-    if (!any) return;
-  }
-}
-
 /// Moves up to this share of the points' typical spread are not suspected of pushing the surface
 /// through another part of it: they could only cross a part within twice that, closer than the
 /// mesh's cells resolve.
 constexpr double kSuspectMove = 0.1;
-
-/// Puts back where they were (`before`) the corners of each triangle that has a corner moved
-/// more than `least` and intersects another triangle, round after round until none does: a
-/// move that pushes the surface through another part of it (the far side of a thin part) is not
-/// taken. Intersections the moves did not make stay. Zeroes the moves it undoes.
-void undo_crossings(TriangleMesh& mesh, const Points& before, std::vector<double>& moves, double least) {
-  const auto nt = static_cast<std::size_t>(mesh.triangles.rows());
-  const auto moved = [&](std::size_t t) {
-    const auto tri = mesh.triangles.row(static_cast<Eigen::Index>(t));
-    return moves[static_cast<std::size_t>(tri(0))] != 0 || moves[static_cast<std::size_t>(tri(1))] != 0 ||
-           moves[static_cast<std::size_t>(tri(2))] != 0;
-  };
-  // First the triangles with a corner moved more than `least`, then those an undo changed that
-  // still have a moved corner.
-  std::vector<std::uint8_t> suspect(nt), undone(static_cast<std::size_t>(mesh.vertices.rows()), 0);
-  for (std::size_t t = 0; t < nt; ++t) {
-    const auto tri = mesh.triangles.row(static_cast<Eigen::Index>(t));
-    suspect[t] = std::abs(moves[static_cast<std::size_t>(tri(0))]) > least ||
-                 std::abs(moves[static_cast<std::size_t>(tri(1))]) > least ||
-                 std::abs(moves[static_cast<std::size_t>(tri(2))]) > least;
-  }
-  MeshCheckOptions all;
-  all.max_pairs = std::numeric_limits<std::size_t>::max();
-  for (;;) {
-    const SelfIntersections found = find_self_intersections(mesh, suspect, all);
-    std::fill(undone.begin(), undone.end(), 0);
-    bool any = false;
-    for (const auto& pair : found.pairs)
-      for (const std::int32_t t : pair) {
-        if (!moved(static_cast<std::size_t>(t))) continue;
-        any = true;
-        for (int k = 0; k < 3; ++k) {
-          const Eigen::Index v = mesh.triangles(t, k);
-          mesh.vertices.row(v) = before.row(v);
-          moves[static_cast<std::size_t>(v)] = 0;
-          undone[static_cast<std::size_t>(v)] = 1;
-        }
-      }
-    if (!any) return;
-    for (std::size_t t = 0; t < nt; ++t) {
-      const auto tri = mesh.triangles.row(static_cast<Eigen::Index>(t));
-      suspect[t] = (undone[static_cast<std::size_t>(tri(0))] != 0 || undone[static_cast<std::size_t>(tri(1))] != 0 ||
-                    undone[static_cast<std::size_t>(tri(2))] != 0) &&
-                   moved(t);
-    }
-  }
-}
 
 /// What a vertex's Wiener share weighs, each averaged over the vertex's window (ring_mean());
 /// an invalid fit counts zero in each.
@@ -479,8 +393,8 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
   });
   report.refitted =
       static_cast<std::size_t>(std::count_if(fits.begin(), fits.end(), [](const LocalFit& f) { return f.valid; }));
-  undo_folds(mesh, before, moves);
-  undo_crossings(mesh, before, moves, kSuspectMove * max_move);
+  detail::undo_folds(mesh, before, moves);
+  detail::undo_crossings(mesh, before, moves, kSuspectMove * max_move);
   double moved = 0, shared = 0;
   for (std::size_t v = 0; v < n; ++v) moved += std::abs(moves[v]), shared += moves[v] != 0 ? shares[v] : 0.0;
   report.mean_move = moved / static_cast<double>(n);
