@@ -18,6 +18,7 @@
 #include <clustersurf/mesh/mesh_check.hpp>
 
 #include "mesh/position_ids.hpp"
+#include "mesh/triangle_boxes.hpp"
 
 #include <Eigen/Geometry>
 #include <embree3/rtcore.h>
@@ -174,30 +175,14 @@ void check_tolerance(double tolerance) {
     throw OptionError("self-intersection tolerance must be in [0, 1), got " + std::to_string(tolerance));
 }
 
-/// A float bound at or below (down) / at or above (up) x.
-float round_down(double x) {
-  float f = static_cast<float>(x);
-  if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
-  return f;
-}
-float round_up(double x) {
-  float f = static_cast<float>(x);
-  if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
-  return f;
-}
-
-struct Box {
-  float lower[3], upper[3];
-};
-
 /// Everything the collision callback reads, and what it collects.
 struct Search {
   const TriangleMesh* mesh = nullptr;
   const std::vector<std::int32_t>* vertex_id = nullptr;  // one id per position
   const std::vector<Plane>* planes = nullptr;
-  const std::vector<std::int32_t>* tested = nullptr;   // Embree primitive → triangle (ascending)
-  const std::vector<Box>* boxes = nullptr;             // per Embree primitive
-  const std::vector<std::uint8_t>* suspect = nullptr;  // per triangle; null: every pair is tested
+  const std::vector<std::int32_t>* tested = nullptr;        // Embree primitive → triangle (ascending)
+  const std::vector<detail::TriangleBox>* boxes = nullptr;  // per Embree primitive
+  const std::vector<std::uint8_t>* suspect = nullptr;       // per triangle; null: every pair is tested
   double tolerance = 0;
   tbb::enumerable_thread_specific<std::vector<std::array<std::int32_t, 2>>> found;
   std::mutex failure_mutex;
@@ -216,7 +201,7 @@ struct Search {
 
   static void bounds(const RTCBoundsFunctionArguments* args) {
     const auto* s = static_cast<const Search*>(args->geometryUserPtr);
-    const Box& box = (*s->boxes)[args->primID];
+    const detail::TriangleBox& box = (*s->boxes)[args->primID];
     args->bounds_o->lower_x = box.lower[0], args->bounds_o->lower_y = box.lower[1],
     args->bounds_o->lower_z = box.lower[2];
     args->bounds_o->upper_x = box.upper[0], args->bounds_o->upper_y = box.upper[1],
@@ -281,94 +266,6 @@ bool triangles_intersect(const std::array<Eigen::Vector3d, 3>& a, const std::arr
 
 namespace {
 
-bool overlap(const Box& a, const Box& b) {
-  for (int axis = 0; axis < 3; ++axis)
-    if (a.upper[axis] < b.lower[axis] || b.upper[axis] < a.lower[axis]) return false;
-  return true;
-}
-
-/// Triangle f's box, grown by `tolerance` times its longest edge and rounded outwards to float.
-Box box_of(const TriangleMesh& mesh, Eigen::Index f, double tolerance) {
-  const auto t = mesh.triangles.row(f);
-  const auto p0 = mesh.vertices.row(t(0)), p1 = mesh.vertices.row(t(1)), p2 = mesh.vertices.row(t(2));
-  const double size = std::sqrt(std::max({(p1 - p0).squaredNorm(), (p2 - p1).squaredNorm(), (p0 - p2).squaredNorm()}));
-  const double pad = tolerance * size;
-  Box box;
-  for (int axis = 0; axis < 3; ++axis) {
-    box.lower[axis] = round_down(std::min({p0(axis), p1(axis), p2(axis)}) - pad);
-    box.upper[axis] = round_up(std::max({p0(axis), p1(axis), p2(axis)}) + pad);
-  }
-  return box;
-}
-
-/// The triangles whose boxes (box_of()) meet the box of a suspect one, the suspects among them,
-/// ascending: found through a hash of the suspects' boxes on a grid of their largest extent.
-std::vector<std::int32_t> near_suspects(const TriangleMesh& mesh, const std::vector<std::uint8_t>& suspect,
-                                        double tolerance) {
-  const auto nt = static_cast<std::size_t>(mesh.triangles.rows());
-  std::vector<Box> boxes;
-  for (std::size_t f = 0; f < nt; ++f)
-    if (suspect[f] != 0) boxes.push_back(box_of(mesh, static_cast<Eigen::Index>(f), tolerance));
-  if (boxes.empty()) return {};
-  double cell = 0;
-  std::array<double, 3> origin{};
-  origin.fill(std::numeric_limits<double>::infinity());
-  for (const Box& b : boxes)
-    for (std::size_t axis = 0; axis < 3; ++axis) {
-      cell = std::max(cell, static_cast<double>(b.upper[axis]) - b.lower[axis]);
-      origin[axis] = std::min(origin[axis], static_cast<double>(b.lower[axis]));
-    }
-  if (!(cell > 0) || !std::isfinite(cell)) cell = 1;
-  // Cell coordinates clamped to 21 bits each, packed in one key; a clamped cell only merges
-  // far boxes, which the overlap test then tells apart.
-  constexpr std::int64_t kMaxCell = (std::int64_t{1} << 21) - 1;
-  const auto coordinate = [&](double x, std::size_t axis) {
-    const double c = std::floor((x - origin[axis]) / cell);
-    return static_cast<std::int64_t>(std::clamp(std::isfinite(c) ? c : 0.0, 0.0, static_cast<double>(kMaxCell)));
-  };
-  const auto key = [](std::int64_t i, std::int64_t j, std::int64_t k) {
-    return static_cast<std::uint64_t>((i << 42) | (j << 21) | k);
-  };
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> cells;  // (key, suspect box), sorted
-  for (std::size_t s = 0; s < boxes.size(); ++s) {
-    const Box& b = boxes[s];
-    for (std::int64_t i = coordinate(b.lower[0], 0); i <= coordinate(b.upper[0], 0); ++i)
-      for (std::int64_t j = coordinate(b.lower[1], 1); j <= coordinate(b.upper[1], 1); ++j)
-        for (std::int64_t k = coordinate(b.lower[2], 2); k <= coordinate(b.upper[2], 2); ++k)
-          cells.emplace_back(key(i, j, k), static_cast<std::uint32_t>(s));
-  }
-  tbb::parallel_sort(cells.begin(), cells.end());
-  std::vector<std::uint8_t> near(suspect);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nt, 4096), [&](const auto& range) {
-    for (std::size_t f = range.begin(); f != range.end(); ++f) {
-      if (near[f] != 0) continue;
-      const Box b = box_of(mesh, static_cast<Eigen::Index>(f), tolerance);
-      const std::int64_t i0 = coordinate(b.lower[0], 0), i1 = coordinate(b.upper[0], 0);
-      const std::int64_t j0 = coordinate(b.lower[1], 1), j1 = coordinate(b.upper[1], 1);
-      const std::int64_t k0 = coordinate(b.lower[2], 2), k1 = coordinate(b.upper[2], 2);
-      if ((i1 - i0 + 1) * (j1 - j0 + 1) * (k1 - k0 + 1) > 64) {  // a box far larger than the suspects'
-        near[f] = 1;
-        continue;
-      }
-      for (std::int64_t i = i0; i <= i1 && near[f] == 0; ++i)
-        for (std::int64_t j = j0; j <= j1 && near[f] == 0; ++j)
-          for (std::int64_t k = k0; k <= k1 && near[f] == 0; ++k) {
-            const std::uint64_t at = key(i, j, k);
-            for (auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(at, std::uint32_t{0}));
-                 it != cells.end() && it->first == at; ++it)
-              if (overlap(b, boxes[it->second])) {
-                near[f] = 1;
-                break;
-              }
-          }
-    }
-  });
-  std::vector<std::int32_t> found;
-  for (std::size_t f = 0; f < nt; ++f)
-    if (near[f] != 0) found.push_back(static_cast<std::int32_t>(f));
-  return found;
-}
-
 SelfIntersections search(const TriangleMesh& mesh, const MeshCheckOptions& options,
                          const std::vector<std::uint8_t>* suspect) {
   check_tolerance(options.tolerance);
@@ -382,7 +279,7 @@ SelfIntersections search(const TriangleMesh& mesh, const MeshCheckOptions& optio
   // The triangles searched: all, or the suspects and those whose boxes meet theirs.
   std::vector<std::int32_t> candidates;
   if (suspect != nullptr) {
-    candidates = near_suspects(mesh, *suspect, options.tolerance);
+    candidates = detail::near_suspects(mesh, *suspect, options.tolerance);
   } else {
     candidates.resize(static_cast<std::size_t>(nt));
     std::iota(candidates.begin(), candidates.end(), 0);
@@ -405,9 +302,10 @@ SelfIntersections search(const TriangleMesh& mesh, const MeshCheckOptions& optio
   candidates = {};
   candidate_planes = {};
   if (tested.size() < 2) return result;
-  std::vector<Box> boxes(tested.size());
-  tbb::parallel_for(std::size_t{0}, tested.size(),
-                    [&](std::size_t k) { boxes[k] = box_of(mesh, tested[k], options.tolerance); });
+  std::vector<detail::TriangleBox> boxes(tested.size());
+  tbb::parallel_for(std::size_t{0}, tested.size(), [&](std::size_t k) {
+    boxes[k] = detail::triangle_box(mesh, tested[k], options.tolerance * planes[k].size);
+  });
   const std::vector<std::int32_t> vertex_id = detail::position_ids(mesh.vertices);
 
   Search search;

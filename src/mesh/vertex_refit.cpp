@@ -36,11 +36,10 @@ using Matrix6 = Eigen::Matrix<double, 6, 6>;
 constexpr double kMinPivot = 1e-8;
 
 /// One vertex's local fit: the move it asks for along the normal, and that move's variance
-/// under the noise.
+/// per unit variance of the noise.
 struct LocalFit {
   double move = 0;
-  double variance = 0;       ///< under the tree's noise
-  double unit_variance = 0;  ///< per unit variance of the noise
+  double unit_variance = 0;
   /// The noise variance its residuals show (Σw r² over its expectation per unit variance,
   /// Σw − tr(A⁻¹B): its degrees of freedom), an upper bound where relief adds to them.
   double residual_variance = 0;
@@ -100,12 +99,11 @@ LocalFit fit_at(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const P
   const Vector6 g = solver.solve(Vector6::Unit(0));  // the height's weights on the rows: A⁻¹ e₀
   out.move = h * c(0);
   out.unit_variance = std::max(0.0, g.dot(b * g));
-  out.variance = tree.noise_sigma * tree.noise_sigma * out.unit_variance;
   out.dof = std::max(0.0, weight - solver.solve(b).trace());
   out.residual_variance = out.dof > 0 ? h * h * residual / out.dof : 0.0;
   out.radius = h;
-  out.valid = std::isfinite(out.move) && std::isfinite(out.variance) && std::abs(out.move) < h;
-  if (!out.valid) out.move = out.variance = 0;
+  out.valid = std::isfinite(out.move) && std::isfinite(out.unit_variance) && std::abs(out.move) < h;
+  if (!out.valid) out.move = out.unit_variance = 0;
   return out;
 }
 
@@ -124,7 +122,7 @@ LocalFit widest_consistent_fit(const Eigen::Vector3d& x, const Eigen::Vector3d& 
   const LocalFit narrow = best;
   double low = -std::numeric_limits<double>::infinity(), high = std::numeric_limits<double>::infinity();
   const auto meet = [&](const LocalFit& f) {
-    const double margin = kNoiseMargin * std::sqrt(f.variance);
+    const double margin = kNoiseMargin * std::sqrt(tree.noise_sigma * tree.noise_sigma * f.unit_variance);
     low = std::max(low, f.move - margin), high = std::min(high, f.move + margin);
     return low <= high;
   };
