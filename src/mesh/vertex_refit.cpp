@@ -51,9 +51,10 @@ struct LocalFit {
 /// The weighted quadratic height field over the `near` points of `data` around `x` in the frame
 /// of `normal`, evaluated at x: its height is the move. Undetermined (not valid) where its
 /// weighted RMS residual exceeds what `tree` allows a cluster of as many effective points: the
-/// points are not one smooth sheet there (a sharp edge, both sides of a thin part).
+/// points are not one smooth sheet there (a sharp edge, both sides of a thin part). Its
+/// residuals' degrees of freedom and noise variance only `with_residual_noise`.
 LocalFit fit_at(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const Points& data,
-                std::span<const Neighbor> near, const ClusterTree& tree) {
+                std::span<const Neighbor> near, const ClusterTree& tree, bool with_residual_noise) {
   LocalFit out;
   if (near.size() < 6 || !(normal.squaredNorm() > 0)) return out;
   const double h2 = near.back().distance_squared * (1 + 1e-4);
@@ -62,28 +63,29 @@ LocalFit fit_at(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const P
   const Eigen::Vector3d n = normal.normalized();
   const Eigen::Vector3d t1 = n.unitOrthogonal();
   const Eigen::Vector3d t2 = n.cross(t1);
-  const auto row = [&](const Neighbor& nb, Vector6& m, double& w) {
-    const Eigen::Vector3d d = (data.row(nb.index).transpose() - x) / h;
-    const double s = 1 - nb.distance_squared / h2;
-    w = s * s * s;
-    const double u = d.dot(t1), v = d.dot(t2);
-    m << 1, u, v, u * u, u * v, v * v;
-    return d.dot(n);
-  };
+  thread_local std::vector<Vector6> monomials;
+  thread_local std::vector<double> weights;
+  monomials.resize(near.size());
+  weights.resize(near.size());
   Matrix6 a = Matrix6::Zero(), b = Matrix6::Zero();
   Vector6 rhs = Vector6::Zero();
-  Vector6 m;
-  double w = 0, zz = 0;
-  for (const Neighbor& nb : near) {
-    const double z = row(nb, m, w);
+  double weight = 0, weight2 = 0, zz = 0;  // Σw, Σw², Σw z²
+  for (std::size_t k = 0; k < near.size(); ++k) {
+    const Neighbor& nb = near[k];
+    const Eigen::Vector3d d = (data.row(nb.index).transpose() - x) / h;
+    const double s = 1 - nb.distance_squared / h2;
+    const double w = s * s * s;
+    const double u = d.dot(t1), v = d.dot(t2), z = d.dot(n);
+    Vector6& m = monomials[k];
+    m << 1, u, v, u * u, u * v, v * v;
+    weights[k] = w;
     for (int j = 0; j < 6; ++j)
-      for (int i = j; i < 6; ++i) {
-        const double mm = m(i) * m(j);
-        a(i, j) += w * mm;
-        b(i, j) += w * w * mm;
-      }
+      for (int i = j; i < 6; ++i) a(i, j) += w * m(i) * m(j);
+    if (with_residual_noise)
+      for (int j = 0; j < 6; ++j)
+        for (int i = j; i < 6; ++i) b(i, j) += w * w * m(i) * m(j);
     rhs += w * z * m;
-    zz += w * z * z;
+    weight += w, weight2 += w * w, zz += w * z * z;
   }
   for (int j = 0; j < 6; ++j)
     for (int i = j + 1; i < 6; ++i) a(j, i) = a(i, j), b(j, i) = b(i, j);
@@ -93,14 +95,22 @@ LocalFit fit_at(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const P
   const Vector6 c = solver.solve(rhs);
   // Σw r² of the least-squares solution: Σw z² − cᵀ(Σw z m).
   const double residual = std::max(0.0, zz - c.dot(rhs));
-  const double weight = a(0, 0), weight2 = b(0, 0);  // Σw and Σw², the constant monomial's
   if (!(weight > 0) || !(h * std::sqrt(residual / weight) <= cluster_error_threshold(tree, weight * weight / weight2)))
     return out;
-  const Vector6 g = solver.solve(Vector6::Unit(0));  // the height's weights on the rows: A⁻¹ e₀
+  // The height's weights on the rows are w gᵀm with g = A⁻¹ e₀: its variance per unit variance
+  // of the noise is Σ w² (gᵀm)².
+  const Vector6 g = solver.solve(Vector6::Unit(0));
+  double unit_variance = 0;
+  for (std::size_t k = 0; k < near.size(); ++k) {
+    const double gm = g.dot(monomials[k]);
+    unit_variance += weights[k] * weights[k] * gm * gm;
+  }
   out.move = h * c(0);
-  out.unit_variance = std::max(0.0, g.dot(b * g));
-  out.dof = std::max(0.0, weight - solver.solve(b).trace());
-  out.residual_variance = out.dof > 0 ? h * h * residual / out.dof : 0.0;
+  out.unit_variance = unit_variance;
+  if (with_residual_noise) {
+    out.dof = std::max(0.0, weight - solver.solve(b).trace());  // Σw − tr(A⁻¹B), B = Σw² m mᵀ
+    out.residual_variance = out.dof > 0 ? h * h * residual / out.dof : 0.0;
+  }
   out.radius = h;
   out.valid = std::isfinite(out.move) && std::isfinite(out.unit_variance) && std::abs(out.move) < h;
   if (!out.valid) out.move = out.unit_variance = 0;
@@ -117,7 +127,7 @@ constexpr int kFitWidths = 2;
 /// intervals): a wider fit averages more noise away and is taken while its bias does not show.
 LocalFit widest_consistent_fit(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const Points& data,
                                std::span<const Neighbor> near, std::size_t points, const ClusterTree& tree) {
-  LocalFit best = fit_at(x, normal, data, near.first(std::min(points, near.size())), tree);
+  LocalFit best = fit_at(x, normal, data, near.first(std::min(points, near.size())), tree, true);
   if (!best.valid) return best;
   const LocalFit narrow = best;
   double low = -std::numeric_limits<double>::infinity(), high = std::numeric_limits<double>::infinity();
@@ -128,7 +138,7 @@ LocalFit widest_consistent_fit(const Eigen::Vector3d& x, const Eigen::Vector3d& 
   };
   meet(best);
   for (int width = 1; width < kFitWidths && (points << width) <= near.size(); ++width) {
-    const LocalFit wider = fit_at(x, normal, data, near.first(points << width), tree);
+    const LocalFit wider = fit_at(x, normal, data, near.first(points << width), tree, false);
     if (!wider.valid || !meet(wider)) break;
     best = wider;
   }
