@@ -9,6 +9,7 @@
 #include <clustersurf/mesh/vertex_refit.hpp>
 
 #include "mesh/vertex_move_guards.hpp"
+#include "mesh/vertex_rings.hpp"
 #include "spatial/spatial_order.hpp"
 
 #include <Eigen/Cholesky>
@@ -148,108 +149,6 @@ LocalFit widest_consistent_fit(const Eigen::Vector3d& x, const Eigen::Vector3d& 
   return best;
 }
 
-/// Each vertex's neighbours along the triangles' edges, in compressed rows.
-struct VertexRings {
-  std::vector<std::uint32_t> begin, neighbors;
-};
-
-VertexRings edge_neighbors(const TriangleMesh& mesh) {
-  const auto n = static_cast<std::size_t>(mesh.vertices.rows());
-  // Each corner of a triangle gives its vertex the two others: counted, placed, then each
-  // vertex's list sorted and its repeats dropped.
-  std::vector<std::uint32_t> begin(n + 1, 0);
-  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
-    for (int k = 0; k < 3; ++k) begin[static_cast<std::size_t>(mesh.triangles(t, k)) + 1] += 2;
-  for (std::size_t v = 0; v < n; ++v) begin[v + 1] += begin[v];
-  std::vector<std::uint32_t> slots(n, 0), listed(begin.back());
-  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      const auto v = static_cast<std::size_t>(mesh.triangles(t, k));
-      listed[begin[v] + slots[v]++] = static_cast<std::uint32_t>(mesh.triangles(t, (k + 1) % 3));
-      listed[begin[v] + slots[v]++] = static_cast<std::uint32_t>(mesh.triangles(t, (k + 2) % 3));
-    }
-  // Each ring in the order of its vertices' positions, not of their numbers: a tile of the same
-  // surface, numbered otherwise, sums the same values in the same order.
-  const auto before = [&](std::uint32_t x, std::uint32_t y) {
-    const auto px = mesh.vertices.row(x), py = mesh.vertices.row(y);
-    return std::lexicographical_compare(px.begin(), px.end(), py.begin(), py.end());
-  };
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
-    for (std::size_t v = range.begin(); v != range.end(); ++v) {
-      const auto first = listed.begin() + begin[v], last = listed.begin() + begin[v + 1];
-      std::sort(first, last);
-      slots[v] = static_cast<std::uint32_t>(std::unique(first, last) - first);
-      std::sort(first, first + slots[v], before);
-    }
-  });
-  VertexRings r;
-  r.begin.assign(n + 1, 0);
-  for (std::size_t v = 0; v < n; ++v) r.begin[v + 1] = r.begin[v] + slots[v];
-  r.neighbors.resize(r.begin.back());
-  for (std::size_t v = 0; v < n; ++v)
-    std::copy_n(listed.begin() + begin[v], slots[v], r.neighbors.begin() + r.begin[v]);
-  return r;
-}
-
-/// `values` averaged over each vertex and its edge neighbours, `rounds` times.
-std::vector<double> ring_mean(const VertexRings& rings, std::vector<double> values, std::uint32_t rounds) {
-  std::vector<double> next(values.size());
-  for (std::uint32_t round = 0; round < rounds; ++round) {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, values.size(), 4096), [&](const auto& range) {
-      for (std::size_t v = range.begin(); v != range.end(); ++v) {
-        double sum = values[v];
-        for (std::uint32_t k = rings.begin[v]; k < rings.begin[v + 1]; ++k) sum += values[rings.neighbors[k]];
-        next[v] = sum / static_cast<double>(1 + rings.begin[v + 1] - rings.begin[v]);
-      }
-    });
-    values.swap(next);
-  }
-  return values;
-}
-
-/// The number of vertices that `rounds` rounds of ring_mean() average over, as (Σk)² / Σk² of
-/// its kernel k on the regular triangulation (valence 6).
-double kernel_vertices(std::uint32_t rounds) {
-  const int size = 2 * static_cast<int>(rounds) + 1, c = static_cast<int>(rounds);
-  std::vector<double> k(static_cast<std::size_t>(size * size), 0.0), next(k.size());
-  const auto at = [&](std::vector<double>& g, int q, int r) -> double& {
-    return g[static_cast<std::size_t>(q * size + r)];
-  };
-  at(k, c, c) = 1;
-  constexpr int kSteps[6][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}};
-  for (std::uint32_t round = 0; round < rounds; ++round) {
-    for (int q = 0; q < size; ++q)
-      for (int r = 0; r < size; ++r) {
-        double sum = at(k, q, r);
-        for (const auto& d : kSteps) {
-          const int a = q + d[0], b = r + d[1];
-          if (a >= 0 && a < size && b >= 0 && b < size) sum += at(k, a, b);
-        }
-        at(next, q, r) = sum / 7;
-      }
-    k.swap(next);
-  }
-  double sum = 0, squares = 0;
-  for (const double x : k) sum += x, squares += x * x;
-  return sum * sum / squares;
-}
-
-/// Each vertex's share of the mesh's area, (√3 / 2) times the mean square of its edges (exact
-/// on the regular triangulation), summed in its ring's order: the same bits in any tile.
-std::vector<double> vertex_areas(const TriangleMesh& mesh, const VertexRings& rings) {
-  std::vector<double> area(static_cast<std::size_t>(mesh.vertices.rows()), 0.0);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, area.size(), 4096), [&](const auto& range) {
-    for (std::size_t v = range.begin(); v != range.end(); ++v) {
-      double sum = 0;
-      for (std::uint32_t k = rings.begin[v]; k < rings.begin[v + 1]; ++k)
-        sum += (mesh.vertices.row(rings.neighbors[k]) - mesh.vertices.row(static_cast<Eigen::Index>(v))).squaredNorm();
-      const std::uint32_t count = rings.begin[v + 1] - rings.begin[v];
-      if (count > 0) area[v] = std::numbers::sqrt3 / 2 * sum / count;
-    }
-  });
-  return area;
-}
-
 /// Moves up to this share of the points' typical spread are not suspected of pushing the surface
 /// through another part of it: they could only cross a part within twice that, closer than the
 /// mesh's cells resolve.
@@ -266,8 +165,8 @@ struct WindowMeans {
   std::vector<double> coverage;           ///< the vertex's area over its fit's
 };
 
-WindowMeans window_means(const std::vector<LocalFit>& fits, const std::vector<double>& area, const VertexRings& rings,
-                         std::uint32_t rounds) {
+WindowMeans window_means(const std::vector<LocalFit>& fits, const std::vector<double>& area,
+                         const detail::VertexRings& rings, std::uint32_t rounds) {
   const std::size_t n = fits.size();
   WindowMeans w;
   for (auto* values : {&w.squared, &w.unit_variance, &w.residual_variance, &w.dof, &w.valid, &w.coverage})
@@ -285,7 +184,7 @@ WindowMeans window_means(const std::vector<LocalFit>& fits, const std::vector<do
     }
   });
   for (auto* values : {&w.squared, &w.unit_variance, &w.residual_variance, &w.dof, &w.valid, &w.coverage})
-    *values = ring_mean(rings, std::move(*values), rounds);
+    *values = detail::ring_mean(rings, std::move(*values), rounds);
   return w;
 }
 
@@ -375,11 +274,11 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
       if (!(std::abs(fits[v].move) <= max_move)) fits[v] = LocalFit{};
     }
   });
-  const VertexRings rings = edge_neighbors(mesh);
-  const WindowMeans means = window_means(fits, vertex_areas(mesh, rings), rings, options.rings);
+  const detail::VertexRings rings = detail::edge_neighbors(mesh);
+  const WindowMeans means = window_means(fits, detail::vertex_areas(mesh, rings), rings, options.rings);
   // How many independent fits the window holds: its area over a fit's (neighbouring vertices'
   // fits share most of their points, so their moves are one sample of the noise, not several).
-  const double window = kernel_vertices(options.rings);
+  const double window = detail::kernel_vertices(options.rings);
   const Points before = mesh.vertices;
   std::vector<double> moves(n, 0.0), shares(n, 0.0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
