@@ -8,6 +8,7 @@
 #include <clustersurf/mesh/mesh_trim.hpp>
 #include <clustersurf/mesh/vertex_refit.hpp>
 
+#include "mesh/blend_noise.hpp"
 #include "mesh/vertex_move_guards.hpp"
 #include "mesh/vertex_rings.hpp"
 #include "spatial/spatial_order.hpp"
@@ -40,6 +41,8 @@ constexpr double kMinPivot = 1e-8;
 /// per unit variance of the noise.
 struct LocalFit {
   double move = 0;
+  /// The fit's height's variance; refit_vertices() takes the blend's share of it away (the
+  /// move is the fit's height less the blend's, whose noise is part of the fit's).
   double unit_variance = 0;
   /// The noise variance its residuals show (Σw r² over its expectation per unit variance,
   /// Σw − tr(A⁻¹B): its degrees of freedom), an upper bound where relief adds to them.
@@ -272,6 +275,10 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
       // The blend lies within a spread of the data; a fit asking for more is not its sag (a
       // vertex at a rim left by the trim, fitted to points of another part).
       if (!(std::abs(fits[v].move) <= max_move)) fits[v] = LocalFit{};
+      // The blend averages the same noise over the leaves' supports: of the fit's noise, the
+      // move keeps what the blend does not (the variance of the difference of two nested
+      // averages is the difference of their variances; none where the blend is the noisier).
+      if (fits[v].valid) fits[v].unit_variance *= 1 - detail::blend_variance_share(surface, x, fits[v].radius);
     }
   });
   const detail::VertexRings rings = detail::edge_neighbors(mesh);

@@ -52,11 +52,12 @@ struct VertexRefitReport {
 /// within the confidence interval of the narrower's (both intervals ±2 standard deviations
 /// under the noise, the margin of the tree's noise tests, and intersecting: the rule of the
 /// intersection of confidence intervals, which widens a fit while its bias stays below its
-/// noise). Of that local fit's move c, whose variance under the
-/// noise is s² (through the weighted least squares, of the smaller of the tree's noise estimate
-/// and the noise the narrowest fits' residuals show over the same window, at the margin its
-/// degrees of freedom allow: the tree reads relief as noise where a cluster's quadratic leaves
-/// some), it takes the Wiener share P / (P + s²), with
+/// noise). Of that local fit's move c, whose variance under the noise is s² (the fit's variance
+/// through the weighted least squares less the blend's, which averages the same points over the
+/// leaves' supports; under the smaller of the tree's noise estimate and the noise the narrowest
+/// fits' residuals show over the same window, at the margin its degrees of freedom allow: the
+/// tree reads relief as noise where a cluster's quadratic leaves some), it takes the Wiener
+/// share P / (P + s²), with
 /// P = max(0, ⟨c²⟩ − (1 + 2 √(2/m)) ⟨s²⟩) the moves' power above their noise: the means over
 /// the vertex and its mesh neighbours within `rings` rings, m the independent fits that window
 /// holds (its area over a fit's), the margin the tree's noise tests allow. Where the moves are
