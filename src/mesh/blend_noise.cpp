@@ -12,7 +12,6 @@ namespace clustersurf::detail {
 
 namespace {
 
-using Vector6 = Eigen::Matrix<double, 6, 1>;
 using Matrix6 = Eigen::Matrix<double, 6, 6>;
 
 /// ∫ r^a (1 − r²)^k r dr over [0, 1]: ½ B(a/2 + 1, k + 1).
@@ -32,24 +31,26 @@ Matrix6 disk_moments(double k) {
   return m;
 }
 
-/// The covariance of the weighted fit's coefficients per unit noise variance and density,
-/// A⁻¹ B A⁻¹ with A the moments of the weight and B those of its square.
-Matrix6 coefficient_covariance() {
-  const Matrix6 a = disk_moments(3).inverse();
-  return a * disk_moments(6) * a;
-}
+/// The fit's variance at squared distance ρ² from the disk's centre over that at the centre, as
+/// 1 + a ρ² + b ρ⁴: mᵀ C m for m = (1, ρ, 0, ρ², 0, 0) and C = A⁻¹ B A⁻¹ the coefficients'
+/// covariance (A the moments of the weight, B those of its square), whose odd moments vanish on
+/// the disk.
+struct OffCenterPolynomial {
+  double a = 0, b = 0;
+  OffCenterPolynomial() {
+    const Matrix6 inverse = disk_moments(3).inverse();
+    const Matrix6 c = inverse * disk_moments(6) * inverse;
+    a = (c(1, 1) + 2 * c(0, 3)) / c(0, 0);
+    b = c(3, 3) / c(0, 0);
+  }
+};
 
 }  // namespace
 
 double off_center_variance(double rho2) {
-  static const Matrix6 covariance = coefficient_covariance();
-  const auto at = [&](double r2) {
-    Vector6 m;
-    m << 1, std::sqrt(r2), 0, r2, 0, 0;
-    return m.dot(covariance * m);
-  };
-  static const double center = at(0);
-  return at(std::clamp(rho2, 0.0, 1.0)) / center;
+  static const OffCenterPolynomial p;
+  const double r2 = std::clamp(rho2, 0.0, 1.0);
+  return 1 + r2 * (p.a + r2 * p.b);
 }
 
 double blend_variance_share(const ImplicitSurface& surface, const Eigen::Vector3d& x, double fit_radius) {
