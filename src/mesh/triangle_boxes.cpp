@@ -27,19 +27,21 @@ float round_up(double x) {
   return f;
 }
 
-}  // namespace
-
+/// Whether the closed boxes a and b meet.
 bool overlap(const TriangleBox& a, const TriangleBox& b) {
   for (int axis = 0; axis < 3; ++axis)
     if (a.upper[axis] < b.lower[axis] || b.upper[axis] < a.lower[axis]) return false;
   return true;
 }
 
+/// Triangle f's longest edge.
 double longest_edge(const TriangleMesh& mesh, Eigen::Index f) {
   const auto t = mesh.triangles.row(f);
   const auto p0 = mesh.vertices.row(t(0)), p1 = mesh.vertices.row(t(1)), p2 = mesh.vertices.row(t(2));
   return std::sqrt(std::max({(p1 - p0).squaredNorm(), (p2 - p1).squaredNorm(), (p0 - p2).squaredNorm()}));
 }
+
+}  // namespace
 
 TriangleBox triangle_box(const TriangleMesh& mesh, Eigen::Index f, double pad) {
   const auto t = mesh.triangles.row(f);

@@ -13,12 +13,6 @@ struct TriangleBox {
   float lower[3], upper[3];
 };
 
-/// Whether the closed boxes a and b meet.
-bool overlap(const TriangleBox& a, const TriangleBox& b);
-
-/// Triangle f's longest edge.
-double longest_edge(const TriangleMesh& mesh, Eigen::Index f);
-
 /// Triangle f's box grown by `pad` on every side, rounded outwards to float.
 TriangleBox triangle_box(const TriangleMesh& mesh, Eigen::Index f, double pad);
 
