@@ -223,3 +223,14 @@ TEST(NoiseEstimate, NoiseOverReliefAtTheScaleOfTheNeighbourhoods) {
   EXPECT_GT(widest / sigma, 1.2);
   EXPECT_NEAR(est / sigma, 1, 0.1);
 }
+
+TEST(NoiseEstimate, TheQuantileOfAMeanOfFewSquaresIsItsChiSquaresOne) {
+  // The quantile kNoiseMargin (2) standard deviations out, 97.7 %, of a chi-square over its
+  // degrees of freedom: 5.20 for one (2.28²), 3.78 for two (−ln 0.0228), and the normal
+  // approximation's for many.
+  EXPECT_NEAR(noise_variance_quantile(1), 5.20, 0.03 * 5.20);
+  EXPECT_NEAR(noise_variance_quantile(2), 3.78, 0.03 * 3.78);
+  EXPECT_NEAR(noise_variance_quantile(1000), noise_variance_margin(1000), 0.01);
+  EXPECT_GT(noise_variance_quantile(1), noise_variance_margin(1));
+  EXPECT_EQ(noise_variance_quantile(0), 1.0);
+}

@@ -9,17 +9,16 @@
 #include <clustersurf/mesh/vertex_refit.hpp>
 
 #include "mesh/blend_noise.hpp"
+#include "mesh/vertex_fit.hpp"
 #include "mesh/vertex_move_guards.hpp"
 #include "mesh/vertex_rings.hpp"
 #include "spatial/spatial_order.hpp"
 
-#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <memory>
 #include <numbers>
 #include <span>
@@ -29,128 +28,6 @@
 namespace clustersurf {
 
 namespace {
-
-using Vector6 = Eigen::Matrix<double, 6, 1>;
-using Matrix6 = Eigen::Matrix<double, 6, 6>;
-
-/// A fit whose normal equations have a pivot below this share of the largest is undetermined
-/// (the points on a line, or too few around the vertex).
-constexpr double kMinPivot = 1e-8;
-
-/// One vertex's local fit: the move it asks for along the normal, and that move's variance
-/// per unit variance of the noise.
-struct LocalFit {
-  double move = 0;
-  /// The fit's height's variance; refit_vertices() takes the blend's share of it away (the
-  /// move is the fit's height less the blend's, whose noise is part of the fit's).
-  double unit_variance = 0;
-  /// The noise variance its residuals show (Σw r² over its expectation per unit variance,
-  /// Σw − tr(A⁻¹B): its degrees of freedom), an upper bound where relief adds to them.
-  double residual_variance = 0;
-  double dof = 0;
-  double radius = 0;  ///< the farthest of its points
-  bool valid = false;
-};
-
-/// The weighted quadratic height field over the `near` points of `data` around `x` in the frame
-/// of `normal`, evaluated at x: its height is the move. Undetermined (not valid) where its
-/// weighted RMS residual exceeds what `tree` allows a cluster of as many effective points: the
-/// points are not one smooth sheet there (a sharp edge, both sides of a thin part). Its
-/// residuals' degrees of freedom and noise variance only `with_residual_noise`.
-LocalFit fit_at(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const Points& data,
-                std::span<const Neighbor> near, const ClusterTree& tree, bool with_residual_noise) {
-  LocalFit out;
-  if (near.size() < 6 || !(normal.squaredNorm() > 0)) return out;
-  const double h2 = near.back().distance_squared * (1 + 1e-4);
-  if (!(h2 > 0)) return out;
-  const double h = std::sqrt(h2);
-  const Eigen::Vector3d n = normal.normalized();
-  const Eigen::Vector3d t1 = n.unitOrthogonal();
-  const Eigen::Vector3d t2 = n.cross(t1);
-  thread_local std::vector<Vector6> monomials;
-  thread_local std::vector<double> weights;
-  monomials.resize(near.size());
-  weights.resize(near.size());
-  Matrix6 a = Matrix6::Zero(), b = Matrix6::Zero();
-  Vector6 rhs = Vector6::Zero();
-  double weight = 0, weight2 = 0, zz = 0;  // Σw, Σw², Σw z²
-  for (std::size_t k = 0; k < near.size(); ++k) {
-    const Neighbor& nb = near[k];
-    const Eigen::Vector3d d = (data.row(nb.index).transpose() - x) / h;
-    const double s = 1 - nb.distance_squared / h2;
-    const double w = s * s * s;
-    const double u = d.dot(t1), v = d.dot(t2), z = d.dot(n);
-    Vector6& m = monomials[k];
-    m << 1, u, v, u * u, u * v, v * v;
-    weights[k] = w;
-    for (int j = 0; j < 6; ++j)
-      for (int i = j; i < 6; ++i) a(i, j) += w * m(i) * m(j);
-    if (with_residual_noise)
-      for (int j = 0; j < 6; ++j)
-        for (int i = j; i < 6; ++i) b(i, j) += w * w * m(i) * m(j);
-    rhs += w * z * m;
-    weight += w, weight2 += w * w, zz += w * z * z;
-  }
-  for (int j = 0; j < 6; ++j)
-    for (int i = j + 1; i < 6; ++i) a(j, i) = a(i, j), b(j, i) = b(i, j);
-  const Eigen::LDLT<Matrix6> solver(a);
-  const Vector6 pivots = solver.vectorD().cwiseAbs();
-  if (solver.info() != Eigen::Success || !(pivots.minCoeff() > kMinPivot * pivots.maxCoeff())) return out;
-  const Vector6 c = solver.solve(rhs);
-  // Σw r² of the least-squares solution: Σw z² − cᵀ(Σw z m).
-  const double residual = std::max(0.0, zz - c.dot(rhs));
-  if (!(weight > 0) || !(h * std::sqrt(residual / weight) <= cluster_error_threshold(tree, weight * weight / weight2)))
-    return out;
-  // The height's weights on the rows are w gᵀm with g = A⁻¹ e₀: its variance per unit variance
-  // of the noise is Σ w² (gᵀm)².
-  const Vector6 g = solver.solve(Vector6::Unit(0));
-  double unit_variance = 0;
-  for (std::size_t k = 0; k < near.size(); ++k) {
-    const double gm = g.dot(monomials[k]);
-    unit_variance += weights[k] * weights[k] * gm * gm;
-  }
-  out.move = h * c(0);
-  out.unit_variance = unit_variance;
-  if (with_residual_noise) {
-    out.dof = std::max(0.0, weight - solver.solve(b).trace());  // Σw − tr(A⁻¹B), B = Σw² m mᵀ
-    out.residual_variance = out.dof > 0 ? h * h * residual / out.dof : 0.0;
-  }
-  out.radius = h;
-  out.valid = std::isfinite(out.move) && std::isfinite(out.unit_variance) && std::abs(out.move) < h;
-  if (!out.valid) out.move = out.unit_variance = 0;
-  return out;
-}
-
-/// How many widths a vertex's fit is tried at: VertexRefitOptions::points nearest points, then
-/// twice as many, and so on.
-constexpr int kFitWidths = 2;
-
-/// The widest of the fits at x to the nearest 1, 2, … kFitWidths times `points` of `near`
-/// (sorted by distance) whose confidence interval, move ± kNoiseMargin standard deviations,
-/// meets those of all narrower ones (Goldenshluger and Nemirovski's intersection of confidence
-/// intervals): a wider fit averages more noise away and is taken while its bias does not show.
-LocalFit widest_consistent_fit(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const Points& data,
-                               std::span<const Neighbor> near, std::size_t points, const ClusterTree& tree) {
-  LocalFit best = fit_at(x, normal, data, near.first(std::min(points, near.size())), tree, true);
-  if (!best.valid) return best;
-  const LocalFit narrow = best;
-  double low = -std::numeric_limits<double>::infinity(), high = std::numeric_limits<double>::infinity();
-  const auto meet = [&](const LocalFit& f) {
-    const double margin = kNoiseMargin * std::sqrt(tree.noise_sigma * tree.noise_sigma * f.unit_variance);
-    low = std::max(low, f.move - margin), high = std::min(high, f.move + margin);
-    return low <= high;
-  };
-  meet(best);
-  for (int width = 1; width < kFitWidths && (points << width) <= near.size(); ++width) {
-    const LocalFit wider = fit_at(x, normal, data, near.first(points << width), tree, false);
-    if (!wider.valid || !meet(wider)) break;
-    best = wider;
-  }
-  // The noise is read from the narrowest fit's residuals, where the least relief adds to it.
-  best.residual_variance = narrow.residual_variance;
-  best.dof = narrow.dof;
-  return best;
-}
 
 /// Moves up to this share of the points' typical spread are not suspected of pushing the surface
 /// through another part of it: they could only cross a part within twice that, closer than the
@@ -162,13 +39,13 @@ constexpr double kSuspectMove = 0.1;
 struct WindowMeans {
   std::vector<double> squared;            ///< the moves' square
   std::vector<double> unit_variance;      ///< the moves' variance per unit variance of the noise
-  std::vector<double> residual_variance;  ///< the noise the narrowest fits' residuals show
-  std::vector<double> dof;                ///< those residuals' degrees of freedom
+  std::vector<double> residual_variance;  ///< the noise the fits' residuals show without relief
+  std::vector<double> dof;                ///< that noise's degrees of freedom
   std::vector<double> valid;              ///< 1 for a valid fit
   std::vector<double> coverage;           ///< the vertex's area over its fit's
 };
 
-WindowMeans window_means(const std::vector<LocalFit>& fits, const std::vector<double>& area,
+WindowMeans window_means(const std::vector<detail::LocalFit>& fits, const std::vector<double>& area,
                          const detail::VertexRings& rings, std::uint32_t rounds) {
   const std::size_t n = fits.size();
   WindowMeans w;
@@ -176,7 +53,7 @@ WindowMeans window_means(const std::vector<LocalFit>& fits, const std::vector<do
     values->assign(n, 0.0);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
     for (std::size_t v = range.begin(); v != range.end(); ++v) {
-      const LocalFit& f = fits[v];
+      const detail::LocalFit& f = fits[v];
       if (!f.valid) continue;
       w.squared[v] = f.move * f.move;
       w.unit_variance[v] = f.unit_variance;
@@ -191,10 +68,10 @@ WindowMeans window_means(const std::vector<LocalFit>& fits, const std::vector<do
   return w;
 }
 
-/// The noise variance around vertex v: the smaller of the tree's and the one the narrowest fits'
-/// residuals show over its window, raised by the margin the tree's noise tests allow an
-/// estimate of their degrees of freedom. The tree reads its noise from whole clusters, whose
-/// quadratics leave relief it takes for noise; the narrowest fits leave the least.
+/// The noise variance around vertex v: the smaller of the tree's and the relief-free one the
+/// fits' residuals show over its window (relief_free_noise()), raised by the margin the tree's
+/// noise tests allow an estimate of its degrees of freedom. The tree reads its noise from whole
+/// clusters, whose quadratics leave relief it takes for noise.
 double window_noise(const WindowMeans& w, std::size_t v, const ClusterTree& tree) {
   const double from_tree = tree.noise_sigma * tree.noise_sigma;
   if (!(w.valid[v] > 0)) return from_tree;
@@ -252,7 +129,7 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
   const Points& normals = has_normals ? mesh.normals : computed;
   const CreaseSupports creases(surface);
   const double max_move = typical_spread(tree);
-  std::vector<LocalFit> fits(n);
+  std::vector<detail::LocalFit> fits(n);
   // Queried in spatial order: consecutive queries visit the same part of the k-d tree.
   const std::vector<std::uint32_t> order = detail::spatial_order(mesh.vertices);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
@@ -262,7 +139,7 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
       if (v < fixed.size() && fixed[v] > 0) continue;
       const Eigen::Vector3d x = mesh.vertices.row(static_cast<Eigen::Index>(v)).transpose();
       if (creases.contain(x, near)) continue;
-      data.knn(x, options.points << (kFitWidths - 1), near);
+      data.knn(x, options.points << (detail::kFitWidths - 1), near);
       // Equally distant points in the order of their positions: the same sums whatever the
       // data's row order (a tile's points are numbered otherwise than the whole cloud's).
       std::sort(near.begin(), near.end(), [&](const Neighbor& p, const Neighbor& q) {
@@ -270,11 +147,11 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
         const auto a = data.points().row(p.index), b = data.points().row(q.index);
         return std::lexicographical_compare(a.begin(), a.end(), b.begin(), b.end());
       });
-      fits[v] = widest_consistent_fit(x, normals.row(static_cast<Eigen::Index>(v)).transpose(), data.points(), near,
-                                      options.points, tree);
+      fits[v] = detail::widest_consistent_fit(x, normals.row(static_cast<Eigen::Index>(v)).transpose(), data.points(),
+                                              near, options.points, tree);
       // The blend lies within a spread of the data; a fit asking for more is not its sag (a
       // vertex at a rim left by the trim, fitted to points of another part).
-      if (!(std::abs(fits[v].move) <= max_move)) fits[v] = LocalFit{};
+      if (!(std::abs(fits[v].move) <= max_move)) fits[v] = detail::LocalFit{};
       // The blend averages the same noise over the leaves' supports: of the fit's noise, the
       // move keeps what the blend does not (the variance of the difference of two nested
       // averages is the difference of their variances; none where the blend is the noisier).
@@ -294,9 +171,10 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
       const double noise = window_noise(means, v, tree);
       // The moves' power above the noise around the vertex, against the noise of its own move.
       const double samples = std::max(1.0, window * means.coverage[v]);
-      // The margin the tree's noise tests allow a mean square over that many samples.
+      // The upper quantile, as far out as the tree's noise tests reach, of a mean square of that
+      // many samples of the noise (a long tail when they are few).
       const double signal =
-          std::max(0.0, means.squared[v] - noise_variance_margin(samples) * noise * means.unit_variance[v]);
+          std::max(0.0, means.squared[v] - noise_variance_quantile(samples) * noise * means.unit_variance[v]);
       const double variance = noise * fits[v].unit_variance;
       const double share = signal + variance > 0 ? signal / (signal + variance) : 1.0;
       const auto row = static_cast<Eigen::Index>(v);
@@ -305,8 +183,8 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
       mesh.vertices.row(row) += moves[v] * normals.row(row).normalized();
     }
   });
-  report.refitted =
-      static_cast<std::size_t>(std::count_if(fits.begin(), fits.end(), [](const LocalFit& f) { return f.valid; }));
+  report.refitted = static_cast<std::size_t>(
+      std::count_if(fits.begin(), fits.end(), [](const detail::LocalFit& f) { return f.valid; }));
   detail::undo_folds(mesh, before, moves);
   detail::undo_crossings(mesh, before, moves, kSuspectMove * max_move);
   double moved = 0, shared = 0;

@@ -85,5 +85,15 @@ inline constexpr double kNoiseMargin = 2;
 /// The factor 1 + kNoiseMargin √(2/n) by which such a test lets a mean of n squared residuals
 /// exceed the noise's variance (1 for n ≤ 0).
 inline double noise_variance_margin(double n) { return n > 0 ? 1 + kNoiseMargin * std::sqrt(2 / n) : 1; }
+/// The upper quantile, kNoiseMargin standard deviations out, of a mean of n squared standard
+/// normal values (Wilson and Hilferty's cube-root normal form; 1 for n ≤ 0): the margin for a mean
+/// of few squares, whose long tail noise_variance_margin() understates (5.1 against 3.8 for
+/// one square, 2.1 against 1.9 for ten).
+inline double noise_variance_quantile(double n) {
+  if (!(n > 0)) return 1;
+  const double c = 2 / (9 * n);
+  const double root = 1 - c + kNoiseMargin * std::sqrt(c);
+  return root * root * root;
+}
 
 }  // namespace clustersurf

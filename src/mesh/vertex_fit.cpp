@@ -1,0 +1,122 @@
+// The weighted quadratic fits of the input points around a mesh vertex.
+
+#include "mesh/vertex_fit.hpp"
+
+#include <clustersurf/cluster/noise.hpp>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace clustersurf::detail {
+
+namespace {
+
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+using Matrix6 = Eigen::Matrix<double, 6, 6>;
+
+/// A fit whose normal equations have a pivot below this share of the largest is undetermined
+/// (the points on a line, or too few around the vertex).
+constexpr double kMinPivot = 1e-8;
+
+}  // namespace
+
+LocalFit fit_at(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const Points& data,
+                std::span<const Neighbor> near, const ClusterTree& tree, bool with_residual_noise) {
+  LocalFit out;
+  if (near.size() < 6 || !(normal.squaredNorm() > 0)) return out;
+  const double h2 = near.back().distance_squared * (1 + 1e-4);
+  if (!(h2 > 0)) return out;
+  const double h = std::sqrt(h2);
+  const Eigen::Vector3d n = normal.normalized();
+  const Eigen::Vector3d t1 = n.unitOrthogonal();
+  const Eigen::Vector3d t2 = n.cross(t1);
+  thread_local std::vector<Vector6> monomials;
+  thread_local std::vector<double> weights;
+  monomials.resize(near.size());
+  weights.resize(near.size());
+  Matrix6 a = Matrix6::Zero(), b = Matrix6::Zero();
+  Vector6 rhs = Vector6::Zero();
+  double weight = 0, weight2 = 0, zz = 0;  // Σw, Σw², Σw z²
+  for (std::size_t k = 0; k < near.size(); ++k) {
+    const Neighbor& nb = near[k];
+    const Eigen::Vector3d d = (data.row(nb.index).transpose() - x) / h;
+    const double s = 1 - nb.distance_squared / h2;
+    const double w = s * s * s;
+    const double u = d.dot(t1), v = d.dot(t2), z = d.dot(n);
+    Vector6& m = monomials[k];
+    m << 1, u, v, u * u, u * v, v * v;
+    weights[k] = w;
+    for (int j = 0; j < 6; ++j)
+      for (int i = j; i < 6; ++i) a(i, j) += w * m(i) * m(j);
+    if (with_residual_noise)
+      for (int j = 0; j < 6; ++j)
+        for (int i = j; i < 6; ++i) b(i, j) += w * w * m(i) * m(j);
+    rhs += w * z * m;
+    weight += w, weight2 += w * w, zz += w * z * z;
+  }
+  for (int j = 0; j < 6; ++j)
+    for (int i = j + 1; i < 6; ++i) a(j, i) = a(i, j), b(j, i) = b(i, j);
+  const Eigen::LDLT<Matrix6> solver(a);
+  const Vector6 pivots = solver.vectorD().cwiseAbs();
+  if (solver.info() != Eigen::Success || !(pivots.minCoeff() > kMinPivot * pivots.maxCoeff())) return out;
+  const Vector6 c = solver.solve(rhs);
+  // Σw r² of the least-squares solution: Σw z² − cᵀ(Σw z m).
+  const double residual = std::max(0.0, zz - c.dot(rhs));
+  if (!(weight > 0) || !(h * std::sqrt(residual / weight) <= cluster_error_threshold(tree, weight * weight / weight2)))
+    return out;
+  // The height's weights on the rows are w gᵀm with g = A⁻¹ e₀: its variance per unit variance
+  // of the noise is Σ w² (gᵀm)².
+  const Vector6 g = solver.solve(Vector6::Unit(0));
+  double unit_variance = 0;
+  for (std::size_t k = 0; k < near.size(); ++k) {
+    const double gm = g.dot(monomials[k]);
+    unit_variance += weights[k] * weights[k] * gm * gm;
+  }
+  out.move = h * c(0);
+  out.unit_variance = unit_variance;
+  if (with_residual_noise) {
+    out.dof = std::max(0.0, weight - solver.solve(b).trace());  // Σw − tr(A⁻¹B), B = Σw² m mᵀ
+    out.residual_variance = out.dof > 0 ? h * h * residual / out.dof : 0.0;
+  }
+  out.radius = h;
+  out.valid = std::isfinite(out.move) && std::isfinite(out.unit_variance) && std::abs(out.move) < h;
+  if (!out.valid) out.move = out.unit_variance = 0;
+  return out;
+}
+
+ResidualNoise relief_free_noise(const LocalFit& narrow, const LocalFit& wide) {
+  const double q = wide.valid ? (wide.radius * wide.radius) / (narrow.radius * narrow.radius) : 0.0;
+  if (!(narrow.dof > 0) || !(wide.dof > 0) || !(q > 1)) return {narrow.residual_variance, narrow.dof};
+  return {std::max(0.0, (q * narrow.residual_variance - wide.residual_variance) / (q - 1)), narrow.dof};
+}
+
+LocalFit widest_consistent_fit(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const Points& data,
+                               std::span<const Neighbor> near, std::size_t points, const ClusterTree& tree) {
+  LocalFit best = fit_at(x, normal, data, near.first(std::min(points, near.size())), tree, true);
+  if (!best.valid) return best;
+  const LocalFit narrow = best;
+  ResidualNoise noise{narrow.residual_variance, narrow.dof};
+  double low = -std::numeric_limits<double>::infinity(), high = std::numeric_limits<double>::infinity();
+  const auto meet = [&](const LocalFit& f) {
+    const double margin = kNoiseMargin * std::sqrt(tree.noise_sigma * tree.noise_sigma * f.unit_variance);
+    low = std::max(low, f.move - margin), high = std::min(high, f.move + margin);
+    return low <= high;
+  };
+  meet(best);
+  for (int width = 1; width < kFitWidths && (points << width) <= near.size(); ++width) {
+    const LocalFit wider = fit_at(x, normal, data, near.first(points << width), tree, width == 1);
+    if (width == 1) noise = relief_free_noise(narrow, wider);
+    if (!wider.valid || !meet(wider)) break;
+    best = wider;
+  }
+  best.residual_variance = noise.variance;
+  best.dof = noise.dof;
+  return best;
+}
+
+}  // namespace clustersurf::detail
