@@ -43,7 +43,7 @@ PointCloud rippled_sheet(double a, double k, double sigma, std::uint64_t seed) {
 struct MeanNoise {
   double narrow = 0;       ///< the narrow fits' residual variance
   double relief_free = 0;  ///< relief_free_noise()'s
-  double dof = 0;          ///< the degrees of freedom relief_free_noise() gives it
+  double dof = 0;          ///< the narrow fits' degrees of freedom, which the refit gives it
   double spread_dof = 0;   ///< those of a chi-square that spreads as much as the estimates do
 };
 
@@ -68,9 +68,9 @@ MeanNoise mean_noise(const PointCloud& cloud, double a, double k) {
     const detail::LocalFit narrow = detail::fit_at(x, normal, cloud.positions, sorted.first(kNarrow), tree, true);
     const detail::LocalFit wide = detail::fit_at(x, normal, cloud.positions, sorted, tree, true);
     if (!narrow.valid || !wide.valid) continue;
-    const detail::ResidualNoise noise = detail::relief_free_noise(narrow, wide);
-    mean.narrow += narrow.residual_variance, mean.relief_free += noise.variance, mean.dof += noise.dof;
-    squares += noise.variance * noise.variance;
+    const double noise = detail::relief_free_noise(narrow, wide);
+    mean.narrow += narrow.residual_variance, mean.relief_free += noise, mean.dof += narrow.dof;
+    squares += noise * noise;
     ++count;
   }
   EXPECT_GT(count, kQueries * 3 / 4);

@@ -89,10 +89,10 @@ LocalFit fit_at(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const P
   return out;
 }
 
-ResidualNoise relief_free_noise(const LocalFit& narrow, const LocalFit& wide) {
+double relief_free_noise(const LocalFit& narrow, const LocalFit& wide) {
   const double q = wide.valid ? (wide.radius * wide.radius) / (narrow.radius * narrow.radius) : 0.0;
-  if (!(narrow.dof > 0) || !(wide.dof > 0) || !(q > 1)) return {narrow.residual_variance, narrow.dof};
-  return {std::max(0.0, (q * narrow.residual_variance - wide.residual_variance) / (q - 1)), narrow.dof};
+  if (!(wide.dof > 0) || !(q > 1)) return narrow.residual_variance;
+  return std::max(0.0, (q * narrow.residual_variance - wide.residual_variance) / (q - 1));
 }
 
 LocalFit widest_consistent_fit(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const Points& data,
@@ -100,7 +100,7 @@ LocalFit widest_consistent_fit(const Eigen::Vector3d& x, const Eigen::Vector3d& 
   LocalFit best = fit_at(x, normal, data, near.first(std::min(points, near.size())), tree, true);
   if (!best.valid) return best;
   const LocalFit narrow = best;
-  ResidualNoise noise{narrow.residual_variance, narrow.dof};
+  double noise = narrow.residual_variance;
   double low = -std::numeric_limits<double>::infinity(), high = std::numeric_limits<double>::infinity();
   const auto meet = [&](const LocalFit& f) {
     const double margin = kNoiseMargin * std::sqrt(tree.noise_sigma * tree.noise_sigma * f.unit_variance);
@@ -114,8 +114,8 @@ LocalFit widest_consistent_fit(const Eigen::Vector3d& x, const Eigen::Vector3d& 
     if (!wider.valid || !meet(wider)) break;
     best = wider;
   }
-  best.residual_variance = noise.variance;
-  best.dof = noise.dof;
+  best.residual_variance = noise;
+  best.dof = narrow.dof;
   return best;
 }
 

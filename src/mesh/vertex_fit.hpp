@@ -36,21 +36,15 @@ struct LocalFit {
 LocalFit fit_at(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const Points& data,
                 std::span<const Neighbor> near, const ClusterTree& tree, bool with_residual_noise);
 
-/// A noise variance and the degrees of freedom of its estimate.
-struct ResidualNoise {
-  double variance = 0;
-  double dof = 0;
-};
-
 /// The noise variance the residuals of two nested fits show, the relief they also hold taken
 /// away. Anything but noise leaves a quadratic's residuals a variance that grows with the
 /// radius, at least as its square (as a crease's kink does; a smooth surface's cubic terms, once
 /// the radius is small against them, as its sixth power); noise leaves one that does not grow.
 /// So with q the squared ratio of the radii, (q R_narrow − R_wide) / (q − 1) holds the noise
-/// and at most none of the relief (at least 0). Its degrees of freedom are the narrow fit's,
-/// Σw − tr(A⁻¹B), which on pure noise is no more than the chi-square degrees of freedom its
-/// spread shows. The narrow fit's own where the wide one is undetermined.
-ResidualNoise relief_free_noise(const LocalFit& narrow, const LocalFit& wide);
+/// and at most none of the relief (at least 0). On pure noise it spreads no more than a
+/// chi-square mean of the narrow fit's degrees of freedom, Σw − tr(A⁻¹B), which the refit's
+/// margin takes for it. The narrow fit's own where the wide one is undetermined.
+double relief_free_noise(const LocalFit& narrow, const LocalFit& wide);
 
 /// How many widths a vertex's fit is tried at: VertexRefitOptions::points nearest points, then
 /// twice as many, and so on.
@@ -60,7 +54,8 @@ inline constexpr int kFitWidths = 2;
 /// (sorted by distance) whose confidence interval, move ± kNoiseMargin standard deviations,
 /// meets those of all narrower ones (Goldenshluger and Nemirovski's intersection of confidence
 /// intervals): a wider fit averages more noise away and is taken while its bias does not show.
-/// Its noise is the one the narrowest two fits' residuals show without their relief.
+/// Its noise is the one the narrowest two fits' residuals show without their relief
+/// (relief_free_noise()), with the narrowest fit's degrees of freedom.
 LocalFit widest_consistent_fit(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const Points& data,
                                std::span<const Neighbor> near, std::size_t points, const ClusterTree& tree);
 
