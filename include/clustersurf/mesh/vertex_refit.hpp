@@ -54,13 +54,14 @@ struct VertexRefitReport {
 /// intersection of confidence intervals, which widens a fit while its bias stays below its
 /// noise). Of that local fit's move c, whose variance under the noise is s² (the fit's variance
 /// through the weighted least squares less the blend's, which averages the same points over the
-/// leaves' supports; under the smaller of the tree's noise estimate and the noise the narrowest
-/// fits' residuals show over the same window, at the margin its degrees of freedom allow: the
-/// tree reads relief as noise where a cluster's quadratic leaves some), it takes the Wiener
-/// share P / (P + s²), with
-/// P = max(0, ⟨c²⟩ − (1 + 2 √(2/m)) ⟨s²⟩) the moves' power above their noise: the means over
-/// the vertex and its mesh neighbours within `rings` rings, m the independent fits that window
-/// holds (its area over a fit's), the margin the tree's noise tests allow. Where the moves are
+/// leaves' supports; under the smaller of the tree's noise estimate and the noise the narrow
+/// and wide fits' residuals show over the same window without their relief, at the margin the
+/// narrow fits' degrees of freedom allow: the tree reads relief as noise where a cluster's
+/// quadratic leaves some), it takes the Wiener share P / (P + s²), with
+/// P = max(0, ⟨c²⟩ − q(m) ⟨s²⟩) the moves' power above their noise: the means over the vertex
+/// and its mesh neighbours within `rings` rings, m the independent fits that window holds (its
+/// area over a fit's), q(m) the chi-square quantile of a mean of m squares as far out as the
+/// tree's noise tests reach (noise_variance_quantile()). Where the moves are
 /// the noise's the vertices stay; where they stand above it (the blend's error on clean or
 /// sparse data) they are taken. A fit that its points do not determine, that misses the error
 /// a cluster of the tree may keep (cluster_error_threshold(): a sharp edge, both sides of a
