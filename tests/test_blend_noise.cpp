@@ -103,7 +103,7 @@ PlaneNoise plane_noise(double sigma, ReconstructOptions options) {
     std::vector<Eigen::Vector2d> around;
     for (const Neighbor& nb : near) around.emplace_back(plane(nb.index, 0) - x.x(), plane(nb.index, 1) - x.y());
     const double fit = sigma * sigma * fit_variance(around, h, 0, 0);
-    const double share = detail::blend_variance_share(surface, x, h);
+    const double share = detail::blend_variance_share(ImplicitSurface::BoxWalk(surface, BoundingBox{}), x, h);
     out.measured += x.z() * x.z();
     out.predicted += fit * share;
     out.fit += fit;

@@ -2,6 +2,8 @@
 
 #include "mesh/blend_noise.hpp"
 
+#include <clustersurf/surface/box_walk.hpp>
+
 #include <Eigen/LU>
 
 #include <algorithm>
@@ -53,9 +55,10 @@ double off_center_variance(double rho2) {
   return 1 + r2 * (p.a + r2 * p.b);
 }
 
-double blend_variance_share(const ImplicitSurface& surface, const Eigen::Vector3d& x, double fit_radius) {
+double blend_variance_share(const ImplicitSurface::BoxWalk& near, const Eigen::Vector3d& x, double fit_radius) {
+  const ImplicitSurface& surface = near.surface();
   double weight = 0, deviation = 0;
-  surface.for_each_support(x, [&](std::int32_t i, double s) {
+  near.for_each_support(x, [&](std::int32_t i, double s) {
     const double w = blend_weight(s);
     weight += w;
     deviation += w * fit_radius / surface.radius(i) * std::sqrt(off_center_variance(s));

@@ -2,6 +2,7 @@
 // How much of a local fit's noise the leaves' blend shares: both average the same input points,
 // so the move from the blend to the fit carries only the difference of their noises.
 
+#include <clustersurf/surface/box_walk.hpp>
 #include <clustersurf/surface/implicit_surface.hpp>
 
 #include <Eigen/Core>
@@ -19,7 +20,8 @@ double off_center_variance(double rho2);
 /// are fits of the same kernel (the leaves' support fits) over their radius R, each off its
 /// centre, with the variance (fit_radius / R)² off_center_variance(s); their noises, from
 /// overlapping points, are taken as fully correlated (standard deviations added with the
-/// blend's weights). 0 where no support reaches x.
-double blend_variance_share(const ImplicitSurface& surface, const Eigen::Vector3d& x, double fit_radius);
+/// blend's weights). 0 where no support reaches x. The supports are found through `near`'s walk
+/// (the same as the surface's own, to the bit).
+double blend_variance_share(const ImplicitSurface::BoxWalk& near, const Eigen::Vector3d& x, double fit_radius);
 
 }  // namespace clustersurf::detail
