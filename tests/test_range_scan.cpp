@@ -8,6 +8,7 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <iostream>
 
 using namespace clustersurf;
 
@@ -144,6 +145,51 @@ TEST(RangeScan, FlippedNormalsAreAShareOfTheReturnsAndNothingElseChanges) {
   EXPECT_NEAR(share, 0.1, 0.02);
 }
 
+/// The range errors of a noisy scan of the unit sphere against the same scan without noise
+/// (the same returns, in the same order): their mean square over σ², and the mean product of
+/// consecutive returns of a grid row over their mean square (the lag-one correlation).
+std::pair<double, double> range_error_statistics(double sigma, double correlation) {
+  const TriangleMesh sphere = uv_sphere(64, 128);
+  RangeScanOptions o;
+  o.scans = 1;
+  o.count = 40000;
+  const PointCloud clean = scan_surface(sphere, o);
+  o.noise = sigma;
+  o.noise_correlation = correlation;
+  const PointCloud noisy = scan_surface(sphere, o);
+  EXPECT_EQ(noisy.size(), clean.size());
+  const double diagonal = 2 * std::sqrt(3.0);
+  double squares = 0, products = 0;
+  Eigen::Index pairs = 0;
+  for (Eigen::Index i = 0; i < clean.size(); ++i) {
+    const Eigen::Vector3d e = (noisy.positions.row(i) - clean.positions.row(i)).transpose();
+    squares += e.squaredNorm();
+    // The next return in the same row lies about one grid step away (the rays are near parallel,
+    // so the product of the errors is that of the range errors).
+    if (i + 1 < clean.size() && (clean.positions.row(i + 1) - clean.positions.row(i)).norm() < 0.05) {
+      products += e.dot((noisy.positions.row(i + 1) - clean.positions.row(i + 1)).transpose());
+      ++pairs;
+    }
+  }
+  const double mean_square = squares / static_cast<double>(clean.size());
+  std::cout << "correlation " << correlation << ": mean square " << mean_square / (sigma * diagonal * sigma * diagonal)
+            << " of sigma squared, lag-one correlation " << products / static_cast<double>(pairs) / mean_square
+            << " over " << pairs << " pairs\n";
+  return {mean_square / (sigma * diagonal * sigma * diagonal), products / static_cast<double>(pairs) / mean_square};
+}
+
+TEST(RangeScan, CorrelatedNoiseKeepsItsSpreadAndFollowsTheGrid) {
+  // Independent noise: σ² per return, no correlation between neighbours. Smoothed over 2 grid
+  // steps: the same σ², and neighbours correlated as Gaussian-smoothed white noise is at one
+  // step, exp(−1 / (4 · 2²)) = 0.94.
+  const auto [independent_spread, independent_correlation] = range_error_statistics(0.002, 0);
+  EXPECT_NEAR(independent_spread, 1, 0.05);
+  EXPECT_NEAR(independent_correlation, 0, 0.05);
+  const auto [spread, correlation] = range_error_statistics(0.002, 2);
+  EXPECT_NEAR(spread, 1, 0.15);
+  EXPECT_NEAR(correlation, std::exp(-1.0 / 16), 0.03);
+}
+
 TEST(RangeScan, RejectsBadOptions) {
   const TriangleMesh sphere = uv_sphere(8, 16);
   for (auto bad : std::initializer_list<void (*)(RangeScanOptions&)>{
@@ -152,7 +198,10 @@ TEST(RangeScan, RejectsBadOptions) {
            [](RangeScanOptions& o) { o.registration = std::nan(""); },
            [](RangeScanOptions& o) { o.max_incidence_degrees = 0; },
            [](RangeScanOptions& o) { o.flipped_normals = 1.5; },
-           [](RangeScanOptions& o) { o.flipped_normals = std::nan(""); }}) {
+           [](RangeScanOptions& o) { o.flipped_normals = std::nan(""); },
+           [](RangeScanOptions& o) { o.noise_correlation = -1; },
+           [](RangeScanOptions& o) { o.noise_correlation = std::nan(""); },
+           [](RangeScanOptions& o) { o.noise_correlation = 1000; }}) {
     RangeScanOptions o;
     bad(o);
     EXPECT_THROW(scan_surface(sphere, o), OptionError);

@@ -25,12 +25,14 @@ int run_sample(Console& console, const SampleArgs& args) {
     options.count = args.count;
     options.noise = args.noise;
     options.registration = args.registration;
+    options.noise_correlation = args.noise_correlation;
     options.flipped_normals = args.flipped_normals;
     options.distance = args.scanner_distance;
     options.seed = args.seed;
     cloud = scan_surface(mesh, options);
   } else {
     if (args.flipped_normals > 0) throw OptionError("--flip-normals is for --scanner");
+    if (args.noise_correlation > 0) throw OptionError("--noise-correlation is for --scanner");
     SurfaceSamplingOptions options;
     options.count = args.count;
     options.noise = args.noise;
@@ -51,6 +53,7 @@ int run_sample(Console& console, const SampleArgs& args) {
                                 {"seed", args.seed},
                                 {"scanner", args.scanner},
                                 {"registration", args.registration},
+                                {"noise_correlation", args.noise_correlation},
                                 {"flipped_normals", args.flipped_normals}}
                      .dump(2)
               << "\n";

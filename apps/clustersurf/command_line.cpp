@@ -148,6 +148,11 @@ void add_sample_command(CLI::App& app, SampleArgs& args) {
                  "--scanner: each scan's rigid misregistration, sigma as a fraction of the bbox diagonal")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  sm->add_option("--noise-correlation", args.noise_correlation,
+                 "--scanner: how many grid steps the range noise is correlated over (the sigma of the Gaussian "
+                 "that smooths it; 0: independent)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   sm->add_option("--flip-normals", args.flipped_normals,
                  "--scanner: fraction of the returns whose normal points away from its scanner (orientation errors)")
       ->check(CLI::Range(0.0, 1.0))

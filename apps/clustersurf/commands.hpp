@@ -88,6 +88,7 @@ struct SampleArgs {
   bool no_normals = false;
   std::size_t scanner = 0;  // 0: area-uniform samples; N: a virtual range scanner at N viewpoints
   double registration = RangeScanOptions{}.registration;
+  double noise_correlation = RangeScanOptions{}.noise_correlation;
   double flipped_normals = RangeScanOptions{}.flipped_normals;
   double scanner_distance = RangeScanOptions{}.distance;
 };

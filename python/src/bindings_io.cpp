@@ -239,7 +239,7 @@ mesh's origin.)doc");
   m.def(
       "scan_surface",
       [](const py::handle& vertices, const py::handle& faces, std::int64_t n, std::int64_t scans, double noise,
-         double registration, double flipped_normals, double distance, std::uint64_t seed) {
+         double registration, double flipped_normals, double distance, std::uint64_t seed, double noise_correlation) {
         if (n < 1) throw OptionError("n must be positive, not " + std::to_string(n));
         if (scans < 1) throw OptionError("scans must be positive, not " + std::to_string(scans));
         const TriangleMesh mesh = surface_to_sample(vertices, faces);
@@ -250,6 +250,7 @@ mesh's origin.)doc");
         options.registration = registration;
         options.flipped_normals = flipped_normals;
         options.distance = distance;
+        options.noise_correlation = noise_correlation;
         options.seed = seed;
         PointCloud cloud = [&] {
           py::gil_scoped_release release;
@@ -262,7 +263,8 @@ mesh's origin.)doc");
       py::arg("scans") = RangeScanOptions{}.scans, py::arg("noise") = RangeScanOptions{}.noise,
       py::arg("registration") = RangeScanOptions{}.registration,
       py::arg("flipped_normals") = RangeScanOptions{}.flipped_normals,
-      py::arg("distance") = RangeScanOptions{}.distance, py::arg("seed") = RangeScanOptions{}.seed, R"doc(
+      py::arg("distance") = RangeScanOptions{}.distance, py::arg("seed") = RangeScanOptions{}.seed,
+      py::arg("noise_correlation") = RangeScanOptions{}.noise_correlation, R"doc(
 Scans a triangle mesh with a virtual range scanner, as ``clustersurf sample --scanner`` does.
 
 ``vertices`` and ``faces``, or a mesh object in place of both, as in sample_surface().
@@ -270,7 +272,8 @@ About ``n`` points over ``scans`` viewpoints around the mesh (occlusion holes, g
 dropped); ``noise``: Gaussian sigma along the line of sight and ``registration``: each scan's
 rigid misregistration, both fractions of the bounding-box diagonal; ``flipped_normals``: the
 share of the returns whose normal points away from its scanner; ``distance``: the scanners'
-distance to the box center, in diagonals; ``seed``: the same seed gives the same points.
+distance to the box center, in diagonals; ``seed``: the same seed gives the same points;
+``noise_correlation``: how many grid steps the range noise is correlated over (0: independent).
 Returns a PointCloud with normals from each scan's grid, pointing towards its scanner, with
 the mesh's origin.)doc");
 }

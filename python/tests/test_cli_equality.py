@@ -148,10 +148,10 @@ def test_sample_and_eval_equal_the_cli(tmp_path, cli, bunny_file):
 
 def test_scan_equals_the_cli(tmp_path, cli, bunny_file):
     run(cli, "sample", bunny_file, "-o", tmp_path / "cli.ply", "-n", 5000, "--scanner", 6, "--noise", 0.0005,
-        "--registration", 0.0002, "--flip-normals", 0.05, "--seed", 2)
+        "--registration", 0.0002, "--flip-normals", 0.05, "--noise-correlation", 1.5, "--seed", 2)
     mesh = clustersurf.read_mesh(bunny_file)
     cloud = clustersurf.scan_surface(mesh.vertices, mesh.faces, n=5000, scans=6, noise=0.0005, registration=0.0002,
-                                     flipped_normals=0.05, seed=2)
+                                     flipped_normals=0.05, noise_correlation=1.5, seed=2)
     clustersurf.write_points(tmp_path / "py.ply", cloud.positions, cloud.normals)
     assert (tmp_path / "py.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
 

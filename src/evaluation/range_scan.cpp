@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -26,6 +27,8 @@ constexpr int kProbeSide = 64;
 /// Grid neighbours farther apart than this many grid spacings (at their depth) lie across a
 /// depth discontinuity and do not make a normal.
 constexpr double kMaxNeighbourGap = 4;
+/// The largest noise correlation, in grid steps: the smoothing kernel spans 6 times as many.
+constexpr double kMaxNoiseCorrelation = 100;
 
 /// One scanner: position, viewing axes, and the half-width of its grid at unit depth.
 struct Scanner {
@@ -68,20 +71,67 @@ struct Return {
   bool valid = false;
 };
 
-/// The returns of one scan's side × side grid (row-major), with range noise.
-std::vector<Return> scan_grid(const detail::EmbreeScene& scene, const Scanner& scanner, int side, double sigma,
-                              double min_cos, std::uint64_t seed) {
-  std::vector<Return> grid(static_cast<std::size_t>(side) * static_cast<std::size_t>(side));
+/// One pass of a Gaussian of unit sum over the lines of a side × side grid (row-major): along
+/// its rows, or along its columns; the grid's edges repeat.
+std::vector<double> smooth_lines(const std::vector<double>& values, int side, const std::vector<double>& kernel,
+                                 bool along_rows) {
+  const int reach = static_cast<int>(kernel.size() / 2);
+  const auto at = [side](int i, int j) {
+    return static_cast<std::size_t>(i) * static_cast<std::size_t>(side) + static_cast<std::size_t>(j);
+  };
+  std::vector<double> out(values.size());
+  tbb::parallel_for(0, side, [&](int i) {
+    for (int j = 0; j < side; ++j) {
+      double sum = 0;
+      for (int t = -reach; t <= reach; ++t) {
+        const int k = std::clamp((along_rows ? j : i) + t, 0, side - 1);
+        sum += kernel[static_cast<std::size_t>(t + reach)] * values[along_rows ? at(i, k) : at(k, j)];
+      }
+      out[at(i, j)] = sum;
+    }
+  });
+  return out;
+}
+
+/// Unit-variance range noise for a side × side grid (row-major), independent from cell to cell,
+/// or correlated over `correlation` grid steps: smoothed by a Gaussian of that standard
+/// deviation (cut at 3), then scaled back to unit variance.
+std::vector<double> range_noise(int side, double correlation, std::uint64_t seed) {
+  const auto n = static_cast<std::size_t>(side);
+  std::vector<double> noise(n * n);
   tbb::parallel_for(0, side, [&](int i) {
     detail::PortableRandom random(detail::splitmix64(seed ^ (static_cast<std::uint64_t>(i) << 32)));
+    for (std::size_t j = 0; j < n; ++j) noise[static_cast<std::size_t>(i) * n + j] = random.normal();
+  });
+  if (!(correlation > 0)) return noise;
+  const int reach = static_cast<int>(std::ceil(3 * correlation));
+  std::vector<double> kernel(static_cast<std::size_t>(2 * reach + 1));
+  double sum = 0, squares = 0;
+  for (int t = -reach; t <= reach; ++t)
+    sum += kernel[static_cast<std::size_t>(t + reach)] = std::exp(-0.5 * t * t / (correlation * correlation));
+  for (double& k : kernel) k /= sum, squares += k * k;
+  noise = smooth_lines(smooth_lines(noise, side, kernel, true), side, kernel, false);
+  for (double& v : noise) v /= squares;  // the variance of a 2-D pass is squares²
+  return noise;
+}
+
+/// The returns of one scan's side × side grid (row-major), with range noise of standard
+/// deviation `sigma` correlated over `correlation` grid steps.
+std::vector<Return> scan_grid(const detail::EmbreeScene& scene, const Scanner& scanner, int side, double sigma,
+                              double correlation, double min_cos, std::uint64_t seed) {
+  std::vector<Return> grid(static_cast<std::size_t>(side) * static_cast<std::size_t>(side));
+  const std::vector<double> noise = sigma > 0 ? range_noise(side, correlation, seed) : std::vector<double>();
+  tbb::parallel_for(0, side, [&](int i) {
     RTCRayHit hit;
     for (int j = 0; j < side; ++j) {
       const Ray ray = scanner.ray(i, j, side);
-      const double range_noise = sigma > 0 ? sigma * random.normal() : 0.0;
+      const std::size_t cell =
+          static_cast<std::size_t>(i) * static_cast<std::size_t>(side) + static_cast<std::size_t>(j);
+      const double range_noise = sigma > 0 ? sigma * noise[cell] : 0.0;
       if (!scene.intersect(ray, std::numeric_limits<float>::infinity(), hit)) continue;
       const Eigen::Vector3d n = Eigen::Vector3d(hit.hit.Ng_x, hit.hit.Ng_y, hit.hit.Ng_z).normalized();
       if (!(std::abs(n.dot(ray.direction)) >= min_cos)) continue;  // grazing (or degenerate) return
-      Return& r = grid[static_cast<std::size_t>(i) * static_cast<std::size_t>(side) + static_cast<std::size_t>(j)];
+      Return& r = grid[cell];
       r.point = ray.origin + (static_cast<double>(hit.ray.tfar) + range_noise) * ray.direction;
       r.facet_normal = n;
       r.valid = true;
@@ -147,6 +197,9 @@ void validate(const TriangleMesh& mesh, const RangeScanOptions& o) {
         fmt::format("the scanner distance must exceed 0.5 diagonals (outside the model), got {}", o.distance));
   if (!(o.noise >= 0) || !std::isfinite(o.noise))
     throw OptionError(fmt::format("noise must be a finite fraction >= 0, got {}", o.noise));
+  if (!(o.noise_correlation >= 0) || !(o.noise_correlation <= kMaxNoiseCorrelation))
+    throw OptionError(fmt::format("the noise correlation must be in [0, {}] grid steps, got {}", kMaxNoiseCorrelation,
+                                  o.noise_correlation));
   if (!(o.registration >= 0) || !std::isfinite(o.registration))
     throw OptionError(fmt::format("registration error must be a finite fraction >= 0, got {}", o.registration));
   if (!(o.flipped_normals >= 0 && o.flipped_normals <= 1))
@@ -184,7 +237,7 @@ PointCloud scan_surface(const TriangleMesh& mesh, const RangeScanOptions& option
   // that all scans together return about options.count points.
   std::size_t probe_returns = 0;
   for (const auto& scanner : scanners)
-    for (const auto& r : scan_grid(scene, scanner, kProbeSide, 0, min_cos, 0)) probe_returns += r.valid;
+    for (const auto& r : scan_grid(scene, scanner, kProbeSide, 0, 0, min_cos, 0)) probe_returns += r.valid;
   if (probe_returns == 0) throw OptionError("no scanner sees the mesh (every return is grazing)");
   const double per_ray = static_cast<double>(probe_returns) /
                          (static_cast<double>(kProbeSide * kProbeSide) * static_cast<double>(options.scans));
@@ -197,7 +250,8 @@ PointCloud scan_surface(const TriangleMesh& mesh, const RangeScanOptions& option
   for (std::size_t s = 0; s < scanners.size(); ++s) {
     const Scanner& scanner = scanners[s];
     const std::uint64_t scan_seed = detail::splitmix64(options.seed * 0x100000001b3ULL + s);
-    const std::vector<Return> grid = scan_grid(scene, scanner, side, sigma, min_cos, scan_seed);
+    const std::vector<Return> grid =
+        scan_grid(scene, scanner, side, sigma, options.noise_correlation, min_cos, scan_seed);
     const Eigen::Isometry3d motion =
         misregistration(center, radius, options.registration * diagonal, detail::splitmix64(scan_seed));
     const double pixel_angle = 2 * scanner.half_width / side;

@@ -377,6 +377,9 @@ check "sample --scanner with the same seed gives the same bytes" cmp -s "$tmp/sc
 run sample "$bunny_mesh" -o "$tmp/scanned3.ply" --scanner 6 --outliers 0.01
 expect_rc "sample --scanner with --outliers is an option error" 2
 check "sample --scanner --outliers writes nothing" test ! -e "$tmp/scanned3.ply"
+run sample "$bunny_mesh" -o "$tmp/scanned4.ply" --noise 0.001 --noise-correlation 2
+expect_rc "sample --noise-correlation without --scanner is an option error" 2
+check "sample --noise-correlation without --scanner writes nothing" test ! -e "$tmp/scanned4.ply"
 run --json reconstruct "$tmp/scanned.ply" --mesh "$tmp/scanned-mesh.ply"
 expect_rc "reconstruct of a virtual scan exits 0" 0
 run --json reconstruct "$tmp/scanned.ply" --mesh "$tmp/scanned-closed.ply" --close-pinholes

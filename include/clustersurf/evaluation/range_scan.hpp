@@ -23,6 +23,10 @@ struct RangeScanOptions {
   /// Standard deviation of the range noise (along the line of sight), as a fraction of the
   /// bounding-box diagonal.
   double noise = 0;
+  /// How far along each scan's grid the range noise is correlated, in grid steps: the standard
+  /// deviation of the Gaussian that smooths it (its variance kept); 0 for independent noise.
+  /// A real scanner's range noise is correlated over a few steps (its optics and filters).
+  double noise_correlation = 0;
   /// Standard deviation of each scan's misregistration, as a fraction of the diagonal: every
   /// scan is moved by a random rigid motion that displaces the bounding sphere's rim by about
   /// this much (half rotation about the center, half translation).
