@@ -78,6 +78,7 @@ def scan_surface(
     flipped_normals: float = 0.0,
     distance: float = 1.5,
     seed: int = 1,
+    noise_correlation: float = 0.0,
 ) -> PointCloud: ...
 def compare_surfaces(
     recon_vertices: _Surface,
