@@ -115,48 +115,49 @@ class CreaseSupports {
 
 /// Each vertex's widest consistent fit (widest_consistent_fit()) to the data's points nearest
 /// to it, the blend's share of its variance taken away; none for the `fixed` vertices, those
-/// inside a crease leaf's support and those whose fit asks for more than a typical spread.
+/// inside a crease leaf's support and those whose fit asks for more than `max_move`.
 std::vector<detail::LocalFit> local_fits(const TriangleMesh& mesh, const Points& normals, const KdTree& data,
                                          const ImplicitSurface& surface, const VertexRefitOptions& options,
-                                         std::span<const float> fixed) {
+                                         std::span<const float> fixed, double max_move) {
   const CreaseSupports creases(surface);
-  const double max_move = typical_spread(surface.tree());
   const auto n = static_cast<std::size_t>(mesh.vertices.rows());
   std::vector<detail::LocalFit> fits(n);
   // Queried in spatial order: consecutive queries visit the same part of the k-d tree and, in
   // runs of kShareRun, share one walk of the surface's supports.
   const std::vector<std::uint32_t> order = detail::spatial_order(mesh.vertices);
   const std::size_t wanted = options.points << (detail::kFitWidths - 1);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
-    std::vector<Neighbor> near, creases_near;
-    for (std::size_t run = range.begin(); run < range.end(); run += kShareRun) {
-      const std::size_t run_end = std::min(range.end(), run + kShareRun);
+  const auto fit = [&](std::size_t v, const ImplicitSurface::BoxWalk& supports, std::vector<Neighbor>& near) {
+    if (v < fixed.size() && fixed[v] > 0) return;
+    const Eigen::Vector3d x = mesh.vertices.row(static_cast<Eigen::Index>(v)).transpose();
+    if (creases.contain(x, near)) return;
+    data.knn(x, wanted, near);
+    // Equally distant points in the order of their positions: the same sums whatever the data's
+    // row order (a tile's points are numbered otherwise than the whole cloud's).
+    std::sort(near.begin(), near.end(), [&](const Neighbor& p, const Neighbor& q) {
+      if (p.distance_squared != q.distance_squared) return p.distance_squared < q.distance_squared;
+      const auto a = data.points().row(p.index), b = data.points().row(q.index);
+      return std::lexicographical_compare(a.begin(), a.end(), b.begin(), b.end());
+    });
+    detail::LocalFit& f = fits[v];
+    f = detail::widest_consistent_fit(x, normals.row(static_cast<Eigen::Index>(v)).transpose(), data.points(), near,
+                                      options.points, surface.tree());
+    // The blend lies within a spread of the data; a fit asking for more is not its sag (a vertex
+    // at a rim left by the trim, fitted to points of another part).
+    if (!(std::abs(f.move) <= max_move)) f = detail::LocalFit{};
+    // The blend averages the same noise over the leaves' supports: of the fit's noise, the move
+    // keeps what the blend does not (the variance of the difference of two nested averages is
+    // the difference of their variances; none where the blend is the noisier).
+    if (f.valid) f.unit_variance *= 1 - detail::blend_variance_share(supports, x, f.radius);
+  };
+  const std::size_t runs = (n + kShareRun - 1) / kShareRun;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, runs, 32), [&](const auto& range) {
+    std::vector<Neighbor> near;
+    for (std::size_t run = range.begin(); run != range.end(); ++run) {
+      const std::size_t begin = run * kShareRun, end = std::min(n, begin + kShareRun);
       BoundingBox box;
-      for (std::size_t o = run; o != run_end; ++o) box.extend(mesh.vertices.row(order[o]).transpose());
+      for (std::size_t o = begin; o != end; ++o) box.extend(mesh.vertices.row(order[o]).transpose());
       const ImplicitSurface::BoxWalk supports(surface, box);
-      for (std::size_t o = run; o != run_end; ++o) {
-        const std::size_t v = order[o];
-        if (v < fixed.size() && fixed[v] > 0) continue;
-        const Eigen::Vector3d x = mesh.vertices.row(static_cast<Eigen::Index>(v)).transpose();
-        if (creases.contain(x, creases_near)) continue;
-        data.knn(x, wanted, near);
-        // Equally distant points in the order of their positions: the same sums whatever the
-        // data's row order (a tile's points are numbered otherwise than the whole cloud's).
-        std::sort(near.begin(), near.end(), [&](const Neighbor& p, const Neighbor& q) {
-          if (p.distance_squared != q.distance_squared) return p.distance_squared < q.distance_squared;
-          const auto a = data.points().row(p.index), b = data.points().row(q.index);
-          return std::lexicographical_compare(a.begin(), a.end(), b.begin(), b.end());
-        });
-        fits[v] = detail::widest_consistent_fit(x, normals.row(static_cast<Eigen::Index>(v)).transpose(), data.points(),
-                                                near, options.points, surface.tree());
-        // The blend lies within a spread of the data; a fit asking for more is not its sag (a
-        // vertex at a rim left by the trim, fitted to points of another part).
-        if (!(std::abs(fits[v].move) <= max_move)) fits[v] = detail::LocalFit{};
-        // The blend averages the same noise over the leaves' supports: of the fit's noise, the
-        // move keeps what the blend does not (the variance of the difference of two nested
-        // averages is the difference of their variances; none where the blend is the noisier).
-        if (fits[v].valid) fits[v].unit_variance *= 1 - detail::blend_variance_share(supports, x, fits[v].radius);
-      }
+      for (std::size_t o = begin; o != end; ++o) fit(order[o], supports, near);
     }
   });
   return fits;
@@ -181,7 +182,7 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
   const Points computed = has_normals ? Points() : vertex_normals(mesh);
   const Points& normals = has_normals ? mesh.normals : computed;
   const double max_move = typical_spread(tree);
-  const std::vector<detail::LocalFit> fits = local_fits(mesh, normals, data, surface, options, fixed);
+  const std::vector<detail::LocalFit> fits = local_fits(mesh, normals, data, surface, options, fixed, max_move);
   const detail::VertexRings rings = detail::edge_neighbors(mesh);
   const WindowMeans means = window_means(fits, detail::vertex_areas(mesh, rings), rings, options.rings);
   // How many independent fits the window holds: its area over a fit's (neighbouring vertices'
