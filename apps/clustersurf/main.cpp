@@ -63,10 +63,10 @@ int report_failure(clustersurf::cli::Console& console) {
 /// glibc's defaults map each block over 32 MB afresh and unmap it when freed, so a pipeline
 /// that frees and reallocates arrays of a million vertices or cells pays every page fault again
 /// (about a fifth of a 1 M-point run); a one-shot tool gains nothing by returning the memory
-/// early. The top of the heap is returned only beyond mallopt's largest threshold (2 GB): at
-/// 1 GB, the out-of-core join, which reads tile after tile of 300 MB into new arrays, had every
-/// page faulted in again (38-50 s of a 10 M-point run's join, 6.5 s without). The peak grows
-/// by what the heap cannot reuse (a few percent).
+/// early. The top of the heap is returned only beyond mallopt's largest threshold (2 GB): the
+/// out-of-core join reads tile after tile of 300 MB into new arrays, and with a lower threshold
+/// each read faults every page in again (a 10 M-point run's join: 6.7 s, 38-50 s at 1 GB). The
+/// peak grows by what the heap cannot reuse (a few percent).
 void keep_freed_memory() {
 #if defined(__GLIBC__)
   mallopt(M_MMAP_THRESHOLD, 1 << 30);
