@@ -17,6 +17,9 @@
 
 namespace clustersurf::render {
 
+/// The pixel loop's patches (also the parallel loop's grain) and blocks, in pixels a side.
+inline constexpr int kPatch = 16, kBlock = 4;
+
 /// What one camera ray sees: a color with coverage `alpha` (0: background only).
 struct SampleResult {
   Color rgb = Color::Zero();
@@ -34,7 +37,8 @@ Camera scene_camera(const RenderOptions& options, const BoundingBox& own, const 
 /// Traces options.samples rays per pixel of `camera`. `make_tracer(x0, y0, x1, y1)` is called
 /// once per tile (pixels [x0, x1) × [y0, y1)) and returns a callable (const Ray&, std::uint64_t seed) → SampleResult
 /// owning its scratch memory; a tracer with enter_block(x0, y0, x1, y1) is told each block of at
-/// most 4 × 4 pixels of its tile before that block's rays. The picture does not depend on the
+/// most kBlock × kBlock pixels of its tile before that block's rays, the blocks of each kPatch ×
+/// kPatch patch of the tile (counted from its first pixel) one after another. The picture does not depend on the
 /// thread count.
 template <class MakeTracer>
 Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer&& make_tracer, RenderStats* stats,
@@ -47,7 +51,6 @@ Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer
                                     static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h));
   std::atomic<std::uint64_t> hits{0};
   const auto start = std::chrono::steady_clock::now();
-  constexpr int kTile = 16, kBlock = 4;
   const double focal = camera.focal_pixels();
   // Pixel (x, y) traced with options.samples rays and composited over the background; returns
   // whether its first ray hit.
@@ -74,18 +77,21 @@ Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer
     image.at(x, y) = alpha > 0 ? to_pixel(premultiplied / alpha, alpha) : Rgba8{0, 0, 0, 0};
     return hit;
   };
-  tbb::parallel_for(tbb::blocked_range2d<int>(0, h, kTile, 0, w, kTile), [&](const tbb::blocked_range2d<int>& tile) {
+  tbb::parallel_for(tbb::blocked_range2d<int>(0, h, kPatch, 0, w, kPatch), [&](const tbb::blocked_range2d<int>& tile) {
     progress.check();
     const int tx0 = tile.cols().begin(), ty0 = tile.rows().begin(), tx1 = tile.cols().end(), ty1 = tile.rows().end();
     auto trace = make_tracer(tx0, ty0, tx1, ty1);
     std::uint64_t tile_hits = 0;
-    for (int by = ty0; by < ty1; by += kBlock)
-      for (int bx = tx0; bx < tx1; bx += kBlock) {
-        const int bx1 = std::min(bx + kBlock, tx1), by1 = std::min(by + kBlock, ty1);
-        if constexpr (requires { trace.enter_block(bx, by, bx1, by1); }) trace.enter_block(bx, by, bx1, by1);
-        for (int y = by; y != by1; ++y)
-          for (int x = bx; x != bx1; ++x) tile_hits += trace_pixel(trace, x, y) ? 1 : 0;
-      }
+    // Patch by patch of kPatch × kPatch pixels, block by block within each.
+    for (int py = ty0; py < ty1; py += kPatch)
+      for (int px = tx0; px < tx1; px += kPatch)
+        for (int by = py; by < std::min(py + kPatch, ty1); by += kBlock)
+          for (int bx = px; bx < std::min(px + kPatch, tx1); bx += kBlock) {
+            const int bx1 = std::min(bx + kBlock, tx1), by1 = std::min(by + kBlock, ty1);
+            if constexpr (requires { trace.enter_block(bx, by, bx1, by1); }) trace.enter_block(bx, by, bx1, by1);
+            for (int y = by; y != by1; ++y)
+              for (int x = bx; x != bx1; ++x) tile_hits += trace_pixel(trace, x, y) ? 1 : 0;
+          }
     hits += tile_hits;
     progress.advance(tile.rows().size() * tile.cols().size());
   });

@@ -80,23 +80,52 @@ void restrict_proxy(const Proxy& proxy, const Ray& ray, SupportSpan& span) {
              proxy.variant());
 }
 
-/// Fills the span of `node` (whose support the ray meets on [t0, t1]).
-SupportSpan make_span(const ClusterNode& n, std::int32_t node, const Ray& ray, double t0, double t1) {
+/// Sets span.flip0 and flip1 from the zeros of N (and M) inside the span.
+void find_flips(SupportSpan& span) {
+  double roots[2];
+  int k = 0;
+  const auto add = [&](double root) {
+    if (root > span.t_enter && root < span.t_exit && k < 2) roots[k++] = root;
+  };
+  if (span.n2 == 0) {
+    if (span.n1 != 0) add(-span.n0 / span.n1);
+  } else {
+    const double disc = span.n1 * span.n1 - 4 * span.n2 * span.n0;
+    if (disc >= 0) {
+      const double q = -0.5 * (span.n1 + std::copysign(std::sqrt(disc), span.n1));  // no cancellation
+      add(q / span.n2);
+      if (q != 0) add(span.n0 / q);
+    }
+  }
+  if (span.crease != 0 && span.m1 != 0) add(-span.m0 / span.m1);
+  if (k == 2 && roots[1] < roots[0]) std::swap(roots[0], roots[1]);
+  if (k > 0) span.flip0 = roots[0];
+  if (k > 1) span.flip1 = roots[1];
+}
+
+/// The span of `node`, whose support (squared radius r2) the ray meets on [t0, t1], from
+/// oc = origin − center; not restricted yet.
+SupportSpan make_span(std::int32_t node, const Eigen::Vector3d& oc, double r2, const Ray& ray, double t0, double t1) {
   SupportSpan s;
   s.node = node;
   s.t_enter = t0;
   s.t_exit = t1;
-  s.radius = n.support.radius;
-  const double inv_r2 = 1 / (n.support.radius * n.support.radius);
-  const Eigen::Vector3d oc = ray.origin - n.support.center;
+  const double inv_r2 = 1 / r2;
   s.s0 = oc.squaredNorm() * inv_r2;
   s.s1 = 2 * oc.dot(ray.direction) * inv_r2;
   s.s2 = ray.direction.squaredNorm() * inv_r2;
-  restrict_proxy(n.proxy, ray, s);
   return s;
 }
 
 }  // namespace
+
+void restrict_span(const ClusterTree& tree, const Ray& ray, SupportSpan& span) {
+  const ClusterNode& n = tree.nodes[static_cast<std::size_t>(span.node)];
+  span.radius = n.support.radius;
+  restrict_proxy(n.proxy, ray, span);
+  find_flips(span);
+  span.restricted = true;
+}
 
 double SupportSpan::q(double t) const {
   const double n = n0 + t * (n1 + t * n2);
@@ -213,9 +242,8 @@ void SupportIndex::collect_from(const Ray& ray, double t_min, double t_max, cons
     const double root = std::sqrt(disc);
     const double t0 = -b - root, t1 = -b + root;
     if (t1 > t_min && t0 < t_max) {
-      const std::int32_t i = set.nodes[k];
-      out.push_back(
-          make_span(tree().nodes[static_cast<std::size_t>(i)], i, ray, std::max(t0, t_min), std::min(t1, t_max)));
+      const Eigen::Vector3d oc(ox - set.x[k], oy - set.y[k], oz - set.z[k]);
+      out.push_back(make_span(set.nodes[k], oc, set.r2[k], ray, std::max(t0, t_min), std::min(t1, t_max)));
     }
   }
   sort_spans(out);
@@ -230,7 +258,8 @@ void SupportIndex::collect(const Ray& ray, double t_min, double t_max, SupportSe
     const ClusterNode& n = nodes[static_cast<std::size_t>(i)];
     const auto span = ray_sphere(ray, n.support);
     if (span && span->second > t_min && span->first < t_max)
-      out.push_back(make_span(n, i, ray, std::max(span->first, t_min), std::min(span->second, t_max)));
+      out.push_back(make_span(i, ray.origin - n.support.center, n.support.radius * n.support.radius, ray,
+                              std::max(span->first, t_min), std::min(span->second, t_max)));
   };
   if (search == SupportSearch::BruteForce) {
     for (std::int32_t i : cut()) consider(i);

@@ -5,6 +5,7 @@
 #include <clustersurf/cluster/cluster_tree.hpp>
 #include <clustersurf/surface/implicit_surface.hpp>
 
+#include <limits>
 #include <optional>
 #include <span>
 #include <utility>
@@ -13,24 +14,31 @@
 namespace clustersurf::render {
 
 /// A blended node whose support sphere the ray crosses on [t_enter, t_exit]. Along the ray,
-/// ‖x(t) − c‖² / r² = s0 + s1 t + s2 t² and the proxy's Q(x(t)) = N(t) / sqrt(D(t)) with N and
-/// D quadratics (exact for every proxy kind); a crease is the max (or min) of two such planes,
-/// the second M(t) = m0 + m1 t.
+/// ‖x(t) − c‖² / r² = s0 + s1 t + s2 t². Once restrict_span() has run, the proxy's
+/// Q(x(t)) = N(t) / sqrt(D(t)) with N and D quadratics (exact for every proxy kind); a crease
+/// is the max (or min) of two such planes, the second M(t) = m0 + m1 t.
 struct SupportSpan {
   std::int32_t node = -1;
   double t_enter = 0, t_exit = 0;
-  double radius = 0;
   double s0 = 0, s1 = 0, s2 = 0;
+  bool restricted = false;  ///< whether the members below hold the support's radius and proxy
+  double radius = 0;
   double n0 = 0, n1 = 0, n2 = 0;
   double d0 = 1, d1 = 0, d2 = 0;
   double m0 = 0, m1 = 0;
   std::int8_t crease = 0;  ///< 0: one proxy; +1: max(N, M) (convex crease); −1: min(N, M)
+  /// The parameters in (t_enter, t_exit) where N or M vanishes, ascending (+inf: none): between
+  /// them the proxy's value keeps its sign.
+  double flip0 = std::numeric_limits<double>::infinity(), flip1 = std::numeric_limits<double>::infinity();
 
   /// ‖x(t) − c‖² / r² (< 1 inside the support).
   double s(double t) const { return s0 + t * (s1 + t * s2); }
-  /// The proxy's value at x(t).
+  /// The proxy's value at x(t) (once restricted).
   double q(double t) const;
 };
+
+/// Writes the proxy of `span`'s node along `ray` (the ray the span was collected for) into it.
+void restrict_span(const ClusterTree& tree, const Ray& ray, SupportSpan& span);
 
 /// How the supports crossed by a ray are found.
 enum class SupportSearch {
@@ -67,7 +75,7 @@ class SupportIndex {
   SupportIndex(const ClusterTree& tree, const LevelOfDetail& lod);
 
   /// Every blended node whose support the ray crosses within [t_min, t_max], sorted by
-  /// (t_enter, node) — the same list, in the same order, for both searches.
+  /// (t_enter, node) — the same list, in the same order, for both searches — not yet restricted.
   void collect(const Ray& ray, double t_min, double t_max, SupportSearch search, std::vector<SupportSpan>& out) const;
 
   /// The blended nodes whose support may meet a ray from `eye` within the cone of unit `axis`

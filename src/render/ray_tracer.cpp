@@ -92,7 +92,8 @@ class TreeTracer {
  public:
   /// The tracer of the pixels [x0, x1) × [y0, y1): the supports its rays may cross are found
   /// once, through the hierarchy, from the cone of the tile's rays (brute force: all of them).
-  TreeTracer(const Scene& scene, const Camera& camera, int x0, int y0, int x1, int y1) : s_(scene), camera_(camera) {
+  TreeTracer(const Scene& scene, const Camera& camera, int x0, int y0, int x1, int y1)
+      : s_(scene), camera_(camera), x0_(x0), y0_(y0), x1_(x1), y1_(y1) {
     if (s_.search == render::SupportSearch::BruteForce) {
       s_.index.gather(s_.index.cut(), tile_supports_);
       return;
@@ -102,10 +103,18 @@ class TreeTracer {
     s_.index.gather(tile_nodes_, tile_supports_);
   }
 
-  /// Narrows the tile's supports to those the rays of pixels [x0, x1) × [y0, y1) may cross.
+  /// Narrows the tile's supports to those the rays of pixels [x0, x1) × [y0, y1) may cross,
+  /// through those of the kPatch × kPatch patch of the tile that holds the block.
   void enter_block(int x0, int y0, int x1, int y1) {
     if (s_.search == render::SupportSearch::BruteForce) return;
-    render::cull_to_cone(tile_supports_, pixel_cone(camera_, x0, y0, x1, y1), block_supports_);
+    using render::kPatch;
+    const int px = x0_ + (x0 - x0_) / kPatch * kPatch, py = y0_ + (y0 - y0_) / kPatch * kPatch;
+    if (px != patch_x_ || py != patch_y_) {
+      patch_x_ = px, patch_y_ = py;
+      const render::RayCone patch = pixel_cone(camera_, px, py, std::min(px + kPatch, x1_), std::min(py + kPatch, y1_));
+      render::cull_to_cone(tile_supports_, patch, patch_supports_);
+    }
+    render::cull_to_cone(patch_supports_, pixel_cone(camera_, x0, y0, x1, y1), block_supports_);
     supports_ = &block_supports_;
   }
 
@@ -122,8 +131,7 @@ class TreeTracer {
   }
 
  private:
-  std::optional<SurfaceHit> surface_hit(const Ray& ray, const std::vector<SupportSpan>& spans, double t_min,
-                                        double t_max) {
+  std::optional<SurfaceHit> surface_hit(const Ray& ray, std::vector<SupportSpan>& spans, double t_min, double t_max) {
     if (s_.options.mode == IntersectMode::HitBlend)
       return render::blended_hit(s_.tree, spans, ray, t_min, t_max, s_.march.min_weight);
     return render::first_zero(s_.tree, spans, ray, t_min, t_max, s_.march);
@@ -207,8 +215,11 @@ class TreeTracer {
 
   const Scene& s_;
   const Camera& camera_;
+  int x0_, y0_, x1_, y1_;            // the tile
+  int patch_x_ = -1, patch_y_ = -1;  // the current patch's first pixel
   std::vector<std::int32_t> tile_nodes_;
   render::SupportSet tile_supports_;   // their supports, side by side
+  render::SupportSet patch_supports_;  // those of the current patch
   render::SupportSet block_supports_;  // those of the current block
   const render::SupportSet* supports_ = &tile_supports_;
   std::vector<SupportSpan> spans_;

@@ -16,10 +16,11 @@ constexpr double kDistanceFactor = 0.7;  // step = 0.7 |f| where f is defined ..
 constexpr double kMinStep = 0.02;        // ... but at least this ...
 constexpr double kMaxStep = 0.25;        // ... and at most this
 constexpr double kUndefinedStep = 0.1;   // step where f is undefined
+constexpr double kOvershoot = 0.01;      // past the secant's zero by this
 constexpr int kMaxRefine = 60;
 
-/// f along one ray from its spans. Spans are sorted by t_enter; those entered so far are
-/// [begin, end), `end` only grows with t.
+/// f along one ray from its spans, each restricted to the ray when first needed. Spans are
+/// sorted by t_enter; those entered so far are [begin, end), `end` only grows with t.
 class RayFunction {
  public:
   struct Sample {
@@ -28,10 +29,13 @@ class RayFunction {
     double r_min = 0;  // smallest radius of the supports containing the sample (0: none)
   };
 
-  explicit RayFunction(std::span<const SupportSpan> spans) : spans_(spans) {}
+  /// `evaluations`, when given, counts the calls of at().
+  RayFunction(const ClusterTree& tree, const Ray& ray, std::span<SupportSpan> spans, std::size_t* evaluations)
+      : tree_(tree), ray_(ray), spans_(spans), evaluations_(evaluations) {}
 
   Sample at(double t) {
-    while (end_ < spans_.size() && spans_[end_].t_enter <= t) ++end_;
+    if (evaluations_ != nullptr) ++*evaluations_;
+    while (end_ < spans_.size() && spans_[end_].t_enter <= t) restricted(end_++);
     Sample out;
     double a = 0;
     double r_min = std::numeric_limits<double>::infinity();
@@ -52,6 +56,26 @@ class RayFunction {
     }
     return out;
   }
+  /// The end of the stretch after t where every proxy blended there keeps one sign, the same as
+  /// f's at t (`positive`), so that f keeps it and has no zero: t when the signs differ; +inf
+  /// past the last span. The spans entered so far must be those entered at t.
+  double one_sign_until(double t, bool positive) {
+    const int sign = positive ? 1 : -1;
+    double until = std::numeric_limits<double>::infinity();
+    // Whether the span's proxy has `sign` on (from, its next flip); its sign there is that at
+    // the middle (from itself may be a flip).
+    const auto agrees = [&](const SupportSpan& sp, double from) {
+      const double flip = std::min(sp.flip0 > from ? sp.flip0 : sp.flip1 > from ? sp.flip1 : sp.t_exit, sp.t_exit);
+      if ((sp.q(0.5 * (from + flip)) > 0 ? 1 : -1) != sign) return false;
+      if (flip < sp.t_exit) until = std::min(until, flip);
+      return true;
+    };
+    for (std::size_t i = begin_; i < end_; ++i)
+      if (spans_[i].t_exit >= t && !agrees(spans_[i], t)) return t;
+    for (std::size_t j = end_; j < spans_.size() && spans_[j].t_enter < until; ++j)
+      if (!agrees(restricted(j), spans_[j].t_enter)) return spans_[j].t_enter;
+    return until;
+  }
   /// Forgets leading spans that end before t (t must not decrease afterwards below it).
   void drop_before(double t) {
     while (begin_ < end_ && spans_[begin_].t_exit < t) ++begin_;
@@ -62,7 +86,15 @@ class RayFunction {
   }
 
  private:
-  std::span<const SupportSpan> spans_;
+  const SupportSpan& restricted(std::size_t i) {
+    if (!spans_[i].restricted) restrict_span(tree_, ray_, spans_[i]);
+    return spans_[i];
+  }
+
+  const ClusterTree& tree_;
+  const Ray& ray_;
+  std::span<SupportSpan> spans_;
+  std::size_t* evaluations_;
   std::size_t begin_ = 0, end_ = 0;
 };
 
@@ -95,16 +127,19 @@ void finish_hit(const ClusterTree& tree, std::span<const SupportSpan> spans, Sur
   if (g.norm() > 0) hit.normal = g.normalized();
 }
 
-std::optional<SurfaceHit> first_zero(const ClusterTree& tree, std::span<const SupportSpan> spans, const Ray& ray,
-                                     double t_min, double t_max, const MarchSettings& settings) {
+std::optional<SurfaceHit> first_zero(const ClusterTree& tree, std::span<SupportSpan> spans, const Ray& ray,
+                                     double t_min, double t_max, const MarchSettings& settings,
+                                     std::size_t* evaluations) {
   if (spans.empty()) return std::nullopt;
   double t_end = t_min;
   for (const SupportSpan& sp : spans) t_end = std::max(t_end, sp.t_exit);
   t_end = std::min(t_end, t_max);
-  RayFunction f(spans);
+  RayFunction f(tree, ray, spans, evaluations);
   const auto defined = [&](const RayFunction::Sample& s) { return s.weight > settings.min_weight; };
   double t = std::max(t_min, spans.front().t_enter);
   RayFunction::Sample prev = f.at(t);
+  bool have_before = false;  // whether (before_t, before_f), the sample before prev, is defined
+  double before_t = 0, before_f = 0;
   while (t < t_end) {
     if (prev.weight <= 0) {  // outside every support: jump to the next one
       const double next = f.next_entry();
@@ -112,13 +147,29 @@ std::optional<SurfaceHit> first_zero(const ClusterTree& tree, std::span<const Su
       t = std::max(t, next);
       f.drop_before(t);
       prev = f.at(t);
+      have_before = false;
       continue;
     }
     const double r = prev.r_min;
-    const double h =
-        defined(prev) ? std::clamp(kDistanceFactor * std::abs(prev.f), kMinStep * r, kMaxStep * r) : kUndefinedStep * r;
-    const double t_next = std::min(t + h, t_end);
+    double h = kUndefinedStep * r;
+    if (defined(prev)) {
+      h = kDistanceFactor * std::abs(prev.f);
+      // Where f falls towards zero, step just past the secant's zero.
+      if (have_before && (before_f > 0) == (prev.f > 0) && std::abs(prev.f) < std::abs(before_f))
+        h = std::max(h, (t - before_t) * prev.f / (before_f - prev.f) + kOvershoot * r);
+      h = std::clamp(h, kMinStep * r, kMaxStep * r);
+    }
+    const double skip_to = f.one_sign_until(t, prev.f > 0);
+    const double t_next = std::min(std::max(t + h, skip_to), t_end);
     const RayFunction::Sample cur = f.at(t_next);
+    if (t_next == skip_to && defined(cur) && (prev.f > 0) != (cur.f > 0)) {
+      // f keeps prev's sign up to t_next, where it has the other one: its zero is t_next.
+      SurfaceHit hit;
+      hit.t = t_next;
+      hit.position = ray.origin + hit.t * ray.direction;
+      finish_hit(tree, spans, hit);
+      return hit;
+    }
     if (defined(prev) && defined(cur) && (prev.f > 0) != (cur.f > 0)) {
       // Illinois (modified regula falsi) on [a, b].
       double a = t, fa = prev.f, b = t_next, fb = cur.f;
@@ -154,6 +205,8 @@ std::optional<SurfaceHit> first_zero(const ClusterTree& tree, std::span<const Su
         return hit;
       }
     }
+    have_before = defined(prev) && defined(cur);
+    before_t = t, before_f = prev.f;
     t = t_next;
     f.drop_before(t);
     prev = cur;
@@ -175,7 +228,7 @@ std::optional<SurfaceHit> blended_hit(const ClusterTree& tree, std::span<const S
     const double s = sp.s(*t);
     if (s >= 1) continue;
     const double om = 1 - s;
-    hits.push_back({*t, om * om * om, sp.radius, sp.node});
+    hits.push_back({*t, om * om * om, n.support.radius, sp.node});
   }
   std::sort(hits.begin(), hits.end(),
             [](const ProxyHit& a, const ProxyHit& b) { return a.t < b.t || (a.t == b.t && a.node < b.node); });

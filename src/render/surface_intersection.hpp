@@ -24,16 +24,20 @@ struct MarchSettings {
 };
 
 /// The first zero of f along the ray in [t_min, t_max]: a sign change between two samples where
-/// f is defined, refined by the Illinois method. Steps follow |f| (an approximate distance),
-/// capped by a fraction of the smallest support radius around; `spans` as SupportIndex gives
-/// them.
-std::optional<SurfaceHit> first_zero(const ClusterTree& tree, std::span<const SupportSpan> spans, const Ray& ray,
-                                     double t_min, double t_max, const MarchSettings& settings);
+/// f is defined, refined by the Illinois method. Stretches where every blended proxy has one
+/// sign (f, their weighted mean, then has it too) are crossed in one step; elsewhere steps
+/// follow |f| (an approximate distance) and the secant's zero, capped by a fraction of the
+/// smallest support radius around. `spans` as SupportIndex gives them; those the march reaches
+/// are restricted to the ray on the way. `evaluations`, when given, is increased by the number of
+/// evaluations of f.
+std::optional<SurfaceHit> first_zero(const ClusterTree& tree, std::span<SupportSpan> spans, const Ray& ray,
+                                     double t_min, double t_max, const MarchSettings& settings,
+                                     std::size_t* evaluations = nullptr);
 
 /// The thesis's hit blending: each support's proxy is intersected within its support; hits
 /// whose parameters agree within a quarter of the first's support radius are blended (depth and
 /// normal) with the weights at the hits; the nearest group whose weights sum above
-/// `min_weight` wins. `scratch` is working memory.
+/// `min_weight` wins.
 std::optional<SurfaceHit> blended_hit(const ClusterTree& tree, std::span<const SupportSpan> spans, const Ray& ray,
                                       double t_min, double t_max, double min_weight);
 
