@@ -38,7 +38,9 @@ Camera scene_camera(const RenderOptions& options, const BoundingBox& own, const 
 /// once per tile (pixels [x0, x1) × [y0, y1)) and returns a callable (const Ray&, std::uint64_t seed) → SampleResult
 /// owning its scratch memory; a tracer with enter_block(x0, y0, x1, y1) is told each block of at
 /// most kBlock × kBlock pixels of its tile before that block's rays, the blocks of each kPatch ×
-/// kPatch patch of the tile (counted from its first pixel) one after another. The picture does not depend on the
+/// kPatch patch of the tile (counted from its first pixel) one after another, and returns
+/// whether a ray of the block may see anything: the pixels of a block it says none of get the
+/// background without their rays. The picture does not depend on the
 /// thread count.
 template <class MakeTracer>
 Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer&& make_tracer, RenderStats* stats,
@@ -77,6 +79,9 @@ Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer
     image.at(x, y) = alpha > 0 ? to_pixel(premultiplied / alpha, alpha) : Rgba8{0, 0, 0, 0};
     return hit;
   };
+  const Rgba8 empty_pixel = background_alpha > 0
+                                ? to_pixel(background_alpha * background / background_alpha, background_alpha)
+                                : Rgba8{0, 0, 0, 0};
   tbb::parallel_for(tbb::blocked_range2d<int>(0, h, kPatch, 0, w, kPatch), [&](const tbb::blocked_range2d<int>& tile) {
     progress.check();
     const int tx0 = tile.cols().begin(), ty0 = tile.rows().begin(), tx1 = tile.cols().end(), ty1 = tile.rows().end();
@@ -88,7 +93,12 @@ Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer
         for (int by = py; by < std::min(py + kPatch, ty1); by += kBlock)
           for (int bx = px; bx < std::min(px + kPatch, tx1); bx += kBlock) {
             const int bx1 = std::min(bx + kBlock, tx1), by1 = std::min(by + kBlock, ty1);
-            if constexpr (requires { trace.enter_block(bx, by, bx1, by1); }) trace.enter_block(bx, by, bx1, by1);
+            if constexpr (requires { trace.enter_block(bx, by, bx1, by1); })
+              if (!trace.enter_block(bx, by, bx1, by1)) {
+                for (int y = by; y != by1; ++y)
+                  for (int x = bx; x != bx1; ++x) image.at(x, y) = empty_pixel;
+                continue;
+              }
             for (int y = by; y != by1; ++y)
               for (int x = bx; x != bx1; ++x) tile_hits += trace_pixel(trace, x, y) ? 1 : 0;
           }

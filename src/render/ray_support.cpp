@@ -236,17 +236,24 @@ void SupportIndex::collect_from(const Ray& ray, double t_min, double t_max, cons
     bs[k] = b;
     discs[k] = b * b - ((cx * cx + cy * cy + cz * cz) - set.r2[k]);
   }
+  // The crossings sorted by (t_enter, node) before their spans are made, so that the sort moves
+  // small records.
+  auto& crossings = set.crossings;
+  crossings.clear();
   for (std::size_t k = 0; k < n; ++k) {
     const double disc = discs[k], b = bs[k];
     if (!(disc > 0)) continue;
     const double root = std::sqrt(disc);
     const double t0 = -b - root, t1 = -b + root;
-    if (t1 > t_min && t0 < t_max) {
-      const Eigen::Vector3d oc(ox - set.x[k], oy - set.y[k], oz - set.z[k]);
-      out.push_back(make_span(set.nodes[k], oc, set.r2[k], ray, std::max(t0, t_min), std::min(t1, t_max)));
-    }
+    if (t1 > t_min && t0 < t_max) crossings.push_back({std::max(t0, t_min), std::min(t1, t_max), k});
   }
-  sort_spans(out);
+  std::sort(crossings.begin(), crossings.end(), [&](const SupportSet::Crossing& a, const SupportSet::Crossing& c) {
+    return a.t_enter < c.t_enter || (a.t_enter == c.t_enter && set.nodes[a.k] < set.nodes[c.k]);
+  });
+  for (const SupportSet::Crossing& c : crossings) {
+    const Eigen::Vector3d oc(ox - set.x[c.k], oy - set.y[c.k], oz - set.z[c.k]);
+    out.push_back(make_span(set.nodes[c.k], oc, set.r2[c.k], ray, c.t_enter, c.t_exit));
+  }
 }
 
 void SupportIndex::collect(const Ray& ray, double t_min, double t_max, SupportSearch search,

@@ -54,7 +54,13 @@ std::optional<std::pair<double, double>> ray_sphere(const Ray& ray, const Sphere
 struct SupportSet {
   std::vector<std::int32_t> nodes;
   std::vector<double> x, y, z, r2;
-  mutable std::vector<double> b, disc;  // collect_from()'s scratch: one set per thread
+  /// A support a ray crosses, on [t_enter, t_exit]: the k-th of the set.
+  struct Crossing {
+    double t_enter, t_exit;
+    std::size_t k;
+  };
+  mutable std::vector<double> b, disc;      // collect_from()'s scratch: one set per thread
+  mutable std::vector<Crossing> crossings;  // the same
 };
 
 /// The rays from `apex` within `half_angle` (radians) of the unit `axis`.

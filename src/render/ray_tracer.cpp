@@ -104,9 +104,10 @@ class TreeTracer {
   }
 
   /// Narrows the tile's supports to those the rays of pixels [x0, x1) × [y0, y1) may cross,
-  /// through those of the kPatch × kPatch patch of the tile that holds the block.
-  void enter_block(int x0, int y0, int x1, int y1) {
-    if (s_.search == render::SupportSearch::BruteForce) return;
+  /// through those of the kPatch × kPatch patch of the tile that holds the block; returns
+  /// whether a ray of the block may see anything (a highlighted proxy always may).
+  bool enter_block(int x0, int y0, int x1, int y1) {
+    if (s_.search == render::SupportSearch::BruteForce) return true;
     using render::kPatch;
     const int px = x0_ + (x0 - x0_) / kPatch * kPatch, py = y0_ + (y0 - y0_) / kPatch * kPatch;
     if (px != patch_x_ || py != patch_y_) {
@@ -116,6 +117,7 @@ class TreeTracer {
     }
     render::cull_to_cone(patch_supports_, pixel_cone(camera_, x0, y0, x1, y1), block_supports_);
     supports_ = &block_supports_;
+    return !block_supports_.nodes.empty() || s_.options.highlight.has_value();
   }
 
   SampleResult operator()(const Ray& ray, std::uint64_t seed) {
