@@ -139,6 +139,27 @@ TEST(Proxy, GradientsMatchFiniteDifferences) {
   }
 }
 
+TEST(Proxy, ValueAndGradientTogetherAreTheSameNumbers) {
+  const Points hp = heightfield(300, 0.01, 2);
+  const PointCloud sp = test::sample_sphere(300, 1.0);
+  const PlaneProxy a{Eigen::Vector3d(0, 0, 0.1), Eigen::Vector3d(0, 0.6, 0.8)};
+  const PlaneProxy b{Eigen::Vector3d(0.2, 0, 0), Eigen::Vector3d(0.8, 0, 0.6)};
+  std::vector<Proxy> proxies = {PointProxy{Eigen::Vector3d(0.1, 0.2, 0.3)}, CreaseProxy{a, b, true},
+                                CreaseProxy{a, b, false}};
+  for (ProxyKind kind : {ProxyKind::Plane, ProxyKind::Poly, ProxyKind::Quadric})
+    proxies.push_back(fit_proxy(kind, kind == ProxyKind::Quadric ? sp.positions : hp,
+                                all(kind == ProxyKind::Quadric ? sp.positions : hp)));
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(-2, 2);
+  for (const Proxy& p : proxies)
+    for (int t = 0; t < 200; ++t) {
+      const Eigen::Vector3d x(u(rng), u(rng), u(rng));
+      const auto [value, gradient] = p.value_and_gradient(x);
+      EXPECT_EQ(value, p.value(x)) << to_string(p.kind());
+      EXPECT_EQ(gradient, p.gradient(x)) << to_string(p.kind());
+    }
+}
+
 TEST(Proxy, RayIntersectionLiesOnTheZeroSet) {
   const Points hp = heightfield(300, 0.0, 4);
   const PointCloud sp = test::sample_sphere(300, 1.0);

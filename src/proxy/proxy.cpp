@@ -86,15 +86,18 @@ double Proxy::value(const Eigen::Vector3d& x) const {
                     v_);
 }
 
-Eigen::Vector3d Proxy::gradient(const Eigen::Vector3d& x) const {
+std::pair<double, Eigen::Vector3d> Proxy::value_and_gradient(const Eigen::Vector3d& x) const {
+  using Out = std::pair<double, Eigen::Vector3d>;
   return std::visit(detail::Overloaded{
-                        [&](const PointProxy& p) -> Eigen::Vector3d {
+                        [&](const PointProxy& p) -> Out {
                           const Eigen::Vector3d d = x - p.center;
                           const double n = d.norm();
-                          return n > 0 ? Eigen::Vector3d(d / n) : Eigen::Vector3d::Zero();
+                          return {n, n > 0 ? Eigen::Vector3d(d / n) : Eigen::Vector3d::Zero()};
                         },
-                        [&](const PlaneProxy& p) -> Eigen::Vector3d { return p.normal; },
-                        [&](const PolyProxy& p) -> Eigen::Vector3d {
+                        [&](const PlaneProxy& p) -> Out {
+                          return {p.normal.dot(x - p.point), p.normal};
+                        },
+                        [&](const PolyProxy& p) -> Out {
                           const Eigen::Vector3d l = p.frame.to_local(x);
                           const auto& c = p.coeffs;
                           const PolyLocal f = poly_at(p, l.x(), l.y());
@@ -105,22 +108,25 @@ Eigen::Vector3d Proxy::gradient(const Eigen::Vector3d& x) const {
                           const double ddu = (f.fu * 2 * c[3] + f.fv * c[4]) / d;
                           const double ddv = (f.fu * c[4] + f.fv * 2 * c[5]) / d;
                           const Eigen::Vector3d local(-f.fu / d - r * ddu / d2, -f.fv / d - r * ddv / d2, 1 / d);
-                          return p.frame.axes * local;
+                          return {r / d, p.frame.axes * local};
                         },
-                        [&](const QuadricProxy& p) -> Eigen::Vector3d {
+                        [&](const QuadricProxy& p) -> Out {
                           const Eigen::Vector3d y = (x - p.center) / p.scale;
                           const Eigen::Vector3d g = quadric_grad(p.coeffs, y);
                           const double gn = std::max(g.norm(), kTinyGradient);
                           const double q = quadric_q(p.coeffs, y);
-                          return g / gn - q * (quadric_hessian(p.coeffs) * g) / (gn * gn * gn);
+                          return {p.scale * q / gn, g / gn - q * (quadric_hessian(p.coeffs) * g) / (gn * gn * gn)};
                         },
-                        [&](const CreaseProxy& p) -> Eigen::Vector3d {
+                        [&](const CreaseProxy& p) -> Out {
                           const double qa = p.a.normal.dot(x - p.a.point), qb = p.b.normal.dot(x - p.b.point);
-                          return (p.convex ? qa >= qb : qa <= qb) ? p.a.normal : p.b.normal;
+                          return {p.convex ? std::max(qa, qb) : std::min(qa, qb),
+                                  (p.convex ? qa >= qb : qa <= qb) ? p.a.normal : p.b.normal};
                         },
                     },
                     v_);
 }
+
+Eigen::Vector3d Proxy::gradient(const Eigen::Vector3d& x) const { return value_and_gradient(x).second; }
 
 std::optional<double> Proxy::intersect(const Ray& ray, double t_min, double t_max) const {
   return std::visit(detail::Overloaded{

@@ -115,10 +115,10 @@ void finish_hit(const ClusterTree& tree, std::span<const SupportSpan> spans, Sur
     const double om = 1 - s;
     const double w = om * om * om;
     const Eigen::Vector3d dw = (-6 * om * om / r2) * dx;
-    const double q = n.proxy.value(x);
+    const auto [q, grad_q] = n.proxy.value_and_gradient(x);
     a += w * q;
     w_sum += w;
-    grad_a += dw * q + w * n.proxy.gradient(x);
+    grad_a += dw * q + w * grad_q;
     grad_w += dw;
     if (w > best_w || (w == best_w && sp.node < hit.dominant)) best_w = w, hit.dominant = sp.node;
   }

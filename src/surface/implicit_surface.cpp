@@ -106,10 +106,10 @@ SurfaceSample blend_sample(const ImplicitSurface& surface, const Eigen::Vector3d
     const double w = blend_weight(s);
     const double r = surface.radius(i);
     const Eigen::Vector3d dw = (-6 * one_minus * one_minus / (r * r)) * (x - n.support.center);
-    const double q = n.proxy.value(x);
+    const auto [q, grad_q] = n.proxy.value_and_gradient(x);
     a += w * q;
     w_sum += w;
-    grad_a += dw * q + w * n.proxy.gradient(x);
+    grad_a += dw * q + w * grad_q;
     grad_w += dw;
   });
   SurfaceSample out;

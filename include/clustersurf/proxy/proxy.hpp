@@ -14,6 +14,7 @@
 #include <span>
 #include <string_view>
 #include <type_traits>
+#include <utility>
 #include <variant>
 
 namespace clustersurf {
@@ -107,6 +108,8 @@ class Proxy {
   double value(const Eigen::Vector3d& x) const;
   /// Exact gradient of value() at x (a crease: of its plane that decides there).
   Eigen::Vector3d gradient(const Eigen::Vector3d& x) const;
+  /// value() and gradient() at x computed together: the same numbers for less work.
+  std::pair<double, Eigen::Vector3d> value_and_gradient(const Eigen::Vector3d& x) const;
   /// Smallest t in [t_min, t_max] with Q(origin + t·direction) = 0, if any (Point: none).
   std::optional<double> intersect(const Ray& ray, double t_min, double t_max) const;
   /// Negates Q (swaps inside and outside) without changing the zero set.
