@@ -98,6 +98,34 @@ class RayFunction {
   std::size_t begin_ = 0, end_ = 0;
 };
 
+/// The zero of f in [a, b], where f(a) = fa and f(b) = fb differ in sign, by the Illinois
+/// method (modified regula falsi) down to a bracket of `settings.tolerance`; nullopt when f is
+/// undefined in the bracket.
+std::optional<double> refine_zero(RayFunction& f, double a, double fa, double b, double fb,
+                                  const MarchSettings& settings) {
+  int side = 0;
+  for (int it = 0; it < kMaxRefine && b - a > settings.tolerance; ++it) {
+    double c = (fa * b - fb * a) / (fa - fb);
+    if (!(c > a && c < b)) c = 0.5 * (a + b);
+    RayFunction::Sample sc = f.at(c);
+    if (!(sc.weight > settings.min_weight)) {
+      c = 0.5 * (a + b);
+      sc = f.at(c);
+      if (!(sc.weight > settings.min_weight)) return std::nullopt;
+    }
+    if ((sc.f > 0) == (fb > 0)) {
+      b = c, fb = sc.f;
+      if (side == -1) fa *= 0.5;
+      side = -1;
+    } else {
+      a = c, fa = sc.f;
+      if (side == 1) fb *= 0.5;
+      side = 1;
+    }
+  }
+  return fa != fb ? std::clamp((fa * b - fb * a) / (fa - fb), a, b) : 0.5 * (a + b);
+}
+
 }  // namespace
 
 void finish_hit(const ClusterTree& tree, std::span<const SupportSpan> spans, SurfaceHit& hit) {
@@ -136,6 +164,13 @@ std::optional<SurfaceHit> first_zero(const ClusterTree& tree, std::span<SupportS
   t_end = std::min(t_end, t_max);
   RayFunction f(tree, ray, spans, evaluations);
   const auto defined = [&](const RayFunction::Sample& s) { return s.weight > settings.min_weight; };
+  const auto hit_at = [&](double t_hit) {
+    SurfaceHit hit;
+    hit.t = t_hit;
+    hit.position = ray.origin + t_hit * ray.direction;
+    finish_hit(tree, spans, hit);
+    return hit;
+  };
   double t = std::max(t_min, spans.front().t_enter);
   RayFunction::Sample prev = f.at(t);
   bool have_before = false;  // whether (before_t, before_f), the sample before prev, is defined
@@ -162,49 +197,10 @@ std::optional<SurfaceHit> first_zero(const ClusterTree& tree, std::span<SupportS
     const double skip_to = f.one_sign_until(t, prev.f > 0);
     const double t_next = std::min(std::max(t + h, skip_to), t_end);
     const RayFunction::Sample cur = f.at(t_next);
-    if (t_next == skip_to && defined(cur) && (prev.f > 0) != (cur.f > 0)) {
-      // f keeps prev's sign up to t_next, where it has the other one: its zero is t_next.
-      SurfaceHit hit;
-      hit.t = t_next;
-      hit.position = ray.origin + hit.t * ray.direction;
-      finish_hit(tree, spans, hit);
-      return hit;
-    }
-    if (defined(prev) && defined(cur) && (prev.f > 0) != (cur.f > 0)) {
-      // Illinois (modified regula falsi) on [a, b].
-      double a = t, fa = prev.f, b = t_next, fb = cur.f;
-      int side = 0;
-      bool ok = true;
-      for (int it = 0; it < kMaxRefine && b - a > settings.tolerance; ++it) {
-        double c = (fa * b - fb * a) / (fa - fb);
-        if (!(c > a && c < b)) c = 0.5 * (a + b);
-        RayFunction::Sample sc = f.at(c);
-        if (!defined(sc)) {
-          c = 0.5 * (a + b);
-          sc = f.at(c);
-          if (!defined(sc)) {
-            ok = false;
-            break;
-          }
-        }
-        if ((sc.f > 0) == (fb > 0)) {
-          b = c, fb = sc.f;
-          if (side == -1) fa *= 0.5;
-          side = -1;
-        } else {
-          a = c, fa = sc.f;
-          if (side == 1) fb *= 0.5;
-          side = 1;
-        }
-      }
-      if (ok) {
-        SurfaceHit hit;
-        hit.t = fa != fb ? std::clamp((fa * b - fb * a) / (fa - fb), a, b) : 0.5 * (a + b);
-        hit.position = ray.origin + hit.t * ray.direction;
-        finish_hit(tree, spans, hit);
-        return hit;
-      }
-    }
+    // f keeps prev's sign up to skip_to: where it has the other one there, that is its zero.
+    if (t_next == skip_to && defined(cur) && (prev.f > 0) != (cur.f > 0)) return hit_at(t_next);
+    if (defined(prev) && defined(cur) && (prev.f > 0) != (cur.f > 0))
+      if (const auto zero = refine_zero(f, t, prev.f, t_next, cur.f, settings)) return hit_at(*zero);
     have_before = defined(prev) && defined(cur);
     before_t = t, before_f = prev.f;
     t = t_next;
