@@ -8,7 +8,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <optional>
 #include <random>
+#include <vector>
 
 #include "test_support.hpp"
 
@@ -78,8 +81,8 @@ TEST(SurfaceIntersection, TheMarchFindsTheFineMarchsZeroInFewEvaluations) {
   }
   ASSERT_GT(rays, 300);
   EXPECT_GT(hits, rays / 2);
-  EXPECT_GE(agree, rays - rays / 100) << "of " << rays << " rays";
+  EXPECT_GE(agree, rays - 2) << "of " << rays << " rays";
   const double per_ray = static_cast<double>(evaluations) / rays;
-  EXPECT_LT(per_ray, 10.0) << "evaluations of f per ray";  // 23 stepping by |f| alone
+  EXPECT_LT(per_ray, 10.0) << "evaluations of f per ray";
   std::printf("%d rays, %d hits, %d agree, %.2f evaluations per ray\n", rays, hits, agree, per_ray);
 }

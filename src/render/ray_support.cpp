@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace clustersurf::render {
 
@@ -80,8 +81,10 @@ void restrict_proxy(const Proxy& proxy, const Ray& ray, SupportSpan& span) {
              proxy.variant());
 }
 
-/// Sets span.flip0 and flip1 from the zeros of N (and M) inside the span.
+/// Sets span.flip0 and flip1 from the zeros of N (and M) inside the span: at most two (N is a
+/// quadratic; a crease's N and M are linear).
 void find_flips(SupportSpan& span) {
+  span.flip0 = span.flip1 = std::numeric_limits<double>::infinity();
   double roots[2];
   int k = 0;
   const auto add = [&](double root) {

@@ -56,9 +56,9 @@ class RayFunction {
     }
     return out;
   }
-  /// The end of the stretch after t where every proxy blended there keeps one sign, the same as
-  /// f's at t (`positive`), so that f keeps it and has no zero: t when the signs differ; +inf
-  /// past the last span. The spans entered so far must be those entered at t.
+  /// A point up to which every proxy blended after t keeps one sign, the same as f's at t
+  /// (`positive`: f > 0, else f ≤ 0), so that f keeps that sign there: t when the signs differ;
+  /// +inf past the last span. The spans entered so far must be those entered at t.
   double one_sign_until(double t, bool positive) {
     const int sign = positive ? 1 : -1;
     double until = std::numeric_limits<double>::infinity();
@@ -189,16 +189,20 @@ std::optional<SurfaceHit> first_zero(const ClusterTree& tree, std::span<SupportS
     double h = kUndefinedStep * r;
     if (defined(prev)) {
       h = kDistanceFactor * std::abs(prev.f);
-      // Where f falls towards zero, step just past the secant's zero.
+      // Where f falls towards zero, step just past the secant's zero, but no farther than 2 |f|
+      // (where an approximate distance |f| puts the surface at 60 degrees' incidence).
       if (have_before && (before_f > 0) == (prev.f > 0) && std::abs(prev.f) < std::abs(before_f))
-        h = std::max(h, (t - before_t) * prev.f / (before_f - prev.f) + kOvershoot * r);
+        h = std::max(h, std::min((t - before_t) * prev.f / (before_f - prev.f) + kOvershoot * r, 2 * std::abs(prev.f)));
       h = std::clamp(h, kMinStep * r, kMaxStep * r);
     }
     const double skip_to = f.one_sign_until(t, prev.f > 0);
     const double t_next = std::min(std::max(t + h, skip_to), t_end);
     const RayFunction::Sample cur = f.at(t_next);
-    // f keeps prev's sign up to skip_to: where it has the other one there, that is its zero.
-    if (t_next == skip_to && defined(cur) && (prev.f > 0) != (cur.f > 0)) return hit_at(t_next);
+    // f keeps prev's sign up to skip_to: where it has the other one there and the proxies do not
+    // all keep prev's sign beyond (a touch), that is its zero.
+    if (t_next == skip_to && defined(cur) && (prev.f > 0) != (cur.f > 0) &&
+        f.one_sign_until(t_next, prev.f > 0) == t_next)
+      return hit_at(t_next);
     if (defined(prev) && defined(cur) && (prev.f > 0) != (cur.f > 0))
       if (const auto zero = refine_zero(f, t, prev.f, t_next, cur.f, settings)) return hit_at(*zero);
     have_before = defined(prev) && defined(cur);

@@ -25,11 +25,12 @@ struct MarchSettings {
 
 /// The first zero of f along the ray in [t_min, t_max]: a sign change between two samples where
 /// f is defined, refined by the Illinois method. Stretches where every blended proxy has one
-/// sign (f, their weighted mean, then has it too) are crossed in one step; elsewhere steps
-/// follow |f| (an approximate distance) and the secant's zero, capped by a fraction of the
-/// smallest support radius around. `spans` as SupportIndex gives them; those the march reaches
-/// are restricted to the ray on the way. `evaluations`, when given, is increased by the number of
-/// evaluations of f.
+/// sign (f, their weighted mean, then has it too) are crossed in one step, and where f is
+/// defined with the other sign at the stretch's end, with proxies of that sign beyond, the end
+/// is the zero; elsewhere steps follow |f| (an approximate distance) and the secant's zero,
+/// capped by a fraction of the smallest support radius around. `spans` as SupportIndex gives them; those the march
+/// reaches are restricted to the ray on the way. `evaluations`, when given, is increased by the number of evaluations
+/// of f.
 std::optional<SurfaceHit> first_zero(const ClusterTree& tree, std::span<SupportSpan> spans, const Ray& ray,
                                      double t_min, double t_max, const MarchSettings& settings,
                                      std::size_t* evaluations = nullptr);

@@ -65,11 +65,11 @@ struct RenderOptions {
 
 /// Figures of one rendering.
 struct RenderStats {
-  double seconds = 0;      ///< wall time of the ray tracing (without setup)
-  std::uint64_t rays = 0;  ///< primary rays
-  std::uint64_t hits = 0;  ///< primary rays that hit
-  double rays_per_second = 0;
-  double error_scale = 0;  ///< Error mode: distance shown full red
+  double seconds = 0;          ///< wall time of the ray tracing (without setup)
+  std::uint64_t rays = 0;      ///< primary rays: samples × pixels, counting those of blocks that see nothing
+  std::uint64_t hits = 0;      ///< primary rays that hit
+  double rays_per_second = 0;  ///< rays / seconds
+  double error_scale = 0;      ///< Error mode: distance shown full red
 };
 
 /// A surface point found along one ray.
