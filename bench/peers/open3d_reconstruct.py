@@ -49,6 +49,8 @@ def main() -> int:
         radii = o3d.utility.DoubleVector([spacing, 2 * spacing, 4 * spacing])
         mesh = o3d.geometry.TriangleMesh.create_from_point_cloud_ball_pivoting(cloud, radii)
     mesh.compute_vertex_normals()
+    if not cloud.has_colors():  # Poisson gives every vertex a color, black without the input's
+        mesh.vertex_colors = o3d.utility.Vector3dVector()
     if not o3d.io.write_triangle_mesh(a.output, mesh):
         print(f"error: {a.output}: cannot write", file=sys.stderr)
         return 4
