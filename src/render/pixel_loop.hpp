@@ -36,12 +36,12 @@ Camera scene_camera(const RenderOptions& options, const BoundingBox& own, const 
 
 /// Traces options.samples rays per pixel of `camera`. `make_tracer(x0, y0, x1, y1)` is called
 /// once per tile (pixels [x0, x1) × [y0, y1)) and returns a callable (const Ray&, std::uint64_t seed) → SampleResult
-/// owning its scratch memory; a tracer with enter_block(x0, y0, x1, y1) is told each block of at
-/// most kBlock × kBlock pixels of its tile before that block's rays, the blocks of each kPatch ×
-/// kPatch patch of the tile (counted from its first pixel) one after another, and returns
-/// whether a ray of the block may see anything: the pixels of a block it says none of get the
-/// background without their rays. The picture does not depend on the
-/// thread count.
+/// owning its scratch memory. The tile is visited by patches of at most kPatch × kPatch pixels
+/// (counted from its first pixel), each by blocks of at most kBlock × kBlock; a tracer with
+/// enter_patch(x0, y0, x1, y1) is told each patch before its blocks, and one with
+/// enter_block(x0, y0, x1, y1) each block before its rays, returning whether a ray of the block
+/// may see anything: the pixels of a block it says none of get the background without their
+/// rays. The picture does not depend on the thread count.
 template <class MakeTracer>
 Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer&& make_tracer, RenderStats* stats,
                   const ProgressCallback& progress_callback) {
@@ -54,6 +54,12 @@ Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer
   std::atomic<std::uint64_t> hits{0};
   const auto start = std::chrono::steady_clock::now();
   const double focal = camera.focal_pixels();
+  // The pixel of premultiplied color `sum` with coverage `coverage` over the background.
+  const auto over_background = [&](const Color& sum, double coverage) {
+    const Color premultiplied = sum + (1 - coverage) * background_alpha * background;
+    const double alpha = coverage + (1 - coverage) * background_alpha;
+    return alpha > 0 ? to_pixel(premultiplied / alpha, alpha) : Rgba8{0, 0, 0, 0};
+  };
   // Pixel (x, y) traced with options.samples rays and composited over the background; returns
   // whether its first ray hit.
   const auto trace_pixel = [&](auto& trace, int x, int y) {
@@ -74,14 +80,10 @@ Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer
     }
     sum /= samples;
     coverage /= samples;
-    const Color premultiplied = sum + (1 - coverage) * background_alpha * background;
-    const double alpha = coverage + (1 - coverage) * background_alpha;
-    image.at(x, y) = alpha > 0 ? to_pixel(premultiplied / alpha, alpha) : Rgba8{0, 0, 0, 0};
+    image.at(x, y) = over_background(sum, coverage);
     return hit;
   };
-  const Rgba8 empty_pixel = background_alpha > 0
-                                ? to_pixel(background_alpha * background / background_alpha, background_alpha)
-                                : Rgba8{0, 0, 0, 0};
+  const Rgba8 empty_pixel = over_background(Color::Zero(), 0);
   tbb::parallel_for(tbb::blocked_range2d<int>(0, h, kPatch, 0, w, kPatch), [&](const tbb::blocked_range2d<int>& tile) {
     progress.check();
     const int tx0 = tile.cols().begin(), ty0 = tile.rows().begin(), tx1 = tile.cols().end(), ty1 = tile.rows().end();
@@ -89,9 +91,11 @@ Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer
     std::uint64_t tile_hits = 0;
     // Patch by patch of kPatch × kPatch pixels, block by block within each.
     for (int py = ty0; py < ty1; py += kPatch)
-      for (int px = tx0; px < tx1; px += kPatch)
-        for (int by = py; by < std::min(py + kPatch, ty1); by += kBlock)
-          for (int bx = px; bx < std::min(px + kPatch, tx1); bx += kBlock) {
+      for (int px = tx0; px < tx1; px += kPatch) {
+        const int px1 = std::min(px + kPatch, tx1), py1 = std::min(py + kPatch, ty1);
+        if constexpr (requires { trace.enter_patch(px, py, px1, py1); }) trace.enter_patch(px, py, px1, py1);
+        for (int by = py; by < py1; by += kBlock)
+          for (int bx = px; bx < px1; bx += kBlock) {
             const int bx1 = std::min(bx + kBlock, tx1), by1 = std::min(by + kBlock, ty1);
             if constexpr (requires { trace.enter_block(bx, by, bx1, by1); })
               if (!trace.enter_block(bx, by, bx1, by1)) {
@@ -102,6 +106,7 @@ Image trace_image(const Camera& camera, const RenderOptions& options, MakeTracer
             for (int y = by; y != by1; ++y)
               for (int x = bx; x != bx1; ++x) tile_hits += trace_pixel(trace, x, y) ? 1 : 0;
           }
+      }
     hits += tile_hits;
     progress.advance(tile.rows().size() * tile.cols().size());
   });

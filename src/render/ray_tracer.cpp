@@ -92,8 +92,7 @@ class TreeTracer {
  public:
   /// The tracer of the pixels [x0, x1) × [y0, y1): the supports its rays may cross are found
   /// once, through the hierarchy, from the cone of the tile's rays (brute force: all of them).
-  TreeTracer(const Scene& scene, const Camera& camera, int x0, int y0, int x1, int y1)
-      : s_(scene), camera_(camera), x0_(x0), y0_(y0), x1_(x1), y1_(y1) {
+  TreeTracer(const Scene& scene, const Camera& camera, int x0, int y0, int x1, int y1) : s_(scene), camera_(camera) {
     if (s_.search == render::SupportSearch::BruteForce) {
       s_.index.gather(s_.index.cut(), tile_supports_);
       return;
@@ -103,18 +102,16 @@ class TreeTracer {
     s_.index.gather(tile_nodes_, tile_supports_);
   }
 
-  /// Narrows the tile's supports to those the rays of pixels [x0, x1) × [y0, y1) may cross,
-  /// through those of the kPatch × kPatch patch of the tile that holds the block; returns
-  /// whether a ray of the block may see anything (a highlighted proxy always may).
+  /// Narrows the tile's supports to those the rays of the patch [x0, x1) × [y0, y1) may cross.
+  void enter_patch(int x0, int y0, int x1, int y1) {
+    if (s_.search == render::SupportSearch::BruteForce) return;
+    render::cull_to_cone(tile_supports_, pixel_cone(camera_, x0, y0, x1, y1), patch_supports_);
+  }
+
+  /// Narrows the patch's supports to those the rays of the block [x0, x1) × [y0, y1) may cross;
+  /// returns whether a ray of the block may see anything (a highlighted proxy always may).
   bool enter_block(int x0, int y0, int x1, int y1) {
     if (s_.search == render::SupportSearch::BruteForce) return true;
-    using render::kPatch;
-    const int px = x0_ + (x0 - x0_) / kPatch * kPatch, py = y0_ + (y0 - y0_) / kPatch * kPatch;
-    if (px != patch_x_ || py != patch_y_) {
-      patch_x_ = px, patch_y_ = py;
-      const render::RayCone patch = pixel_cone(camera_, px, py, std::min(px + kPatch, x1_), std::min(py + kPatch, y1_));
-      render::cull_to_cone(tile_supports_, patch, patch_supports_);
-    }
     render::cull_to_cone(patch_supports_, pixel_cone(camera_, x0, y0, x1, y1), block_supports_);
     supports_ = &block_supports_;
     return !block_supports_.nodes.empty() || s_.options.highlight.has_value();
@@ -217,8 +214,6 @@ class TreeTracer {
 
   const Scene& s_;
   const Camera& camera_;
-  int x0_, y0_, x1_, y1_;            // the tile
-  int patch_x_ = -1, patch_y_ = -1;  // the current patch's first pixel
   std::vector<std::int32_t> tile_nodes_;
   render::SupportSet tile_supports_;   // their supports, side by side
   render::SupportSet patch_supports_;  // those of the current patch
