@@ -1,28 +1,32 @@
-// PNG encoding through stb_image_write, with zlib (already a dependency) as its compressor:
-// smaller files than stb's built-in deflate, and no use of stb's global settings.
+// PNG encoding through stb_image_write, with zlib (already a dependency) as its compressor in
+// parallel bands: smaller files than stb's built-in deflate, and no use of stb's global settings.
 
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/render/image.hpp>
 
 #include "io/atomic_file.hpp"
-
-#include <zlib.h>
+#include "render/banded_deflate.hpp"
 
 #include <cstdlib>
 #include <cstring>
+#include <exception>
+#include <vector>
 
 namespace {
 
-/// stb's compressor hook: zlib level 6 (level 9 is several times slower for ~2 % smaller files).
+/// stb's compressor hook: zlib level 6 (level 9 is several times slower for ~2 % smaller files),
+/// in parallel bands (banded_deflate()).
 unsigned char* zlib_compress(unsigned char* data, int data_len, int* out_len, int /*quality*/) {
-  uLongf size = compressBound(static_cast<uLong>(data_len));
-  auto* out = static_cast<unsigned char*>(std::malloc(size));
-  if (out == nullptr) return nullptr;
-  if (compress2(out, &size, data, static_cast<uLong>(data_len), 6) != Z_OK) {
-    std::free(out);
-    return nullptr;
+  std::vector<unsigned char> stream;
+  try {
+    stream = clustersurf::render::banded_deflate({data, static_cast<std::size_t>(data_len)}, 6);
+  } catch (const std::exception&) {  // zlib's failure or out of memory: no exception crosses stb's C
+    return nullptr;                  // stb reports the failure; encode_png() throws
   }
-  *out_len = static_cast<int>(size);
+  auto* out = static_cast<unsigned char*>(std::malloc(stream.size()));
+  if (out == nullptr) return nullptr;
+  std::memcpy(out, stream.data(), stream.size());
+  *out_len = static_cast<int>(stream.size());
   return out;
 }
 
