@@ -1,5 +1,5 @@
 // Supports along rays: the cone cull keeps every support a ray of the cone crosses and drops
-// those far from it.
+// those far from it; ordering a set along a cone permutes it by where the axis enters each.
 
 #include "render/ray_support.hpp"
 
@@ -71,4 +71,35 @@ TEST(RaySupport, TheConeCullKeepsASphereHoldingTheApexAndDropsOneBehindIt) {
   render::SupportSet kept;
   render::cull_to_cone(all, cone, kept);
   EXPECT_EQ(kept.nodes, (std::vector<std::int32_t>{0, 2}));
+}
+
+TEST(RaySupport, OrderingAlongTheConeKeepsEverySupportAndSortsThemByEntry) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(0, 1), box(-3, 3);
+  render::RayCone cone;
+  cone.apex = Eigen::Vector3d(0.2, 0.1, 6);
+  cone.axis = Eigen::Vector3d(-0.03, 0.04, -1).normalized();
+  cone.half_angle = 0.2;
+  render::SupportSet set;
+  for (std::int32_t i = 0; i < 500; ++i) {
+    const double r = 0.01 + 0.5 * unit(rng);
+    set.nodes.push_back(i);
+    set.x.push_back(box(rng)), set.y.push_back(box(rng)), set.z.push_back(box(rng)), set.r2.push_back(r * r);
+  }
+  const render::SupportSet before = set;
+  render::order_along(cone, set);
+  ASSERT_EQ(set.nodes.size(), before.nodes.size());
+  std::vector<double> entry;
+  for (std::size_t k = 0; k < set.nodes.size(); ++k) {
+    const auto i = static_cast<std::size_t>(set.nodes[k]);  // the support's place before
+    EXPECT_EQ(set.x[k], before.x[i]);
+    EXPECT_EQ(set.y[k], before.y[i]);
+    EXPECT_EQ(set.z[k], before.z[i]);
+    EXPECT_EQ(set.r2[k], before.r2[i]);
+    entry.push_back((Eigen::Vector3d(set.x[k], set.y[k], set.z[k]) - cone.apex).dot(cone.axis) - std::sqrt(set.r2[k]));
+  }
+  std::vector<std::int32_t> nodes = set.nodes;
+  std::sort(nodes.begin(), nodes.end());
+  EXPECT_EQ(nodes, before.nodes);  // a permutation
+  EXPECT_TRUE(std::is_sorted(entry.begin(), entry.end()));
 }

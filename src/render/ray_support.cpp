@@ -221,6 +221,26 @@ void cull_to_cone(const SupportSet& in, const RayCone& cone, SupportSet& out) {
   out.nodes.resize(kept), out.x.resize(kept), out.y.resize(kept), out.z.resize(kept), out.r2.resize(kept);
 }
 
+void order_along(const RayCone& cone, SupportSet& set) {
+  const std::size_t n = set.nodes.size();
+  auto& order = set.order;
+  order.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const double along = (set.x[k] - cone.apex.x()) * cone.axis.x() + (set.y[k] - cone.apex.y()) * cone.axis.y() +
+                         (set.z[k] - cone.apex.z()) * cone.axis.z();
+    order[k] = {along - std::sqrt(set.r2[k]), k};
+  }
+  std::sort(order.begin(), order.end());
+  // Each array gathered into the scratch, which then takes its place.
+  const auto permute = [&](auto& values, auto& scratch) {
+    scratch.resize(n);
+    for (std::size_t k = 0; k < n; ++k) scratch[k] = values[order[k].second];
+    values.swap(scratch);
+  };
+  permute(set.nodes, set.moved_nodes);
+  permute(set.x, set.moved), permute(set.y, set.moved), permute(set.z, set.moved), permute(set.r2, set.moved);
+}
+
 void SupportIndex::collect_from(const Ray& ray, double t_min, double t_max, const SupportSet& set,
                                 std::vector<SupportSpan>& out) const {
   out.clear();
@@ -250,9 +270,16 @@ void SupportIndex::collect_from(const Ray& ray, double t_min, double t_max, cons
     const double t0 = -b - root, t1 = -b + root;
     if (t1 > t_min && t0 < t_max) crossings.push_back({std::max(t0, t_min), std::min(t1, t_max), k});
   }
-  std::sort(crossings.begin(), crossings.end(), [&](const SupportSet::Crossing& a, const SupportSet::Crossing& c) {
+  // By insertion: the set's order (order_along()) leaves them nearly sorted.
+  const auto before = [&](const SupportSet::Crossing& a, const SupportSet::Crossing& c) {
     return a.t_enter < c.t_enter || (a.t_enter == c.t_enter && set.nodes[a.k] < set.nodes[c.k]);
-  });
+  };
+  for (std::size_t i = 1; i < crossings.size(); ++i) {
+    const SupportSet::Crossing c = crossings[i];
+    std::size_t j = i;
+    for (; j > 0 && before(c, crossings[j - 1]); --j) crossings[j] = crossings[j - 1];
+    crossings[j] = c;
+  }
   for (const SupportSet::Crossing& c : crossings) {
     const Eigen::Vector3d oc(ox - set.x[c.k], oy - set.y[c.k], oz - set.z[c.k]);
     out.push_back(make_span(set.nodes[c.k], oc, set.r2[c.k], ray, c.t_enter, c.t_exit));

@@ -59,8 +59,11 @@ struct SupportSet {
     double t_enter, t_exit;
     std::size_t k;
   };
-  mutable std::vector<double> b, disc;      // collect_from()'s scratch: one set per thread
-  mutable std::vector<Crossing> crossings;  // the same
+  mutable std::vector<double> b, disc;                // collect_from()'s scratch: one set per thread
+  mutable std::vector<Crossing> crossings;            // the same
+  std::vector<std::pair<double, std::size_t>> order;  // order_along()'s scratch
+  std::vector<std::int32_t> moved_nodes;              // the same
+  std::vector<double> moved;                          // the same
 };
 
 /// The rays from `apex` within `half_angle` (radians) of the unit `axis`.
@@ -73,6 +76,11 @@ struct RayCone {
 /// The supports of `in` that may meet a ray of `cone`: a conservative superset of those that do,
 /// in the order of `in`, found by one branch-free pass (no tree walk).
 void cull_to_cone(const SupportSet& in, const RayCone& cone, SupportSet& out);
+
+/// Orders the supports of `set` by where the ray along the cone's axis would enter them
+/// ((center − apex) · axis − radius): rays of a narrow cone then cross them nearly in that
+/// order, which collect_from() sorts in linear time.
+void order_along(const RayCone& cone, SupportSet& set);
 
 /// The blended nodes (a cut of the tree) and how to find the supports along a ray.
 class SupportIndex {

@@ -105,7 +105,9 @@ class TreeTracer {
   /// Narrows the tile's supports to those the rays of the patch [x0, x1) × [y0, y1) may cross.
   void enter_patch(int x0, int y0, int x1, int y1) {
     if (s_.search == render::SupportSearch::BruteForce) return;
-    render::cull_to_cone(tile_supports_, pixel_cone(camera_, x0, y0, x1, y1), patch_supports_);
+    const render::RayCone cone = pixel_cone(camera_, x0, y0, x1, y1);
+    render::cull_to_cone(tile_supports_, cone, patch_supports_);
+    render::order_along(cone, patch_supports_);
   }
 
   /// Narrows the patch's supports to those the rays of the block [x0, x1) × [y0, y1) may cross;
