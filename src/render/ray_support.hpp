@@ -5,6 +5,7 @@
 #include <clustersurf/cluster/cluster_tree.hpp>
 #include <clustersurf/surface/implicit_surface.hpp>
 
+#include <algorithm>
 #include <limits>
 #include <optional>
 #include <span>
@@ -35,6 +36,14 @@ struct SupportSpan {
   double s(double t) const { return s0 + t * (s1 + t * s2); }
   /// The proxy's value at x(t) (once restricted).
   double q(double t) const;
+  /// Whether the proxy's value at x(t) is positive (once restricted): the sign of q(t), without
+  /// its normalization.
+  bool positive(double t) const {
+    const double n = n0 + t * (n1 + t * n2);
+    if (crease == 0) return n > 0;
+    const double m = m0 + t * m1;
+    return crease > 0 ? std::max(n, m) > 0 : std::min(n, m) > 0;
+  }
 };
 
 /// Writes the proxy of `span`'s node along `ray` (the ray the span was collected for) into it.

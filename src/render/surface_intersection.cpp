@@ -66,7 +66,7 @@ class RayFunction {
     // the middle (from itself may be a flip).
     const auto agrees = [&](const SupportSpan& sp, double from) {
       const double flip = std::min(sp.flip0 > from ? sp.flip0 : sp.flip1 > from ? sp.flip1 : sp.t_exit, sp.t_exit);
-      if ((sp.q(0.5 * (from + flip)) > 0 ? 1 : -1) != sign) return false;
+      if ((sp.positive(0.5 * (from + flip)) ? 1 : -1) != sign) return false;
       if (flip < sp.t_exit) until = std::min(until, flip);
       return true;
     };
