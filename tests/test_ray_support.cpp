@@ -26,10 +26,9 @@ Eigen::Vector3d tilted(const Eigen::Vector3d& axis, double angle, double turn) {
 TEST(RaySupport, TheConeCullKeepsEverySupportARayOfTheConeCrosses) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> unit(0, 1), box(-3, 3);
-  render::RayCone cone;
-  cone.apex = Eigen::Vector3d(0.1, -0.2, 5);
-  cone.axis = Eigen::Vector3d(0.05, 0.02, -1).normalized();
-  cone.half_angle = 0.03;
+  const double half = 0.03;
+  const render::RayCone cone =
+      render::RayCone::of_half_angle(Eigen::Vector3d(0.1, -0.2, 5), Eigen::Vector3d(0.05, 0.02, -1).normalized(), half);
   render::SupportSet all;
   for (std::int32_t i = 0; i < 20000; ++i) {
     const double r = 0.01 + 0.2 * unit(rng);
@@ -43,7 +42,7 @@ TEST(RaySupport, TheConeCullKeepsEverySupportARayOfTheConeCrosses) {
   // Rays on the cone's rim and inside it: every sphere one of them crosses is kept.
   std::size_t crossed = 0;
   for (int k = 0; k < 4000; ++k) {
-    const double angle = k % 2 == 0 ? cone.half_angle : cone.half_angle * std::sqrt(unit(rng));
+    const double angle = k % 2 == 0 ? half : half * std::sqrt(unit(rng));
     const Ray ray{cone.apex, tilted(cone.axis, angle, 2 * std::numbers::pi * unit(rng))};
     for (std::size_t i = 0; i < all.nodes.size(); ++i) {
       const Sphere sphere{Eigen::Vector3d(all.x[i], all.y[i], all.z[i]), std::sqrt(all.r2[i])};
@@ -61,10 +60,7 @@ TEST(RaySupport, TheConeCullKeepsEverySupportARayOfTheConeCrosses) {
 }
 
 TEST(RaySupport, TheConeCullKeepsASphereHoldingTheApexAndDropsOneBehindIt) {
-  render::RayCone cone;
-  cone.apex = Eigen::Vector3d::Zero();
-  cone.axis = Eigen::Vector3d::UnitZ();
-  cone.half_angle = 0.1;
+  const render::RayCone cone = render::RayCone::of_half_angle(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 0.1);
   render::SupportSet all;
   all.nodes = {0, 1, 2};
   all.x = {0.3, 0, 0}, all.y = {0, 0, 0}, all.z = {-0.2, -2, 3}, all.r2 = {1, 0.01, 0.01};
@@ -76,10 +72,8 @@ TEST(RaySupport, TheConeCullKeepsASphereHoldingTheApexAndDropsOneBehindIt) {
 TEST(RaySupport, OrderingAlongTheConeKeepsEverySupportAndSortsThemByEntry) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> unit(0, 1), box(-3, 3);
-  render::RayCone cone;
-  cone.apex = Eigen::Vector3d(0.2, 0.1, 6);
-  cone.axis = Eigen::Vector3d(-0.03, 0.04, -1).normalized();
-  cone.half_angle = 0.2;
+  const render::RayCone cone =
+      render::RayCone::of_half_angle(Eigen::Vector3d(0.2, 0.1, 6), Eigen::Vector3d(-0.03, 0.04, -1).normalized(), 0.2);
   render::SupportSet set;
   for (std::int32_t i = 0; i < 500; ++i) {
     const double r = 0.01 + 0.5 * unit(rng);

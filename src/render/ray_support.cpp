@@ -203,7 +203,9 @@ void cull_to_cone(const SupportSet& in, const RayCone& cone, SupportSet& out) {
   // plane through the axis and c: d⊥ cos θ − d∥ sin θ ≤ r, with d∥ and d⊥ the distances of c
   // along and off the axis. Angle and radius get a little slack against rounding.
   constexpr double kAngleSlack = 1e-9, kRadiusSlack = 1e-9;
-  const double cos_a = std::cos(cone.half_angle + kAngleSlack), sin_a = std::sin(cone.half_angle + kAngleSlack);
+  // cos(θ + ε) and sin(θ + ε) to first order in ε.
+  const double cos_a = cone.cos_half - kAngleSlack * cone.sin_half;
+  const double sin_a = cone.sin_half + kAngleSlack * cone.cos_half;
   const double ax = cone.axis.x(), ay = cone.axis.y(), az = cone.axis.z();
   const std::size_t n = in.nodes.size();
   out.nodes.resize(n), out.x.resize(n), out.y.resize(n), out.z.resize(n), out.r2.resize(n);

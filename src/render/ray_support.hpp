@@ -6,6 +6,7 @@
 #include <clustersurf/surface/implicit_surface.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <optional>
 #include <span>
@@ -75,11 +76,19 @@ struct SupportSet {
   std::vector<double> moved;                          // the same
 };
 
-/// The rays from `apex` within `half_angle` (radians) of the unit `axis`.
+/// The rays from `apex` within the half-angle θ of the unit `axis`, held as cos θ and sin θ
+/// (the cull needs no more, and the cone of a pixel rectangle gets them without an arccosine).
 struct RayCone {
   Eigen::Vector3d apex = Eigen::Vector3d::Zero();
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
-  double half_angle = 0;
+  double cos_half = 1, sin_half = 0;
+
+  /// The cone of half-angle `angle` radians.
+  static RayCone of_half_angle(const Eigen::Vector3d& apex, const Eigen::Vector3d& axis, double angle) {
+    return {apex, axis, std::cos(angle), std::sin(angle)};
+  }
+  /// θ in radians.
+  double half_angle() const { return std::atan2(sin_half, cos_half); }
 };
 
 /// The supports of `in` that may meet a ray of `cone`: a conservative superset of those that do,

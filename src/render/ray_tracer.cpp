@@ -6,6 +6,8 @@
 #include <clustersurf/spatial/kd_tree.hpp>
 #include <clustersurf/surface/palette.hpp>
 
+#include <Eigen/Geometry>
+
 #include "render/color_legend.hpp"
 #include "render/pixel_loop.hpp"
 #include "render/ray_support.hpp"
@@ -76,14 +78,17 @@ std::optional<SurfaceHit> proxy_patch_hit(const Scene& scene, std::int32_t node,
 
 /// The cone of the rays through pixels [x0, x1) × [y0, y1): its axis through the rectangle's
 /// center, its half-angle that of the farthest corner (the angle to the axis is largest at a
-/// corner of a convex region of the image plane).
+/// corner of a convex region of the image plane): the smallest cosine, and the sine of the same
+/// corner from a cross product (exact for small angles, where 1 − cos² cancels).
 render::RayCone pixel_cone(const Camera& camera, int x0, int y0, int x1, int y1) {
   render::RayCone cone;
   cone.apex = camera.eye;
   cone.axis = camera.ray(0.5 * (x0 + x1), 0.5 * (y0 + y1)).direction;
-  for (const auto& [x, y] : {std::pair{x0, y0}, std::pair{x1, y0}, std::pair{x0, y1}, std::pair{x1, y1}})
-    cone.half_angle =
-        std::max(cone.half_angle, std::acos(std::clamp(camera.ray(x, y).direction.dot(cone.axis), -1.0, 1.0)));
+  for (const auto& [x, y] : {std::pair{x0, y0}, std::pair{x1, y0}, std::pair{x0, y1}, std::pair{x1, y1}}) {
+    const Eigen::Vector3d d = camera.ray(x, y).direction;
+    const double c = std::clamp(d.dot(cone.axis), -1.0, 1.0);
+    if (c < cone.cos_half) cone.cos_half = c, cone.sin_half = d.cross(cone.axis).norm();
+  }
   return cone;
 }
 
@@ -98,7 +103,7 @@ class TreeTracer {
       return;
     }
     const render::RayCone cone = pixel_cone(camera, x0, y0, x1, y1);
-    s_.index.collect_in_cone(cone.apex, cone.axis, cone.half_angle, tile_nodes_);
+    s_.index.collect_in_cone(cone.apex, cone.axis, cone.half_angle(), tile_nodes_);
     s_.index.gather(tile_nodes_, tile_supports_);
   }
 
