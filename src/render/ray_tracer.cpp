@@ -81,11 +81,12 @@ std::optional<SurfaceHit> proxy_patch_hit(const Scene& scene, std::int32_t node,
 /// corner of a convex region of the image plane): the smallest cosine, and the sine of the same
 /// corner from a cross product (exact for small angles, where 1 − cos² cancels).
 render::RayCone pixel_cone(const Camera& camera, int x0, int y0, int x1, int y1) {
+  const double focal = camera.focal_pixels();
   render::RayCone cone;
   cone.apex = camera.eye;
-  cone.axis = camera.ray(0.5 * (x0 + x1), 0.5 * (y0 + y1)).direction;
+  cone.axis = camera.ray(0.5 * (x0 + x1), 0.5 * (y0 + y1), focal).direction;
   for (const auto& [x, y] : {std::pair{x0, y0}, std::pair{x1, y0}, std::pair{x0, y1}, std::pair{x1, y1}}) {
-    const Eigen::Vector3d d = camera.ray(x, y).direction;
+    const Eigen::Vector3d d = camera.ray(x, y, focal).direction;
     const double c = std::clamp(d.dot(cone.axis), -1.0, 1.0);
     if (c < cone.cos_half) cone.cos_half = c, cone.sin_half = d.cross(cone.axis).norm();
   }
