@@ -53,6 +53,8 @@ double checked_cell_size(const ImplicitSurface& surface, const detail::MeshClip*
   if (longest / h > 500000) throw OptionError("mesh grid too fine: more than 500000 cells along the bounding box");
   if (!(options.fill_cells >= 0) || !std::isfinite(options.fill_cells))
     throw OptionError("mesh fill_cells must be >= 0");
+  if (options.fill_cell && (!(*options.fill_cell > 0) || !std::isfinite(*options.fill_cell)))
+    throw OptionError("mesh fill_cell must be positive");
   const MeshEstimate cost = detail::estimate_mesh_within(surface, h, clip != nullptr ? &clip->box : nullptr);
   const std::uint64_t limit = options.memory_limit > 0 ? options.memory_limit : detail::available_memory();
   if (limit > 0 && cost.bytes > static_cast<double>(limit))
@@ -235,7 +237,7 @@ TriangleMesh extract(const ImplicitSurface& surface, const ClosedSurface* closed
                      const MeshOptions& options, MeshReport* report, const ProgressCallback& progress) {
   const double h = checked_cell_size(surface, clip, options);
   const Lattice lattice(surface.tree().bbox.min, h, clip);
-  const Field field{surface, closed, surface.with_margin(surface.margin() + options.fill_cells * h),
+  const Field field{surface, closed, surface.with_margin(surface.margin() + fill_band(options, h)),
                     options.fill_cells > 0 && closed == nullptr, options.min_weight};
   detail::ProgressReporter reporter(progress, "meshing", 1000);
   const detail::Walk walk = detail::walk_surface(field, lattice, detail::seed_cells(surface, lattice), reporter);

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <string>
 
 namespace clustersurf {
@@ -113,13 +114,16 @@ SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options
 
   const ImplicitSurface surface(tree, level_of_detail(tree, options.lod_depth, options.lod_error));
   MeshOptions grid = options.grid;
-  if (options.auto_resolution && !grid.voxel_size) {
-    if (tree.point_spacing > 0) {
-      grid.voxel_size = auto_cell_size(surface);
-    } else if (input != nullptr) {
-      grid.voxel_size = auto_cell_size(surface, input->median_spacing());
-    }
-  }
+  // The automatic cell: the grid's, unless the options give one, and the fill band's. Where the
+  // points coincide (no spacing), only an automatic grid needs it (and refuses).
+  const bool automatic_grid = options.auto_resolution && !grid.voxel_size;
+  std::optional<double> automatic;
+  if (tree.point_spacing > 0)
+    automatic = auto_cell_size(surface);
+  else if (input != nullptr && (automatic_grid || input->median_spacing() > 0))
+    automatic = auto_cell_size(surface, input->median_spacing());
+  if (automatic_grid) grid.voxel_size = automatic;
+  if (!grid.fill_cell) grid.fill_cell = automatic;
   const auto start = std::chrono::steady_clock::now();
   SurfaceMesh out;
   out.blended_nodes = surface.cut().size();

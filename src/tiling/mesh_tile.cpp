@@ -140,8 +140,8 @@ std::vector<std::int32_t> tile_regions(const RegionPlan& plan, const RegionMerge
   // its support, grown by the fill band, lies in the cell grown by the region's reach and band.
   const auto influence = [&](std::size_t r) {
     BoundingBox b = plan.region_box(static_cast<std::int32_t>(r));
-    b.min.array() -= merge.reach[r] + std::max(grid.fill_cells, 0.0) * h;
-    b.max.array() += merge.reach[r] + std::max(grid.fill_cells, 0.0) * h;
+    b.min.array() -= merge.reach[r] + fill_band(grid, h);
+    b.max.array() += merge.reach[r] + fill_band(grid, h);
     return b;
   };
   const auto meets = [](const BoundingBox& a, const BoundingBox& b) {

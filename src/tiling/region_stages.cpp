@@ -42,6 +42,7 @@ MeshTile mesh_region(const RegionPlan& plan, const RegionMerge& merge, std::int3
   require_tiled_meshing(options.meshing);
   MeshOptions grid = options.meshing.grid;
   grid.voxel_size = tiled_cell_size(merge, options.meshing);
+  if (!grid.fill_cell && merge.auto_cell > 0) grid.fill_cell = merge.auto_cell;
   std::vector<ClusterTree> trees(plan.regions());
   for (const std::int32_t k : tile_regions(plan, merge, region, grid))
     trees[static_cast<std::size_t>(k)] = region_tree(k);

@@ -7,6 +7,7 @@
 #include <clustersurf/surface/closed_surface.hpp>
 #include <clustersurf/surface/implicit_surface.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -39,6 +40,11 @@ struct MeshOptions {
   /// gaps in the data stay holes (and trim_to_points() cuts the band back to the data).
   /// 0 = no fill.
   double fill_cells = 2;
+  /// The cell the fill band is counted in when it is larger than the grid's (unset: the grid's
+  /// cell). The pipeline sets the automatic cell (auto_cell_size()), so that a grid finer than
+  /// the automatic one meets the same gaps between the supports and bridges them as it does,
+  /// instead of opening them as holes.
+  std::optional<double> fill_cell;
   /// The most memory, in bytes, the walk may take by its estimate (estimate_mesh()) before it
   /// starts; 0: the physical memory the machine has free. Over it, extract_mesh() throws
   /// OptionError instead of starting a walk the machine cannot hold.
@@ -53,7 +59,14 @@ void for_each_field(Options& o, F&& f) {
   f("newton_steps", o.newton_steps);
   f("min_weight", o.min_weight);
   f("fill_cells", o.fill_cells);
+  f("fill_cell", o.fill_cell);
   f("memory_limit", o.memory_limit);
+}
+
+/// How far beyond the supports grid corners are filled (MeshOptions::fill_cells of the larger of
+/// the grid's cell `h` and MeshOptions::fill_cell).
+inline double fill_band(const MeshOptions& options, double h) {
+  return std::max(options.fill_cells, 0.0) * std::max(h, options.fill_cell.value_or(h));
 }
 
 /// Bytes a walk takes per surface cell, all its stages together (the walk's grids, the
