@@ -8,7 +8,9 @@
 #include <zlib.h>
 
 #include <algorithm>
-#include <cstring>
+#include <cstddef>
+#include <span>
+#include <vector>
 
 namespace clustersurf::render {
 

@@ -272,7 +272,8 @@ void SupportIndex::collect_from(const Ray& ray, double t_min, double t_max, cons
     const double t0 = -b - root, t1 = -b + root;
     if (t1 > t_min && t0 < t_max) crossings.push_back({std::max(t0, t_min), std::min(t1, t_max), k});
   }
-  // By insertion: the set's order (order_along()) leaves them nearly sorted.
+  // By insertion: a set ordered along its cone (order_along()) leaves them nearly sorted; a set in
+  // tree order (brute force) costs more here, beside its test of every support.
   const auto before = [&](const SupportSet::Crossing& a, const SupportSet::Crossing& c) {
     return a.t_enter < c.t_enter || (a.t_enter == c.t_enter && set.nodes[a.k] < set.nodes[c.k]);
   };
