@@ -46,6 +46,7 @@ int run_eval(Console& console, const EvalArgs& args) {
                      {"distance_p95", e.distance_p95},
                      {"normal_consistency", or_null(e.normal_consistency)},
                      {"far_share", or_null(e.far_share)},
+                     {"volume_iou", or_null(e.volume_iou)},
                      {"reference_spacing", e.reference_spacing},
                      {"samples", {{"reconstruction", e.reconstruction_samples}, {"reference", e.reference_samples}}},
                      {"reconstruction_mesh", nlohmann::json::parse(mesh_topology_json(e.reconstruction_topology))},
@@ -70,6 +71,8 @@ int run_eval(Console& console, const EvalArgs& args) {
   if (!std::isnan(e.far_share))
     console.print(fmt::format("far surface     {:.4f} %  (farther than {:g} point spacings of the reference, {:.6g})",
                               100 * e.far_share, options.far_spacings, e.reference_spacing));
+  if (!std::isnan(e.volume_iou))
+    console.print(fmt::format("volume IoU      {:.4f}  (of the solids both closed meshes bound)", e.volume_iou));
   for (const FScore& f : e.fscores)
     console.print(fmt::format("F-score @{:.2f}%  {:.4f}  (precision {:.4f}, recall {:.4f})", 100 * f.threshold,
                               f.fscore, f.precision, f.recall));

@@ -310,6 +310,7 @@ void bind_comparison(py::module_& m) {
                                                                       : py::object(py::float_(e.normal_consistency)),
             "fscore"_a = fscores,
             "far_share"_a = std::isnan(e.far_share) ? py::object(py::none()) : py::object(py::float_(e.far_share)),
+            "volume_iou"_a = std::isnan(e.volume_iou) ? py::object(py::none()) : py::object(py::float_(e.volume_iou)),
             "reference_spacing"_a = e.reference_spacing,
             "samples"_a = py::dict("reconstruction"_a = e.reconstruction_samples, "reference"_a = e.reference_samples),
             "reconstruction_mesh"_a = json_dict(mesh_topology_json(e.reconstruction_topology)),
@@ -335,7 +336,9 @@ dict with diagonal, accuracy, completeness, chamfer, hausdorff, distance_p95 (th
 percentile of both directions' distances), normal_consistency (None
 without normals), fscore (list of dicts tau/precision/recall/fscore), far_share (against a
 reference cloud: the share of the reconstruction farther than 8 of its median point spacings
-from every point; None for a mesh reference), reference_spacing, samples, reconstruction_mesh
+from every point; None for a mesh reference), volume_iou (when both sides are meshes without
+boundary edges: the intersection over union of the solids they bound; else None),
+reference_spacing, samples, reconstruction_mesh
 and reference_mesh (topology dicts, with area, boundary_length, boundary_per_sqrt_area and
 small_components: components under 0.1 % of the area).)doc");
 }

@@ -36,6 +36,9 @@ def test_watertight_mesh_is_closed_and_marks_the_fill():
     assert any(p.endswith("boundary edges") for p in open_report["problems"])  # the CLI's words
     smaller = tree.mesh(watertight=True, decimate=len(closed.faces) // 4)
     assert len(smaller.faces) <= len(closed.faces) // 4 and edges_with_one_face(smaller.faces) == 0
+    # The solid the closed mesh bounds: scored by volume IoU, which an open mesh has none of.
+    assert clustersurf.compare_surfaces(closed, closed, samples=2000)["volume_iou"] == 1.0
+    assert clustersurf.compare_surfaces(tree.mesh(), closed, samples=2000)["volume_iou"] is None
     # An opening wider than the limit stays open.
     assert edges_with_one_face(tree.mesh(watertight=True, fill_holes=0.5).faces) > 0
 

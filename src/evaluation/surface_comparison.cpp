@@ -1,6 +1,7 @@
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/evaluation/mesh_distance.hpp>
 #include <clustersurf/evaluation/surface_comparison.hpp>
+#include <clustersurf/evaluation/volume_overlap.hpp>
 #include <clustersurf/io/surface_sampling.hpp>
 #include <clustersurf/spatial/cloud_stats.hpp>
 #include <clustersurf/spatial/kd_tree.hpp>
@@ -167,6 +168,15 @@ SurfaceComparison compare_surfaces(const TriangleMesh& reconstruction, const Tri
   }
   e.reconstruction_topology = mesh_topology(reconstruction);
   e.reference_topology = mesh_topology(reference);
+  e.volume_iou = std::numeric_limits<double>::quiet_NaN();
+  const auto closed = [](const TriangleMesh& m, const MeshTopology& t) { return is_mesh(m) && t.boundary_edges == 0; };
+  if (options.volume_samples > 0 && closed(reconstruction, e.reconstruction_topology) &&
+      closed(reference, e.reference_topology)) {
+    VolumeOverlapOptions volume;
+    volume.samples = options.volume_samples;
+    volume.seed = options.seed;
+    e.volume_iou = volume_overlap(reconstruction, reference, volume).iou;
+  }
   return e;
 }
 

@@ -21,6 +21,8 @@ struct ComparisonOptions {
   /// SurfaceComparison::far_share counts the reconstruction's samples farther than this many
   /// of a reference cloud's median point spacings from it.
   double far_spacings = 8;
+  /// Points SurfaceComparison::volume_iou tests (VolumeOverlapOptions::samples); 0: none.
+  std::size_t volume_samples = 512'000;
 };
 
 /// Precision, recall and F-score at one threshold.
@@ -53,6 +55,9 @@ struct SurfaceComparison {
   /// spacings from every point, the surface the data does not support. NaN for a mesh reference
   /// (or a cloud whose points mostly coincide: its median spacing is 0).
   double far_share = 0;
+  /// When both surfaces are meshes without boundary edges: the volumetric intersection over union
+  /// of the solids they bound (volume_overlap()). NaN otherwise: an open surface bounds none.
+  double volume_iou = 0;
   /// The reference cloud's median point spacing (input units); 0 for a mesh reference.
   double reference_spacing = 0;
   std::size_t reconstruction_samples = 0;
