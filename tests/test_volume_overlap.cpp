@@ -9,6 +9,7 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <utility>
@@ -128,7 +129,7 @@ TEST(VolumeOverlap, TheFiguresDoNotDependOnTheThreadCount) {
   EXPECT_EQ(many.reconstruction_volume, single.reconstruction_volume);
 }
 
-TEST(VolumeOverlap, MeshesWithoutTrianglesAndNoSamplesAreRefused) {
+TEST(VolumeOverlap, MeshesWithoutTrianglesNonFiniteVerticesAndNoSamplesAreRefused) {
   const TriangleMesh a = icosphere(2);
   TriangleMesh cloud;
   cloud.vertices = a.vertices;
@@ -137,6 +138,21 @@ TEST(VolumeOverlap, MeshesWithoutTrianglesAndNoSamplesAreRefused) {
   VolumeOverlapOptions none;
   none.samples = 0;
   EXPECT_THROW(volume_overlap(a, a, none), OptionError);
+  TriangleMesh broken = a;
+  broken.vertices(3, 1) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(volume_overlap(broken, a), OptionError);
+  EXPECT_THROW(volume_overlap(a, broken), OptionError);
+}
+
+TEST(VolumeOverlap, AMeshOfDegenerateTrianglesBoundsNothing) {
+  // Every vertex at one point: triangles without area, a box without extent.
+  TriangleMesh point = icosphere(1);
+  point.vertices.setZero();
+  VolumeOverlapOptions options;
+  options.samples = 1000;
+  const VolumeOverlap o = volume_overlap(point, icosphere(1), options);
+  EXPECT_EQ(o.reconstruction_volume, 0.0);
+  EXPECT_EQ(o.iou, 0.0);
 }
 
 TEST(VolumeOverlap, CompareSurfacesReportsItOnlyForTwoClosedMeshes) {

@@ -77,6 +77,9 @@ VolumeOverlap volume_overlap(const TriangleMesh& reconstruction, const TriangleM
   if (reconstruction.triangles.rows() == 0 || reference.triangles.rows() == 0)
     throw OptionError("volume_overlap needs two meshes with triangles");
   if (options.samples == 0) throw OptionError("volume_overlap needs samples > 0");
+  if (!reconstruction.vertices.allFinite() || !reference.vertices.allFinite() || !reconstruction.origin.allFinite() ||
+      !reference.origin.allFinite())
+    throw OptionError("volume_overlap needs finite vertex coordinates");
   BoundingBox box = bounding_box(reference.vertices);
   const BoundingBox other = bounding_box(reconstruction.vertices);
   box.extend(other.min + reconstruction.origin - reference.origin);
