@@ -129,7 +129,7 @@ TEST(VolumeOverlap, TheFiguresDoNotDependOnTheThreadCount) {
   EXPECT_EQ(many.reconstruction_volume, single.reconstruction_volume);
 }
 
-TEST(VolumeOverlap, MeshesWithoutTrianglesNonFiniteVerticesAndNoSamplesAreRefused) {
+TEST(VolumeOverlap, BadMeshesAndNoSamplesAreRefused) {
   const TriangleMesh a = icosphere(2);
   TriangleMesh cloud;
   cloud.vertices = a.vertices;
@@ -142,6 +142,11 @@ TEST(VolumeOverlap, MeshesWithoutTrianglesNonFiniteVerticesAndNoSamplesAreRefuse
   broken.vertices(3, 1) = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(volume_overlap(broken, a), OptionError);
   EXPECT_THROW(volume_overlap(a, broken), OptionError);
+  TriangleMesh dangling = a;
+  dangling.triangles(0, 2) = static_cast<std::int32_t>(a.vertices.rows());
+  EXPECT_THROW(volume_overlap(dangling, a), OptionError);
+  dangling.triangles(0, 2) = -1;
+  EXPECT_THROW(volume_overlap(a, dangling), OptionError);
 }
 
 TEST(VolumeOverlap, AMeshOfDegenerateTrianglesBoundsNothing) {

@@ -12,6 +12,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace clustersurf {
@@ -41,8 +42,6 @@ class Solid {
     scene_.commit_triangles(local);
     triangles_ = static_cast<std::size_t>(mesh.triangles.rows());
   }
-
-  const BoundingBox& box() const { return box_; }
 
   bool contains(const Eigen::Vector3d& x) const {
     if ((x.array() < box_.min.array()).any() || (x.array() > box_.max.array()).any()) return false;
@@ -80,6 +79,11 @@ VolumeOverlap volume_overlap(const TriangleMesh& reconstruction, const TriangleM
   if (!reconstruction.vertices.allFinite() || !reference.vertices.allFinite() || !reconstruction.origin.allFinite() ||
       !reference.origin.allFinite())
     throw OptionError("volume_overlap needs finite vertex coordinates");
+  for (const TriangleMesh* m : {&reconstruction, &reference})
+    if ((m->triangles.array() < 0).any() || (m->triangles.array() >= m->vertices.rows()).any())
+      throw OptionError(std::string("volume_overlap: a triangle of the ") +
+                        (m == &reconstruction ? "reconstruction" : "reference") +
+                        " references a vertex outside the mesh");
   BoundingBox box = bounding_box(reference.vertices);
   const BoundingBox other = bounding_box(reconstruction.vertices);
   box.extend(other.min + reconstruction.origin - reference.origin);

@@ -31,7 +31,8 @@ struct VolumeOverlap {
 /// directions, cross the mesh an odd number of times: exact for closed meshes, and a crossing
 /// miscounted at a defect (a non-manifold edge, a pinhole) sways one ray, not the vote. The
 /// same figures for a seed whatever the thread count. Throws OptionError when either mesh has no
-/// triangles or a coordinate that is not finite, or the options sample nothing.
+/// triangles, a coordinate that is not finite or a triangle corner that is not one of its
+/// vertices, or the options sample nothing.
 VolumeOverlap volume_overlap(const TriangleMesh& reconstruction, const TriangleMesh& reference,
                              const VolumeOverlapOptions& options = {});
 
