@@ -86,7 +86,9 @@ TEST(VolumeOverlap, TwoSpheresOverlapAsTheLensBetweenThemSays) {
   const double d = 0.8;
   const TriangleMesh a = icosphere(5), b = icosphere(5, 1.0, Eigen::Vector3d(d, 0, 0));
   const double sphere = 4 * std::numbers::pi / 3, lens = std::numbers::pi * (4 + d) * (2 - d) * (2 - d) / 12;
-  const VolumeOverlap o = volume_overlap(a, b);
+  VolumeOverlapOptions million;
+  million.samples = 1'000'000;
+  const VolumeOverlap o = volume_overlap(a, b, million);
   EXPECT_NEAR(o.iou, lens / (2 * sphere - lens), 0.004);
   EXPECT_NEAR(o.reconstruction_volume, enclosed_volume(a), 0.01 * enclosed_volume(a));
   EXPECT_NEAR(o.reference_volume, enclosed_volume(b), 0.01 * enclosed_volume(b));

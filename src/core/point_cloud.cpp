@@ -2,9 +2,21 @@
 
 #include <clustersurf/core/point_cloud.hpp>
 
+#include <clustersurf/core/errors.hpp>
+
 #include <cmath>
+#include <string>
 
 namespace clustersurf {
+
+void check_triangle_indices(const TriangleMesh& mesh) {
+  const Eigen::Index nv = mesh.vertices.rows();
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
+    for (int k = 0; k < 3; ++k)
+      if (mesh.triangles(t, k) < 0 || mesh.triangles(t, k) >= nv)
+        throw OptionError("triangle " + std::to_string(t) + " references vertex " +
+                          std::to_string(mesh.triangles(t, k)) + ", outside 0.." + std::to_string(nv - 1));
+}
 
 BoundingBox bounding_box(const Points& points) {
   BoundingBox box;

@@ -72,11 +72,8 @@ struct MeshDistance::Impl {
 MeshDistance::MeshDistance(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>()) {
   impl_->vertices = mesh.vertices;
   impl_->triangles = mesh.triangles;
+  check_triangle_indices(mesh);
   const auto nv = mesh.vertices.rows(), nt = mesh.triangles.rows();
-  for (Eigen::Index t = 0; t < nt; ++t)
-    for (int k = 0; k < 3; ++k)
-      if (mesh.triangles(t, k) < 0 || mesh.triangles(t, k) >= nv)
-        throw OptionError("triangle " + std::to_string(t) + " references a vertex outside the mesh");
   impl_->device = rtcNewDevice("threads=1");
   if (impl_->device == nullptr) throw Error("cannot create the Embree device");
   impl_->scene = rtcNewScene(impl_->device);

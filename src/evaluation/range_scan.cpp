@@ -207,9 +207,7 @@ void validate(const TriangleMesh& mesh, const RangeScanOptions& o) {
   if (!(o.max_incidence_degrees > 0 && o.max_incidence_degrees <= 90))
     throw OptionError(
         fmt::format("the largest incidence angle must be in (0, 90] degrees, got {}", o.max_incidence_degrees));
-  const Eigen::Index nv = mesh.vertices.rows();
-  if ((mesh.triangles.array() < 0).any() || (mesh.triangles.array() >= nv).any())
-    throw OptionError(fmt::format("a triangle references a vertex outside 0..{}", nv - 1));
+  check_triangle_indices(mesh);
 }
 
 }  // namespace

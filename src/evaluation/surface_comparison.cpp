@@ -1,7 +1,6 @@
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/evaluation/mesh_distance.hpp>
 #include <clustersurf/evaluation/surface_comparison.hpp>
-#include <clustersurf/evaluation/volume_overlap.hpp>
 #include <clustersurf/io/surface_sampling.hpp>
 #include <clustersurf/spatial/cloud_stats.hpp>
 #include <clustersurf/spatial/kd_tree.hpp>

@@ -12,7 +12,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <string>
 #include <vector>
 
 namespace clustersurf {
@@ -45,9 +44,10 @@ class Solid {
 
   bool contains(const Eigen::Vector3d& x) const {
     if ((x.array() < box_.min.array()).any() || (x.array() > box_.max.array()).any()) return false;
-    std::size_t odd = 0;
-    for (const Eigen::Vector3d& d : kDirections) odd += crossings(Ray{x, d}) % 2;
-    return odd >= 2;
+    // The third ray is cast only when the first two disagree.
+    const bool first = crossings(Ray{x, kDirections[0]}) % 2 == 1;
+    if (first == (crossings(Ray{x, kDirections[1]}) % 2 == 1)) return first;
+    return crossings(Ray{x, kDirections[2]}) % 2 == 1;
   }
 
  private:
@@ -79,11 +79,8 @@ VolumeOverlap volume_overlap(const TriangleMesh& reconstruction, const TriangleM
   if (!reconstruction.vertices.allFinite() || !reference.vertices.allFinite() || !reconstruction.origin.allFinite() ||
       !reference.origin.allFinite())
     throw OptionError("volume_overlap needs finite vertex coordinates");
-  for (const TriangleMesh* m : {&reconstruction, &reference})
-    if ((m->triangles.array() < 0).any() || (m->triangles.array() >= m->vertices.rows()).any())
-      throw OptionError(std::string("volume_overlap: a triangle of the ") +
-                        (m == &reconstruction ? "reconstruction" : "reference") +
-                        " references a vertex outside the mesh");
+  check_triangle_indices(reconstruction);
+  check_triangle_indices(reference);
   BoundingBox box = bounding_box(reference.vertices);
   const BoundingBox other = bounding_box(reconstruction.vertices);
   box.extend(other.min + reconstruction.origin - reference.origin);

@@ -21,6 +21,7 @@ PointCloud sample_surface(const TriangleMesh& mesh, const SurfaceSamplingOptions
     throw OptionError(fmt::format("outlier fraction must be finite and >= 0, got {}", options.outliers));
   const Eigen::Index vertex_count = mesh.vertices.rows();
   const Eigen::Index triangle_count = mesh.triangles.rows();
+  check_triangle_indices(mesh);
 
   // Cumulative areas; a triangle is drawn with probability proportional to its area.
   std::vector<double> cumulative(static_cast<std::size_t>(triangle_count));
@@ -28,8 +29,6 @@ PointCloud sample_surface(const TriangleMesh& mesh, const SurfaceSamplingOptions
   double total = 0;
   for (Eigen::Index t = 0; t < triangle_count; ++t) {
     const auto tri = mesh.triangles.row(t);
-    if ((tri.array() < 0).any() || (tri.array() >= vertex_count).any())
-      throw OptionError(fmt::format("triangle {} references a vertex outside 0..{}", t, vertex_count - 1));
     const Eigen::Vector3d a = mesh.vertices.row(tri(0)), b = mesh.vertices.row(tri(1)), c = mesh.vertices.row(tri(2));
     const Eigen::Vector3d n = (b - a).cross(c - a);
     const double area = 0.5 * n.norm();

@@ -99,6 +99,10 @@ struct Ray {
 /// Bounding box of the rows of `points` (empty box for no points).
 BoundingBox bounding_box(const Points& points);
 
+/// Throws OptionError naming the first triangle of `mesh` with a corner that is not one of its
+/// vertices.
+void check_triangle_indices(const TriangleMesh& mesh);
+
 /// The rows `indices` of every per-point member of `cloud`, in that order (origin and scanner
 /// positions kept).
 PointCloud select(const PointCloud& cloud, const std::vector<Eigen::Index>& indices);

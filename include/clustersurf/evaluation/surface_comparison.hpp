@@ -3,6 +3,7 @@
 // report (Chamfer, Hausdorff, normal consistency, F-score), measured to the true surfaces.
 
 #include <clustersurf/core/point_cloud.hpp>
+#include <clustersurf/evaluation/volume_overlap.hpp>
 #include <clustersurf/mesh/mesh_extraction.hpp>
 
 #include <cstdint>
@@ -21,8 +22,8 @@ struct ComparisonOptions {
   /// SurfaceComparison::far_share counts the reconstruction's samples farther than this many
   /// of a reference cloud's median point spacings from it.
   double far_spacings = 8;
-  /// Points SurfaceComparison::volume_iou tests (VolumeOverlapOptions::samples); 0: none.
-  std::size_t volume_samples = 512'000;
+  /// Points SurfaceComparison::volume_iou tests; 0: none.
+  std::size_t volume_samples = VolumeOverlapOptions{}.samples;
 };
 
 /// Precision, recall and F-score at one threshold.

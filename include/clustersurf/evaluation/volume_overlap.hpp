@@ -13,7 +13,7 @@ namespace clustersurf {
 struct VolumeOverlapOptions {
   /// Points tested, one jittered in each cell of a regular grid over the box holding both meshes
   /// (rounded to a cube of cells per side).
-  std::size_t samples = 1'000'000;
+  std::size_t samples = 512'000;
   std::uint64_t seed = 1;
 };
 
