@@ -6,6 +6,7 @@
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/evaluation/surface_comparison.hpp>
 #include <clustersurf/io/point_cloud_io.hpp>
+#include <clustersurf/mesh/mesh_coarsening.hpp>
 #include <clustersurf/mesh/mesh_colors.hpp>
 #include <clustersurf/pipeline/reconstruct.hpp>
 
@@ -40,6 +41,7 @@ TEST(Reconstruct, IsTheStagesInOrder) {
   const ImplicitSurface surface(tree);
   const Points clustered = clustered_points(tree, cloud.positions);
   TriangleMesh mesh = trim_to_points(extract_mesh(surface, grid), clustered);
+  mesh = coarsen_mesh(mesh, tree.bbox.min, *grid.voxel_size, tree.error_threshold);
   refit_vertices(mesh, KdTree(clustered), surface);
   mesh.colors = colors_by_distance(mesh, cloud.positions, 0.005 * tree.bbox.diagonal());
   EXPECT_TRUE(same_mesh(r.mesh->mesh, mesh));

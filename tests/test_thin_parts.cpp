@@ -55,7 +55,7 @@ PointCloud noisy_blade(int n, double thickness, double sigma, bool normals, std:
 /// What the mesh of a blade shows over the blade's inner part (away from its rim), in the cells
 /// of a 16 × 16 grid there.
 struct BladeMesh {
-  double covered = 0;     ///< the share of cells holding a vertex
+  double covered = 0;     ///< the share of cells whose centre a triangle covers, seen along z
   double both_faces = 0;  ///< the share of cells with vertices beyond a quarter thickness on both sides
   double facing_out = 0;  ///< the share of triangles whose normal faces away from the mid-plane
   double off_face = 0;    ///< the vertices' mean distance from the nearer face
@@ -68,22 +68,39 @@ BladeMesh inspect(const TriangleMesh& mesh, double thickness) {
   constexpr int kCells = 16;
   constexpr double kInner = 0.8 * kHalfSide;
   const auto cell = [&](double c) { return static_cast<int>((c + kInner) / (2 * kInner) * kCells); };
-  std::vector<int> any(kCells * kCells, 0), above(kCells * kCells, 0), below(kCells * kCells, 0);
+  std::vector<int> above(kCells * kCells, 0), below(kCells * kCells, 0);
   BladeMesh out;
   std::size_t vertices = 0, inside = 0;
   for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v) {
     const Eigen::Vector3d p = mesh.vertices.row(v).transpose();
     if (std::abs(p.x()) >= kInner || std::abs(p.y()) >= kInner) continue;
     const int k = cell(p.y()) * kCells + cell(p.x());
-    any[k] = 1;
     above[k] += p.z() > thickness / 4;
     below[k] += p.z() < -thickness / 4;
     out.off_face += std::abs(std::abs(p.z()) - thickness / 2);
     inside += std::abs(p.z()) <= thickness / 2;
     ++vertices;
   }
+  // A cell is covered where a triangle, seen along z, holds its centre: merged flat blocks
+  // leave cells without a vertex, not without a surface.
+  std::vector<int> hit(kCells * kCells, 0);
+  const auto centre = [&](int i) { return -kInner + (i + 0.5) * (2 * kInner / kCells); };
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+    const Eigen::Vector2d a = mesh.vertices.row(mesh.triangles(t, 0)).head<2>().transpose();
+    const Eigen::Vector2d b = mesh.vertices.row(mesh.triangles(t, 1)).head<2>().transpose();
+    const Eigen::Vector2d c = mesh.vertices.row(mesh.triangles(t, 2)).head<2>().transpose();
+    const double area = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+    if (area == 0) continue;
+    for (int j = 0; j < kCells; ++j)
+      for (int i = 0; i < kCells; ++i) {
+        const Eigen::Vector2d p(centre(i), centre(j));
+        const double u = ((b - p).x() * (c - p).y() - (b - p).y() * (c - p).x()) / area;
+        const double v = ((c - p).x() * (a - p).y() - (c - p).y() * (a - p).x()) / area;
+        if (u >= 0 && v >= 0 && u + v <= 1) hit[j * kCells + i] = 1;
+      }
+  }
   int covered = 0, both = 0;
-  for (int k = 0; k < kCells * kCells; ++k) covered += any[k], both += above[k] > 0 && below[k] > 0;
+  for (int k = 0; k < kCells * kCells; ++k) covered += hit[k], both += above[k] > 0 && below[k] > 0;
   out.covered = static_cast<double>(covered) / (kCells * kCells);
   out.both_faces = static_cast<double>(both) / (kCells * kCells);
   out.off_face /= static_cast<double>(std::max<std::size_t>(1, vertices));

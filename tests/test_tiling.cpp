@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <iostream>
+
 #include <array>
 #include <random>
 #include <set>
@@ -106,6 +108,25 @@ TEST(Tiling, TilesMeetWithoutSeams) {
   EXPECT_EQ(topology.non_manifold_edges, 0u);
   EXPECT_EQ(topology.components, 1u);
   EXPECT_GT(topology.signed_volume, 0);
+}
+
+TEST(Tiling, CoarsenedTilesMeetAsTheWholeMeshCoarsened) {
+  // A gently curved sheet under noise: its flat blocks merge, and each tile merges what the
+  // whole mesh merges, along its borders too.
+  const PointCloud cloud = test::noisy_heightfield(
+      25000, 0.003, [](double x, double y) { return 0.1 * std::sin(3 * x) * std::cos(2 * y); }, 9);
+  const Reconstruction tiled = reconstruct_tiled(cloud, regions_of(8000));
+  ASSERT_TRUE(tiled.mesh);
+  const CloudIndex index(cloud);
+  const SurfaceMesh whole = mesh_tree(tiled.tree, {}, &index);
+  std::cout << "whole mesh: " << whole.coarsening.merged_blocks << " blocks merged, "
+            << whole.coarsening.triangles_before << " -> " << whole.coarsening.triangles_after << " triangles\n";
+  EXPECT_LT(whole.coarsening.triangles_after, whole.coarsening.triangles_before * 9 / 10);
+  EXPECT_EQ(triangle_set(tiled.mesh->mesh), triangle_set(whole.mesh));
+  EXPECT_EQ(tiled.mesh->mesh.vertices.rows(), whole.mesh.vertices.rows());
+  const MeshTopology topology = mesh_topology(tiled.mesh->mesh);
+  EXPECT_EQ(topology.non_manifold_edges, 0u);
+  EXPECT_EQ(topology.components, 1u);
 }
 
 TEST(Tiling, TiledSurfaceIsTheInCoreSurface) {

@@ -7,6 +7,7 @@
 #include <clustersurf/version.hpp>
 
 // the readers and writers (clustersurf::io)
+#include <clustersurf/core/closest_point.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/core/option_spec.hpp>
 #include <clustersurf/core/point_cloud.hpp>
@@ -36,6 +37,7 @@
 
 // meshing, the pipeline and its tiled runs (clustersurf::mesh)
 #include <clustersurf/mesh/mesh_check.hpp>
+#include <clustersurf/mesh/mesh_coarsening.hpp>
 #include <clustersurf/mesh/mesh_colors.hpp>
 #include <clustersurf/mesh/mesh_decimation.hpp>
 #include <clustersurf/mesh/mesh_extraction.hpp>

@@ -272,6 +272,8 @@ class Tree:
         max_reach_spreads: float = 3.0,
         min_component_points: int = 30,
         close_pinholes: bool = False,
+        coarsen: float = 0.05,
+        coarsen_levels: int = 3,
         refit_points: int = 12,
         decimate: int = 0,
         decimate_tolerance: float = 0.0,

@@ -42,6 +42,14 @@ MeshColoring parse_mesh_coloring(std::string_view text) {
 
 namespace {
 
+/// coarsen_mesh() of `mesh` on the lattice extract_mesh() walked (its cell, anchored at the
+/// tree's box), within the share options.coarsening asks of the tree's error threshold.
+TriangleMesh coarsened(const TriangleMesh& mesh, const ClusterTree& tree, const SurfaceMeshOptions& options,
+                       SurfaceMesh& out) {
+  return coarsen_mesh(mesh, tree.bbox.min, out.grid.voxel_size, tree.error_threshold, options.coarsening,
+                      &out.coarsening);
+}
+
 /// The closed mesh of `surface`: meshed through its ClosedSurface, the vertices the data does
 /// not support marked "filled", fragments the data does not support dropped (the trim's vote,
 /// no triangle cut), and filled patches wider than the limit opened again.
@@ -60,6 +68,7 @@ TriangleMesh closed_mesh(const ImplicitSurface& surface, const SurfaceMeshOption
     debris.close_pinholes = false;
     mesh = trim_to_points(mesh, *data, debris, &out.trim);
   }
+  mesh = coarsened(mesh, surface.tree(), options, out);
   if (options.closing.max_hole_size > 0)
     out.closing.opened_holes =
         detail::open_large_fills(mesh, mesh.attributes.back().values, options.closing.max_hole_size);
@@ -133,15 +142,17 @@ SurfaceMesh mesh_tree(const ClusterTree& tree, const SurfaceMeshOptions& options
   } else {
     out.mesh = extract_mesh(surface, grid, &out.grid, progress);
     // Trimmed to the clustered points: an outlier next to an extrapolated flap must not keep it.
-    if (input != nullptr) {
-      const CloudIndex::Subset data = clustered_subset(*input, tree);
-      const bool spread_known = data.spread_neighbors == options.trim.neighbors;
+    const std::optional<CloudIndex::Subset> data =
+        input != nullptr ? std::optional(clustered_subset(*input, tree)) : std::nullopt;
+    if (data) {
+      const bool spread_known = data->spread_neighbors == options.trim.neighbors;
       TrimOptions trim = options.trim;
       trim.typical_spread = typical_spread(tree);
-      out.mesh =
-          trim_to_points(out.mesh, data.index, trim, &out.trim, spread_known ? data.spread : std::span<const double>());
-      out.refit = refit_vertices(out.mesh, data.index, surface, options.refit);
+      out.mesh = trim_to_points(out.mesh, data->index, trim, &out.trim,
+                                spread_known ? data->spread : std::span<const double>());
     }
+    out.mesh = coarsened(out.mesh, tree, options, out);
+    if (data) out.refit = refit_vertices(out.mesh, data->index, surface, options.refit);
   }
   if (options.decimation.enabled()) {
     out.mesh = decimate(out.mesh, options.decimation, &out.decimation);

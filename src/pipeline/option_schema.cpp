@@ -288,6 +288,21 @@ std::vector<OptionSpec> mesh_finishing_options() {
       "Close the small holes the input points cover with a fan each (fewer boundary edges, a little less accuracy; "
       "needs the input points, as trim does)",
       [](auto& o) -> auto& { return meshing(o).trim.close_pinholes; }));
+  out.push_back(mesh_real(
+      "coarsen",
+      "Merge the vertices of flat blocks of the mesh's grid (2, 4, … cells wide: coarsen_levels sizes) into one "
+      "each, moving "
+      "the surface by at most this share of the error a leaf may keep (the noise and the tolerance together): "
+      "fewer triangles where the surface is flat against that error. 0 keeps every vertex",
+      [](auto& o) -> auto& { return meshing(o).coarsening.error_share; }, RealBound::NonNegative));
+  out.push_back(spec(
+      "coarsen_levels", OptionStage::Mesh, OptionKind::Whole,
+      "How many block sizes coarsen tries: blocks of 2, 4, … up to 2^coarsen_levels grid cells",
+      [](const ReconstructOptions& o) { return std::to_string(meshing(o).coarsening.levels); },
+      [](ReconstructOptions& o, std::string_view text) {
+        meshing(o).coarsening.levels =
+            static_cast<std::uint32_t>(parse_whole("coarsen_levels", text, 1, kMaxCoarseningLevels));
+      }));
   out.push_back(spec(
       "refit_points", OptionStage::Mesh, OptionKind::Whole,
       "Move each vertex towards a quadratic fitted to this many nearest input points, or to twice as many where that "

@@ -16,6 +16,8 @@ std::string surface_mesh_json(const SurfaceMesh& m, const MeshTopology& topology
             {"trimmed_triangles", m.trim.removed_triangles},
             {"removed_components", m.trim.removed_components},
             {"closed_pinholes", m.trim.closed_pinholes},
+            {"coarsened_from_triangles", m.coarsening.triangles_before},
+            {"coarsening_tolerance", m.coarsening.tolerance},
             {"refitted_vertices", m.refit.refitted},
             {"refit_mean_move", m.refit.mean_move},
             {"filled_vertices", m.closing.filled_vertices},

@@ -1,6 +1,7 @@
 #pragma once
 // Exact point-to-triangle-mesh distance queries over a bounding-volume hierarchy (Embree).
 
+#include <clustersurf/core/closest_point.hpp>
 #include <clustersurf/core/point_cloud.hpp>
 
 #include <memory>
@@ -33,9 +34,5 @@ class MeshDistance {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
-
-/// The point of triangle (a, b, c) nearest to p (Ericson, Real-Time Collision Detection, 5.1.5).
-Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                          const Eigen::Vector3d& c);
 
 }  // namespace clustersurf

@@ -7,6 +7,7 @@
 #include <clustersurf/core/option_fields.hpp>
 #include <clustersurf/core/progress.hpp>
 #include <clustersurf/mesh/mesh_check.hpp>
+#include <clustersurf/mesh/mesh_coarsening.hpp>
 #include <clustersurf/mesh/mesh_decimation.hpp>
 #include <clustersurf/mesh/mesh_extraction.hpp>
 #include <clustersurf/mesh/mesh_trim.hpp>
@@ -53,6 +54,9 @@ struct SurfaceMeshOptions {
   bool auto_resolution = true;
   /// Applied when the input points are given.
   TrimOptions trim;
+  /// The trimmed mesh's flat blocks merged into fewer vertices (coarsen_mesh(), on the mesh's
+  /// lattice, within a share of the tree's error_threshold), before the refit.
+  CoarseningOptions coarsening;
   /// The trimmed mesh's vertices moved onto local fits of the input points, as far as the
   /// noise lets them (refit_vertices()); applied when the input points are given.
   VertexRefitOptions refit;
@@ -75,6 +79,7 @@ void for_each_field(Options& o, F&& f) {
   f("grid", o.grid);
   f("auto_resolution", o.auto_resolution);
   f("trim", o.trim);
+  f("coarsening", o.coarsening);
   f("refit", o.refit);
   f("closing", o.closing);
   f("decimation", o.decimation);
@@ -101,6 +106,7 @@ struct SurfaceMesh {
   TriangleMesh mesh;
   MeshReport grid;
   TrimReport trim;
+  CoarseningReport coarsening;
   VertexRefitReport refit;
   DecimationReport decimation;
   ClosingReport closing;
@@ -110,7 +116,8 @@ struct SurfaceMesh {
 
 /// The report of `mesh` as one JSON object, the same for every front end: mesh_topology_json()
 /// of its `topology`, then blended_nodes, the grid's voxel_size, surface_cells and evaluated_corners, the trim's
-/// trimmed_triangles, removed_components and closed_pinholes, the refit's refitted_vertices and
+/// trimmed_triangles, removed_components and closed_pinholes, the coarsening's
+/// coarsened_from_triangles and coarsening_tolerance, the refit's refitted_vertices and
 /// refit_mean_move, the closing's filled_vertices, filled_triangles and opened_holes, the
 /// decimation's decimated_from_triangles and decimation_deviation, mesh_seconds and, for a
 /// closed mesh, check (mesh_check_json()).

@@ -1,0 +1,281 @@
+// One block's merge test: its triangles' disk and rim, the fan that replaces them, its normals
+// and distances; and the same checks on the coarse mesh around a vertex.
+
+#include "mesh/block_merge.hpp"
+
+#include <clustersurf/core/closest_point.hpp>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace clustersurf::detail {
+
+namespace {
+
+/// Bits of each packed block coordinate; coordinates are offset by half their range.
+constexpr int kKeyBits = 21;
+constexpr std::int64_t kKeyOffset = std::int64_t{1} << (kKeyBits - 1);
+
+/// Whether triangle (a, b, c) has an area (against the cell's square) and a normal within
+/// kMinNormalCosine of each corner's normal.
+bool upright(const MeshView& mesh, Index a, Index b, Index c) {
+  const Eigen::Vector3d pa = mesh.position(a);
+  const Eigen::Vector3d n = (mesh.position(b) - pa).cross(mesh.position(c) - pa);
+  const double length = n.norm();
+  if (!(length > 1e-12 * mesh.cell() * mesh.cell())) return false;
+  for (const Index v : {a, b, c})
+    if (n.dot(mesh.normal(v)) < kMinNormalCosine * length) return false;
+  return true;
+}
+
+/// The smallest squared distance from p to the triangles `fan` of `tris`.
+double squared_distance(const Eigen::Vector3d& p, const MeshView& mesh, const std::vector<Triangle>& tris,
+                        std::span<const Index> fan) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const Index t : fan) {
+    const Triangle& f = tris[t];
+    best =
+        std::min(best, (closest_point_on_triangle(p, mesh.position(f[0]), mesh.position(f[1]), mesh.position(f[2])) - p)
+                           .squaredNorm());
+  }
+  return best;
+}
+
+}  // namespace
+
+VertexTriangles::VertexTriangles(std::span<const Triangle> tris, std::size_t vertices) : begin(vertices + 1, 0) {
+  for (const Triangle& t : tris)
+    for (const Index v : t) ++begin[v + 1];
+  std::partial_sum(begin.begin(), begin.end(), begin.begin());
+  triangles.resize(begin.back());
+  std::vector<Index> next(begin.begin(), begin.end() - 1);
+  for (std::size_t t = 0; t < tris.size(); ++t)
+    for (const Index v : tris[t]) triangles[next[v]++] = static_cast<Index>(t);
+}
+
+namespace {
+
+std::vector<Triangle> triangles_of(const TriangleMesh& mesh) {
+  std::vector<Triangle> out(static_cast<std::size_t>(mesh.triangles.rows()));
+  for (std::size_t t = 0; t < out.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      out[t][static_cast<std::size_t>(k)] = static_cast<Index>(mesh.triangles(static_cast<Eigen::Index>(t), k));
+  return out;
+}
+
+}  // namespace
+
+MeshView::MeshView(const TriangleMesh& mesh, const Eigen::Vector3d& origin, double cell, double tolerance)
+    : mesh_(mesh),
+      origin_(origin),
+      cell_(cell),
+      tolerance_(tolerance),
+      triangles_(triangles_of(mesh)),
+      around_(triangles_, static_cast<std::size_t>(mesh.vertices.rows())),
+      normals_(static_cast<std::size_t>(mesh.vertices.rows()), Eigen::Vector3d::Zero()) {
+  if (mesh.normals.rows() == mesh.vertices.rows()) {
+    for (Index v = 0; v < vertices(); ++v) normals_[v] = mesh.normals.row(v).transpose();
+  } else {
+    for (const Triangle& t : triangles_) {
+      const Eigen::Vector3d n = (position(t[1]) - position(t[0])).cross(position(t[2]) - position(t[0]));
+      for (const Index v : t) normals_[v] += n;
+    }
+  }
+  for (Eigen::Vector3d& n : normals_) {
+    const double length = n.norm();
+    n = length > 0 ? Eigen::Vector3d(n / length) : Eigen::Vector3d::Zero();
+  }
+}
+
+std::int64_t MeshView::block_key(Index v, double size) const {
+  const Eigen::Array3d c = ((position(v) - origin_) / size).array().floor();
+  if (!c.allFinite() || (c.abs() >= static_cast<double>(kKeyOffset)).any()) return -1;
+  std::int64_t key = 0;
+  for (int a = 0; a < 3; ++a) key = (key << kKeyBits) | (static_cast<std::int64_t>(c[a]) + kKeyOffset);
+  return key;
+}
+
+bool MeshView::same_attributes(Index a, Index b) const {
+  for (const PointAttribute& attribute : mesh_.attributes)
+    if (attribute.values.size() == mesh_.vertices.rows() && attribute.values(a) != attribute.values(b)) return false;
+  return true;
+}
+
+Index BlockMerge::kept_vertex(std::span<const Index> block) {
+  const MeshView& mesh = *mesh_;
+  if (block.size() < 2) return kNone;
+  for (const Index v : block)
+    if (!mesh.same_attributes(v, block.front())) return kNone;
+  triangles_.clear();
+  for (const Index v : block)
+    for (const Index t : mesh.around().of(v)) triangles_.push_back(t);
+  std::sort(triangles_.begin(), triangles_.end());
+  triangles_.erase(std::unique(triangles_.begin(), triangles_.end()), triangles_.end());
+  // The cheap tests first: the fan, from the triangles with one corner in the block, and the
+  // distances to it; then the topology that makes it the block's whole replacement.
+  const Index keep = central_vertex(block);
+  if (!fan_holds(block, keep) || !one_disk(block)) return kNone;
+  return keep;
+}
+
+Index BlockMerge::central_vertex(std::span<const Index> block) const {
+  const MeshView& mesh = *mesh_;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const Index v : block) centroid += mesh.position(v);
+  centroid /= static_cast<double>(block.size());
+  Index keep = block.front();
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const Index v : block) {
+    const Eigen::Vector3d p = mesh.position(v);
+    const double d = (p - centroid).squaredNorm();
+    const Eigen::Vector3d q = mesh.position(keep);
+    if (d < nearest || (d == nearest && std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3))) {
+      nearest = d;
+      keep = v;
+    }
+  }
+  return keep;
+}
+
+bool BlockMerge::fan_holds(std::span<const Index> block, Index keep) {
+  const MeshView& mesh = *mesh_;
+  const auto inside = [&](Index v) { return std::binary_search(block.begin(), block.end(), v); };
+  rim_.clear();
+  for (const Index t : triangles_) {
+    const Triangle& f = mesh.triangles()[t];
+    const int corners = int(inside(f[0])) + int(inside(f[1])) + int(inside(f[2]));
+    if (corners != 1) continue;
+    const std::size_t k = inside(f[0]) ? 0 : inside(f[1]) ? 1 : 2;
+    rim_.emplace_back(f[(k + 1) % 3], f[(k + 2) % 3]);
+  }
+  for (const auto& [from, to] : rim_)
+    if (!upright(mesh, keep, from, to)) return false;
+  const double limit = mesh.tolerance() * mesh.tolerance();
+  const Eigen::Vector3d pk = mesh.position(keep);
+  for (const Index v : block) {
+    if (v == keep) continue;
+    const Eigen::Vector3d p = mesh.position(v);
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& [from, to] : rim_)
+      best =
+          std::min(best, (closest_point_on_triangle(p, pk, mesh.position(from), mesh.position(to)) - p).squaredNorm());
+    if (!(best <= limit)) return false;
+  }
+  return true;
+}
+
+bool BlockMerge::one_disk(std::span<const Index> block) {
+  const MeshView& mesh = *mesh_;
+  const auto inside = [&](Index v) { return std::binary_search(block.begin(), block.end(), v); };
+  edges_.clear();
+  vertices_.clear();
+  for (const Index t : triangles_) {
+    const Triangle& f = mesh.triangles()[t];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const Index a = f[k], b = f[(k + 1) % 3];
+      edges_.push_back({std::min(a, b), std::max(a, b), a, b});
+      vertices_.push_back(a);
+    }
+  }
+  std::sort(edges_.begin(), edges_.end(),
+            [](const Edge& x, const Edge& y) { return std::tie(x.lo, x.hi) < std::tie(y.lo, y.hi); });
+  std::sort(vertices_.begin(), vertices_.end());
+  vertices_.erase(std::unique(vertices_.begin(), vertices_.end()), vertices_.end());
+  // Each edge in one or two triangles; those in one (the rim) between vertices outside the
+  // block; the block's vertices joined by edges into one piece.
+  std::size_t edges = 0, rim = 0;
+  parent_.resize(block.size());
+  std::iota(parent_.begin(), parent_.end(), Index{0});
+  const auto root = [&](Index i) {
+    while (parent_[i] != i) i = parent_[i] = parent_[parent_[i]];
+    return i;
+  };
+  const auto at = [&](Index v) {
+    return static_cast<Index>(std::lower_bound(block.begin(), block.end(), v) - block.begin());
+  };
+  for (std::size_t i = 0, j = 0; i < edges_.size(); i = j) {
+    while (j < edges_.size() && edges_[j].lo == edges_[i].lo && edges_[j].hi == edges_[i].hi) ++j;
+    ++edges;
+    const Edge& e = edges_[i];
+    if (j - i > 2) return false;
+    const bool in_lo = inside(e.lo), in_hi = inside(e.hi);
+    if (j - i == 1) {
+      if (in_lo || in_hi) return false;
+      ++rim;
+    } else if (in_lo && in_hi) {
+      parent_[root(at(e.lo))] = root(at(e.hi));
+    }
+  }
+  for (std::size_t i = 0; i < block.size(); ++i)
+    if (root(static_cast<Index>(i)) != root(0)) return false;
+  // The rim is the fan's (each of its edges faces one corner in the block), one simple cycle
+  // through every vertex outside the block, and Euler's characteristic is 1.
+  if (rim != rim_.size() || rim_.size() < 3 || vertices_.size() != block.size() + rim_.size()) return false;
+  if (static_cast<long>(vertices_.size()) - static_cast<long>(edges) + static_cast<long>(triangles_.size()) != 1)
+    return false;
+  std::sort(rim_.begin(), rim_.end());
+  for (std::size_t i = 1; i < rim_.size(); ++i)
+    if (rim_[i].first == rim_[i - 1].first) return false;
+  std::size_t steps = 0;
+  for (Index from = rim_.front().first;;) {
+    const auto next = std::lower_bound(rim_.begin(), rim_.end(), std::pair{from, Index{0}});
+    if (next == rim_.end() || next->first != from) return false;
+    from = next->second;
+    if (++steps > rim_.size()) return false;
+    if (from == rim_.front().first) break;
+  }
+  return steps == rim_.size();
+}
+
+bool one_fan(Index v, const std::vector<Triangle>& tris, const VertexTriangles& around,
+             std::vector<std::pair<Index, Index>>& link) {
+  link.clear();
+  for (const Index t : around.of(v)) {
+    const Triangle& f = tris[t];
+    const std::size_t k = f[0] == v ? 0 : f[1] == v ? 1 : 2;
+    link.emplace_back(f[(k + 1) % 3], f[(k + 2) % 3]);
+  }
+  if (link.empty()) return true;
+  std::sort(link.begin(), link.end());
+  for (std::size_t i = 1; i < link.size(); ++i)
+    if (link[i].first == link[i - 1].first) return false;
+  // A path starts at a link vertex that no edge ends at; a cycle has none.
+  std::vector<Index> ends;
+  ends.reserve(link.size());
+  for (const auto& e : link) ends.push_back(e.second);
+  std::sort(ends.begin(), ends.end());
+  for (std::size_t i = 1; i < ends.size(); ++i)
+    if (ends[i] == ends[i - 1]) return false;
+  Index start = link.front().first;
+  std::size_t starts = 0;
+  for (const auto& e : link)
+    if (!std::binary_search(ends.begin(), ends.end(), e.first)) start = e.first, ++starts;
+  if (starts > 1) return false;
+  std::size_t steps = 0;
+  for (Index at = start;;) {
+    const auto next = std::lower_bound(link.begin(), link.end(), std::pair{at, Index{0}});
+    if (next == link.end() || next->first != at) break;  // the path's end
+    at = next->second;
+    ++steps;
+    if (at == start || steps > link.size()) break;
+  }
+  return steps == link.size();
+}
+
+bool unturned(Index v, const MeshView& mesh, const std::vector<Triangle>& tris, const VertexTriangles& around) {
+  for (const Index t : around.of(v))
+    if (!upright(mesh, tris[t][0], tris[t][1], tris[t][2])) return false;
+  return true;
+}
+
+bool within_tolerance(std::span<const Index> members, Index keep, const MeshView& mesh,
+                      const std::vector<Triangle>& tris, std::span<const Index> fan, double tolerance) {
+  for (const Index v : members)
+    if (v != keep && !(squared_distance(mesh.position(v), mesh, tris, fan) <= tolerance * tolerance)) return false;
+  return true;
+}
+
+}  // namespace clustersurf::detail

@@ -1,0 +1,103 @@
+#pragma once
+// The test of one block of coarsen_mesh(): whether its vertices may become one, and the checks
+// that the merges of neighbouring blocks must pass together.
+
+#include <clustersurf/core/point_cloud.hpp>
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <utility>
+#include <vector>
+
+namespace clustersurf::detail {
+
+using Index = std::uint32_t;
+inline constexpr Index kNone = std::numeric_limits<Index>::max();
+using Triangle = std::array<Index, 3>;
+
+/// The smallest cosine between a triangle's normal and its corners' normals a merge may leave
+/// (60 degrees).
+inline constexpr double kMinNormalCosine = 0.5;
+
+/// Each vertex's triangles, in compressed rows, in the triangles' order.
+struct VertexTriangles {
+  std::vector<Index> begin, triangles;
+  VertexTriangles(std::span<const Triangle> tris, std::size_t vertices);
+  std::span<const Index> of(Index v) const { return {triangles.data() + begin[v], begin[v + 1] - begin[v]}; }
+};
+
+/// A mesh as coarsen_mesh() reads it: its positions, unit normals (the mesh's, or its
+/// triangles' area-weighted mean), triangles, each vertex's triangles, and the lattice.
+class MeshView {
+ public:
+  MeshView(const TriangleMesh& mesh, const Eigen::Vector3d& origin, double cell, double tolerance);
+
+  Index vertices() const { return static_cast<Index>(mesh_.vertices.rows()); }
+  const std::vector<Triangle>& triangles() const { return triangles_; }
+  const VertexTriangles& around() const { return around_; }
+  Eigen::Vector3d position(Index v) const { return mesh_.vertices.row(v).transpose(); }
+  const Eigen::Vector3d& normal(Index v) const { return normals_[v]; }
+  /// The block of side `size` that holds vertex v, packed; -1 outside the lattice's packable range.
+  std::int64_t block_key(Index v, double size) const;
+  /// Whether vertices a and b carry the same value of every attribute.
+  bool same_attributes(Index a, Index b) const;
+  double cell() const { return cell_; }
+  double tolerance() const { return tolerance_; }
+
+ private:
+  const TriangleMesh& mesh_;
+  Eigen::Vector3d origin_;
+  double cell_, tolerance_;
+  std::vector<Triangle> triangles_;
+  VertexTriangles around_;
+  std::vector<Eigen::Vector3d> normals_;
+};
+
+/// Tests blocks one at a time, with scratch space of its own (one per thread).
+class BlockMerge {
+ public:
+  explicit BlockMerge(const MeshView& mesh) : mesh_(&mesh) {}
+  /// The vertex of `block` (every vertex in one block, in increasing order) that they may merge
+  /// into, or kNone: their triangles form one disk off the
+  /// mesh's boundary, and the fan from the vertex nearest their centroid (ties: the lowest
+  /// position) to its rim keeps every triangle within kMinNormalCosine of its corners' normals
+  /// and each of them within the tolerance.
+  Index kept_vertex(std::span<const Index> block);
+
+ private:
+  struct Edge {
+    Index lo, hi, from, to;
+  };
+  /// The vertex of `block` nearest its centroid (ties: the lowest position).
+  Index central_vertex(std::span<const Index> block) const;
+  /// Whether the fan from `keep` over the rim of the block's triangles_ (their edges that face
+  /// one corner in the block, kept in rim_) is upright and within the tolerance of the block.
+  bool fan_holds(std::span<const Index> block, Index keep);
+  /// Whether triangles_ form one disk whose interior vertices are the block's and whose
+  /// boundary is rim_, one simple cycle.
+  bool one_disk(std::span<const Index> block);
+
+  const MeshView* mesh_;
+  std::vector<Index> triangles_, vertices_;
+  std::vector<Edge> edges_;
+  std::vector<std::pair<Index, Index>> rim_;
+  std::vector<Index> parent_;
+};
+
+/// Whether the triangles `tris` around vertex v (`around`) form one fan: a cycle, or a path
+/// where v is on the boundary, each edge from v in at most two of them. `link` is scratch.
+bool one_fan(Index v, const std::vector<Triangle>& tris, const VertexTriangles& around,
+             std::vector<std::pair<Index, Index>>& link);
+
+/// Whether every triangle of `tris` around v has an area and a normal within kMinNormalCosine of
+/// its corners' normals.
+bool unturned(Index v, const MeshView& mesh, const std::vector<Triangle>& tris, const VertexTriangles& around);
+
+/// Whether each of `members` (merged into `keep`) lies within `tolerance` of one of `fan`, the
+/// triangles of `tris` around `keep`.
+bool within_tolerance(std::span<const Index> members, Index keep, const MeshView& mesh,
+                      const std::vector<Triangle>& tris, std::span<const Index> fan, double tolerance);
+
+}  // namespace clustersurf::detail
