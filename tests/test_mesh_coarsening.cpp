@@ -18,6 +18,7 @@
 #include <numeric>
 #include <random>
 #include <set>
+#include <stdexcept>
 
 #include "test_support.hpp"
 
@@ -80,17 +81,15 @@ double farthest_vertex(const TriangleMesh& fine, const TriangleMesh& coarse) {
   return worst;
 }
 
-/// The triangles as sets of their corners' positions: the mesh whatever its numbering.
-std::set<std::array<double, 9>> triangle_set(const TriangleMesh& mesh) {
-  std::set<std::array<double, 9>> out;
-  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
-    std::array<std::array<double, 3>, 3> c;
-    for (int k = 0; k < 3; ++k)
-      for (int a = 0; a < 3; ++a) c[k][a] = mesh.vertices(mesh.triangles(t, k), a);
-    std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());  // orientation kept
-    out.insert({c[0][0], c[0][1], c[0][2], c[1][0], c[1][1], c[1][2], c[2][0], c[2][1], c[2][2]});
-  }
-  return out;
+/// The mesh of `cloud` under `sigma` of noise along its normals (seeded), not coarsened: a
+/// smooth blend whose leaves may miss the points by the noise.
+Reconstruction uncoarsened(PointCloud cloud, double sigma, std::uint64_t seed) {
+  test::add_normal_noise(cloud, sigma, seed);
+  ReconstructOptions options;
+  options.meshing.coarsening.error_share = 0;
+  Reconstruction r = reconstruct(cloud, options);
+  if (!r.mesh) throw std::runtime_error("no mesh");
+  return r;
 }
 
 CoarseningOptions with_share(double share) {
@@ -169,13 +168,7 @@ TEST(MeshCoarsening, ACreaseStaysStraight) {
 }
 
 TEST(MeshCoarsening, AClosedSurfaceStaysClosedAndFacingOut) {
-  // A noisy sphere's mesh: its blend is smooth, its leaves may miss the points by the noise.
-  PointCloud cloud = test::sample_sphere(30000);
-  test::add_normal_noise(cloud, 0.01, 5);
-  ReconstructOptions options;
-  options.meshing.coarsening.error_share = 0;
-  const Reconstruction r = reconstruct(cloud, options);
-  ASSERT_TRUE(r.mesh);
+  const Reconstruction r = uncoarsened(test::sample_sphere(30000), 0.01, 5);
   const TriangleMesh& fine = r.mesh->mesh;
   ASSERT_TRUE(is_watertight(mesh_topology(fine)));
   CoarseningReport report;
@@ -193,12 +186,7 @@ TEST(MeshCoarsening, AClosedSurfaceStaysClosedAndFacingOut) {
 }
 
 TEST(MeshCoarsening, TheSameMeshForAnyNumberingAndThreadCount) {
-  PointCloud cloud = test::sample_torus(20000);
-  test::add_normal_noise(cloud, 0.01, 3);
-  ReconstructOptions options;
-  options.meshing.coarsening.error_share = 0;
-  const Reconstruction r = reconstruct(cloud, options);
-  ASSERT_TRUE(r.mesh);
+  const Reconstruction r = uncoarsened(test::sample_torus(20000), 0.01, 3);
   const TriangleMesh& fine = r.mesh->mesh;
   const auto coarsen = [&](const TriangleMesh& m) {
     return coarsen_mesh(m, r.tree.bbox.min, r.mesh->grid.voxel_size, r.tree.error_threshold, with_share(0.25));
@@ -226,7 +214,7 @@ TEST(MeshCoarsening, TheSameMeshForAnyNumberingAndThreadCount) {
   for (Eigen::Index t = 0; t < fine.triangles.rows(); ++t)
     for (int k = 0; k < 3; ++k)
       shuffled.triangles(fine.triangles.rows() - 1 - t, k) = order[static_cast<std::size_t>(fine.triangles(t, k))];
-  EXPECT_EQ(triangle_set(coarsen(shuffled)), triangle_set(many));
+  EXPECT_EQ(test::triangle_set(coarsen(shuffled)), test::triangle_set(many));
 }
 
 TEST(MeshCoarsening, BlocksWhoseVerticesDifferInAnAttributeStay) {

@@ -2,6 +2,7 @@
 
 #include <clustersurf/evaluation/range_scan.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <random>
@@ -124,6 +125,22 @@ PointCloud noisy_heightfield(int n, double sigma, const std::function<double(dou
     c.positions.row(i) << x + g(rng), y + g(rng), height(x, y) + g(rng);
   }
   return c;
+}
+
+std::set<std::array<double, 9>> triangle_set(const TriangleMesh& mesh) {
+  std::set<std::array<double, 9>> out;
+  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
+    std::array<std::array<double, 3>, 3> c;
+    for (int k = 0; k < 3; ++k)
+      for (int a = 0; a < 3; ++a)
+        c[static_cast<std::size_t>(k)][static_cast<std::size_t>(a)] = mesh.vertices(mesh.triangles(t, k), a);
+    const auto first = static_cast<std::size_t>(std::min_element(c.begin(), c.end()) - c.begin());
+    std::array<double, 9> key;
+    for (std::size_t k = 0; k < 3; ++k)
+      for (std::size_t a = 0; a < 3; ++a) key[3 * k + a] = c[(first + k) % 3][a];
+    out.insert(key);
+  }
+  return out;
 }
 
 }  // namespace clustersurf::test

@@ -3,10 +3,12 @@
 
 #include <clustersurf/core/point_cloud.hpp>
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <optional>
+#include <set>
 #include <string>
 
 namespace clustersurf::test {
@@ -44,6 +46,9 @@ PointCloud sample_torus(int n, double R = 1.0, double r = 0.35);
 PointCloud sample_plane(int nx, int ny);
 /// Moves every point along its normal by Gaussian noise of standard deviation `sigma` (seeded).
 void add_normal_noise(PointCloud& c, double sigma, std::uint64_t seed);
+/// The triangles of a mesh as corner positions, each starting at its smallest corner (its
+/// orientation kept): the mesh whatever the numbering of its vertices and triangles.
+std::set<std::array<double, 9>> triangle_set(const TriangleMesh& mesh);
 /// `n` points of the height field z = height(x, y) over the unit square, Gaussian noise of
 /// standard deviation `sigma` on every coordinate (seeded), no normals.
 PointCloud noisy_heightfield(int n, double sigma, const std::function<double(double, double)>& height,

@@ -26,23 +26,6 @@ RegionOptions regions_of(std::uint64_t points) {
   return o;
 }
 
-/// The triangles of a mesh as corner positions, each starting at its smallest corner.
-std::set<std::array<double, 9>> triangle_set(const TriangleMesh& mesh) {
-  std::set<std::array<double, 9>> out;
-  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {
-    std::array<std::array<double, 3>, 3> c;
-    for (int k = 0; k < 3; ++k)
-      for (int a = 0; a < 3; ++a)
-        c[static_cast<std::size_t>(k)][static_cast<std::size_t>(a)] = mesh.vertices(mesh.triangles(t, k), a);
-    const auto first = static_cast<std::size_t>(std::min_element(c.begin(), c.end()) - c.begin());
-    std::array<double, 9> key;
-    for (std::size_t k = 0; k < 3; ++k)
-      for (std::size_t a = 0; a < 3; ++a) key[3 * k + a] = c[(first + k) % 3][a];
-    out.insert(key);
-  }
-  return out;
-}
-
 }  // namespace
 
 TEST(RegionPlan, BalancesRegionsByPointCount) {
@@ -102,7 +85,7 @@ TEST(Tiling, TilesMeetWithoutSeams) {
   // the bit: nothing differs along a tile border.
   const CloudIndex index(cloud);
   const SurfaceMesh whole = mesh_tree(tiled.tree, {}, &index);
-  EXPECT_EQ(triangle_set(tiled.mesh->mesh), triangle_set(whole.mesh));
+  EXPECT_EQ(test::triangle_set(tiled.mesh->mesh), test::triangle_set(whole.mesh));
   EXPECT_EQ(tiled.mesh->mesh.vertices.rows(), whole.mesh.vertices.rows());
   const MeshTopology topology = mesh_topology(tiled.mesh->mesh);
   EXPECT_EQ(topology.non_manifold_edges, 0u);
@@ -122,7 +105,7 @@ TEST(Tiling, CoarsenedTilesMeetAsTheWholeMeshCoarsened) {
   std::cout << "whole mesh: " << whole.coarsening.merged_blocks << " blocks merged, "
             << whole.coarsening.triangles_before << " -> " << whole.coarsening.triangles_after << " triangles\n";
   EXPECT_LT(whole.coarsening.triangles_after, whole.coarsening.triangles_before * 9 / 10);
-  EXPECT_EQ(triangle_set(tiled.mesh->mesh), triangle_set(whole.mesh));
+  EXPECT_EQ(test::triangle_set(tiled.mesh->mesh), test::triangle_set(whole.mesh));
   EXPECT_EQ(tiled.mesh->mesh.vertices.rows(), whole.mesh.vertices.rows());
   const MeshTopology topology = mesh_topology(tiled.mesh->mesh);
   EXPECT_EQ(topology.non_manifold_edges, 0u);

@@ -5,6 +5,8 @@
 
 #include <clustersurf/core/closest_point.hpp>
 
+#include <tbb/parallel_for.h>
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -15,9 +17,20 @@ namespace clustersurf::detail {
 
 namespace {
 
-/// Bits of each packed block coordinate; coordinates are offset by half their range.
-constexpr int kKeyBits = 21;
-constexpr std::int64_t kKeyOffset = std::int64_t{1} << (kKeyBits - 1);
+/// Bits of each cell coordinate in a Morton code; coordinates are offset by half their range.
+constexpr int kCodeBits = 21;
+constexpr std::int64_t kCodeOffset = std::int64_t{1} << (kCodeBits - 1);
+
+/// The low 21 bits of x spread to every third bit.
+std::uint64_t spread_bits(std::uint64_t x) {
+  x &= 0x1fffff;
+  x = (x | x << 32) & 0x1f00000000ffffULL;
+  x = (x | x << 16) & 0x1f0000ff0000ffULL;
+  x = (x | x << 8) & 0x100f00f00f00f00fULL;
+  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+  x = (x | x << 2) & 0x1249249249249249ULL;
+  return x;
+}
 
 /// Whether triangle (a, b, c) has an area (against the cell's square) and a normal within
 /// kMinNormalCosine of each corner's normal.
@@ -31,12 +44,10 @@ bool upright(const MeshView& mesh, Index a, Index b, Index c) {
   return true;
 }
 
-/// The smallest squared distance from p to the triangles `fan` of `tris`.
-double squared_distance(const Eigen::Vector3d& p, const MeshView& mesh, const std::vector<Triangle>& tris,
-                        std::span<const Index> fan) {
+/// The smallest squared distance from p to the triangles `fan`.
+double squared_distance(const Eigen::Vector3d& p, const MeshView& mesh, std::span<const Triangle> fan) {
   double best = std::numeric_limits<double>::infinity();
-  for (const Index t : fan) {
-    const Triangle& f = tris[t];
+  for (const Triangle& f : fan) {
     best =
         std::min(best, (closest_point_on_triangle(p, mesh.position(f[0]), mesh.position(f[1]), mesh.position(f[2])) - p)
                            .squaredNorm());
@@ -76,26 +87,28 @@ MeshView::MeshView(const TriangleMesh& mesh, const Eigen::Vector3d& origin, doub
       triangles_(triangles_of(mesh)),
       around_(triangles_, static_cast<std::size_t>(mesh.vertices.rows())),
       normals_(static_cast<std::size_t>(mesh.vertices.rows()), Eigen::Vector3d::Zero()) {
-  if (mesh.normals.rows() == mesh.vertices.rows()) {
-    for (Index v = 0; v < vertices(); ++v) normals_[v] = mesh.normals.row(v).transpose();
-  } else {
+  const bool given = mesh.normals.rows() == mesh.vertices.rows();
+  if (!given)
     for (const Triangle& t : triangles_) {
       const Eigen::Vector3d n = (position(t[1]) - position(t[0])).cross(position(t[2]) - position(t[0]));
       for (const Index v : t) normals_[v] += n;
     }
-  }
-  for (Eigen::Vector3d& n : normals_) {
-    const double length = n.norm();
-    n = length > 0 ? Eigen::Vector3d(n / length) : Eigen::Vector3d::Zero();
-  }
-}
-
-std::int64_t MeshView::block_key(Index v, double size) const {
-  const Eigen::Array3d c = ((position(v) - origin_) / size).array().floor();
-  if (!c.allFinite() || (c.abs() >= static_cast<double>(kKeyOffset)).any()) return -1;
-  std::int64_t key = 0;
-  for (int a = 0; a < 3; ++a) key = (key << kKeyBits) | (static_cast<std::int64_t>(c[a]) + kKeyOffset);
-  return key;
+  cells_.resize(normals_.size());
+  tbb::parallel_for(tbb::blocked_range<Index>(0, vertices(), 4096), [&](const auto& r) {
+    for (Index v = r.begin(); v != r.end(); ++v) {
+      Eigen::Vector3d& n = normals_[v];
+      if (given) n = mesh.normals.row(v).transpose();
+      const double length = n.norm();
+      n = length > 0 ? Eigen::Vector3d(n / length) : Eigen::Vector3d::Zero();
+      const Eigen::Array3d c = ((position(v) - origin_) / cell_).array().floor();
+      cells_[v] = kNoCell;
+      if (!c.allFinite() || (c.abs() >= static_cast<double>(kCodeOffset)).any()) continue;
+      std::uint64_t code = 0;
+      for (int a = 0; a < 3; ++a)
+        code |= spread_bits(static_cast<std::uint64_t>(static_cast<std::int64_t>(c[a]) + kCodeOffset)) << (2 - a);
+      cells_[v] = code;
+    }
+  });
 }
 
 bool MeshView::same_attributes(Index a, Index b) const {
@@ -230,11 +243,9 @@ bool BlockMerge::one_disk(std::span<const Index> block) {
   return steps == rim_.size();
 }
 
-bool one_fan(Index v, const std::vector<Triangle>& tris, const VertexTriangles& around,
-             std::vector<std::pair<Index, Index>>& link) {
+bool one_fan(Index v, std::span<const Triangle> star, std::vector<std::pair<Index, Index>>& link) {
   link.clear();
-  for (const Index t : around.of(v)) {
-    const Triangle& f = tris[t];
+  for (const Triangle& f : star) {
     const std::size_t k = f[0] == v ? 0 : f[1] == v ? 1 : 2;
     link.emplace_back(f[(k + 1) % 3], f[(k + 2) % 3]);
   }
@@ -265,16 +276,16 @@ bool one_fan(Index v, const std::vector<Triangle>& tris, const VertexTriangles& 
   return steps == link.size();
 }
 
-bool unturned(Index v, const MeshView& mesh, const std::vector<Triangle>& tris, const VertexTriangles& around) {
-  for (const Index t : around.of(v))
-    if (!upright(mesh, tris[t][0], tris[t][1], tris[t][2])) return false;
+bool unturned(const MeshView& mesh, std::span<const Triangle> star) {
+  for (const Triangle& f : star)
+    if (!upright(mesh, f[0], f[1], f[2])) return false;
   return true;
 }
 
-bool within_tolerance(std::span<const Index> members, Index keep, const MeshView& mesh,
-                      const std::vector<Triangle>& tris, std::span<const Index> fan, double tolerance) {
+bool within_tolerance(std::span<const Index> members, Index keep, const MeshView& mesh, std::span<const Triangle> fan) {
+  const double limit = mesh.tolerance() * mesh.tolerance();
   for (const Index v : members)
-    if (v != keep && !(squared_distance(mesh.position(v), mesh, tris, fan) <= tolerance * tolerance)) return false;
+    if (v != keep && !(squared_distance(mesh.position(v), mesh, fan) <= limit)) return false;
   return true;
 }
 

@@ -16,6 +16,7 @@ namespace clustersurf::detail {
 using Index = std::uint32_t;
 inline constexpr Index kNone = std::numeric_limits<Index>::max();
 using Triangle = std::array<Index, 3>;
+inline constexpr std::uint64_t kNoCell = std::numeric_limits<std::uint64_t>::max();
 
 /// The smallest cosine between a triangle's normal and its corners' normals a merge may leave
 /// (60 degrees).
@@ -39,8 +40,10 @@ class MeshView {
   const VertexTriangles& around() const { return around_; }
   Eigen::Vector3d position(Index v) const { return mesh_.vertices.row(v).transpose(); }
   const Eigen::Vector3d& normal(Index v) const { return normals_[v]; }
-  /// The block of side `size` that holds vertex v, packed; -1 outside the lattice's packable range.
-  std::int64_t block_key(Index v, double size) const;
+  /// The lattice cell that holds vertex v as a Morton code (its coordinates' bits interleaved),
+  /// kNoCell outside the range of 2^21 cells the code holds: the block of 2^l cells that holds
+  /// it is code >> (3 l), and the vertices of a block are contiguous in the codes' order.
+  std::uint64_t cell_code(Index v) const { return cells_[v]; }
   /// Whether vertices a and b carry the same value of every attribute.
   bool same_attributes(Index a, Index b) const;
   double cell() const { return cell_; }
@@ -53,6 +56,7 @@ class MeshView {
   std::vector<Triangle> triangles_;
   VertexTriangles around_;
   std::vector<Eigen::Vector3d> normals_;
+  std::vector<std::uint64_t> cells_;
 };
 
 /// Tests blocks one at a time, with scratch space of its own (one per thread).
@@ -86,18 +90,16 @@ class BlockMerge {
   std::vector<Index> parent_;
 };
 
-/// Whether the triangles `tris` around vertex v (`around`) form one fan: a cycle, or a path
-/// where v is on the boundary, each edge from v in at most two of them. `link` is scratch.
-bool one_fan(Index v, const std::vector<Triangle>& tris, const VertexTriangles& around,
-             std::vector<std::pair<Index, Index>>& link);
+/// Whether `star`, the triangles around vertex v, form one fan: a cycle, or a path where v is
+/// on the boundary, each edge from v in at most two of them. `link` is scratch.
+bool one_fan(Index v, std::span<const Triangle> star, std::vector<std::pair<Index, Index>>& link);
 
-/// Whether every triangle of `tris` around v has an area and a normal within kMinNormalCosine of
-/// its corners' normals.
-bool unturned(Index v, const MeshView& mesh, const std::vector<Triangle>& tris, const VertexTriangles& around);
+/// Whether every triangle of `star` has an area and a normal within kMinNormalCosine of its
+/// corners' normals.
+bool unturned(const MeshView& mesh, std::span<const Triangle> star);
 
-/// Whether each of `members` (merged into `keep`) lies within `tolerance` of one of `fan`, the
-/// triangles of `tris` around `keep`.
-bool within_tolerance(std::span<const Index> members, Index keep, const MeshView& mesh,
-                      const std::vector<Triangle>& tris, std::span<const Index> fan, double tolerance);
+/// Whether each of `members` (merged into `keep`) lies within the tolerance of one of `fan`, the
+/// triangles around `keep`.
+bool within_tolerance(std::span<const Index> members, Index keep, const MeshView& mesh, std::span<const Triangle> fan);
 
 }  // namespace clustersurf::detail

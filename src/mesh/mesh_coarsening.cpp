@@ -1,7 +1,7 @@
 // coarsen_mesh(): each block's merge tested on the mesh around it, from the smallest block up;
-// then the merges checked together on the coarse mesh, and the last in priority around each
-// vertex that fails undone (its blocks of the size below merging instead), until none fails
-// (block_merge.hpp holds the tests).
+// then the merges checked together around every vertex they change, and the last in priority
+// around each vertex that fails undone (its blocks of the size below merging instead), until
+// none fails (block_merge.hpp holds the tests).
 
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/mesh/mesh_coarsening.hpp>
@@ -11,12 +11,12 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cmath>
 #include <span>
 #include <string>
-#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -26,49 +26,53 @@ namespace {
 
 using detail::BlockMerge;
 using detail::Index;
+using detail::kNoCell;
 using detail::kNone;
 using detail::MeshView;
 using detail::Triangle;
-using detail::VertexTriangles;
 
 /// Rounds of the joint check before every merge still in doubt is undone.
 constexpr int kJointRounds = 8;
 
-/// The vertices grouped by the block of side `size` that holds them: (key, vertex) pairs in
-/// order, and where each block's run begins (with the end last).
-struct Grouping {
-  std::vector<std::pair<std::int64_t, Index>> keyed;
-  std::vector<std::size_t> begin;
-};
+/// The start of each run of `order` (vertices in the order of their cell codes) that one block
+/// of 2^l cells holds, and the end last.
+std::vector<std::size_t> block_runs(const MeshView& mesh, std::span<const Index> order, std::uint32_t l) {
+  std::vector<std::size_t> begin{0};
+  for (std::size_t i = 1; i <= order.size(); ++i)
+    if (i == order.size() || mesh.cell_code(order[i]) >> (3 * l) != mesh.cell_code(order[i - 1]) >> (3 * l))
+      begin.push_back(i);
+  return begin;
+}
 
-Grouping group_by_block(const MeshView& mesh, std::span<const Index> vertices, double size) {
-  Grouping g;
-  g.keyed.reserve(vertices.size());
-  for (const Index v : vertices) {
-    const std::int64_t key = mesh.block_key(v, size);
-    if (key >= 0) g.keyed.emplace_back(key, v);
-  }
-  std::sort(g.keyed.begin(), g.keyed.end());
-  g.begin.push_back(0);
-  for (std::size_t i = 1; i <= g.keyed.size(); ++i)
-    if (i == g.keyed.size() || g.keyed[i].first != g.keyed[i - 1].first) g.begin.push_back(i);
-  return g;
+/// `vertices` in the order of their cell codes (ties: by number), those outside the codes'
+/// range left out.
+std::vector<Index> in_cell_order(const MeshView& mesh, std::span<const Index> vertices) {
+  std::vector<std::pair<std::uint64_t, Index>> keyed;
+  keyed.reserve(vertices.size());
+  for (const Index v : vertices)
+    if (mesh.cell_code(v) != kNoCell) keyed.emplace_back(mesh.cell_code(v), v);
+  tbb::parallel_sort(keyed.begin(), keyed.end());
+  std::vector<Index> order(keyed.size());
+  for (std::size_t i = 0; i < keyed.size(); ++i) order[i] = keyed[i].second;
+  return order;
 }
 
 /// The merges: each block's level (1: 2 cells, 2: 4, …), kept vertex and members, in the order
-/// they were planned, which is their priority (larger blocks first, then by key; blocks that
-/// replace an undone one last).
+/// they were planned, which is their priority (larger blocks first, then in the cells' order;
+/// blocks that replace an undone one last).
 class Merges {
  public:
   /// Each block's own test from the smallest up (own_tests()), each vertex in the largest that
   /// passed.
-  Merges(const MeshView& mesh, std::uint32_t levels) : mesh_(mesh), rep_(mesh.vertices(), kNone) {
-    own_tests(levels);
+  Merges(const MeshView& mesh, std::uint32_t levels)
+      : mesh_(mesh), rep_(mesh.vertices(), kNone), block_of_(mesh.vertices(), kNone) {
     std::vector<Index> all(mesh.vertices());
     for (Index v = 0; v < mesh.vertices(); ++v) all[v] = v;
-    for (std::size_t l = kept_.size(); l >= 1; --l) {
+    const std::vector<Index> order = in_cell_order(mesh, all);
+    own_tests(order, levels);
+    for (std::uint32_t l = static_cast<std::uint32_t>(kept_.size()); l >= 1; --l) {
       std::vector<Index> at_level;
-      for (const Index v : all)
+      for (const Index v : order)
         if (level_[v] == l) at_level.push_back(v);
       plan(at_level, l);
     }
@@ -82,40 +86,62 @@ class Merges {
   }
   /// The vertex v becomes: its live block's kept vertex, or itself.
   Index image(Index v) const { return rep_[v] == kNone ? v : rep_[v]; }
+  /// The live block whose kept vertex v is, or kNone.
+  Index block_kept_at(Index v) const { return block_of_[v]; }
+
+  /// The triangles around vertex v of the coarse mesh (none for a merged vertex that is not
+  /// kept), in `star`; `scratch` holds the original triangles they come from.
+  void star(Index v, std::vector<Triangle>& star, std::vector<Index>& scratch) const {
+    star.clear();
+    scratch.clear();
+    if (rep_[v] != kNone && rep_[v] != v) return;
+    const auto add = [&](Index u) {
+      for (const Index t : mesh_.around().of(u)) scratch.push_back(t);
+    };
+    if (block_of_[v] != kNone) {
+      for (const Index m : members(block_of_[v])) add(m);
+      std::sort(scratch.begin(), scratch.end());
+      scratch.erase(std::unique(scratch.begin(), scratch.end()), scratch.end());
+    } else {
+      add(v);
+    }
+    for (const Index t : scratch) {
+      const Triangle& f = mesh_.triangles()[t];
+      const Triangle c{image(f[0]), image(f[1]), image(f[2])};
+      if (c[0] != c[1] && c[1] != c[2] && c[0] != c[2]) star.push_back(c);
+    }
+  }
 
   /// Undoes block b; with `fall_back`, its members merge in the blocks of the size below
   /// instead (each of which passed its own test).
   void undo(std::size_t b, bool fall_back) {
     undone_[b] = 1;
-    const std::span<const Index> m = members(b);
+    block_of_[keep_[b]] = kNone;
+    const std::vector<Index> m(members(b).begin(), members(b).end());
     for (const Index v : m) rep_[v] = kNone;
-    if (fall_back && level_of_[b] > 1) {
-      const std::vector<Index> copy(m.begin(), m.end());
-      plan(copy, level_of_[b] - 1u);
-    }
+    if (fall_back && level_of_[b] > 1) plan(in_cell_order(mesh_, m), level_of_[b] - 1u);
   }
 
  private:
   /// level_[v]: the largest block around v whose own test passed (0: none), where a block of 2
   /// cells passes its test (one vertex alone passes) and a larger one passes when each of its
   /// vertices passed at the size below and its own test passes; kept_[l − 1][v]: the vertex
-  /// v's block of level l keeps.
-  void own_tests(std::uint32_t levels) {
+  /// v's block of level l keeps. `order`: the vertices in their cells' order.
+  void own_tests(std::span<const Index> order, std::uint32_t levels) {
     const Index n = mesh_.vertices();
     level_.assign(n, 0);
-    std::vector<Index> all(n);
-    for (Index v = 0; v < n; ++v) all[v] = v;
     tbb::enumerable_thread_specific<BlockMerge> tests([&] { return BlockMerge(mesh_); });
     for (std::uint32_t l = 1; l <= levels; ++l) {
-      const Grouping g = group_by_block(mesh_, all, mesh_.cell() * static_cast<double>(1u << l));
+      const std::vector<std::size_t> runs = block_runs(mesh_, order, l);
       std::vector<Index>& keep = kept_.emplace_back(n, kNone);
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, g.begin.size() - 1, 64), [&](const auto& r) {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, runs.size() - 1, 64), [&](const auto& r) {
         BlockMerge& test = tests.local();
         std::vector<Index> block;
         for (std::size_t b = r.begin(); b != r.end(); ++b) {
-          block.clear();
-          for (std::size_t i = g.begin[b]; i < g.begin[b + 1]; ++i) block.push_back(g.keyed[i].second);
+          block.assign(order.begin() + static_cast<std::ptrdiff_t>(runs[b]),
+                       order.begin() + static_cast<std::ptrdiff_t>(runs[b + 1]));
           if (std::any_of(block.begin(), block.end(), [&](Index v) { return level_[v] + 1u != l; })) continue;
+          std::sort(block.begin(), block.end());
           const Index k = block.size() == 1 ? block.front() : test.kept_vertex(block);
           if (k != kNone)
             for (const Index v : block) keep[v] = k;
@@ -128,17 +154,21 @@ class Merges {
     }
   }
 
-  /// Plans the blocks of level l that hold `vertices` (each passed its test at that level),
-  /// in order of key; blocks of one vertex change nothing and are left out.
-  void plan(std::span<const Index> vertices, std::size_t l) {
-    const Grouping g = group_by_block(mesh_, vertices, mesh_.cell() * static_cast<double>(1u << l));
-    for (std::size_t b = 0; b + 1 < g.begin.size(); ++b) {
-      if (g.begin[b + 1] - g.begin[b] < 2) continue;
-      const Index k = kept_[l - 1][g.keyed[g.begin[b]].second];
+  /// Plans the blocks of level l that hold `order` (vertices in their cells' order, each of
+  /// which passed its test at that level), one per run; blocks of one vertex change nothing.
+  void plan(std::span<const Index> order, std::uint32_t l) {
+    const std::vector<std::size_t> runs = block_runs(mesh_, order, l);
+    for (std::size_t b = 0; b + 1 < runs.size(); ++b) {
+      if (runs[b + 1] - runs[b] < 2) continue;
+      const Index k = kept_[l - 1][order[runs[b]]];
+      block_of_[k] = static_cast<Index>(keep_.size());
       keep_.push_back(k);
-      for (std::size_t i = g.begin[b]; i < g.begin[b + 1]; ++i) {
-        members_.push_back(g.keyed[i].second);
-        rep_[g.keyed[i].second] = k;
+      std::vector<Index> block(order.begin() + static_cast<std::ptrdiff_t>(runs[b]),
+                               order.begin() + static_cast<std::ptrdiff_t>(runs[b + 1]));
+      std::sort(block.begin(), block.end());
+      for (const Index v : block) {
+        members_.push_back(v);
+        rep_[v] = k;
       }
       begin_.push_back(static_cast<Index>(members_.size()));
       level_of_.push_back(static_cast<std::uint8_t>(l));
@@ -151,59 +181,69 @@ class Merges {
   std::vector<std::vector<Index>> kept_;
   std::vector<Index> keep_, begin_{0}, members_;
   std::vector<std::uint8_t> level_of_, undone_;
-  std::vector<Index> rep_;
+  std::vector<Index> rep_, block_of_;
 };
 
-/// The triangles of `mesh` with each vertex replaced by its image, the degenerate ones dropped.
-std::vector<Triangle> coarse_triangles(const MeshView& mesh, const Merges& merges) {
-  std::vector<Triangle> out;
-  out.reserve(mesh.triangles().size());
-  for (const Triangle& t : mesh.triangles()) {
-    const Triangle c{merges.image(t[0]), merges.image(t[1]), merges.image(t[2])};
-    if (c[0] != c[1] && c[1] != c[2] && c[0] != c[2]) out.push_back(c);
-  }
-  return out;
-}
-
-/// The live blocks whose merge fails on the coarse mesh `coarse`: around each vertex of a
-/// triangle a merge changed whose triangles are not one fan (a vertex or an edge not manifold, a
-/// triangle twice) or where one is turned against its corners' normals, the last in priority
-/// of the blocks kept there; and each block with a merged vertex farther than the tolerance
+/// The live blocks whose merge fails on the coarse mesh, looked for where the blocks `changed`
+/// (merged or undone since the last look) changed it: around each vertex of a triangle they
+/// changed whose triangles are not one fan (a vertex or an edge not manifold, a triangle twice)
+/// or where one is turned against its corners' normals, the last in priority of the blocks kept
+/// there; and each block kept at such a vertex with a merged vertex farther than the tolerance
 /// from its kept vertex's triangles.
 std::vector<std::uint8_t> failed_blocks(const MeshView& mesh, const Merges& merges,
-                                        const std::vector<Triangle>& coarse) {
-  std::vector<Index> block_of(mesh.vertices(), kNone);  // per kept vertex of a live block
-  for (std::size_t b = 0; b < merges.blocks(); ++b)
-    if (merges.live(b)) block_of[merges.keep(b)] = static_cast<Index>(b);
-  const VertexTriangles around(coarse, mesh.vertices());
-  std::vector<std::uint8_t> checked(mesh.vertices(), 0);
-  for (const Triangle& t : coarse)
-    if (block_of[t[0]] != kNone || block_of[t[1]] != kNone || block_of[t[2]] != kNone)
-      for (const Index v : t) checked[v] = 1;
-  std::vector<std::uint8_t> fails(mesh.vertices(), 0);
-  tbb::parallel_for(tbb::blocked_range<Index>(0, mesh.vertices(), 4096), [&](const auto& r) {
-    std::vector<std::pair<Index, Index>> link;
-    for (Index v = r.begin(); v != r.end(); ++v)
-      if (checked[v])
-        fails[v] = !detail::one_fan(v, coarse, around, link) || !detail::unturned(v, mesh, coarse, around);
-  });
+                                        std::span<const std::size_t> blocks) {
+  std::vector<std::uint8_t> marked(mesh.vertices(), 0);
+  for (const std::size_t b : blocks)
+    for (const Index m : merges.members(b))
+      for (const Index t : mesh.around().of(m))
+        for (const Index u : mesh.triangles()[t]) marked[merges.image(u)] = 1;
+  std::vector<Index> changed;
+  for (Index v = 0; v < mesh.vertices(); ++v)
+    if (marked[v]) changed.push_back(v);
   std::vector<std::uint8_t> failed(merges.blocks(), 0);
-  for (Index v = 0; v < mesh.vertices(); ++v) {
-    if (!fails[v]) continue;
-    Index last = kNone;
-    for (const Index t : around.of(v))
-      for (const Index u : coarse[t])
-        if (block_of[u] != kNone && (last == kNone || block_of[u] > last)) last = block_of[u];
-    if (last != kNone) failed[last] = 1;
-  }
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, merges.blocks(), 64), [&](const auto& r) {
-    for (std::size_t b = r.begin(); b != r.end(); ++b)
-      if (merges.live(b) && !failed[b] &&
-          !detail::within_tolerance(merges.members(b), merges.keep(b), mesh, coarse, around.of(merges.keep(b)),
-                                    mesh.tolerance()))
-        failed[b] = 1;
+  std::vector<Index> last(changed.size(), kNone);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, changed.size(), 256), [&](const auto& r) {
+    std::vector<Triangle> star;
+    std::vector<Index> scratch;
+    std::vector<std::pair<Index, Index>> link;
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      merges.star(changed[i], star, scratch);
+      if (detail::one_fan(changed[i], star, link) && detail::unturned(mesh, star)) continue;
+      for (const Triangle& f : star)
+        for (const Index u : f) {
+          const Index b = merges.block_kept_at(u);
+          if (b != kNone && (last[i] == kNone || b > last[i])) last[i] = b;
+        }
+    }
+  });
+  for (const Index b : last)
+    if (b != kNone) failed[b] = 1;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, changed.size(), 256), [&](const auto& r) {
+    std::vector<Triangle> star;
+    std::vector<Index> scratch;
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      const Index b = merges.block_kept_at(changed[i]);
+      if (b == kNone || failed[b]) continue;
+      merges.star(changed[i], star, scratch);
+      if (!detail::within_tolerance(merges.members(b), changed[i], mesh, star)) failed[b] = 1;
+    }
   });
   return failed;
+}
+
+/// The triangles of `mesh` with each vertex replaced by its image, the degenerate ones dropped.
+Triangles coarse_triangles(const MeshView& mesh, const Merges& merges) {
+  std::vector<Triangle> kept;
+  kept.reserve(mesh.triangles().size());
+  for (const Triangle& t : mesh.triangles()) {
+    const Triangle c{merges.image(t[0]), merges.image(t[1]), merges.image(t[2])};
+    if (c[0] != c[1] && c[1] != c[2] && c[0] != c[2]) kept.push_back(c);
+  }
+  Triangles out(static_cast<Eigen::Index>(kept.size()), 3);
+  for (std::size_t t = 0; t < kept.size(); ++t)
+    for (std::size_t k = 0; k < 3; ++k)
+      out(static_cast<Eigen::Index>(t), static_cast<Eigen::Index>(k)) = static_cast<std::int32_t>(kept[t][k]);
+  return out;
 }
 
 }  // namespace
@@ -230,25 +270,27 @@ TriangleMesh coarsen_mesh(const TriangleMesh& mesh, const Eigen::Vector3d& origi
   }
   const MeshView view(mesh, origin, cell, done.tolerance);
   Merges merges(view, options.levels);
-  std::vector<Triangle> coarse = coarse_triangles(view, merges);
-  for (int round = 0; merges.blocks() > 0; ++round) {
-    const std::vector<std::uint8_t> failed = failed_blocks(view, merges, coarse);
+  // Each round looks where the last one changed the mesh: first every block.
+  std::vector<std::size_t> changed(merges.blocks());
+  for (std::size_t b = 0; b < changed.size(); ++b) changed[b] = b;
+  for (int round = 0; !changed.empty(); ++round) {
+    const std::vector<std::uint8_t> failed = failed_blocks(view, merges, changed);
     if (std::none_of(failed.begin(), failed.end(), [](std::uint8_t f) { return f != 0; })) break;
     // The last round undoes every merge (the mesh as it was) rather than keep one in doubt.
     const bool last = round == kJointRounds;
     const std::size_t planned = merges.blocks();
+    changed.clear();
     for (std::size_t b = 0; b < planned; ++b)
-      if (merges.live(b) && (failed[b] || last)) merges.undo(b, !last);
-    coarse = coarse_triangles(view, merges);
+      if (merges.live(b) && (failed[b] || last)) {
+        merges.undo(b, !last);
+        changed.push_back(b);
+      }
+    for (std::size_t b = planned; b < merges.blocks(); ++b) changed.push_back(b);
     if (last) break;
   }
 
   TriangleMesh out = mesh;
-  out.triangles.resize(static_cast<Eigen::Index>(coarse.size()), 3);
-  for (std::size_t t = 0; t < coarse.size(); ++t)
-    for (std::size_t k = 0; k < 3; ++k)
-      out.triangles(static_cast<Eigen::Index>(t), static_cast<Eigen::Index>(k)) =
-          static_cast<std::int32_t>(coarse[t][k]);
+  out.triangles = coarse_triangles(view, merges);
   out = detail::without_unused_vertices(out);
   for (std::size_t b = 0; b < merges.blocks(); ++b) done.merged_blocks += merges.live(b);
   done.vertices_after = static_cast<std::size_t>(out.vertices.rows());
