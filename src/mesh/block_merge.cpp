@@ -3,6 +3,8 @@
 
 #include "mesh/block_merge.hpp"
 
+#include "spatial/spatial_order.hpp"
+
 #include <clustersurf/core/closest_point.hpp>
 
 #include <tbb/parallel_for.h>
@@ -20,17 +22,6 @@ namespace {
 /// Bits of each cell coordinate in a Morton code; coordinates are offset by half their range.
 constexpr int kCodeBits = 21;
 constexpr std::int64_t kCodeOffset = std::int64_t{1} << (kCodeBits - 1);
-
-/// The low 21 bits of x spread to every third bit.
-std::uint64_t spread_bits(std::uint64_t x) {
-  x &= 0x1fffff;
-  x = (x | x << 32) & 0x1f00000000ffffULL;
-  x = (x | x << 16) & 0x1f0000ff0000ffULL;
-  x = (x | x << 8) & 0x100f00f00f00f00fULL;
-  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-  x = (x | x << 2) & 0x1249249249249249ULL;
-  return x;
-}
 
 /// Whether triangle (a, b, c) has an area (against the cell's square) and a normal within
 /// kMinNormalCosine of each corner's normal.
@@ -103,10 +94,8 @@ MeshView::MeshView(const TriangleMesh& mesh, const Eigen::Vector3d& origin, doub
       const Eigen::Array3d c = ((position(v) - origin_) / cell_).array().floor();
       cells_[v] = kNoCell;
       if (!c.allFinite() || (c.abs() >= static_cast<double>(kCodeOffset)).any()) continue;
-      std::uint64_t code = 0;
-      for (int a = 0; a < 3; ++a)
-        code |= spread_bits(static_cast<std::uint64_t>(static_cast<std::int64_t>(c[a]) + kCodeOffset)) << (2 - a);
-      cells_[v] = code;
+      const auto at = [&](int a) { return static_cast<std::uint64_t>(static_cast<std::int64_t>(c[a]) + kCodeOffset); };
+      cells_[v] = morton_code(at(0), at(1), at(2));
     }
   });
 }

@@ -12,27 +12,29 @@ namespace clustersurf::detail {
 
 namespace {
 
+/// The low 21 bits of v spread to every third bit.
+std::uint64_t spread_bits(std::uint64_t v) {
+  v &= 0x1fffff;
+  v = (v | v << 32) & 0x1f00000000ffffULL;
+  v = (v | v << 16) & 0x1f0000ff0000ffULL;
+  v = (v | v << 8) & 0x100f00f00f00f00fULL;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+  v = (v | v << 2) & 0x1249249249249249ULL;
+  return v;
+}
+
 /// The Morton order of `count` points, the k-th at `position(k)`.
 template <class Position>
 std::vector<std::uint32_t> morton_order(std::size_t count, const Position& position) {
   BoundingBox box;
   for (std::size_t k = 0; k < count; ++k) box.extend(position(k));
   const Eigen::Vector3d extent = box.extent().cwiseMax(Eigen::Vector3d::Constant(1e-300));
-  const auto spread = [](std::uint64_t v) {  // 21 bits → every third bit
-    v &= 0x1fffff;
-    v = (v | v << 32) & 0x1f00000000ffffULL;
-    v = (v | v << 16) & 0x1f0000ff0000ffULL;
-    v = (v | v << 8) & 0x100f00f00f00f00fULL;
-    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-    v = (v | v << 2) & 0x1249249249249249ULL;
-    return v;
-  };
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(count);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 4096), [&](const auto& r) {
     for (std::size_t k = r.begin(); k != r.end(); ++k) {
       const Eigen::Vector3d t = ((position(k) - box.min).array() / extent.array()) * 2097151.0;
-      keyed[k] = {spread(static_cast<std::uint64_t>(t.x())) | spread(static_cast<std::uint64_t>(t.y())) << 1 |
-                      spread(static_cast<std::uint64_t>(t.z())) << 2,
+      keyed[k] = {morton_code(static_cast<std::uint64_t>(t.z()), static_cast<std::uint64_t>(t.y()),
+                              static_cast<std::uint64_t>(t.x())),
                   static_cast<std::uint32_t>(k)};
     }
   });
@@ -43,6 +45,10 @@ std::vector<std::uint32_t> morton_order(std::size_t count, const Position& posit
 }
 
 }  // namespace
+
+std::uint64_t morton_code(std::uint64_t x, std::uint64_t y, std::uint64_t z) {
+  return spread_bits(x) << 2 | spread_bits(y) << 1 | spread_bits(z);
+}
 
 std::vector<std::uint32_t> spatial_order(const Points& points) {
   return morton_order(static_cast<std::size_t>(points.rows()), [&](std::size_t k) -> Eigen::Vector3d {
