@@ -86,7 +86,7 @@ PlaneNoise plane_noise(double sigma, ReconstructOptions options) {
   cloud.positions.resize(kPoints, 3);
   for (int i = 0; i < kPoints; ++i) cloud.positions.row(i) << side(rng), side(rng), gauss(rng);
   options.meshing.refit.points = 0;
-  options.meshing.coarsening.error_share = 0;  // every vertex where the blend puts it
+  options.meshing.coarsening.noise_share = 0;  // every vertex where the blend puts it
   const Reconstruction r = reconstruct(cloud, options);
   if (!r.mesh) throw std::runtime_error("no mesh");
   const ImplicitSurface surface(r.tree);

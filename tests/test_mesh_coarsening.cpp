@@ -86,7 +86,7 @@ double farthest_vertex(const TriangleMesh& fine, const TriangleMesh& coarse) {
 Reconstruction uncoarsened(PointCloud cloud, double sigma, std::uint64_t seed) {
   test::add_normal_noise(cloud, sigma, seed);
   ReconstructOptions options;
-  options.meshing.coarsening.error_share = 0;
+  options.meshing.coarsening.noise_share = 0;
   Reconstruction r = reconstruct(cloud, options);
   if (!r.mesh) throw std::runtime_error("no mesh");
   return r;
@@ -94,7 +94,7 @@ Reconstruction uncoarsened(PointCloud cloud, double sigma, std::uint64_t seed) {
 
 CoarseningOptions with_share(double share) {
   CoarseningOptions o;
-  o.error_share = share;
+  o.noise_share = share;
   return o;
 }
 
@@ -173,7 +173,7 @@ TEST(MeshCoarsening, AClosedSurfaceStaysClosedAndFacingOut) {
   ASSERT_TRUE(is_watertight(mesh_topology(fine)));
   CoarseningReport report;
   const TriangleMesh coarse =
-      coarsen_mesh(fine, r.tree.bbox.min, r.mesh->grid.voxel_size, r.tree.error_threshold, with_share(0.25), &report);
+      coarsen_mesh(fine, r.tree.bbox.min, r.mesh->grid.voxel_size, coarsening_scale(r.tree), with_share(0.25), &report);
   std::cout << "sphere: " << report.merged_blocks << " blocks, " << report.triangles_before << " -> "
             << report.triangles_after << " triangles, tolerance " << report.tolerance << "\n";
   EXPECT_LT(report.triangles_after, report.triangles_before * 9 / 10);
@@ -189,7 +189,7 @@ TEST(MeshCoarsening, TheSameMeshForAnyNumberingAndThreadCount) {
   const Reconstruction r = uncoarsened(test::sample_torus(20000), 0.01, 3);
   const TriangleMesh& fine = r.mesh->mesh;
   const auto coarsen = [&](const TriangleMesh& m) {
-    return coarsen_mesh(m, r.tree.bbox.min, r.mesh->grid.voxel_size, r.tree.error_threshold, with_share(0.25));
+    return coarsen_mesh(m, r.tree.bbox.min, r.mesh->grid.voxel_size, coarsening_scale(r.tree), with_share(0.25));
   };
   const TriangleMesh many = coarsen(fine);
   ASSERT_LT(many.triangles.rows(), fine.triangles.rows());

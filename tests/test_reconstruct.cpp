@@ -41,7 +41,7 @@ TEST(Reconstruct, IsTheStagesInOrder) {
   const ImplicitSurface surface(tree);
   const Points clustered = clustered_points(tree, cloud.positions);
   TriangleMesh mesh = trim_to_points(extract_mesh(surface, grid), clustered);
-  mesh = coarsen_mesh(mesh, tree.bbox.min, *grid.voxel_size, tree.error_threshold);
+  mesh = coarsen_mesh(mesh, tree.bbox.min, *grid.voxel_size, coarsening_scale(tree));
   refit_vertices(mesh, KdTree(clustered), surface);
   mesh.colors = colors_by_distance(mesh, cloud.positions, 0.005 * tree.bbox.diagonal());
   EXPECT_TRUE(same_mesh(r.mesh->mesh, mesh));

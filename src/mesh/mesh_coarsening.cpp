@@ -248,22 +248,26 @@ Triangles coarse_triangles(const MeshView& mesh, const Merges& merges) {
 
 }  // namespace
 
-TriangleMesh coarsen_mesh(const TriangleMesh& mesh, const Eigen::Vector3d& origin, double cell, double leaf_error,
+double coarsening_scale(const ClusterTree& tree) {
+  return tree.noise_sigma > 0 ? tree.noise_sigma : tree.error_threshold;
+}
+
+TriangleMesh coarsen_mesh(const TriangleMesh& mesh, const Eigen::Vector3d& origin, double cell, double scale,
                           const CoarseningOptions& options, CoarseningReport* report) {
-  if (!(options.error_share >= 0) || !std::isfinite(options.error_share))
-    throw OptionError("the coarsening's error share (coarsen) must be a finite number >= 0");
+  if (!(options.noise_share >= 0) || !std::isfinite(options.noise_share))
+    throw OptionError("the coarsening's noise share (coarsen) must be a finite number >= 0");
   if (options.levels < 1 || options.levels > kMaxCoarseningLevels)
     throw OptionError("the coarsening's block sizes (coarsen_levels) must number 1 to " +
                       std::to_string(kMaxCoarseningLevels));
   if (!(cell > 0) || !std::isfinite(cell)) throw OptionError("the coarsening's lattice cell must be positive");
   if (!origin.allFinite()) throw OptionError("the coarsening's lattice origin must be finite");
-  if (!(leaf_error >= 0) || !std::isfinite(leaf_error))
-    throw OptionError("the coarsening's leaf error must be a finite distance >= 0");
+  if (!(scale >= 0) || !std::isfinite(scale))
+    throw OptionError("the coarsening's error scale must be a finite distance >= 0");
   check_triangle_indices(mesh);
   CoarseningReport done;
   done.vertices_before = done.vertices_after = static_cast<std::size_t>(mesh.vertices.rows());
   done.triangles_before = done.triangles_after = static_cast<std::size_t>(mesh.triangles.rows());
-  done.tolerance = options.error_share * leaf_error;
+  done.tolerance = options.noise_share * scale;
   if (done.tolerance == 0 || mesh.triangles.rows() == 0) {
     if (report != nullptr) *report = done;
     return mesh;

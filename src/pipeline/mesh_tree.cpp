@@ -43,10 +43,10 @@ MeshColoring parse_mesh_coloring(std::string_view text) {
 namespace {
 
 /// coarsen_mesh() of `mesh` on the lattice extract_mesh() walked (its cell, anchored at the
-/// tree's box), within the share options.coarsening asks of the tree's error threshold.
+/// tree's box), within the share options.coarsening asks of the tree's error scale.
 TriangleMesh coarsened(const TriangleMesh& mesh, const ClusterTree& tree, const SurfaceMeshOptions& options,
                        SurfaceMesh& out) {
-  return coarsen_mesh(mesh, tree.bbox.min, out.grid.voxel_size, tree.error_threshold, options.coarsening,
+  return coarsen_mesh(mesh, tree.bbox.min, out.grid.voxel_size, coarsening_scale(tree), options.coarsening,
                       &out.coarsening);
 }
 

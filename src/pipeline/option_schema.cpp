@@ -292,9 +292,9 @@ std::vector<OptionSpec> mesh_finishing_options() {
       "coarsen",
       "Merge the vertices of flat blocks of the mesh's grid (2, 4, … cells wide: coarsen_levels sizes) into one "
       "each, moving "
-      "the surface by at most this share of the error a leaf may keep (the noise and the tolerance together): "
-      "fewer triangles where the surface is flat against that error. 0 keeps every vertex",
-      [](auto& o) -> auto& { return meshing(o).coarsening.error_share; }, RealBound::NonNegative));
+      "the surface by at most this share of the input's estimated noise (without an estimate, of the error a leaf "
+      "may keep): fewer triangles where the surface is flat against the noise. 0 keeps every vertex",
+      [](auto& o) -> auto& { return meshing(o).coarsening.noise_share; }, RealBound::NonNegative));
   out.push_back(spec(
       "coarsen_levels", OptionStage::Mesh, OptionKind::Whole,
       "How many block sizes coarsen tries: blocks of 2, 4, … up to 2^coarsen_levels grid cells",

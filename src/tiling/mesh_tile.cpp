@@ -96,7 +96,7 @@ MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::
   mesh = trim_to_points(mesh, index, reach);
   // Its flat blocks merged as in core, on the same lattice: the margin holds every block whose
   // merge the tile's own triangles depend on.
-  mesh = coarsen_mesh(mesh, surface.tree().bbox.min, h, surface.tree().error_threshold, coarsening);
+  mesh = coarsen_mesh(mesh, surface.tree().bbox.min, h, coarsening_scale(surface.tree()), coarsening);
 
   // The triangles the region owns, and the votes of its own points for their nearest vertex of
   // the trimmed mesh (kept whether or not the region owns a triangle there: the neighbour that

@@ -3,6 +3,7 @@
 // a nearly flat disk of triangles covers, merged into one of them (vertex clustering on an octree
 // of blocks, each merge checked against a distance bound and for manifold topology).
 
+#include <clustersurf/cluster/cluster_tree.hpp>
 #include <clustersurf/core/option_fields.hpp>
 #include <clustersurf/core/point_cloud.hpp>
 
@@ -11,19 +12,18 @@
 
 namespace clustersurf {
 
-/// coarsen_mesh()'s default tolerance, as a share of the error a leaf of the tree may keep
-/// (ClusterTree::error_threshold: the noise and the tree's tolerance together): the merges move
-/// the surface by at most a twentieth of what the leaves are allowed to miss the points by.
-inline constexpr double kCoarseningErrorShare = 0.05;
+/// coarsen_mesh()'s default tolerance, as a share of the error scale (coarsening_scale()): the
+/// merges move the surface by at most a twentieth of the input's estimated noise.
+inline constexpr double kCoarseningNoiseShare = 0.05;
 
 /// The most block sizes coarsen_mesh() tries (blocks up to 256 cells).
 inline constexpr std::uint32_t kMaxCoarseningLevels = 8;
 
 /// Options of coarsen_mesh().
 struct CoarseningOptions {
-  /// The farthest a merged vertex may lie from the coarse mesh, as a share of the error a leaf
-  /// may keep (ClusterTree::error_threshold); 0: no merging.
-  double error_share = kCoarseningErrorShare;
+  /// The farthest a merged vertex may lie from the coarse mesh, as a share of the error scale
+  /// (coarsening_scale() of the tree); 0: no merging.
+  double noise_share = kCoarseningNoiseShare;
   /// The block sizes tried: blocks of 2, 4, …, 2^levels lattice cells along each side (1 to
   /// kMaxCoarseningLevels).
   std::uint32_t levels = 3;
@@ -32,7 +32,7 @@ struct CoarseningOptions {
 /// Calls f(name, field) for every field of `o`, in declaration order.
 template <OptionsOf<CoarseningOptions> Options, class F>
 void for_each_field(Options& o, F&& f) {
-  f("error_share", o.error_share);
+  f("noise_share", o.noise_share);
   f("levels", o.levels);
 }
 
@@ -44,8 +44,14 @@ struct CoarseningReport {
   std::size_t triangles_before = 0, triangles_after = 0;
 };
 
-/// `mesh` with the vertices of flat blocks merged, each within options.error_share ×
-/// `leaf_error` (the tolerance; the tree's error_threshold) of the coarse mesh. The blocks are cubes of 2, 4, …,
+/// The error scale of `tree` that coarsen_mesh()'s tolerance is a share of: its estimated noise
+/// (ClusterTree::noise_sigma, which on a clean input is what its leaves' quadratics miss the
+/// points by, and falls with the density as the mesh's own error does), or, for a tree without
+/// an estimate, its leaves' error threshold.
+double coarsening_scale(const ClusterTree& tree);
+
+/// `mesh` with the vertices of flat blocks merged, each within options.noise_share × `scale`
+/// (the tolerance; coarsening_scale() of the mesh's tree) of the coarse mesh. The blocks are cubes of 2, 4, …,
 /// 2^options.levels cells of the lattice whose corner is `origin` and whose cell is
 /// `cell` (each the union of eight of the size below); every vertex goes to the largest block
 /// around it that merges, or stays. A block's vertices merge into the one nearest their
@@ -60,9 +66,9 @@ struct CoarseningReport {
 /// mesh's, in place with their normals, colors and attributes, in their order (blocks whose
 /// vertices differ in an attribute stay). Whether a block merges depends on the positions and
 /// triangles near it, never on the vertices' numbering or the thread count. Throws OptionError
-/// for an error share or leaf error that is negative or not finite, levels outside 1 to
+/// for a noise share or scale that is negative or not finite, levels outside 1 to
 /// kMaxCoarseningLevels, or a cell that is not positive.
-TriangleMesh coarsen_mesh(const TriangleMesh& mesh, const Eigen::Vector3d& origin, double cell, double leaf_error,
+TriangleMesh coarsen_mesh(const TriangleMesh& mesh, const Eigen::Vector3d& origin, double cell, double scale,
                           const CoarseningOptions& options = {}, CoarseningReport* report = nullptr);
 
 }  // namespace clustersurf

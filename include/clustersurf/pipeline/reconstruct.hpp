@@ -55,7 +55,7 @@ struct SurfaceMeshOptions {
   /// Applied when the input points are given.
   TrimOptions trim;
   /// The trimmed mesh's flat blocks merged into fewer vertices (coarsen_mesh(), on the mesh's
-  /// lattice, within a share of the tree's error_threshold), before the refit.
+  /// lattice, within a share of the tree's coarsening_scale()), before the refit.
   CoarseningOptions coarsening;
   /// The trimmed mesh's vertices moved onto local fits of the input points, as far as the
   /// noise lets them (refit_vertices()); applied when the input points are given.
