@@ -48,49 +48,33 @@ double squared_distance(const Eigen::Vector3d& p, const MeshView& mesh, std::spa
 
 }  // namespace
 
-VertexTriangles::VertexTriangles(std::span<const Triangle> tris, std::size_t vertices) : begin(vertices + 1, 0) {
-  for (const Triangle& t : tris)
-    for (const Index v : t) ++begin[v + 1];
+VertexTriangles::VertexTriangles(const Triangles& tris, std::size_t vertices) : begin(vertices + 1, 0) {
+  for (Eigen::Index t = 0; t < tris.rows(); ++t)
+    for (int k = 0; k < 3; ++k) ++begin[static_cast<std::size_t>(tris(t, k)) + 1];
   std::partial_sum(begin.begin(), begin.end(), begin.begin());
   triangles.resize(begin.back());
   std::vector<Index> next(begin.begin(), begin.end() - 1);
-  for (std::size_t t = 0; t < tris.size(); ++t)
-    for (const Index v : tris[t]) triangles[next[v]++] = static_cast<Index>(t);
+  for (Eigen::Index t = 0; t < tris.rows(); ++t)
+    for (int k = 0; k < 3; ++k) triangles[next[static_cast<std::size_t>(tris(t, k))]++] = static_cast<Index>(t);
 }
-
-namespace {
-
-std::vector<Triangle> triangles_of(const TriangleMesh& mesh) {
-  std::vector<Triangle> out(static_cast<std::size_t>(mesh.triangles.rows()));
-  for (std::size_t t = 0; t < out.size(); ++t)
-    for (int k = 0; k < 3; ++k)
-      out[t][static_cast<std::size_t>(k)] = static_cast<Index>(mesh.triangles(static_cast<Eigen::Index>(t), k));
-  return out;
-}
-
-}  // namespace
 
 MeshView::MeshView(const TriangleMesh& mesh, const Eigen::Vector3d& origin, double cell, double tolerance)
     : mesh_(mesh),
       origin_(origin),
       cell_(cell),
       tolerance_(tolerance),
-      triangles_(triangles_of(mesh)),
-      around_(triangles_, static_cast<std::size_t>(mesh.vertices.rows())),
-      normals_(static_cast<std::size_t>(mesh.vertices.rows()), Eigen::Vector3d::Zero()) {
-  const bool given = mesh.normals.rows() == mesh.vertices.rows();
-  if (!given)
-    for (const Triangle& t : triangles_) {
-      const Eigen::Vector3d n = (position(t[1]) - position(t[0])).cross(position(t[2]) - position(t[0]));
-      for (const Index v : t) normals_[v] += n;
+      around_(mesh.triangles, static_cast<std::size_t>(mesh.vertices.rows())) {
+  if (mesh.normals.rows() != mesh.vertices.rows()) {
+    normals_.assign(static_cast<std::size_t>(mesh.vertices.rows()), Eigen::Vector3d::Zero());
+    for (Index t = 0; t < triangle_count(); ++t) {
+      const Triangle f = triangle(t);
+      const Eigen::Vector3d n = (position(f[1]) - position(f[0])).cross(position(f[2]) - position(f[0]));
+      for (const Index v : f) normals_[v] += n;
     }
-  cells_.resize(normals_.size());
+  }
+  cells_.resize(static_cast<std::size_t>(mesh.vertices.rows()));
   tbb::parallel_for(tbb::blocked_range<Index>(0, vertices(), 4096), [&](const auto& r) {
     for (Index v = r.begin(); v != r.end(); ++v) {
-      Eigen::Vector3d& n = normals_[v];
-      if (given) n = mesh.normals.row(v).transpose();
-      const double length = n.norm();
-      n = length > 0 ? Eigen::Vector3d(n / length) : Eigen::Vector3d::Zero();
       const Eigen::Array3d c = ((position(v) - origin_) / cell_).array().floor();
       cells_[v] = kNoCell;
       if (!c.allFinite() || (c.abs() >= static_cast<double>(kCodeOffset)).any()) continue;
@@ -147,7 +131,7 @@ bool BlockMerge::fan_holds(std::span<const Index> block, Index keep) {
   const auto inside = [&](Index v) { return std::binary_search(block.begin(), block.end(), v); };
   rim_.clear();
   for (const Index t : triangles_) {
-    const Triangle& f = mesh.triangles()[t];
+    const Triangle f = mesh.triangle(t);
     const int corners = int(inside(f[0])) + int(inside(f[1])) + int(inside(f[2]));
     if (corners != 1) continue;
     const std::size_t k = inside(f[0]) ? 0 : inside(f[1]) ? 1 : 2;
@@ -175,7 +159,7 @@ bool BlockMerge::one_disk(std::span<const Index> block) {
   edges_.clear();
   vertices_.clear();
   for (const Index t : triangles_) {
-    const Triangle& f = mesh.triangles()[t];
+    const Triangle f = mesh.triangle(t);
     for (std::size_t k = 0; k < 3; ++k) {
       const Index a = f[k], b = f[(k + 1) % 3];
       edges_.push_back({std::min(a, b), std::max(a, b), a, b});

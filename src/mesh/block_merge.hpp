@@ -25,21 +25,30 @@ inline constexpr double kMinNormalCosine = 0.5;
 /// Each vertex's triangles, in compressed rows, in the triangles' order.
 struct VertexTriangles {
   std::vector<Index> begin, triangles;
-  VertexTriangles(std::span<const Triangle> tris, std::size_t vertices);
+  VertexTriangles(const Triangles& tris, std::size_t vertices);
   std::span<const Index> of(Index v) const { return {triangles.data() + begin[v], begin[v + 1] - begin[v]}; }
 };
 
-/// A mesh as coarsen_mesh() reads it: its positions, unit normals (the mesh's, or its
-/// triangles' area-weighted mean), triangles, each vertex's triangles, and the lattice.
+/// A mesh as coarsen_mesh() reads it, in place: its positions, unit normals (the mesh's, or its
+/// triangles' area-weighted mean where it has none), triangles, each vertex's triangles, and
+/// the lattice.
 class MeshView {
  public:
   MeshView(const TriangleMesh& mesh, const Eigen::Vector3d& origin, double cell, double tolerance);
 
   Index vertices() const { return static_cast<Index>(mesh_.vertices.rows()); }
-  const std::vector<Triangle>& triangles() const { return triangles_; }
+  std::size_t triangle_count() const { return static_cast<std::size_t>(mesh_.triangles.rows()); }
+  Triangle triangle(Index t) const {
+    return {static_cast<Index>(mesh_.triangles(t, 0)), static_cast<Index>(mesh_.triangles(t, 1)),
+            static_cast<Index>(mesh_.triangles(t, 2))};
+  }
   const VertexTriangles& around() const { return around_; }
   Eigen::Vector3d position(Index v) const { return mesh_.vertices.row(v).transpose(); }
-  const Eigen::Vector3d& normal(Index v) const { return normals_[v]; }
+  Eigen::Vector3d normal(Index v) const {
+    const Eigen::Vector3d n = normals_.empty() ? Eigen::Vector3d(mesh_.normals.row(v).transpose()) : normals_[v];
+    const double length = n.norm();
+    return length > 0 ? Eigen::Vector3d(n / length) : Eigen::Vector3d::Zero();
+  }
   /// The lattice cell that holds vertex v as a Morton code (its coordinates' bits interleaved),
   /// kNoCell outside the range of 2^21 cells the code holds: the block of 2^l cells that holds
   /// it is code >> (3 l), and the vertices of a block are contiguous in the codes' order.
@@ -53,9 +62,8 @@ class MeshView {
   const TriangleMesh& mesh_;
   Eigen::Vector3d origin_;
   double cell_, tolerance_;
-  std::vector<Triangle> triangles_;
   VertexTriangles around_;
-  std::vector<Eigen::Vector3d> normals_;
+  std::vector<Eigen::Vector3d> normals_;  ///< where the mesh has none
   std::vector<std::uint64_t> cells_;
 };
 

@@ -106,7 +106,7 @@ class Merges {
       add(v);
     }
     for (const Index t : scratch) {
-      const Triangle& f = mesh_.triangles()[t];
+      const Triangle f = mesh_.triangle(t);
       const Triangle c{image(f[0]), image(f[1]), image(f[2])};
       if (c[0] != c[1] && c[1] != c[2] && c[0] != c[2]) star.push_back(c);
     }
@@ -196,7 +196,7 @@ std::vector<std::uint8_t> failed_blocks(const MeshView& mesh, const Merges& merg
   for (const std::size_t b : blocks)
     for (const Index m : merges.members(b))
       for (const Index t : mesh.around().of(m))
-        for (const Index u : mesh.triangles()[t]) marked[merges.image(u)] = 1;
+        for (const Index u : mesh.triangle(t)) marked[merges.image(u)] = 1;
   std::vector<Index> changed;
   for (Index v = 0; v < mesh.vertices(); ++v)
     if (marked[v]) changed.push_back(v);
@@ -234,8 +234,9 @@ std::vector<std::uint8_t> failed_blocks(const MeshView& mesh, const Merges& merg
 /// The triangles of `mesh` with each vertex replaced by its image, the degenerate ones dropped.
 Triangles coarse_triangles(const MeshView& mesh, const Merges& merges) {
   std::vector<Triangle> kept;
-  kept.reserve(mesh.triangles().size());
-  for (const Triangle& t : mesh.triangles()) {
+  kept.reserve(mesh.triangle_count());
+  for (Index i = 0; i < mesh.triangle_count(); ++i) {
+    const Triangle t = mesh.triangle(i);
     const Triangle c{merges.image(t[0]), merges.image(t[1]), merges.image(t[2])};
     if (c[0] != c[1] && c[1] != c[2] && c[0] != c[2]) kept.push_back(c);
   }
@@ -272,31 +273,33 @@ TriangleMesh coarsen_mesh(const TriangleMesh& mesh, const Eigen::Vector3d& origi
     if (report != nullptr) *report = done;
     return mesh;
   }
-  const MeshView view(mesh, origin, cell, done.tolerance);
-  Merges merges(view, options.levels);
-  // Each round looks where the last one changed the mesh: first every block.
-  std::vector<std::size_t> changed(merges.blocks());
-  for (std::size_t b = 0; b < changed.size(); ++b) changed[b] = b;
-  for (int round = 0; !changed.empty(); ++round) {
-    const std::vector<std::uint8_t> failed = failed_blocks(view, merges, changed);
-    if (std::none_of(failed.begin(), failed.end(), [](std::uint8_t f) { return f != 0; })) break;
-    // The last round undoes every merge (the mesh as it was) rather than keep one in doubt.
-    const bool last = round == kJointRounds;
-    const std::size_t planned = merges.blocks();
-    changed.clear();
-    for (std::size_t b = 0; b < planned; ++b)
-      if (merges.live(b) && (failed[b] || last)) {
-        merges.undo(b, !last);
-        changed.push_back(b);
-      }
-    for (std::size_t b = planned; b < merges.blocks(); ++b) changed.push_back(b);
-    if (last) break;
-  }
+  Triangles coarse;
+  {
+    const MeshView view(mesh, origin, cell, done.tolerance);
+    Merges merges(view, options.levels);
+    // Each round looks where the last one changed the mesh: first every block.
+    std::vector<std::size_t> changed(merges.blocks());
+    for (std::size_t b = 0; b < changed.size(); ++b) changed[b] = b;
+    for (int round = 0; !changed.empty(); ++round) {
+      const std::vector<std::uint8_t> failed = failed_blocks(view, merges, changed);
+      if (std::none_of(failed.begin(), failed.end(), [](std::uint8_t f) { return f != 0; })) break;
+      // The last round undoes every merge (the mesh as it was) rather than keep one in doubt.
+      const bool last = round == kJointRounds;
+      const std::size_t planned = merges.blocks();
+      changed.clear();
+      for (std::size_t b = 0; b < planned; ++b)
+        if (merges.live(b) && (failed[b] || last)) {
+          merges.undo(b, !last);
+          changed.push_back(b);
+        }
+      for (std::size_t b = planned; b < merges.blocks(); ++b) changed.push_back(b);
+      if (last) break;
+    }
 
-  TriangleMesh out = mesh;
-  out.triangles = coarse_triangles(view, merges);
-  out = detail::without_unused_vertices(out);
-  for (std::size_t b = 0; b < merges.blocks(); ++b) done.merged_blocks += merges.live(b);
+    coarse = coarse_triangles(view, merges);
+    for (std::size_t b = 0; b < merges.blocks(); ++b) done.merged_blocks += merges.live(b);
+  }
+  TriangleMesh out = detail::with_new_triangles(mesh, coarse);
   done.vertices_after = static_cast<std::size_t>(out.vertices.rows());
   done.triangles_after = static_cast<std::size_t>(out.triangles.rows());
   if (report != nullptr) *report = done;

@@ -20,8 +20,9 @@ Matrix gathered(const Matrix& from, const std::vector<Eigen::Index>& rows) {
   return out;
 }
 
-/// The vertices of `mesh` that `triangles` (indices into them) use, with those triangles.
-TriangleMesh compact(const TriangleMesh& mesh, const Triangles& triangles) {
+}  // namespace
+
+TriangleMesh with_new_triangles(const TriangleMesh& mesh, const Triangles& triangles) {
   const Eigen::Index nv = mesh.vertices.rows();
   // Each used vertex marked, then numbered in its order; every step but the numbering runs in
   // parallel (the marks are one value, written with relaxed atomics).
@@ -52,15 +53,13 @@ TriangleMesh compact(const TriangleMesh& mesh, const Triangles& triangles) {
   return out;
 }
 
-}  // namespace
-
-TriangleMesh without_unused_vertices(const TriangleMesh& mesh) { return compact(mesh, mesh.triangles); }
+TriangleMesh without_unused_vertices(const TriangleMesh& mesh) { return with_new_triangles(mesh, mesh.triangles); }
 
 TriangleMesh with_triangles(const TriangleMesh& mesh, const std::vector<std::uint8_t>& keep) {
   std::vector<Eigen::Index> kept;
   for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
     if (keep[static_cast<std::size_t>(t)]) kept.push_back(t);
-  return compact(mesh, mesh.triangles(kept, Eigen::all));
+  return with_new_triangles(mesh, mesh.triangles(kept, Eigen::all));
 }
 
 }  // namespace clustersurf::detail

@@ -2,7 +2,6 @@
 
 #include "tiling/tiles.hpp"
 #include <clustersurf/core/errors.hpp>
-#include <clustersurf/mesh/mesh_coarsening.hpp>
 #include <clustersurf/mesh/mesh_colors.hpp>
 #include <clustersurf/mesh/vertex_refit.hpp>
 #include <clustersurf/spatial/kd_tree.hpp>
@@ -59,13 +58,11 @@ Eigen::VectorXf vertex_votes(const TriangleMesh& mesh, const Points& data, std::
 
 MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::int32_t region_index,
                    const RegionCloud& region, const MeshOptions& grid, const TrimOptions& trim,
-                   const CoarseningOptions& coarsening, const VertexRefitOptions& refit, bool input_colors,
-                   const ProgressCallback& progress) {
+                   const VertexRefitOptions& refit, bool input_colors, const ProgressCallback& progress) {
   if (region_index < 0 || static_cast<std::size_t>(region_index) >= plan.regions())
     throw OptionError("region " + std::to_string(region_index) + " is not in the plan");
   if (!grid.voxel_size || !(*grid.voxel_size > 0) || !std::isfinite(*grid.voxel_size))
     throw OptionError("a tile needs the lattice's cell size (a positive voxel size)");
-  require_tile_blocks(coarsening);
   if (!region.outliers.empty() && region.outliers.size() != static_cast<std::size_t>(region.points.size()))
     throw OptionError("the region's outlier marks do not match its points");
   MeshTile tile;
@@ -94,9 +91,6 @@ MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::
   reach.close_pinholes = false;
   reach.typical_spread = typical_spread(surface.tree());  // as in core
   mesh = trim_to_points(mesh, index, reach);
-  // Its flat blocks merged as in core, on the same lattice: the margin holds every block whose
-  // merge the tile's own triangles depend on.
-  mesh = coarsen_mesh(mesh, surface.tree().bbox.min, h, coarsening_scale(surface.tree()), coarsening);
 
   // The triangles the region owns, and the votes of its own points for their nearest vertex of
   // the trimmed mesh (kept whether or not the region owns a triangle there: the neighbour that
@@ -132,12 +126,6 @@ MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::
   tile.mesh.origin = surface.tree().origin;
   tile.mesh.up = surface.tree().up;
   return tile;
-}
-
-void require_tile_blocks(const CoarseningOptions& coarsening) {
-  if (coarsening.levels > kTileCoarseningLevels)
-    throw OptionError("a tiled mesh merges blocks of at most " + std::to_string(kTileBlockCells) +
-                      " cells (coarsen_levels " + std::to_string(kTileCoarseningLevels) + ")");
 }
 
 std::vector<std::int32_t> tile_regions(const RegionPlan& plan, const RegionMerge& merge, std::int32_t region_index,

@@ -61,7 +61,6 @@ void require_tiled_meshing(const SurfaceMeshOptions& meshing) {
   if (meshing.coloring == MeshColoring::FromIntensity)
     throw OptionError("a tiled mesh cannot be colored by intensity yet (the scan's colors can)");
   if (meshing.trim.close_pinholes) throw OptionError("a tiled mesh cannot close pinholes");
-  require_tile_blocks(meshing.coarsening);
 }
 
 namespace {

@@ -51,8 +51,8 @@ MeshTile mesh_region(const RegionPlan& plan, const RegionMerge& merge, std::int3
   tile.region = region;
   if (std::none_of(trees.begin(), trees.end(), [](const ClusterTree& t) { return !t.nodes.empty(); })) return tile;
   const ClusterTree tree = tile_tree(plan, std::move(trees), merge);
-  return mesh_tile(ImplicitSurface(tree), plan, region, points, grid, options.meshing.trim, options.meshing.coarsening,
-                   options.meshing.refit, options.meshing.coloring == MeshColoring::FromInput);
+  return mesh_tile(ImplicitSurface(tree), plan, region, points, grid, options.meshing.trim, options.meshing.refit,
+                   options.meshing.coloring == MeshColoring::FromInput);
 }
 
 double merged_auto_cell(const ClusterTree& merged) {

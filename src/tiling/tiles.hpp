@@ -3,7 +3,6 @@
 // grid evaluate the same f, so they meet without seams (docs/architecture.md, "Regions and
 // tiles"); and the whole pipeline run region by region in memory.
 
-#include <clustersurf/mesh/mesh_coarsening.hpp>
 #include <clustersurf/mesh/mesh_extraction.hpp>
 #include <clustersurf/mesh/mesh_trim.hpp>
 #include <clustersurf/pipeline/reconstruct.hpp>
@@ -38,31 +37,22 @@ struct MeshTile {
 /// size grid.voxel_size (required) anchored at the tree's box: the lattice is meshed over the
 /// region's cell and a margin of cells around it, seeded on the blended proxies and on the
 /// region's points, and trimmed with `trim` to the region's points but its outliers (without the
-/// fragment test, which join_tiles() decides, and without closing pinholes), its flat blocks
-/// merged (coarsen_mesh() with `coarsening`, at most kTileCoarseningLevels sizes), its vertices
-/// refitted to those points (refit_vertices() with `refit`, as mesh_tree() does); with
+/// fragment test, which join_tiles() decides, and without closing pinholes), its vertices
+/// refitted to those points (refit_vertices() with `refit`, as mesh_tree() does; its flat
+/// blocks are not merged: coarsen_mesh()'s merges depend, through its joint check, on merges
+/// farther away than a tile's margin holds); with
 /// `input_colors`, colored from those points (colors_from_points()) when they have colors.
 /// Deterministic. Throws OptionError for invalid options.
 MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::int32_t region_index,
                    const RegionCloud& region, const MeshOptions& grid, const TrimOptions& trim = {},
-                   const CoarseningOptions& coarsening = {}, const VertexRefitOptions& refit = {},
-                   bool input_colors = true, const ProgressCallback& progress = {});
-
-/// The most block sizes a tile's coarsening tries (CoarseningOptions::levels), the default's:
-/// blocks of up to kTileBlockCells cells.
-inline constexpr std::uint32_t kTileCoarseningLevels = CoarseningOptions{}.levels;
-inline constexpr std::uint32_t kTileBlockCells = 1u << kTileCoarseningLevels;
+                   const VertexRefitOptions& refit = {}, bool input_colors = true,
+                   const ProgressCallback& progress = {});
 
 /// Cells of lattice a tile meshes beyond its region (mesh_tile()): a triangle whose centroid
 /// lies in the region comes from cells within two of it (a quad spans the two cells on each side
 /// of its edge, and the projection moves a vertex at most one cell), whose corner values every
-/// tile that visits them computes alike; and a block's merge depends on the blocks beside it
-/// and, through coarsen_mesh()'s joint check, on theirs: three blocks more (two are found to be
-/// needed on a noisy sheet's tiles, one is not enough).
-inline constexpr double kTileMarginCells = 4 + 3 * kTileBlockCells;
-
-/// Throws OptionError, naming coarsen_levels, for blocks larger than a tile's margin holds.
-void require_tile_blocks(const CoarseningOptions& coarsening);
+/// tile that visits them computes alike.
+inline constexpr double kTileMarginCells = 4;
 
 /// The tiles as one mesh: vertices at the same position welded, then components on which fewer
 /// than trim.min_component_points votes fall dropped (the best-supported always stays), as
