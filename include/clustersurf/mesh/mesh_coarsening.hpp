@@ -51,9 +51,9 @@ struct CoarseningReport {
 double coarsening_scale(const ClusterTree& tree);
 
 /// `mesh` with the vertices of flat blocks merged, each within options.noise_share × `scale`
-/// (the tolerance; coarsening_scale() of the mesh's tree) of the coarse mesh. The blocks are cubes of 2, 4, …,
-/// 2^options.levels cells of the lattice whose corner is `origin` and whose cell is
-/// `cell` (each the union of eight of the size below); every vertex goes to the largest block
+/// (the tolerance; coarsening_scale() of the mesh's tree) of the coarse mesh. The blocks are
+/// cubes of 2, 4, …, 2^options.levels cells of the lattice whose corner is `origin` and whose
+/// cell is `cell` (each the union of eight of the size below); every vertex goes to the largest block
 /// around it that merges, or stays. A block's vertices merge into the one nearest their
 /// centroid when the triangles around them form one disk that does not touch the mesh's
 /// boundary, and the fan from that vertex to the disk's rim holds every merged vertex within
@@ -61,11 +61,12 @@ double coarsening_scale(const ClusterTree& tree);
 /// larger block merges only where each of its eight would. The merges are then checked
 /// together: where one fails beside the others (a vertex whose triangles are not one fan, a
 /// turned triangle, a vertex beyond the tolerance), the last of them in priority (larger
-/// blocks first) gives way to its blocks of the size below, until none fails. So the coarse
-/// mesh keeps the rims, the topology and the orientation, and its vertices are a subset of the
-/// mesh's, in place with their normals, colors and attributes, in their order (blocks whose
-/// vertices differ in an attribute stay). Whether a block merges depends on the positions and
-/// triangles near it, never on the vertices' numbering or the thread count. Throws OptionError
+/// blocks first) gives way to its blocks of the size below, until none fails (after 8 rounds,
+/// every merge is undone). So the coarse mesh keeps the rims, the topology and the orientation,
+/// and its vertices are a subset of the mesh's, in place with their normals, colors and
+/// attributes, in their order (blocks whose vertices differ in an attribute stay). Whether a
+/// block merges depends on the mesh around it and, through the joint check, around its
+/// neighbours' merges, never on the vertices' numbering or the thread count. Throws OptionError
 /// for a noise share or scale that is negative or not finite, levels outside 1 to
 /// kMaxCoarseningLevels, or a cell that is not positive.
 TriangleMesh coarsen_mesh(const TriangleMesh& mesh, const Eigen::Vector3d& origin, double cell, double scale,
