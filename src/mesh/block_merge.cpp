@@ -35,6 +35,37 @@ bool upright(const MeshView& mesh, Index a, Index b, Index c) {
   return true;
 }
 
+/// How the directed edges `link` join: one simple cycle, one simple path, or neither. Sorts
+/// `link`.
+enum class Chain { Cycle, Path, Broken };
+Chain chain_of(std::vector<std::pair<Index, Index>>& link) {
+  std::sort(link.begin(), link.end());
+  for (std::size_t i = 1; i < link.size(); ++i)
+    if (link[i].first == link[i - 1].first) return Chain::Broken;
+  // A path starts at a vertex that no edge ends at; a cycle has none.
+  std::vector<Index> ends;
+  ends.reserve(link.size());
+  for (const auto& e : link) ends.push_back(e.second);
+  std::sort(ends.begin(), ends.end());
+  for (std::size_t i = 1; i < ends.size(); ++i)
+    if (ends[i] == ends[i - 1]) return Chain::Broken;
+  Index start = link.front().first;
+  std::size_t starts = 0;
+  for (const auto& e : link)
+    if (!std::binary_search(ends.begin(), ends.end(), e.first)) start = e.first, ++starts;
+  if (starts > 1) return Chain::Broken;
+  std::size_t steps = 0;
+  for (Index at = start;;) {
+    const auto next = std::lower_bound(link.begin(), link.end(), std::pair{at, Index{0}});
+    if (next == link.end() || next->first != at) break;  // the path's end
+    at = next->second;
+    ++steps;
+    if (at == start || steps > link.size()) break;
+  }
+  if (steps != link.size()) return Chain::Broken;
+  return starts == 0 ? Chain::Cycle : Chain::Path;
+}
+
 /// The smallest squared distance from p to the triangles `fan`.
 double squared_distance(const Eigen::Vector3d& p, const MeshView& mesh, std::span<const Triangle> fan) {
   double best = std::numeric_limits<double>::infinity();
@@ -129,28 +160,15 @@ Index BlockMerge::central_vertex(std::span<const Index> block) const {
 bool BlockMerge::fan_holds(std::span<const Index> block, Index keep) {
   const MeshView& mesh = *mesh_;
   const auto inside = [&](Index v) { return std::binary_search(block.begin(), block.end(), v); };
-  rim_.clear();
+  fan_.clear();
   for (const Index t : triangles_) {
     const Triangle f = mesh.triangle(t);
     const int corners = int(inside(f[0])) + int(inside(f[1])) + int(inside(f[2]));
     if (corners != 1) continue;
     const std::size_t k = inside(f[0]) ? 0 : inside(f[1]) ? 1 : 2;
-    rim_.emplace_back(f[(k + 1) % 3], f[(k + 2) % 3]);
+    fan_.push_back({keep, f[(k + 1) % 3], f[(k + 2) % 3]});
   }
-  for (const auto& [from, to] : rim_)
-    if (!upright(mesh, keep, from, to)) return false;
-  const double limit = mesh.tolerance() * mesh.tolerance();
-  const Eigen::Vector3d pk = mesh.position(keep);
-  for (const Index v : block) {
-    if (v == keep) continue;
-    const Eigen::Vector3d p = mesh.position(v);
-    double best = std::numeric_limits<double>::infinity();
-    for (const auto& [from, to] : rim_)
-      best =
-          std::min(best, (closest_point_on_triangle(p, pk, mesh.position(from), mesh.position(to)) - p).squaredNorm());
-    if (!(best <= limit)) return false;
-  }
-  return true;
+  return unturned(mesh, fan_) && within_tolerance(block, keep, mesh, fan_);
 }
 
 bool BlockMerge::one_disk(std::span<const Index> block) {
@@ -199,21 +217,12 @@ bool BlockMerge::one_disk(std::span<const Index> block) {
     if (root(static_cast<Index>(i)) != root(0)) return false;
   // The rim is the fan's (each of its edges faces one corner in the block), one simple cycle
   // through every vertex outside the block, and Euler's characteristic is 1.
-  if (rim != rim_.size() || rim_.size() < 3 || vertices_.size() != block.size() + rim_.size()) return false;
+  if (rim != fan_.size() || fan_.size() < 3 || vertices_.size() != block.size() + fan_.size()) return false;
   if (static_cast<long>(vertices_.size()) - static_cast<long>(edges) + static_cast<long>(triangles_.size()) != 1)
     return false;
-  std::sort(rim_.begin(), rim_.end());
-  for (std::size_t i = 1; i < rim_.size(); ++i)
-    if (rim_[i].first == rim_[i - 1].first) return false;
-  std::size_t steps = 0;
-  for (Index from = rim_.front().first;;) {
-    const auto next = std::lower_bound(rim_.begin(), rim_.end(), std::pair{from, Index{0}});
-    if (next == rim_.end() || next->first != from) return false;
-    from = next->second;
-    if (++steps > rim_.size()) return false;
-    if (from == rim_.front().first) break;
-  }
-  return steps == rim_.size();
+  rim_.clear();
+  for (const Triangle& f : fan_) rim_.emplace_back(f[1], f[2]);
+  return chain_of(rim_) == Chain::Cycle;
 }
 
 bool one_fan(Index v, std::span<const Triangle> star, std::vector<std::pair<Index, Index>>& link) {
@@ -222,31 +231,7 @@ bool one_fan(Index v, std::span<const Triangle> star, std::vector<std::pair<Inde
     const std::size_t k = f[0] == v ? 0 : f[1] == v ? 1 : 2;
     link.emplace_back(f[(k + 1) % 3], f[(k + 2) % 3]);
   }
-  if (link.empty()) return true;
-  std::sort(link.begin(), link.end());
-  for (std::size_t i = 1; i < link.size(); ++i)
-    if (link[i].first == link[i - 1].first) return false;
-  // A path starts at a link vertex that no edge ends at; a cycle has none.
-  std::vector<Index> ends;
-  ends.reserve(link.size());
-  for (const auto& e : link) ends.push_back(e.second);
-  std::sort(ends.begin(), ends.end());
-  for (std::size_t i = 1; i < ends.size(); ++i)
-    if (ends[i] == ends[i - 1]) return false;
-  Index start = link.front().first;
-  std::size_t starts = 0;
-  for (const auto& e : link)
-    if (!std::binary_search(ends.begin(), ends.end(), e.first)) start = e.first, ++starts;
-  if (starts > 1) return false;
-  std::size_t steps = 0;
-  for (Index at = start;;) {
-    const auto next = std::lower_bound(link.begin(), link.end(), std::pair{at, Index{0}});
-    if (next == link.end() || next->first != at) break;  // the path's end
-    at = next->second;
-    ++steps;
-    if (at == start || steps > link.size()) break;
-  }
-  return steps == link.size();
+  return link.empty() || chain_of(link) != Chain::Broken;
 }
 
 bool unturned(const MeshView& mesh, std::span<const Triangle> star) {

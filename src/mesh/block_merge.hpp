@@ -85,15 +85,17 @@ class BlockMerge {
   /// The vertex of `block` nearest its centroid (ties: the lowest position).
   Index central_vertex(std::span<const Index> block) const;
   /// Whether the fan from `keep` over the rim of the block's triangles_ (their edges that face
-  /// one corner in the block, kept in rim_) is upright and within the tolerance of the block.
+  /// one corner in the block; the fan kept in fan_) is upright and within the tolerance of the
+  /// block.
   bool fan_holds(std::span<const Index> block, Index keep);
   /// Whether triangles_ form one disk whose interior vertices are the block's and whose
-  /// boundary is rim_, one simple cycle.
+  /// boundary is fan_'s rim, one simple cycle.
   bool one_disk(std::span<const Index> block);
 
   const MeshView* mesh_;
   std::vector<Index> triangles_, vertices_;
   std::vector<Edge> edges_;
+  std::vector<Triangle> fan_;
   std::vector<std::pair<Index, Index>> rim_;
   std::vector<Index> parent_;
 };

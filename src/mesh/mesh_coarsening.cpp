@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -86,6 +87,13 @@ class Merges {
   }
   /// The vertex v becomes: its live block's kept vertex, or itself.
   Index image(Index v) const { return rep_[v] == kNone ? v : rep_[v]; }
+  /// Triangle t of the mesh on the coarse mesh's vertices, or nothing where it collapses.
+  std::optional<Triangle> image_of_triangle(Index t) const {
+    const Triangle f = mesh_.triangle(t);
+    const Triangle c{image(f[0]), image(f[1]), image(f[2])};
+    if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) return std::nullopt;
+    return c;
+  }
   /// The live block whose kept vertex v is, or kNone.
   Index block_kept_at(Index v) const { return block_of_[v]; }
 
@@ -105,11 +113,8 @@ class Merges {
     } else {
       add(v);
     }
-    for (const Index t : scratch) {
-      const Triangle f = mesh_.triangle(t);
-      const Triangle c{image(f[0]), image(f[1]), image(f[2])};
-      if (c[0] != c[1] && c[1] != c[2] && c[0] != c[2]) star.push_back(c);
-    }
+    for (const Index t : scratch)
+      if (const std::optional<Triangle> c = image_of_triangle(t)) star.push_back(*c);
   }
 
   /// Undoes block b; with `fall_back`, its members merge in the blocks of the size below
@@ -189,7 +194,7 @@ class Merges {
 /// changed whose triangles are not one fan (a vertex or an edge not manifold, a triangle twice)
 /// or where one is turned against its corners' normals, the last in priority of the blocks kept
 /// there; and each block kept at such a vertex with a merged vertex farther than the tolerance
-/// from its kept vertex's triangles.
+/// from its kept vertex's triangles. Each vertex's coarse triangles are gathered once for both.
 std::vector<std::uint8_t> failed_blocks(const MeshView& mesh, const Merges& merges,
                                         std::span<const std::size_t> blocks) {
   std::vector<std::uint8_t> marked(mesh.vertices(), 0);
@@ -200,15 +205,19 @@ std::vector<std::uint8_t> failed_blocks(const MeshView& mesh, const Merges& merg
   std::vector<Index> changed;
   for (Index v = 0; v < mesh.vertices(); ++v)
     if (marked[v]) changed.push_back(v);
-  std::vector<std::uint8_t> failed(merges.blocks(), 0);
-  std::vector<Index> last(changed.size(), kNone);
+  // Per changed vertex: the block last in priority around it where its triangles fail, and its
+  // own block where a merged vertex is beyond the tolerance.
+  std::vector<Index> last(changed.size(), kNone), far(changed.size(), kNone);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, changed.size(), 256), [&](const auto& r) {
     std::vector<Triangle> star;
     std::vector<Index> scratch;
     std::vector<std::pair<Index, Index>> link;
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      merges.star(changed[i], star, scratch);
-      if (detail::one_fan(changed[i], star, link) && detail::unturned(mesh, star)) continue;
+      const Index v = changed[i];
+      merges.star(v, star, scratch);
+      const Index own = merges.block_kept_at(v);
+      if (own != kNone && !detail::within_tolerance(merges.members(own), v, mesh, star)) far[i] = own;
+      if (detail::one_fan(v, star, link) && detail::unturned(mesh, star)) continue;
       for (const Triangle& f : star)
         for (const Index u : f) {
           const Index b = merges.block_kept_at(u);
@@ -216,18 +225,10 @@ std::vector<std::uint8_t> failed_blocks(const MeshView& mesh, const Merges& merg
         }
     }
   });
-  for (const Index b : last)
-    if (b != kNone) failed[b] = 1;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, changed.size(), 256), [&](const auto& r) {
-    std::vector<Triangle> star;
-    std::vector<Index> scratch;
-    for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      const Index b = merges.block_kept_at(changed[i]);
-      if (b == kNone || failed[b]) continue;
-      merges.star(changed[i], star, scratch);
-      if (!detail::within_tolerance(merges.members(b), changed[i], mesh, star)) failed[b] = 1;
-    }
-  });
+  std::vector<std::uint8_t> failed(merges.blocks(), 0);
+  for (std::size_t i = 0; i < changed.size(); ++i)
+    for (const Index b : {last[i], far[i]})
+      if (b != kNone) failed[b] = 1;
   return failed;
 }
 
@@ -235,11 +236,8 @@ std::vector<std::uint8_t> failed_blocks(const MeshView& mesh, const Merges& merg
 Triangles coarse_triangles(const MeshView& mesh, const Merges& merges) {
   std::vector<Triangle> kept;
   kept.reserve(mesh.triangle_count());
-  for (Index i = 0; i < mesh.triangle_count(); ++i) {
-    const Triangle t = mesh.triangle(i);
-    const Triangle c{merges.image(t[0]), merges.image(t[1]), merges.image(t[2])};
-    if (c[0] != c[1] && c[1] != c[2] && c[0] != c[2]) kept.push_back(c);
-  }
+  for (Index t = 0; t < mesh.triangle_count(); ++t)
+    if (const std::optional<Triangle> c = merges.image_of_triangle(t)) kept.push_back(*c);
   Triangles out(static_cast<Eigen::Index>(kept.size()), 3);
   for (std::size_t t = 0; t < kept.size(); ++t)
     for (std::size_t k = 0; k < 3; ++k)
