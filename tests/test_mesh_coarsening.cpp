@@ -199,21 +199,8 @@ TEST(MeshCoarsening, TheSameMeshForAnyNumberingAndThreadCount) {
     EXPECT_EQ(single.vertices, many.vertices);
     EXPECT_EQ(single.triangles, many.triangles);
   }
-  // The vertices renumbered at random, the triangles listed backwards.
-  std::vector<int> order(static_cast<std::size_t>(fine.vertices.rows()));
-  std::iota(order.begin(), order.end(), 0);
-  std::shuffle(order.begin(), order.end(), std::mt19937(11));
-  TriangleMesh shuffled;
-  shuffled.vertices.resize(fine.vertices.rows(), 3);
-  shuffled.normals.resize(fine.vertices.rows(), 3);
-  for (std::size_t v = 0; v < order.size(); ++v) {
-    shuffled.vertices.row(order[v]) = fine.vertices.row(static_cast<Eigen::Index>(v));
-    shuffled.normals.row(order[v]) = fine.normals.row(static_cast<Eigen::Index>(v));
-  }
-  shuffled.triangles.resize(fine.triangles.rows(), 3);
-  for (Eigen::Index t = 0; t < fine.triangles.rows(); ++t)
-    for (int k = 0; k < 3; ++k)
-      shuffled.triangles(fine.triangles.rows() - 1 - t, k) = order[static_cast<std::size_t>(fine.triangles(t, k))];
+  // The vertices renumbered at random, the triangles shuffled and their corners rotated.
+  const TriangleMesh shuffled = test::renumbered(fine, 11).mesh;
   EXPECT_EQ(test::triangle_set(coarsen(shuffled)), test::triangle_set(many));
 }
 

@@ -3,11 +3,16 @@
 #include <clustersurf/evaluation/range_scan.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
+#include <map>
+#include <numeric>
 #include <random>
 #include <sstream>
 #include <unistd.h>
+#include <utility>
+#include <vector>
 
 namespace clustersurf::test {
 
@@ -93,6 +98,63 @@ PointCloud sample_torus(int n, double R, double r) {
     c.normals.row(i) = nn[static_cast<std::size_t>(i)].transpose();
   }
   return c;
+}
+
+Renumbered renumbered(const TriangleMesh& mesh, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  Renumbered out;
+  out.new_index.resize(static_cast<std::size_t>(mesh.vertices.rows()));
+  std::iota(out.new_index.begin(), out.new_index.end(), 0);
+  std::shuffle(out.new_index.begin(), out.new_index.end(), rng);
+  const bool normals = mesh.normals.rows() == mesh.vertices.rows();
+  out.mesh.vertices.resize(mesh.vertices.rows(), 3);
+  if (normals) out.mesh.normals.resize(mesh.vertices.rows(), 3);
+  for (std::size_t v = 0; v < out.new_index.size(); ++v) {
+    out.mesh.vertices.row(out.new_index[v]) = mesh.vertices.row(static_cast<Eigen::Index>(v));
+    if (normals) out.mesh.normals.row(out.new_index[v]) = mesh.normals.row(static_cast<Eigen::Index>(v));
+  }
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(mesh.triangles.rows()));
+  std::iota(order.begin(), order.end(), 0);
+  std::shuffle(order.begin(), order.end(), rng);
+  out.mesh.triangles.resize(mesh.triangles.rows(), 3);
+  for (std::size_t t = 0; t < order.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      out.mesh.triangles(static_cast<Eigen::Index>(t), k) =
+          out.new_index[static_cast<std::size_t>(mesh.triangles(order[t], (k + static_cast<int>(t)) % 3))];
+  return out;
+}
+
+TriangleMesh icosphere(int levels, double radius, const Eigen::Vector3d& center) {
+  const double t = (1 + std::sqrt(5.0)) / 2;
+  std::vector<Eigen::Vector3d> v{{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                                 {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  for (auto& p : v) p.normalize();
+  std::vector<std::array<int, 3>> f{{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                                    {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                                    {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  for (int level = 0; level < levels; ++level) {
+    std::map<std::pair<int, int>, int> middle;
+    const auto mid = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      const auto [it, added] = middle.try_emplace(key, static_cast<int>(v.size()));
+      if (added) v.push_back((v[static_cast<std::size_t>(a)] + v[static_cast<std::size_t>(b)]).normalized());
+      return it->second;
+    };
+    std::vector<std::array<int, 3>> next;
+    for (const auto& [a, b, c] : f) {
+      const int ab = mid(a, b), bc = mid(b, c), ca = mid(c, a);
+      next.insert(next.end(), {{a, ab, ca}, {b, bc, ab}, {c, ca, bc}, {ab, bc, ca}});
+    }
+    f = std::move(next);
+  }
+  TriangleMesh m;
+  m.vertices.resize(static_cast<Eigen::Index>(v.size()), 3);
+  for (std::size_t i = 0; i < v.size(); ++i)
+    m.vertices.row(static_cast<Eigen::Index>(i)) = (center + radius * v[i]).transpose();
+  m.triangles.resize(static_cast<Eigen::Index>(f.size()), 3);
+  for (std::size_t i = 0; i < f.size(); ++i)
+    for (int k = 0; k < 3; ++k) m.triangles(static_cast<Eigen::Index>(i), k) = f[i][static_cast<std::size_t>(k)];
+  return m;
 }
 
 PointCloud sample_plane(int nx, int ny) {

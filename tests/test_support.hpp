@@ -10,6 +10,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <vector>
 
 namespace clustersurf::test {
 
@@ -44,6 +45,16 @@ PointCloud sample_sphere(int n, double radius = 1.0, const Eigen::Vector3d& cent
 PointCloud sample_torus(int n, double R = 1.0, double r = 0.35);
 /// A grid of nx x ny points on the plane z = 0 over [0,1]^2, normals +z.
 PointCloud sample_plane(int nx, int ny);
+/// A mesh renumbered: its vertices (with their normals) in a random order, its triangles in
+/// another with their corners rotated (the same orientation).
+struct Renumbered {
+  TriangleMesh mesh;
+  std::vector<int> new_index;  ///< new_index[v]: the new row of the old vertex v
+};
+Renumbered renumbered(const TriangleMesh& mesh, std::uint64_t seed);
+/// An icosahedron subdivided `levels` times and pushed onto the sphere of `radius` about
+/// `center`, its triangles facing out.
+TriangleMesh icosphere(int levels, double radius = 1.0, const Eigen::Vector3d& center = Eigen::Vector3d::Zero());
 /// Moves every point along its normal by Gaussian noise of standard deviation `sigma` (seeded).
 void add_normal_noise(PointCloud& c, double sigma, std::uint64_t seed);
 /// The triangles of a mesh as corner positions, each starting at its smallest corner (its

@@ -8,50 +8,16 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include "test_support.hpp"
+
 #include <cmath>
 #include <limits>
-#include <map>
 #include <numbers>
 #include <utility>
 
 using namespace clustersurf;
 
 namespace {
-
-/// An icosahedron subdivided `levels` times and pushed onto the sphere of `radius` about
-/// `center`, its triangles facing out.
-TriangleMesh icosphere(int levels, double radius = 1.0, const Eigen::Vector3d& center = Eigen::Vector3d::Zero()) {
-  const double t = (1 + std::sqrt(5.0)) / 2;
-  std::vector<Eigen::Vector3d> v{{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
-                                 {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
-  for (auto& p : v) p.normalize();
-  std::vector<std::array<int, 3>> f{{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                                    {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                                    {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  for (int level = 0; level < levels; ++level) {
-    std::map<std::pair<int, int>, int> middle;
-    const auto mid = [&](int a, int b) {
-      const auto key = std::minmax(a, b);
-      const auto [it, added] = middle.try_emplace(key, static_cast<int>(v.size()));
-      if (added) v.push_back((v[static_cast<std::size_t>(a)] + v[static_cast<std::size_t>(b)]).normalized());
-      return it->second;
-    };
-    std::vector<std::array<int, 3>> next;
-    for (const auto& [a, b, c] : f) {
-      const int ab = mid(a, b), bc = mid(b, c), ca = mid(c, a);
-      next.insert(next.end(), {{a, ab, ca}, {b, bc, ab}, {c, ca, bc}, {ab, bc, ca}});
-    }
-    f = std::move(next);
-  }
-  TriangleMesh m;
-  m.vertices.resize(static_cast<Eigen::Index>(v.size()), 3);
-  for (std::size_t i = 0; i < v.size(); ++i)
-    m.vertices.row(static_cast<Eigen::Index>(i)) = (center + radius * v[i]).transpose();
-  m.triangles.resize(static_cast<Eigen::Index>(f.size()), 3);
-  for (std::size_t i = 0; i < f.size(); ++i)
-    for (int k = 0; k < 3; ++k) m.triangles(static_cast<Eigen::Index>(i), k) = f[i][static_cast<std::size_t>(k)];
-  return m;
-}
 
 /// The volume a closed, outward-facing mesh bounds (divergence theorem).
 double enclosed_volume(const TriangleMesh& m) {
@@ -84,7 +50,7 @@ TriangleMesh without_cap(const TriangleMesh& m, double angle) {
 TEST(VolumeOverlap, TwoSpheresOverlapAsTheLensBetweenThemSays) {
   // Unit spheres 0.8 apart: the lens between them holds π (4r + d)(2r − d)² / 12.
   const double d = 0.8;
-  const TriangleMesh a = icosphere(5), b = icosphere(5, 1.0, Eigen::Vector3d(d, 0, 0));
+  const TriangleMesh a = test::icosphere(5), b = test::icosphere(5, 1.0, Eigen::Vector3d(d, 0, 0));
   const double sphere = 4 * std::numbers::pi / 3, lens = std::numbers::pi * (4 + d) * (2 - d) * (2 - d) / 12;
   VolumeOverlapOptions million;
   million.samples = 1'000'000;
@@ -96,14 +62,14 @@ TEST(VolumeOverlap, TwoSpheresOverlapAsTheLensBetweenThemSays) {
 }
 
 TEST(VolumeOverlap, TheSameSolidIsOneAndSeparateSolidsAreZero) {
-  const TriangleMesh a = icosphere(3);
+  const TriangleMesh a = test::icosphere(3);
   EXPECT_EQ(volume_overlap(a, a).iou, 1.0);
-  EXPECT_EQ(volume_overlap(a, icosphere(3, 1.0, Eigen::Vector3d(2.5, 0, 0))).iou, 0.0);
+  EXPECT_EQ(volume_overlap(a, test::icosphere(3, 1.0, Eigen::Vector3d(2.5, 0, 0))).iou, 0.0);
 }
 
 TEST(VolumeOverlap, MeshesInOtherFramesAreComparedWhereTheyLie) {
   // The same sphere, its vertices stored relative to another origin.
-  const TriangleMesh a = icosphere(4);
+  const TriangleMesh a = test::icosphere(4);
   TriangleMesh b = a;
   b.origin = Eigen::Vector3d(1e6, -2e6, 3e5);
   b.vertices.rowwise() -= b.origin.transpose();
@@ -114,14 +80,14 @@ TEST(VolumeOverlap, AMissingCapSwaysOneRayNotTheVote) {
   // A cap of about 2 % of the sphere missing: a single ray's parity would call every point whose
   // ray leaves through the opening outside (about 8 % of the ball); the vote of three rays in
   // directions far apart calls outside only the points two of whose rays leave through it.
-  const TriangleMesh whole = icosphere(5);
+  const TriangleMesh whole = test::icosphere(5);
   const TriangleMesh open = without_cap(whole, 0.29);
   ASSERT_LT(open.triangles.rows(), whole.triangles.rows() * 99 / 100);
   EXPECT_GT(volume_overlap(open, whole).iou, 0.99);
 }
 
 TEST(VolumeOverlap, TheFiguresDoNotDependOnTheThreadCount) {
-  const TriangleMesh a = icosphere(4), b = icosphere(4, 0.9, Eigen::Vector3d(0.3, 0.2, 0.1));
+  const TriangleMesh a = test::icosphere(4), b = test::icosphere(4, 0.9, Eigen::Vector3d(0.3, 0.2, 0.1));
   VolumeOverlapOptions options;
   options.samples = 200'000;
   const VolumeOverlap many = volume_overlap(a, b, options);
@@ -132,7 +98,7 @@ TEST(VolumeOverlap, TheFiguresDoNotDependOnTheThreadCount) {
 }
 
 TEST(VolumeOverlap, BadMeshesAndNoSamplesAreRefused) {
-  const TriangleMesh a = icosphere(2);
+  const TriangleMesh a = test::icosphere(2);
   TriangleMesh cloud;
   cloud.vertices = a.vertices;
   EXPECT_THROW(volume_overlap(cloud, a), OptionError);
@@ -153,17 +119,17 @@ TEST(VolumeOverlap, BadMeshesAndNoSamplesAreRefused) {
 
 TEST(VolumeOverlap, AMeshOfDegenerateTrianglesBoundsNothing) {
   // Every vertex at one point: triangles without area, a box without extent.
-  TriangleMesh point = icosphere(1);
+  TriangleMesh point = test::icosphere(1);
   point.vertices.setZero();
   VolumeOverlapOptions options;
   options.samples = 1000;
-  const VolumeOverlap o = volume_overlap(point, icosphere(1), options);
+  const VolumeOverlap o = volume_overlap(point, test::icosphere(1), options);
   EXPECT_EQ(o.reconstruction_volume, 0.0);
   EXPECT_EQ(o.iou, 0.0);
 }
 
 TEST(VolumeOverlap, CompareSurfacesReportsItOnlyForTwoClosedMeshes) {
-  const TriangleMesh a = icosphere(4), b = icosphere(4, 1.0, Eigen::Vector3d(0.5, 0, 0));
+  const TriangleMesh a = test::icosphere(4), b = test::icosphere(4, 1.0, Eigen::Vector3d(0.5, 0, 0));
   ComparisonOptions options;
   options.samples = 20'000;
   const double iou = compare_surfaces(a, b, options).volume_iou;

@@ -275,6 +275,7 @@ class Tree:
         coarsen: float = 0.05,
         coarsen_levels: int = 3,
         refit_points: int = 12,
+        no_chord_offset: bool = False,
         decimate: int = 0,
         decimate_tolerance: float = 0.0,
         watertight: bool = False,

@@ -10,6 +10,7 @@
 #include <clustersurf/surface/box_walk.hpp>
 
 #include "mesh/blend_noise.hpp"
+#include "mesh/chord_sag.hpp"
 #include "mesh/vertex_fit.hpp"
 #include "mesh/vertex_move_guards.hpp"
 #include "mesh/vertex_rings.hpp"
@@ -115,10 +116,11 @@ class CreaseSupports {
 
 /// Each vertex's widest consistent fit (widest_consistent_fit()) to the data's points nearest
 /// to it, the blend's share of its variance taken away; none for the `fixed` vertices, those
-/// inside a crease leaf's support and those whose fit asks for more than `max_move`.
+/// inside a crease leaf's support (marked 1 in `at_crease`) and those whose fit asks for more
+/// than `max_move`.
 std::vector<detail::LocalFit> local_fits(const TriangleMesh& mesh, const Points& normals, const KdTree& data,
                                          const ImplicitSurface& surface, const VertexRefitOptions& options,
-                                         std::span<const float> fixed, double max_move) {
+                                         std::span<const float> fixed, double max_move, std::vector<float>& at_crease) {
   const CreaseSupports creases(surface);
   const auto n = static_cast<std::size_t>(mesh.vertices.rows());
   std::vector<detail::LocalFit> fits(n);
@@ -129,7 +131,10 @@ std::vector<detail::LocalFit> local_fits(const TriangleMesh& mesh, const Points&
   const auto fit = [&](std::size_t v, const ImplicitSurface::BoxWalk& supports, std::vector<Neighbor>& near) {
     if (v < fixed.size() && fixed[v] > 0) return;
     const Eigen::Vector3d x = mesh.vertices.row(static_cast<Eigen::Index>(v)).transpose();
-    if (creases.contain(x, near)) return;
+    if (creases.contain(x, near)) {
+      at_crease[v] = 1;
+      return;
+    }
     data.knn(x, wanted, near);
     // Equally distant points in the order of their positions: the same sums whatever the data's
     // row order (a tile's points are numbered otherwise than the whole cloud's).
@@ -182,7 +187,10 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
   const Points computed = has_normals ? Points() : vertex_normals(mesh);
   const Points& normals = has_normals ? mesh.normals : computed;
   const double max_move = typical_spread(tree);
-  const std::vector<detail::LocalFit> fits = local_fits(mesh, normals, data, surface, options, fixed, max_move);
+  // The vertices a crease leaf holds, and the fixed ones: neither is refitted nor offset.
+  std::vector<float> held(fixed.begin(), fixed.end());
+  held.resize(n, 0.0f);
+  const std::vector<detail::LocalFit> fits = local_fits(mesh, normals, data, surface, options, fixed, max_move, held);
   const detail::VertexRings rings = detail::edge_neighbors(mesh);
   const WindowMeans means = window_means(fits, detail::vertex_areas(mesh, rings), rings, options.rings);
   // How many independent fits the window holds: its area over a fit's (neighbouring vertices'
@@ -212,6 +220,7 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
       std::count_if(fits.begin(), fits.end(), [](const detail::LocalFit& f) { return f.valid; }));
   detail::undo_folds(mesh, before, moves);
   detail::undo_crossings(mesh, before, moves, kSuspectMove * max_move);
+  if (options.chord_offset) report.mean_chord_offset = detail::offset_chord_sag(mesh, held);
   double moved = 0, shared = 0;
   for (std::size_t v = 0; v < n; ++v) moved += std::abs(moves[v]), shared += moves[v] != 0 ? shares[v] : 0.0;
   report.mean_move = moved / static_cast<double>(n);

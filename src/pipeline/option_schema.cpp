@@ -315,6 +315,11 @@ std::vector<OptionSpec> mesh_finishing_options() {
         meshing(o).refit.points = static_cast<std::uint32_t>(parse_whole("refit_points", text, 0, kMaxUint32));
         check_refit_options(meshing(o).refit);
       }));
+  out.push_back(flag_spec(
+      "no_chord_offset", OptionStage::Mesh,
+      "Leave the vertices on the fitted surface; by default each moves along its normal by the mean sag of its "
+      "triangles' chords under the curved surface, so that the triangles straddle it rather than cut under it",
+      [](auto& o) -> auto& { return meshing(o).refit.chord_offset; }, true));
   out.push_back(spec(
       "decimate", OptionStage::Mesh, OptionKind::Whole,
       "Reduce the mesh to at most this many triangles (edge collapses that keep vertices in place and the mesh's "

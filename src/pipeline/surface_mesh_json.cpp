@@ -20,6 +20,7 @@ std::string surface_mesh_json(const SurfaceMesh& m, const MeshTopology& topology
             {"coarsening_tolerance", m.coarsening.tolerance},
             {"refitted_vertices", m.refit.refitted},
             {"refit_mean_move", m.refit.mean_move},
+            {"refit_mean_chord_offset", m.refit.mean_chord_offset},
             {"filled_vertices", m.closing.filled_vertices},
             {"filled_triangles", m.closing.filled_triangles},
             {"opened_holes", m.closing.opened_holes},

@@ -25,6 +25,11 @@ struct VertexRefitOptions {
   std::uint32_t points = 12;
   /// The rings of mesh neighbours over which a vertex's move is weighed against the noise.
   std::uint32_t rings = 2;
+  /// After the moves, each vertex goes out along its normal by the mean sag of its triangles'
+  /// chords under the surface (the lumped L² projection of the smooth surface through the
+  /// vertices and normals onto the mesh): the triangles straddle a curved surface instead of
+  /// cutting under it. false leaves the vertices on the fits.
+  bool chord_offset = true;
 };
 
 /// Throws OptionError, naming refit_points, when options.points is neither 0 nor at least
@@ -36,13 +41,15 @@ template <OptionsOf<VertexRefitOptions> Options, class F>
 void for_each_field(Options& o, F&& f) {
   f("points", o.points);
   f("rings", o.rings);
+  f("chord_offset", o.chord_offset);
 }
 
 /// What refit_vertices() did.
 struct VertexRefitReport {
-  std::size_t refitted = 0;  ///< vertices whose local fit was determined
-  double mean_move = 0;      ///< mean |move| over all vertices, in the mesh's units
-  double mean_share = 0;     ///< mean share of the local fits' moves taken (0: none, 1: all)
+  std::size_t refitted = 0;      ///< vertices whose local fit was determined
+  double mean_move = 0;          ///< mean |move| over all vertices, in the mesh's units
+  double mean_share = 0;         ///< mean share of the local fits' moves taken (0: none, 1: all)
+  double mean_chord_offset = 0;  ///< mean |offset| of the vertices by their chords' sag
 };
 
 /// Moves each vertex of `mesh` (a mesh of `surface`) along its normal (mesh.normals;
@@ -72,7 +79,9 @@ struct VertexRefitReport {
 /// the moves would turn by more than 60 degrees (a fold), and the corners of a triangle that a
 /// move of more than a tenth of the typical spread makes intersect another part of the mesh
 /// (the far side of a thin part; intersections the moves did not make are left as they are).
-/// The normals are kept. Deterministic
+/// The normals are kept. Then, with options.chord_offset, the vertices are offset by their
+/// triangles' mean chord sag (the sag of the quadratic their normals give: not where the
+/// normals turn by more than the mesh grid resolves, nor at `fixed` vertices). Deterministic
 /// for any thread count and any numbering of the vertices and of the data. Throws OptionError
 /// for invalid options (check_refit_options()).
 VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const ImplicitSurface& surface,

@@ -118,7 +118,7 @@ struct SurfaceMesh {
 /// of its `topology`, then blended_nodes, the grid's voxel_size, surface_cells and evaluated_corners, the trim's
 /// trimmed_triangles, removed_components and closed_pinholes, the coarsening's
 /// coarsened_from_triangles and coarsening_tolerance, the refit's refitted_vertices and
-/// refit_mean_move, the closing's filled_vertices, filled_triangles and opened_holes, the
+/// refit_mean_move and refit_mean_chord_offset, the closing's filled_vertices, filled_triangles and opened_holes, the
 /// decimation's decimated_from_triangles and decimation_deviation, mesh_seconds and, for a
 /// closed mesh, check (mesh_check_json()).
 std::string surface_mesh_json(const SurfaceMesh& mesh, const MeshTopology& topology);
