@@ -35,27 +35,18 @@ LocalFit fit_at(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const P
   const Eigen::Vector3d n = normal.normalized();
   const Eigen::Vector3d t1 = n.unitOrthogonal();
   const Eigen::Vector3d t2 = n.cross(t1);
-  thread_local std::vector<Vector6> monomials;
-  thread_local std::vector<double> weights;
-  monomials.resize(near.size());
-  weights.resize(near.size());
-  Matrix6 a = Matrix6::Zero(), b = Matrix6::Zero();
+  Matrix6 a = Matrix6::Zero(), b = Matrix6::Zero();  // Σw m mᵀ, Σw² m mᵀ (lower triangles)
   Vector6 rhs = Vector6::Zero();
   double weight = 0, weight2 = 0, zz = 0;  // Σw, Σw², Σw z²
-  for (std::size_t k = 0; k < near.size(); ++k) {
-    const Neighbor& nb = near[k];
+  for (const Neighbor& nb : near) {
     const Eigen::Vector3d d = (data.row(nb.index).transpose() - x) / h;
     const double s = 1 - nb.distance_squared / h2;
     const double w = s * s * s;
     const double u = d.dot(t1), v = d.dot(t2), z = d.dot(n);
-    Vector6& m = monomials[k];
+    Vector6 m;
     m << 1, u, v, u * u, u * v, v * v;
-    weights[k] = w;
     for (int j = 0; j < 6; ++j)
-      for (int i = j; i < 6; ++i) a(i, j) += w * m(i) * m(j);
-    if (with_residual_noise)
-      for (int j = 0; j < 6; ++j)
-        for (int i = j; i < 6; ++i) b(i, j) += w * w * m(i) * m(j);
+      for (int i = j; i < 6; ++i) a(i, j) += w * m(i) * m(j), b(i, j) += w * w * m(i) * m(j);
     rhs += w * z * m;
     weight += w, weight2 += w * w, zz += w * z * z;
   }
@@ -70,17 +61,15 @@ LocalFit fit_at(const Eigen::Vector3d& x, const Eigen::Vector3d& normal, const P
   if (!(weight > 0) || !(h * std::sqrt(residual / weight) <= cluster_error_threshold(tree, weight * weight / weight2)))
     return out;
   // The height's weights on the rows are w gᵀm with g = A⁻¹ e₀: its variance per unit variance
-  // of the noise is Σ w² (gᵀm)².
+  // of the noise is Σ w² (gᵀm)² = gᵀBg.
   const Vector6 g = solver.solve(Vector6::Unit(0));
-  double unit_variance = 0;
-  for (std::size_t k = 0; k < near.size(); ++k) {
-    const double gm = g.dot(monomials[k]);
-    unit_variance += weights[k] * weights[k] * gm * gm;
-  }
+  const double unit_variance = g.dot(b * g);
   out.move = h * c(0);
   out.unit_variance = unit_variance;
   if (with_residual_noise) {
-    out.dof = std::max(0.0, weight - solver.solve(b).trace());  // Σw − tr(A⁻¹B), B = Σw² m mᵀ
+    double trace = 0;  // tr(A⁻¹B), column by column
+    for (int j = 0; j < 6; ++j) trace += solver.solve(Vector6(b.col(j)))(j);
+    out.dof = std::max(0.0, weight - trace);  // Σw − tr(A⁻¹B)
     out.residual_variance = out.dof > 0 ? h * h * residual / out.dof : 0.0;
   }
   out.radius = h;
