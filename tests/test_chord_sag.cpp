@@ -4,6 +4,7 @@
 
 #include <clustersurf/core/point_cloud.hpp>
 #include <clustersurf/mesh/mesh_check.hpp>
+#include <clustersurf/pipeline/reconstruct.hpp>
 
 #include <gtest/gtest.h>
 
@@ -11,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <numbers>
 #include <vector>
 
@@ -70,8 +72,10 @@ TEST(ChordSag, BringsASphereMeshCloserAndKeepsItsVolume) {
   EXPECT_GT(mean_offset, 0.8 * shortest * shortest / 8);
   EXPECT_LT(mean_offset, 1.2 * longest * longest / 8);
   for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v) EXPECT_GT(mesh.vertices.row(v).norm(), 1);
-  EXPECT_LT(after, 0.5 * before) << "mean distance " << before << " -> " << after;
-  EXPECT_LT(volume_error_after, 0.1 * volume_error_before)
+  std::cout << "icosphere: mean distance " << before << " -> " << after << ", volume error " << volume_error_before
+            << " -> " << volume_error_after << "\n";
+  EXPECT_LT(after, 0.3 * before);
+  EXPECT_LT(volume_error_after, 0.01 * volume_error_before)
       << "volume error " << volume_error_before << " -> " << volume_error_after;
 }
 
@@ -126,4 +130,20 @@ TEST(ChordSag, SameBitsForAnyNumbering) {
   detail::offset_chord_sag(other.mesh);
   for (std::size_t v = 0; v < other.new_index.size(); ++v)
     EXPECT_EQ(other.mesh.vertices.row(other.new_index[v]), offset.vertices.row(static_cast<Eigen::Index>(v)));
+}
+
+TEST(ChordSag, TheReconstructedSphereComesCloser) {
+  // 20,000 exact points of the unit sphere, meshed at the defaults with and without the offset:
+  // the triangles' mean distance to the sphere falls, the vertices go out.
+  const PointCloud cloud = test::sample_sphere(20000);
+  ReconstructOptions options;
+  const SurfaceMesh offset = *reconstruct(cloud, options).mesh;
+  options.meshing.refit.chord_offset = false;
+  const SurfaceMesh on_fits = *reconstruct(cloud, options).mesh;
+  ASSERT_EQ(offset.mesh.triangles, on_fits.mesh.triangles);
+  EXPECT_GT(offset.refit.mean_chord_offset, 0);
+  EXPECT_EQ(on_fits.refit.mean_chord_offset, 0);
+  const double with = mean_distance_to_unit_sphere(offset.mesh), without = mean_distance_to_unit_sphere(on_fits.mesh);
+  std::cout << "mean distance to the sphere: " << without << " on the fits, " << with << " offset\n";
+  EXPECT_LT(with, 0.5 * without);
 }
