@@ -79,16 +79,6 @@ double squared_distance(const Eigen::Vector3d& p, const MeshView& mesh, std::spa
 
 }  // namespace
 
-VertexTriangles::VertexTriangles(const Triangles& tris, std::size_t vertices) : begin(vertices + 1, 0) {
-  for (Eigen::Index t = 0; t < tris.rows(); ++t)
-    for (int k = 0; k < 3; ++k) ++begin[static_cast<std::size_t>(tris(t, k)) + 1];
-  std::partial_sum(begin.begin(), begin.end(), begin.begin());
-  triangles.resize(begin.back());
-  std::vector<Index> next(begin.begin(), begin.end() - 1);
-  for (Eigen::Index t = 0; t < tris.rows(); ++t)
-    for (int k = 0; k < 3; ++k) triangles[next[static_cast<std::size_t>(tris(t, k))]++] = static_cast<Index>(t);
-}
-
 MeshView::MeshView(const TriangleMesh& mesh, const Eigen::Vector3d& origin, double cell, double tolerance)
     : mesh_(mesh),
       origin_(origin),

@@ -4,6 +4,8 @@
 
 #include <clustersurf/core/point_cloud.hpp>
 
+#include "mesh/vertex_triangles.hpp"
+
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -21,13 +23,6 @@ inline constexpr std::uint64_t kNoCell = std::numeric_limits<std::uint64_t>::max
 /// The smallest cosine between a triangle's normal and its corners' normals a merge may leave
 /// (60 degrees).
 inline constexpr double kMinNormalCosine = 0.5;
-
-/// Each vertex's triangles, in compressed rows, in the triangles' order.
-struct VertexTriangles {
-  std::vector<Index> begin, triangles;
-  VertexTriangles(const Triangles& tris, std::size_t vertices);
-  std::span<const Index> of(Index v) const { return {triangles.data() + begin[v], begin[v + 1] - begin[v]}; }
-};
 
 /// A mesh as coarsen_mesh() reads it, in place: its positions, unit normals (the mesh's, or its
 /// triangles' area-weighted mean where it has none), triangles, each vertex's triangles, and

@@ -1,6 +1,7 @@
 // Vertices offset by the mean sag of their triangles' chords under the smooth surface.
 
 #include "mesh/chord_sag.hpp"
+#include "mesh/vertex_triangles.hpp"
 
 #include <clustersurf/mesh/mesh_extraction.hpp>
 
@@ -17,36 +18,12 @@
 
 namespace clustersurf::detail {
 
-namespace {
-
-/// Each vertex's triangles, in compressed rows.
-struct VertexTriangles {
-  std::vector<std::uint32_t> begin, triangles;
-};
-
-VertexTriangles vertex_triangles(const TriangleMesh& mesh) {
-  const auto n = static_cast<std::size_t>(mesh.vertices.rows());
-  VertexTriangles out;
-  out.begin.assign(n + 1, 0);
-  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
-    for (int k = 0; k < 3; ++k) ++out.begin[static_cast<std::size_t>(mesh.triangles(t, k)) + 1];
-  for (std::size_t v = 0; v < n; ++v) out.begin[v + 1] += out.begin[v];
-  out.triangles.resize(out.begin[n]);
-  std::vector<std::uint32_t> next(out.begin.begin(), out.begin.end() - 1);
-  for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t)
-    for (int k = 0; k < 3; ++k)
-      out.triangles[next[static_cast<std::size_t>(mesh.triangles(t, k))]++] = static_cast<std::uint32_t>(t);
-  return out;
-}
-
-}  // namespace
-
 double max_sag_turn() { return 1 / kCellsPerCurvatureRadius; }
 
 double offset_chord_sag(TriangleMesh& mesh, std::span<const float> fixed) {
   const auto n = static_cast<std::size_t>(mesh.vertices.rows());
   if (n == 0 || mesh.normals.rows() != mesh.vertices.rows()) return 0;
-  const VertexTriangles star = vertex_triangles(mesh);
+  const VertexTriangles star(mesh.triangles, n);
   const double min_cosine = std::cos(max_sag_turn());
   const Points& x = mesh.vertices;
   const Points& normal = mesh.normals;
@@ -57,8 +34,9 @@ double offset_chord_sag(TriangleMesh& mesh, std::span<const float> fixed) {
       if (v < fixed.size() && fixed[v] > 0) continue;
       terms.clear();
       bool smooth = true;
-      for (std::uint32_t s = star.begin[v]; s != star.begin[v + 1] && smooth; ++s) {
-        const auto t = static_cast<Eigen::Index>(star.triangles[s]);
+      for (const std::uint32_t triangle : star.of(static_cast<std::uint32_t>(v))) {
+        if (!smooth) break;
+        const auto t = static_cast<Eigen::Index>(triangle);
         // The triangle's other corners, b and c, whichever their order in it.
         std::array<Eigen::Index, 2> other{};
         int found = 0;
