@@ -19,7 +19,9 @@ double max_sag_turn();
 /// normals (the gap at barycentric λ is ½ Σᵢ<ⱼ λᵢλⱼ (nᵢ − nⱼ)·(xᵢ − xⱼ), exact for a quadratic):
 /// the lumped L² projection of that surface onto the mesh's piecewise linear functions. A
 /// chord of a convex part lies inside it: its corners go out by the mean sag, and the mesh's
-/// mean distance to the surface falls (to about 40 % on a curve sampled uniformly). Vertices
+/// mean distance to the surface falls (to 0.39 of it on a uniformly sampled circle, 0.22 on a
+/// subdivided icosahedron). The lumped projection needs no solve and keeps each vertex's offset
+/// within the range of its triangles' sags. Vertices
 /// stay where an edge of theirs turns the normals by more than max_sag_turn() (a crease, a
 /// fold, a thin part's rim: no quadratic there) and where `fixed` is positive. Each vertex's
 /// sum runs in an order set by the values, not by the numbering: the same bits for any
