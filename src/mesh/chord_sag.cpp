@@ -3,8 +3,6 @@
 #include "mesh/chord_sag.hpp"
 #include "mesh/vertex_triangles.hpp"
 
-#include <clustersurf/mesh/mesh_extraction.hpp>
-
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Geometry>
@@ -18,13 +16,11 @@
 
 namespace clustersurf::detail {
 
-double max_sag_turn() { return 1 / kCellsPerCurvatureRadius; }
-
 double offset_chord_sag(TriangleMesh& mesh, std::span<const float> fixed) {
   const auto n = static_cast<std::size_t>(mesh.vertices.rows());
   if (n == 0 || mesh.normals.rows() != mesh.vertices.rows()) return 0;
   const VertexTriangles star(mesh.triangles, n);
-  const double min_cosine = std::cos(max_sag_turn());
+  const double min_cosine = std::cos(kMaxSagTurn);
   const Points& x = mesh.vertices;
   const Points& normal = mesh.normals;
   std::vector<double> offset(n, 0.0);

@@ -3,6 +3,7 @@
 // surface instead of cutting under its curved parts.
 
 #include <clustersurf/core/point_cloud.hpp>
+#include <clustersurf/mesh/mesh_extraction.hpp>
 
 #include <span>
 
@@ -11,7 +12,7 @@ namespace clustersurf::detail {
 /// The largest turn, in radians, of the normals along an edge over which offset_chord_sag()
 /// trusts the quadratic: the turn over a cell of the finest curvature the mesh grid resolves
 /// (a cell of 1 / kCellsPerCurvatureRadius of the radius).
-double max_sag_turn();
+inline constexpr double kMaxSagTurn = 1 / kCellsPerCurvatureRadius;
 
 /// Moves each vertex of `mesh` (its vertices on a smooth surface, mesh.normals the unit normals
 /// there) along its normal by the mean, weighted by its hat function over its triangles, of the
@@ -22,7 +23,7 @@ double max_sag_turn();
 /// mean distance to the surface falls (to 0.39 of it on a uniformly sampled circle, 0.22 on a
 /// subdivided icosahedron). The lumped projection needs no solve and keeps each vertex's offset
 /// within the range of its triangles' sags. Vertices
-/// stay where an edge of theirs turns the normals by more than max_sag_turn() (a crease, a
+/// stay where an edge of theirs turns the normals by more than kMaxSagTurn (a crease, a
 /// fold, a thin part's rim: no quadratic there) and where `fixed` is positive. Each vertex's
 /// sum runs in an order set by the values, not by the numbering: the same bits for any
 /// numbering of the vertices and triangles, and any thread count. Returns the mean |offset|.

@@ -115,12 +115,12 @@ class CreaseSupports {
 };
 
 /// Each vertex's widest consistent fit (widest_consistent_fit()) to the data's points nearest
-/// to it, the blend's share of its variance taken away; none for the `fixed` vertices, those
-/// inside a crease leaf's support (marked 1 in `at_crease`) and those whose fit asks for more
+/// to it, the blend's share of its variance taken away; none for the `held` vertices (positive),
+/// those inside a crease leaf's support (then marked held) and those whose fit asks for more
 /// than `max_move`.
 std::vector<detail::LocalFit> local_fits(const TriangleMesh& mesh, const Points& normals, const KdTree& data,
                                          const ImplicitSurface& surface, const VertexRefitOptions& options,
-                                         std::span<const float> fixed, double max_move, std::vector<float>& at_crease) {
+                                         std::vector<float>& held, double max_move) {
   const CreaseSupports creases(surface);
   const auto n = static_cast<std::size_t>(mesh.vertices.rows());
   std::vector<detail::LocalFit> fits(n);
@@ -129,10 +129,10 @@ std::vector<detail::LocalFit> local_fits(const TriangleMesh& mesh, const Points&
   const std::vector<std::uint32_t> order = detail::spatial_order(mesh.vertices);
   const std::size_t wanted = options.points << (detail::kFitWidths - 1);
   const auto fit = [&](std::size_t v, const ImplicitSurface::BoxWalk& supports, std::vector<Neighbor>& near) {
-    if (v < fixed.size() && fixed[v] > 0) return;
+    if (held[v] > 0) return;
     const Eigen::Vector3d x = mesh.vertices.row(static_cast<Eigen::Index>(v)).transpose();
     if (creases.contain(x, near)) {
-      at_crease[v] = 1;
+      held[v] = 1;
       return;
     }
     data.knn(x, wanted, near);
@@ -190,7 +190,7 @@ VertexRefitReport refit_vertices(TriangleMesh& mesh, const KdTree& data, const I
   // The vertices a crease leaf holds, and the fixed ones: neither is refitted nor offset.
   std::vector<float> held(fixed.begin(), fixed.end());
   held.resize(n, 0.0f);
-  const std::vector<detail::LocalFit> fits = local_fits(mesh, normals, data, surface, options, fixed, max_move, held);
+  const std::vector<detail::LocalFit> fits = local_fits(mesh, normals, data, surface, options, held, max_move);
   const detail::VertexRings rings = detail::edge_neighbors(mesh);
   const WindowMeans means = window_means(fits, detail::vertex_areas(mesh, rings), rings, options.rings);
   // How many independent fits the window holds: its area over a fit's (neighbouring vertices'
