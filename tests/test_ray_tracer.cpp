@@ -1,6 +1,7 @@
 // Ray tracer: the silhouette of a sphere matches the analytic disc, normals face the camera,
 // implicit and brute force give the same picture, every view draws something where expected,
-// results do not depend on the thread count, meshes and clouds render with the same camera.
+// results do not depend on the thread count, meshes and clouds render with the same camera,
+// georeferenced geometry draws as it does next to zero.
 
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/mesh/mesh_extraction.hpp>
@@ -244,4 +245,32 @@ TEST(RayTracer, TheScenesUpAxisIsTheDefaultUp) {
   PointCloud y_cloud = cloud;
   y_cloud.up = UpAxis::Y;
   EXPECT_EQ(cloud_z.pixels, render_points(y_cloud, explicit_up).pixels);
+}
+
+// A mesh or cloud in georeferenced coordinates (a UTM northing of 5,213 km, where float steps
+// are half a metre) is drawn as the same shape next to zero is: a sphere 20 m wide keeps its
+// outline.
+TEST(RayTracer, GeometryFarFromZeroDrawsAsNearIt) {
+  const double radius = 20;
+  const Eigen::Vector3d site(636590.49, 5213216.55, 400.25);
+  RenderOptions near_view = front_view(160, 160);
+  *near_view.camera.eye *= radius;
+  RenderOptions far_view = near_view;
+  *far_view.camera.eye += site;
+  *far_view.camera.target += site;
+  const auto outlines_differ = [](const Image& a, const Image& b) {
+    std::size_t differ = 0;
+    for (std::size_t p = 0; p < a.pixels.size(); ++p) differ += (a.pixels[p].a > 0) != (b.pixels[p].a > 0);
+    return static_cast<double>(differ);
+  };
+  const TriangleMesh near = test::icosphere(4, radius);
+  TriangleMesh far = near;
+  far.vertices.rowwise() += site.transpose();
+  const Image a = render_mesh(near, near_view);
+  EXPECT_NEAR(static_cast<double>(covered(a)), disc_area(near_view), 0.02 * disc_area(near_view));
+  EXPECT_LE(outlines_differ(a, render_mesh(far, far_view)), 0.002 * disc_area(near_view));
+  PointCloud cloud = test::sample_sphere(20000, radius), far_cloud = cloud;
+  far_cloud.positions.rowwise() += site.transpose();
+  EXPECT_LE(outlines_differ(render_points(cloud, near_view), render_points(far_cloud, far_view)),
+            0.002 * disc_area(near_view));
 }

@@ -8,7 +8,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
+
+#include "test_support.hpp"
 
 using namespace clustersurf;
 
@@ -211,4 +214,27 @@ TEST(SurfaceComparison, BoundaryLengthAndLooseFragmentsAreReported) {
   const MeshTopology two = mesh_topology(with_square(1));
   EXPECT_EQ(two.components, 2u);
   EXPECT_EQ(two.small_components, 0u);
+}
+
+// Surfaces are compared where they are in their files' coordinates, whatever origin each is
+// stored relative to: a georeferenced mesh against itself, stored about another origin, is at
+// distance zero.
+TEST(SurfaceComparison, SurfacesStoredAboutDifferentOriginsCompareInPlace) {
+  const Eigen::Vector3d site(636590.49, 849216.55, 400.25);
+  TriangleMesh reference = test::icosphere(3);
+  reference.origin = site;
+  TriangleMesh moved = reference;
+  const Eigen::Vector3d other(636000, 849000, 0);
+  moved.vertices.rowwise() += (site - other).transpose();
+  moved.origin = other;
+  ComparisonOptions options;
+  options.samples = 20000;
+  const SurfaceComparison same = compare_surfaces(moved, reference, options);
+  EXPECT_LT(same.chamfer, 1e-9);
+  EXPECT_GT(same.fscores.front().fscore, 0.999);
+  // A unit sphere moved by δ along z lies δ |cos θ| from itself: δ / 2 on average.
+  moved.origin.z() += 0.1;
+  EXPECT_NEAR(compare_surfaces(moved, reference, options).chamfer * same.diagonal, 0.05, 0.002);
+  moved.origin.z() = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(compare_surfaces(moved, reference, options), OptionError);
 }

@@ -40,7 +40,7 @@ auto read_with_warnings(ReadOptions options, Read&& read) {
 
 /// The two sides of compare_surfaces() from its four leading arguments, read in order: each side
 /// is one surface object, or vertices followed by their faces (None: a point cloud); None
-/// between sides is skipped. The reconstruction is moved into the reference's frame (origin).
+/// between sides is skipped.
 std::array<TriangleMesh, 2> two_surfaces(const std::array<py::handle, 4>& slots, const py::handle& recon_normals,
                                          const py::handle& ref_normals) {
   std::vector<TriangleMesh> sides;
@@ -64,12 +64,7 @@ std::array<TriangleMesh, 2> two_surfaces(const std::array<py::handle, 4>& slots,
     }
   }
   if (sides.size() < 2) throw OptionError("compare_surfaces needs a reference surface (ref_vertices)");
-  std::array<TriangleMesh, 2> out{std::move(sides[0]), std::move(sides[1])};
-  if (out[0].origin != out[1].origin) {
-    out[0].vertices.rowwise() += (out[0].origin - out[1].origin).transpose();
-    out[0].origin = out[1].origin;
-  }
-  return out;
+  return {std::move(sides[0]), std::move(sides[1])};
 }
 
 /// Sampling and scanning need triangles: arrays without faces are an error.

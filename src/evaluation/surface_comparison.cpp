@@ -119,9 +119,19 @@ double share_within(const std::vector<double>& v, double tau) {
 
 }  // namespace
 
-SurfaceComparison compare_surfaces(const TriangleMesh& reconstruction, const TriangleMesh& reference,
+SurfaceComparison compare_surfaces(const TriangleMesh& given, const TriangleMesh& reference,
                                    const ComparisonOptions& options) {
-  if (reconstruction.vertices.rows() == 0) throw OptionError("the reconstruction is empty");
+  if (given.vertices.rows() == 0) throw OptionError("the reconstruction is empty");
+  if (!given.origin.allFinite() || !reference.origin.allFinite())
+    throw OptionError("the surfaces' origins must be finite");
+  // The reconstruction in the reference's frame: both near zero, whatever their files' origins.
+  std::optional<TriangleMesh> moved;
+  if (given.origin != reference.origin) {
+    moved = given;
+    moved->vertices.rowwise() += (given.origin - reference.origin).transpose();
+    moved->origin = reference.origin;
+  }
+  const TriangleMesh& reconstruction = moved ? *moved : given;
   if (reference.vertices.rows() == 0) throw OptionError("the reference is empty");
   if (options.samples == 0) throw OptionError("the number of samples must be positive");
   SurfaceComparison e;

@@ -158,6 +158,15 @@ TriangleMesh to_mesh(io::ParsedFile&& parsed) {
   return mesh;
 }
 
+/// `mesh` moved next to zero as shift_to_origin() moves a cloud, when it lies far from it.
+TriangleMesh shifted_to_origin(TriangleMesh mesh) {
+  const Eigen::Vector3d shift = origin_shift(bounding_box(mesh.vertices));
+  if (shift.isZero()) return mesh;
+  mesh.vertices.rowwise() -= shift.transpose();
+  mesh.origin += shift;
+  return mesh;
+}
+
 /// Turns every triangle whose winding disagrees with the sum of its vertices' normals (a file
 /// whose normals and winding disagree), so its samples' normals follow the file's normals.
 void orient_faces_by_normals(TriangleMesh& mesh) {
@@ -228,7 +237,7 @@ PointCloud read_point_cloud(const std::filesystem::path& file, const ReadOptions
 }
 
 TriangleMesh read_triangle_mesh(const std::filesystem::path& file, const ReadOptions& options) {
-  return to_mesh(read(file, options, true));
+  return shifted_to_origin(to_mesh(read(file, options, true)));
 }
 
 PointCloud parse_point_cloud(std::string_view bytes, FileFormat format, const std::filesystem::path& name,
@@ -276,7 +285,7 @@ PointCloud parse_point_cloud(std::string_view bytes, FileFormat format, const st
 
 TriangleMesh parse_triangle_mesh(std::string_view bytes, FileFormat format, const std::filesystem::path& name,
                                  const ReadOptions& options) {
-  return to_mesh(parse(bytes, format, name, options, true));
+  return shifted_to_origin(to_mesh(parse(bytes, format, name, options, true)));
 }
 
 void write_point_cloud(const std::filesystem::path& file, const PointCloud& cloud, const PlyWriteOptions& ply) {

@@ -61,6 +61,13 @@ Image render_mesh(const TriangleMesh& mesh, const RenderOptions& options, Render
                   const ProgressCallback& progress) {
   render::check_common_options(options);
   if (mesh.triangles.rows() == 0) throw OptionError("cannot render a mesh without triangles");
+  // Embree works in float: a mesh far from zero is drawn from next to it, as the readers move one.
+  if (const Eigen::Vector3d shift = origin_shift(bounding_box(mesh.vertices)); !shift.isZero()) {
+    TriangleMesh near = mesh;
+    near.vertices.rowwise() -= shift.transpose();
+    near.origin += shift;
+    return render_mesh(near, options, stats, progress);
+  }
   const Camera camera = render::scene_camera(options, bounding_box(mesh.vertices), mesh.origin, mesh.up);
   EmbreeScene scene;
   scene.commit_triangles(mesh);
@@ -93,6 +100,11 @@ Image render_points(const PointCloud& cloud, const RenderOptions& options, Rende
                     const ProgressCallback& progress) {
   render::check_common_options(options);
   if (cloud.empty()) throw OptionError("cannot render an empty point cloud");
+  if (origin_shift(bounding_box(cloud.positions)) != Eigen::Vector3d::Zero()) {
+    PointCloud near = cloud;
+    shift_to_origin(near);
+    return render_points(near, options, stats, progress);
+  }
   const Camera camera = render::scene_camera(options, bounding_box(cloud.positions), cloud.origin, cloud.up);
   double radius = options.point_radius;
   if (radius == 0) {

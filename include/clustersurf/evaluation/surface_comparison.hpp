@@ -68,8 +68,10 @@ struct SurfaceComparison {
 };
 
 /// Scores `reconstruction` against `reference`. Each is a triangle mesh, or a point cloud when
-/// it has no triangles (its vertices, with normals when present). Deterministic for a seed.
-/// Throws OptionError when either surface is empty.
+/// it has no triangles (its vertices, with normals when present). The two may have different
+/// origins (each is relative to its own): the reconstruction is compared in the reference's
+/// frame. Deterministic for a seed. Throws OptionError when either surface is empty or an
+/// origin is not finite.
 SurfaceComparison compare_surfaces(const TriangleMesh& reconstruction, const TriangleMesh& reference,
                                    const ComparisonOptions& options = {});
 

@@ -62,7 +62,9 @@ PointCloud read_point_cloud(const std::filesystem::path& file, const ReadOptions
 /// no triangle of positive area (or the sum is not finite).
 Points vertex_normals(const TriangleMesh& mesh);
 
-/// Reads a triangle mesh from PLY or OBJ (polygons are fan-triangulated). Throws like
+/// Reads a triangle mesh from PLY or OBJ (polygons are fan-triangulated). A mesh far from zero
+/// (georeferenced) is moved next to it as a cloud is (shift_to_origin): its vertices are then
+/// relative to TriangleMesh::origin, and the writers add it back bit for bit. Throws like
 /// read_point_cloud, and InputError when a face index is out of range.
 TriangleMesh read_triangle_mesh(const std::filesystem::path& file, const ReadOptions& options = {});
 

@@ -91,10 +91,12 @@ std::optional<RayHit> intersect_surface(const ClusterTree& tree, const Ray& ray,
 Image render_tree(const ClusterTree& tree, const RenderOptions& options, RenderStats* stats = nullptr,
                   const ProgressCallback& progress = {});
 /// Renders a triangle mesh (vertex colors and normals used when present) with the same camera
-/// conventions as render_tree().
+/// conventions as render_tree(). A mesh far from zero (georeferenced coordinates) is drawn
+/// moved next to it (origin_shift()), so float precision does not open gaps between triangles.
 Image render_mesh(const TriangleMesh& mesh, const RenderOptions& options, RenderStats* stats = nullptr,
                   const ProgressCallback& progress = {});
-/// Renders a point cloud as small discs (oriented by the normals, spheres without normals).
+/// Renders a point cloud as small discs (oriented by the normals, spheres without normals),
+/// moved next to zero as render_mesh() moves a mesh.
 Image render_points(const PointCloud& cloud, const RenderOptions& options, RenderStats* stats = nullptr,
                     const ProgressCallback& progress = {});
 
