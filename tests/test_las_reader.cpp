@@ -73,6 +73,21 @@ TEST(LasReader, Formats7To10WithScaleOffsetColorsAndAttributes) {
   EXPECT_FALSE(parse_las(six.bytes).has_colors());
 }
 
+// A format with color fields that the file left 0 in every record (no camera on the survey)
+// has no colors; one lit channel anywhere gives them all.
+TEST(LasReader, ColorFieldsLeftEmptyAreNoColors) {
+  for (const bool lit : {false, true}) {
+    LasFile f(7, 36, 3);
+    for (std::int32_t i = 0; i < 3; ++i)
+      f.record(36, i, 2 * i, 3 * i, 5, {{32, lit && i == 2 ? std::uint16_t{200} : std::uint16_t{0}}});
+    const PointCloud c = parse_las(f.bytes);
+    ASSERT_EQ(c.has_colors(), lit);
+    if (lit) {
+      EXPECT_EQ(c.colors(2, 1), 200);  // 8-bit values in the 16-bit fields
+    }
+  }
+}
+
 TEST(LasReader, HostileHeadersAreRefusedBeforeAllocating) {
   LasFile good(6, 30, 1);
   good.record(30, 1, 2, 3, 4);

@@ -233,6 +233,21 @@ TEST(PointStream, DamagedFilesAreRefusedWithTheByteOffset) {
   EXPECT_THROW(PointStream(dir / "missing.ply"), IoError);
 }
 
+// LAS color fields left 0 in every record are no colors in blocks too, as the reader has it.
+TEST(PointStream, LasColorFieldsLeftEmptyAreNoColors) {
+  const test::TempDir dir;
+  for (const bool lit : {false, true}) {
+    test::LasFile las(7, 36, 3);
+    for (std::int32_t i = 0; i < 3; ++i)
+      las.record(36, i, 2 * i, 3 * i, 5, {{34, lit && i == 1 ? std::uint16_t{60000} : std::uint16_t{0}}});
+    test::write_file(dir / "c.las", las.bytes);
+    PointStream stream(dir / "c.las");
+    ASSERT_EQ(stream.has_colors(), lit);
+    const PointCloud streamed = read_all(stream, 2);
+    EXPECT_EQ(streamed.colors, read_point_cloud(dir / "c.las").colors);
+  }
+}
+
 // LAS, the surveys' format, is read in place too: the same points as the reader's, in the file's
 // coordinates (the reader moves them next to zero and keeps the shift as the origin).
 TEST(PointStream, LasInBlocksIsTheReadersCloud) {

@@ -56,12 +56,13 @@ std::array<std::uint16_t, 3> LasPoints::color(std::string_view bytes, std::uint6
   return {field<std::uint16_t>(bytes, at), field<std::uint16_t>(bytes, at + 2), field<std::uint16_t>(bytes, at + 4)};
 }
 
-bool LasPoints::eight_bit_colors(std::string_view bytes) const {
+std::uint16_t LasPoints::color_maximum(std::string_view bytes) const {
+  std::uint16_t top = 0;
   for (std::uint64_t i = 0; i < count; ++i) {
     const std::array<std::uint16_t, 3> c = color(bytes, i);
-    if (std::max({c[0], c[1], c[2]}) > 255) return false;
+    top = std::max({top, c[0], c[1], c[2]});
   }
-  return true;
+  return top;
 }
 
 Eigen::Vector3d LasPoints::position(std::string_view bytes, std::uint64_t i) const {
@@ -191,16 +192,17 @@ ParsedFile read_las(const std::filesystem::path& file, std::string_view bytes) {
   cloud.positions.resize(n, 3);
   Eigen::VectorXf intensity(n), classification(n);
   // LAS colours are 16-bit; writers that stored 8-bit values in them (all of them at most
-  // 255) are read as they are.
-  const bool eight_bit = las.has_colors() && las.eight_bit_colors(bytes);
-  if (las.has_colors()) cloud.colors.resize(n, 3);
+  // 255) are read as they are, and fields left 0 in every record are no colors.
+  const std::uint16_t top = las.has_colors() ? las.color_maximum(bytes) : 0;
+  const bool colored = top > 0, eight_bit = top <= 255;
+  if (colored) cloud.colors.resize(n, 3);
   for (Eigen::Index i = 0; i < n; ++i) {
     const std::uint64_t r = las.first + static_cast<std::uint64_t>(i) * las.record;
     cloud.positions.row(i) = las.position(bytes, static_cast<std::uint64_t>(i)).transpose();
     intensity(i) = field<std::uint16_t>(bytes, r + 12);
     classification(i) =
         static_cast<float>(static_cast<unsigned char>(bytes[r + layout.classification]) & layout.classification_mask);
-    if (las.has_colors()) {
+    if (colored) {
       const std::array<std::uint16_t, 3> c = las.color(bytes, static_cast<std::uint64_t>(i));
       for (int k = 0; k < 3; ++k) cloud.colors(i, k) = wide_color_byte(c[static_cast<std::size_t>(k)], eight_bit);
     }

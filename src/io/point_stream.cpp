@@ -83,9 +83,10 @@ bool PointStream::Impl::find_colors() {
   }
   if (las) {
     if (!las->has_colors()) return false;
-    eight_bit = las->eight_bit_colors(mapped->view());
+    const std::uint16_t top = las->color_maximum(mapped->view());
     mapped->release(0, mapped->view().size());  // the look at every record's color
-    return true;
+    eight_bit = top <= 255;
+    return top > 0;  // fields left 0 in every record: no colors
   }
   return xyz ? false : whole.has_colors();
 }

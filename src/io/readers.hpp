@@ -88,9 +88,11 @@ struct LasPoints {
   bool has_colors() const noexcept { return rgb.has_value(); }
   /// The 16-bit red, green and blue of record `i` (< count; has_colors() required).
   std::array<std::uint16_t, 3> color(std::string_view bytes, std::uint64_t i) const;
-  /// Whether every record's color is at most 255: 8-bit values stored in the 16-bit fields, read
-  /// as they are (wide_color_byte()). Reads every record's color.
-  bool eight_bit_colors(std::string_view bytes) const;
+  /// The largest red, green or blue over every record (has_colors() required; reads every
+  /// record's color). 0: the format has the fields but the file left them empty, and the cloud
+  /// has no colors; at most 255: 8-bit values stored in the 16-bit fields, read as they are
+  /// (wide_color_byte()).
+  std::uint16_t color_maximum(std::string_view bytes) const;
 };
 
 /// The byte of a 16-bit color channel (LAS, PDAL's PCD): as it is when the file's colors are

@@ -26,7 +26,8 @@ namespace clustersurf {
 /// Other files (OBJ, ascii PLY, meshes, which read_point_cloud() samples)
 /// are read whole first and served from memory. Positions, normals and colors, as
 /// read_point_cloud() gives them (LAS files and PCD files with red, green and blue fields are
-/// looked through once when opened, for whether their 16-bit colors hold 8-bit values).
+/// looked through once when opened, for whether their 16-bit colors hold 8-bit values, and a
+/// LAS file's for whether it left them 0 in every record: then it has none).
 class PointStream {
  public:
   /// Opens `file`; IoError when it cannot be read, InputError when it is malformed (a binary
