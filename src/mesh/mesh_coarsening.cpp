@@ -32,7 +32,8 @@ using detail::kNone;
 using detail::MeshView;
 using detail::Triangle;
 
-/// Rounds of the joint check before every merge still in doubt is undone.
+/// Rounds of the joint check in which a failing merge gives way to its smaller blocks; after
+/// them a failing merge is only undone.
 constexpr int kJointRounds = 8;
 
 /// The start of each run of `order` (vertices in the order of their cell codes) that one block
@@ -280,18 +281,17 @@ TriangleMesh coarsen_mesh(const TriangleMesh& mesh, const Eigen::Vector3d& origi
     for (std::size_t b = 0; b < changed.size(); ++b) changed[b] = b;
     for (int round = 0; !changed.empty(); ++round) {
       const std::vector<std::uint8_t> failed = failed_blocks(view, merges, changed);
-      if (std::none_of(failed.begin(), failed.end(), [](std::uint8_t f) { return f != 0; })) break;
-      // The last round undoes every merge (the mesh as it was) rather than keep one in doubt.
-      const bool last = round == kJointRounds;
+      // From round kJointRounds on, a failing merge goes without smaller blocks in its place:
+      // merges only go then, so the rounds end, and only where a merge failed.
+      const bool fall_back = round < kJointRounds;
       const std::size_t planned = merges.blocks();
       changed.clear();
       for (std::size_t b = 0; b < planned; ++b)
-        if (merges.live(b) && (failed[b] || last)) {
-          merges.undo(b, !last);
+        if (merges.live(b) && failed[b] != 0) {
+          merges.undo(b, fall_back);
           changed.push_back(b);
         }
       for (std::size_t b = planned; b < merges.blocks(); ++b) changed.push_back(b);
-      if (last) break;
     }
 
     coarse = coarse_triangles(view, merges);

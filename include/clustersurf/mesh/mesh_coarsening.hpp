@@ -62,7 +62,8 @@ double coarsening_scale(const ClusterTree& tree);
 /// together: where one fails beside the others (a vertex whose triangles are not one fan, a
 /// turned triangle, a vertex beyond the tolerance), the last of them in priority (larger
 /// blocks first) gives way to its blocks of the size below, until none fails (after 8 rounds,
-/// every merge is undone). So the coarse mesh keeps the rims, the topology and the orientation,
+/// a failing merge is undone without them, so the rounds end and a conflict that lasts undoes
+/// only the merges around it). So the coarse mesh keeps the rims, the topology and the orientation,
 /// and its vertices are a subset of the mesh's, in place with their normals, colors and
 /// attributes, in their order (blocks whose vertices differ in an attribute stay). Whether a
 /// block merges depends on the mesh around it and, through the joint check, around its
