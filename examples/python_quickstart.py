@@ -23,7 +23,9 @@ cloud = clustersurf.read_points(cloud_file)
 print(f"{cloud_file.name}: {len(cloud)} points, normals: {cloud.normals is not None}")
 
 # %% Build and orient the cluster tree; options are the CLI's (`clustersurf reconstruct --help`).
-tree = clustersurf.reconstruct(cloud.positions, cloud.normals, proxy="poly", max_error="auto")
+# Pass the cloud itself: its positions are relative to its origin (a georeferenced LAS or E57
+# scan is moved next to zero when read), which the tree and its meshes keep.
+tree = clustersurf.reconstruct(cloud, proxy="poly", max_error="auto")
 info = tree.info()
 print(tree)
 print(f"leaf proxies {info['leaf_proxies']}, error threshold {info['error_threshold']:.4g}")
@@ -47,7 +49,7 @@ print("f at the input points (≈ 0): max |f| =", np.nanmax(np.abs(tree.evaluate
 
 # %% Mesh it, at full and at a coarse level of detail, and write PLY/OBJ files.
 mesh = tree.mesh(resolution=128, points=cloud)  # trimmed to the points, as `reconstruct --mesh`
-clustersurf.write_mesh(out / "mesh.ply", mesh.vertices, mesh.faces, mesh.normals)
+clustersurf.write_mesh(out / "mesh.ply", mesh)  # written back at the cloud's origin
 coarse = tree.mesh(resolution=128, lod_depth=6, color="leaf")
 clustersurf.write_mesh(out / "coarse.ply", *coarse.astuple())
 vertices, faces, normals = mesh.vertices, mesh.faces, mesh.normals
@@ -58,7 +60,7 @@ picture = tree.render(width=320, height=240, show="clusters", samples=2)
 print(f"picture {picture.shape}, {np.count_nonzero(picture[..., :3].min(axis=2) < 255)} non-white pixels")
 
 # %% How close is the mesh to the input? (distances as fractions of the diagonal)
-scores = clustersurf.compare_surfaces(vertices, faces, cloud.positions, None, samples=20000)
+scores = clustersurf.compare_surfaces(mesh, cloud, samples=20000)
 print(f"chamfer {scores['chamfer']:.5f}, F-score@1% {scores['fscore'][1]['fscore']:.3f}")
 
 # %% Open3D: numpy arrays in and out of an Open3D TriangleMesh / PointCloud.
