@@ -137,6 +137,15 @@ TEST(PointStream, XyzTextInBlocksIsTheReadersCloud) {
   const PointCloud p = read_all(pts, 2);
   ASSERT_EQ(p.size(), 3);
   EXPECT_EQ(p.positions.row(2), Eigen::RowVector3d(7, 8, 9));
+  EXPECT_EQ(p.colors, read_point_cloud(dir / "p.pts").colors);
+  // Colors and normals told apart over the whole file, as the reader tells them.
+  test::write_file(dir / "c.xyz", "1 2 3 0 0 1 0 0 1\n4 5 6 255 128 0 1 0 0\n7 8 9 0 1 0 0 1 0\n");
+  PointStream colored(dir / "c.xyz");
+  EXPECT_TRUE(colored.has_colors() && colored.has_normals());
+  const PointCloud c = read_all(colored, 2), whole = read_point_cloud(dir / "c.xyz");
+  EXPECT_EQ(c.colors, whole.colors);
+  EXPECT_EQ(c.normals, whole.normals);
+  EXPECT_EQ(c.colors.row(1), (Eigen::Matrix<std::uint8_t, 1, 3>(255, 128, 0)));
 }
 
 // A broken text file is refused when opened, at the reader's line, before any block is read; a

@@ -34,24 +34,30 @@ std::uint16_t PointStream::Impl::pcd_color_maximum() {
 }
 
 void PointStream::Impl::read_xyz(Eigen::Index n, PointCloud& block) {
+  const int normals = xyz_layout.normals, rgb = xyz_layout.colors;
   block.positions.resize(n, 3);
-  if (xyz_normals) block.normals.resize(n, 3);
-  std::array<double, 7> v{};
+  if (normals >= 0) block.normals.resize(n, 3);
+  if (rgb >= 0) block.colors.resize(n, 3);
+  std::array<double, io::XyzLines::kMaxColumns> v{};
+  const auto finite = [&](int from) {
+    return std::all_of(v.begin() + from, v.begin() + from + 3, [](double x) { return std::isfinite(x); });
+  };
   Eigen::Index kept = 0;
   for (Eigen::Index i = 0; i < n && xyz->next(v) != 0; ++i) {
-    const bool finite =
-        std::all_of(v.begin(), v.begin() + (xyz_normals ? 6 : 3), [](double x) { return std::isfinite(x); });
-    if (!finite) {
+    if (!finite(0) || (normals >= 0 && !finite(normals))) {
       if (options.drop_non_finite) continue;
       throw non_finite_point(file, {xyz->line(), std::nullopt}, next + static_cast<std::uint64_t>(i),
                              "a non-finite coordinate or normal (NaN or Inf)");
     }
     block.positions.row(kept) << v[0], v[1], v[2];
-    if (xyz_normals) block.normals.row(kept) << v[3], v[4], v[5];
+    if (normals >= 0) block.normals.row(kept) << v[normals], v[normals + 1], v[normals + 2];
+    if (rgb >= 0)
+      for (int k = 0; k < 3; ++k) block.colors(kept, k) = io::color_byte(v[static_cast<std::size_t>(rgb + k)]);
     ++kept;
   }
   block.positions.conservativeResize(kept, 3);
-  if (xyz_normals) block.normals.conservativeResize(kept, 3);
+  if (normals >= 0) block.normals.conservativeResize(kept, 3);
+  if (rgb >= 0) block.colors.conservativeResize(kept, 3);
   release_read(xyz->offset());
 }
 

@@ -55,11 +55,9 @@ void PointStream::Impl::open_text() {
   };
   if (xyz) {
     io::XyzLines counting(file, bytes);
-    std::array<double, 7> v{};
-    for (std::size_t columns; (columns = counting.next(v)) != 0; ++text_points) {
-      xyz_normals = columns == 6;
-      release(counting.offset());
-    }
+    std::array<double, io::XyzLines::kMaxColumns> v{};
+    for (; counting.next(v) != 0; ++text_points) release(counting.offset());
+    xyz_layout = counting.layout();
   } else {
     io::PtxLines counting(file, bytes);
     io::PtxPoint p;
@@ -88,7 +86,7 @@ bool PointStream::Impl::find_colors() {
     eight_bit = top <= 255;
     return top > 0;  // fields left 0 in every record: no colors
   }
-  return xyz ? false : whole.has_colors();
+  return xyz ? xyz_layout.colors >= 0 : whole.has_colors();
 }
 
 PointStream::PointStream(const std::filesystem::path& file, const ReadOptions& options)
@@ -127,7 +125,7 @@ std::uint64_t PointStream::size() const noexcept { return impl_->size(); }
 bool PointStream::has_normals() const noexcept {
   return impl_->ply   ? impl_->ply->layout.normals()
          : impl_->pcd ? impl_->pcd_layout->roles.normals()
-         : impl_->xyz ? impl_->xyz_normals
+         : impl_->xyz ? impl_->xyz_layout.normals >= 0
                       : impl_->whole.has_normals();
 }
 bool PointStream::has_colors() const noexcept { return impl_->colors; }

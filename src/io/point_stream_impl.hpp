@@ -56,13 +56,13 @@ struct PointStream::Impl {
   std::optional<io::pcd::Layout> pcd_layout;
   std::optional<io::pcd::Records> pcd;
   std::uint64_t text_points = 0;  // points of an XYZ or PTX file, counted when opened
-  bool xyz_normals = false;
-  bool ptx_colored = false;  // PTX: the points have colors
-  bool colors = false;       // blocks carry colors
-  bool eight_bit = false;    // LAS, PCD red, green, blue: every color is at most 255 (read as it is)
-  std::size_t released = 0;  // bytes of a text or PCD file given back to the system
-  bool failed = false;       // a read threw: the text parser is past the point it refused
-  std::uint64_t points = 0;  // E57: valid points decoded so far (for messages)
+  io::XyzLayout xyz_layout;       // an XYZ file's columns, found when opened
+  bool ptx_colored = false;       // PTX: the points have colors
+  bool colors = false;            // blocks carry colors
+  bool eight_bit = false;         // LAS, PCD red, green, blue: every color is at most 255 (read as it is)
+  std::size_t released = 0;       // bytes of a text or PCD file given back to the system
+  bool failed = false;            // a read threw: the text parser is past the point it refused
+  std::uint64_t points = 0;       // E57: valid points decoded so far (for messages)
   std::vector<std::optional<std::uint64_t>> located;  // E57: where each point of a block was found non-finite
   PointCloud whole;  // the file read whole, in the file's coordinates, when not streamed
   std::uint64_t next = 0;

@@ -39,21 +39,38 @@ inline void note_non_finite(ParsedFile& parsed, Eigen::Index row, const FileLoca
 ParsedFile read_ply(const std::filesystem::path& file, std::string_view bytes, bool want_faces);
 ParsedFile read_xyz(const std::filesystem::path& file, std::string_view bytes);
 
+/// What the columns of an XYZ / PTS / TXT / CSV file hold beyond x y z: the first column of its
+/// normals and of its colors, and its intensity's, each -1 when it has none.
+struct XyzLayout {
+  int normals = -1, colors = -1, intensity = -1;
+};
+
+/// A color channel's byte from its value in a text file (0 where it is not a number).
+std::uint8_t color_byte(double value);
+
 /// An XYZ / PTS / TXT / CSV file parsed a point at a time (read_xyz() is this run to the end):
 /// the same rules and the same errors, each naming its line.
 class XyzLines {
  public:
+  /// The most values a line holds.
+  static constexpr std::size_t kMaxColumns = 9;
   /// `bytes` must outlive the parser.
   XyzLines(const std::filesystem::path& file, std::string_view bytes);
   XyzLines(const XyzLines&) = delete;
   XyzLines& operator=(const XyzLines&) = delete;
-  /// The next point's values into v (3, 4, 6 or 7 of them, the file's columns) and their
+  /// The next point's values into v (3, 4, 6, 7 or 9 of them, the file's columns) and their
   /// count; 0 at the end of the file, where a PTS count line is checked. Throws InputError.
-  std::size_t next(std::array<double, 7>& v);
+  std::size_t next(std::array<double, kMaxColumns>& v);
   /// The line of the last point read.
   std::uint64_t line() const noexcept { return cursor_.line(); }
   /// Bytes consumed so far.
   std::size_t offset() const noexcept { return cursor_.offset(); }
+  /// What the columns hold, from every line read so far (the whole file's once next() has
+  /// returned 0): x y z [intensity]; with 6 columns normals, or colors where those three are
+  /// whole numbers from 0 to 255 on every line and above 1 on some (x y z r g b, as CloudCompare
+  /// writes a colored cloud); with 7, PTS's intensity and colors; with 9, colors and normals, the
+  /// colors the last three only where those alone look like colors.
+  XyzLayout layout() const noexcept;
 
  private:
   std::filesystem::path file_;
@@ -64,6 +81,9 @@ class XyzLines {
   std::int64_t declared_ = -1;
   std::uint64_t declared_line_ = 0;
   std::uint64_t points_ = 0;
+  /// For the triples that start at columns 3 and 6: every line's are whole numbers from 0 to
+  /// 255, and some line's is above 1.
+  std::array<bool, 2> byte_triple_{true, true}, above_one_{false, false};
 };
 ParsedFile read_obj(const std::filesystem::path& file, std::string_view bytes, bool want_faces);
 /// LAS 1.0-1.4, point formats 0-10 (las_reader.cpp).
