@@ -116,6 +116,12 @@ int run_reconstruct(Console& console, const ReconstructArgs& args) {
                         {"used_scanners", orientation.used_scanners},
                         {"components", orientation.components},
                         {"flipped", orientation.flipped}};
+    if (const ScanRegistration& r = result.registration; r.scans > 1)
+      j["registration"] = {{"scans", r.scans},
+                           {"overlaps", r.overlaps},
+                           {"median_offset", r.median_offset},
+                           {"rms_offset", r.rms_offset},
+                           {"point_spacing", result.tree.point_spacing}};
     if (result.mesh) j["mesh"] = write_surface_mesh(console, *result.mesh, args.mesh, args.mesh_output);
     if (!args.tree_output.empty()) save_tree(args.tree_output, result.tree);
     std::cout << j.dump(2) << "\n";
@@ -127,6 +133,14 @@ int run_reconstruct(Console& console, const ReconstructArgs& args) {
                                           ? std::string("towards the scanners")
                                           : fmt::format("by propagation ({} component{})", orientation.components,
                                                         orientation.components == 1 ? "" : "s")));
+  if (const ScanRegistration& r = result.registration; r.scans > 1)
+    console.print(r.overlaps == 0
+                      ? fmt::format("registration    {} scans that do not overlap", r.scans)
+                      : fmt::format("registration    {} scans, offset where they overlap: median {:.4g} ({:.2f} point "
+                                    "spacings), rms {:.4g} ({} samples)",
+                                    r.scans, r.median_offset,
+                                    result.tree.point_spacing > 0 ? r.median_offset / result.tree.point_spacing : 0.0,
+                                    r.rms_offset, r.overlaps));
   console.print(fmt::format("time            read {:.3f} s, build {:.3f} s", read_seconds, result.build_seconds));
   if (result.mesh) write_surface_mesh(console, *result.mesh, args.mesh, args.mesh_output);
   if (!args.tree_output.empty()) {

@@ -34,6 +34,7 @@ Reconstruction reconstruct(const PointCloud& cloud, const ReconstructOptions& op
   Reconstruction out;
   out.tree = build_cluster_tree(index, options.build, progress);
   out.orientation = orient_tree(out.tree, index, options.build.use_normals);
+  if (cloud.has_scanners()) out.registration = measure_registration(cloud, index.points());
   out.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (options.mesh) out.mesh = mesh_tree(out.tree, options.meshing, &index, progress);
   return out;

@@ -13,6 +13,7 @@
 #include <clustersurf/mesh/mesh_trim.hpp>
 #include <clustersurf/mesh/vertex_refit.hpp>
 #include <clustersurf/spatial/cloud_index.hpp>
+#include <clustersurf/spatial/scan_registration.hpp>
 #include <clustersurf/surface/implicit_surface.hpp>
 #include <clustersurf/surface/orientation.hpp>
 
@@ -154,6 +155,9 @@ void for_each_field(Options& o, F&& f) {
 struct Reconstruction {
   ClusterTree tree;  ///< built and oriented
   OrientationReport orientation;
+  /// The scans' registration error where the input says which scan saw each point
+  /// (measure_registration(); no overlaps otherwise).
+  ScanRegistration registration;
   double build_seconds = 0;         ///< wall time of the build and the orientation
   std::optional<SurfaceMesh> mesh;  ///< when ReconstructOptions::mesh
 };
@@ -164,8 +168,9 @@ struct Reconstruction {
 void require_surface_extent(const PointCloud& cloud);
 
 /// The whole pipeline: require_surface_extent(), build_cluster_tree(), orient_tree() (by the
-/// input normals unless options.build.use_normals is off), and on request mesh_tree() with the
-/// cloud, all sharing one CloudIndex. Deterministic for any thread count. Throws InputError,
+/// input normals unless options.build.use_normals is off), measure_registration() of a cloud
+/// whose points name their scans, and on request mesh_tree() with the cloud, all sharing one
+/// CloudIndex. Deterministic for any thread count. Throws InputError,
 /// OptionError, Cancelled.
 Reconstruction reconstruct(const PointCloud& cloud, const ReconstructOptions& options = {},
                            const ProgressCallback& progress = {});
