@@ -296,6 +296,26 @@ TEST(PlyReader, ASmallMeshIsReadAsSamplesOfItsFaces) {
       4);
 }
 
+// Which scan saw each point, a "scan" property, is read as the cloud's scan of each point and
+// written back the same way; a "scan" property holding anything but whole numbers >= 0 is some
+// other property, skipped.
+TEST(PlyReader, AScanPropertyNamesEachPointsScan) {
+  TempDir dir;
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "property uchar scan\nend_header\n";
+  const PointCloud c = read_text(dir, "s.ply", header + "0 0 0 0\n1 0 0 2\n0 1 0 1\n");
+  EXPECT_EQ(c.scanner_of_point, (std::vector<std::uint32_t>{0, 2, 1}));
+  write_point_cloud(dir / "back.ply", c);
+  EXPECT_EQ(read_point_cloud(dir / "back.ply").scanner_of_point, c.scanner_of_point);
+  const std::string floats =
+      "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+      "property float scan\nend_header\n0 0 0 1\n1 0 0 1.5\n";
+  const PointCloud other = read_text(dir, "other.ply", floats);
+  EXPECT_EQ(other.size(), 2);
+  EXPECT_FALSE(other.has_scanners());
+}
+
 TEST(PlyReader, AMeshFarFromZeroIsSampledWhereItIs) {
   const std::string far =
       "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\nproperty double z\n"

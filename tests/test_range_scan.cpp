@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 
@@ -68,6 +69,11 @@ TEST(RangeScan, PointsOnTheSurfaceWithNormalsTowardsTheScanners) {
   for (Eigen::Index i = 0; i < c.size(); ++i)
     worst = std::min(worst, c.normals.row(i).dot(c.positions.row(i).normalized()));
   EXPECT_GT(worst, 0.9);
+  // Each point names the scan that saw it, in scan order, every scan seeing some.
+  ASSERT_EQ(c.scanner_of_point.size(), static_cast<std::size_t>(c.size()));
+  EXPECT_TRUE(std::is_sorted(c.scanner_of_point.begin(), c.scanner_of_point.end()));
+  EXPECT_EQ(c.scanner_of_point.front(), 0u);
+  EXPECT_EQ(c.scanner_of_point.back(), 5u);
 }
 
 TEST(RangeScan, NoiseAlongTheLineOfSightAndMisregistration) {

@@ -26,7 +26,8 @@ int run_stats(Console& console, const StatsArgs& args) {
                      {"has_normals", s.has_normals},
                      {"has_colors", s.has_colors},
                      {"attributes", s.attributes},
-                     {"scanners", s.scanners}};
+                     {"scanners", s.scanners},
+                     {"scans", s.scans}};
     std::cout << j.dump(2) << "\n";
     return 0;
   }
@@ -43,6 +44,7 @@ int run_stats(Console& console, const StatsArgs& args) {
                             s.attributes.empty() ? "none" : fmt::format("{}", fmt::join(s.attributes, ", "))));
   console.print(
       fmt::format("scanners        {}", s.scanners == 0 ? std::string("unknown") : std::to_string(s.scanners)));
+  if (s.scans > 0) console.print(fmt::format("scans           {} (the scan of each point is known)", s.scans));
   if (!s.origin.isZero())
     console.print(fmt::format("origin          {:.17g} {:.17g} {:.17g} (the points are stored relative to it)",
                               s.origin.x(), s.origin.y(), s.origin.z()));

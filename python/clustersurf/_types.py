@@ -66,7 +66,8 @@ class PointCloud:
     name -> (n,) float32 array, e.g. "intensity" and "classification" of a LAS file (assigning
     a dict converts and checks it); scanner_positions: (k, 3) float64 in the frame of
     ``positions``, where each of k scans stood, and scanner_of_point: (n,) uint32, the scan that
-    saw each point; both None when the file does not say; up: "y" or "z", the axis that points
+    saw each point; each None when the file does not say (a PLY file's "scan" property and
+    scan_surface() give the scans without where they stood); up: "y" or "z", the axis that points
     up in the file's convention ("z" for LAS, E57 and PTX surveys), which meshes and pictures
     of it follow.
     Pass it to reconstruct() directly (its normals are used) or take its arrays.

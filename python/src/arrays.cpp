@@ -151,7 +151,7 @@ py::object cloud_object(PointCloud&& cloud) {
       "colors"_a = to_array_or_none(std::move(cloud.colors)), "origin"_a = vector_array(cloud.origin),
       "attributes"_a = attributes,
       "scanner_positions"_a =
-          cloud.has_scanners() ? py::object(to_array(std::move(cloud.scanner_positions))) : py::none(),
+          cloud.scanner_positions.rows() > 0 ? py::object(to_array(std::move(cloud.scanner_positions))) : py::none(),
       "scanner_of_point"_a = scanner_of_point, "up"_a = cloud.up == UpAxis::Z ? "z" : "y");
 }
 
@@ -244,12 +244,14 @@ PointCloud cloud_argument(const py::handle& object, const py::handle& normals, c
     throw OptionError("normals must have one row per point");
   if (cloud.colors.rows() != 0 && cloud.colors.rows() != cloud.size())
     throw OptionError("colors must have one row per point");
-  if (!parts[5].is_none() && !parts[6].is_none()) {
-    cloud.scanner_positions = to_points(parts[5], "scanner_positions");
+  // Which scan saw each point, with or without where the scans stood (then each index names one).
+  if (!parts[6].is_none()) {
+    if (!parts[5].is_none()) cloud.scanner_positions = to_points(parts[5], "scanner_positions");
     const auto which = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(parts[6]);
     if (!which || which.ndim() != 1 || which.shape(0) != cloud.size())
       throw OptionError("scanner_of_point must have one entry per point");
-    const auto scans = static_cast<std::int64_t>(cloud.scanner_positions.rows());
+    const std::int64_t scans =
+        parts[5].is_none() ? std::int64_t{0xFFFFFFFF} : static_cast<std::int64_t>(cloud.scanner_positions.rows());
     cloud.scanner_of_point.reserve(static_cast<std::size_t>(which.shape(0)));
     const std::int64_t* index = which.data();
     for (py::ssize_t i = 0; i < which.shape(0); ++i) {

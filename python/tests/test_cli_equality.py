@@ -152,7 +152,8 @@ def test_scan_equals_the_cli(tmp_path, cli, bunny_file):
     mesh = clustersurf.read_mesh(bunny_file)
     cloud = clustersurf.scan_surface(mesh.vertices, mesh.faces, n=5000, scans=6, noise=0.0005, registration=0.0002,
                                      flipped_normals=0.05, noise_correlation=1.5, seed=2)
-    clustersurf.write_points(tmp_path / "py.ply", cloud.positions, cloud.normals)
+    assert cloud.scanner_of_point is not None and cloud.scanner_of_point.max() == 5  # which scan saw each point
+    clustersurf.write_points(tmp_path / "py.ply", cloud)
     assert (tmp_path / "py.ply").read_bytes() == (tmp_path / "cli.ply").read_bytes()
 
 

@@ -243,6 +243,7 @@ PointCloud scan_surface(const TriangleMesh& mesh, const RangeScanOptions& option
       std::max(2, static_cast<int>(std::lround(
                       std::sqrt(static_cast<double>(options.count) / (per_ray * static_cast<double>(options.scans))))));
 
+  PointCloud cloud;
   std::vector<Eigen::Vector3d> points, normals;
   const double sigma = options.noise * diagonal;
   for (std::size_t s = 0; s < scanners.size(); ++s) {
@@ -260,9 +261,9 @@ PointCloud scan_surface(const TriangleMesh& mesh, const RangeScanOptions& option
         if (!r.valid) continue;
         points.push_back(motion * r.point);
         normals.push_back(motion.linear() * grid_normal(grid, side, i, j, scanner.eye, pixel_angle));
+        cloud.scanner_of_point.push_back(static_cast<std::uint32_t>(s));
       }
   }
-  PointCloud cloud;
   cloud.positions.resize(static_cast<Eigen::Index>(points.size()), 3);
   cloud.normals.resize(static_cast<Eigen::Index>(points.size()), 3);
   detail::PortableRandom flips(detail::splitmix64(options.seed ^ 0x666c6970ULL));

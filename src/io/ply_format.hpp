@@ -118,6 +118,7 @@ struct VertexLayout {
   std::array<int, 3> pos{-1, -1, -1};
   std::array<int, 3> nrm{-1, -1, -1};
   std::array<int, 3> rgb{-1, -1, -1};
+  int scan = -1;  ///< which scan saw the vertex (PointCloud::scanner_of_point)
   bool normals() const { return nrm[0] >= 0 && nrm[1] >= 0 && nrm[2] >= 0; }
   bool colors() const { return rgb[0] >= 0 && rgb[1] >= 0 && rgb[2] >= 0; }
 };
@@ -188,16 +189,23 @@ class VertexRecords {
         const int k = layout_.rgb[static_cast<std::size_t>(c)];
         out_.cloud.colors(i, c) = color(value(k), k);
       }
+    if (layout_.scan >= 0) out_.cloud.scanner_of_point[static_cast<std::size_t>(i)] = scan(value(layout_.scan));
     note_non_finite(out_, i, where);
   }
 
  private:
   std::uint8_t color(double value, int property) const;
+  /// A scan index: a whole number from 0 to 2^32 − 2, else kNotAScan.
+  static std::uint32_t scan(double value);
 
   const Element& element_;
   VertexLayout layout_;
   ParsedFile& out_;
 };
+
+/// A "scan" value that is not a scan index: a file with one has some other property by that
+/// name, and its points no scans (finish() drops them).
+inline constexpr std::uint32_t kNotAScan = 0xFFFFFFFFu;
 
 /// Collects fan-triangulated faces with validated indices.
 struct FaceSink {

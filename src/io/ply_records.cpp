@@ -2,6 +2,7 @@
 
 #include "io/ply_format.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace clustersurf::io::ply {
@@ -34,7 +35,8 @@ VertexLayout vertex_layout(const std::filesystem::path& file, const Element& v) 
   l.nrm = {v.find({"nx", "normal_x"}), v.find({"ny", "normal_y"}), v.find({"nz", "normal_z"})};
   l.rgb = {v.find({"red", "r", "diffuse_red"}), v.find({"green", "g", "diffuse_green"}),
            v.find({"blue", "b", "diffuse_blue"})};
-  for (int idx : {l.pos[0], l.pos[1], l.pos[2], l.nrm[0], l.nrm[1], l.nrm[2], l.rgb[0], l.rgb[1], l.rgb[2]})
+  l.scan = v.find({"scan", "scan_index"});
+  for (int idx : {l.pos[0], l.pos[1], l.pos[2], l.nrm[0], l.nrm[1], l.nrm[2], l.rgb[0], l.rgb[1], l.rgb[2], l.scan})
     if (idx >= 0 && v.properties[static_cast<std::size_t>(idx)].is_list)
       fail_line(
           file, v.header_line,
@@ -51,6 +53,13 @@ VertexRecords::VertexRecords(const std::filesystem::path& file, const Element& v
   out.cloud.positions.resize(n, 3);
   if (layout_.normals()) out.cloud.normals.resize(n, 3);
   if (layout_.colors()) out.cloud.colors.resize(n, 3);
+  if (layout_.scan >= 0) out.cloud.scanner_of_point.resize(static_cast<std::size_t>(n));
+}
+
+std::uint32_t VertexRecords::scan(double value) {
+  return value >= 0 && value < static_cast<double>(kNotAScan) && value == std::floor(value)
+             ? static_cast<std::uint32_t>(value)
+             : kNotAScan;
 }
 
 std::uint8_t VertexRecords::color(double value, int property) const {
@@ -73,6 +82,8 @@ void FaceSink::emit(std::int64_t vertex_count, const std::filesystem::path& file
 
 void finish(const std::filesystem::path& file, bool seen_vertex, bool want_faces, FaceSink& faces, ParsedFile& out) {
   if (!seen_vertex) fail_line(file, 1, "PLY file has no \"vertex\" element");
+  std::vector<std::uint32_t>& scans = out.cloud.scanner_of_point;
+  if (std::find(scans.begin(), scans.end(), kNotAScan) != scans.end()) scans.clear();
   if (want_faces)
     out.triangles = Eigen::Map<Triangles>(faces.tri.data(), static_cast<Eigen::Index>(faces.tri.size() / 3), 3);
 }

@@ -143,7 +143,18 @@ std::string io::ply_header(std::uint64_t vertices, std::optional<std::uint64_t> 
 }
 
 void write_ply(const std::filesystem::path& file, const PointCloud& cloud, const PlyWriteOptions& options) {
-  write_ply_impl(file, cloud.positions, cloud.origin, cloud.up, cloud.normals, cloud.colors, cloud.attributes, nullptr,
+  if (cloud.scanner_of_point.size() != static_cast<std::size_t>(cloud.size()) || cloud.empty()) {
+    write_ply_impl(file, cloud.positions, cloud.origin, cloud.up, cloud.normals, cloud.colors, cloud.attributes,
+                   nullptr, options);
+    return;
+  }
+  // Which scan saw each point, as the "scan" property the reader takes it from (floats hold
+  // every index below 2^24 exactly).
+  std::vector<PointAttribute> attributes = cloud.attributes;
+  PointAttribute& scan = attributes.emplace_back(PointAttribute{"scan", Eigen::VectorXf(cloud.size())});
+  for (Eigen::Index i = 0; i < cloud.size(); ++i)
+    scan.values(i) = static_cast<float>(cloud.scanner_of_point[static_cast<std::size_t>(i)]);
+  write_ply_impl(file, cloud.positions, cloud.origin, cloud.up, cloud.normals, cloud.colors, attributes, nullptr,
                  options);
 }
 

@@ -26,6 +26,8 @@ struct CloudStats {
   std::vector<std::string> attributes;
   /// How many scanner positions the file gave (0: unknown).
   std::size_t scanners = 0;
+  /// How many scans its points name (PointCloud::scanner_of_point; 0: the file does not say).
+  std::size_t scans = 0;
 };
 
 /// How densely points sample a surface: the mean and the median distance from a point to its
