@@ -52,7 +52,7 @@ void PointStream::Impl::read_xyz(Eigen::Index n, PointCloud& block) {
     block.positions.row(kept) << v[0], v[1], v[2];
     if (normals >= 0) block.normals.row(kept) << v[normals], v[normals + 1], v[normals + 2];
     if (rgb >= 0)
-      for (int k = 0; k < 3; ++k) block.colors(kept, k) = io::color_byte(v[static_cast<std::size_t>(rgb + k)]);
+      for (int k = 0; k < 3; ++k) block.colors(kept, k) = io::text_color_byte(v[static_cast<std::size_t>(rgb + k)]);
     ++kept;
   }
   block.positions.conservativeResize(kept, 3);

@@ -46,7 +46,7 @@ struct XyzLayout {
 };
 
 /// A color channel's byte from its value in a text file (0 where it is not a number).
-std::uint8_t color_byte(double value);
+std::uint8_t text_color_byte(double value);
 
 /// An XYZ / PTS / TXT / CSV file parsed a point at a time (read_xyz() is this run to the end):
 /// the same rules and the same errors, each naming its line.

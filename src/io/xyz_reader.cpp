@@ -91,7 +91,7 @@ XyzLayout XyzLines::layout() const noexcept {
 }
 
 /// A color channel's byte from its value in the text (0 where it is not a number).
-std::uint8_t color_byte(double value) {
+std::uint8_t text_color_byte(double value) {
   return std::isfinite(value) ? static_cast<std::uint8_t>(std::lround(std::clamp(value, 0.0, 255.0))) : 0;
 }
 
@@ -124,7 +124,7 @@ ParsedFile read_xyz(const std::filesystem::path& file, std::string_view bytes) {
     if (layout.intensity >= 0) intensity(i) = static_cast<float>(r[layout.intensity - 3]);
     if (layout.normals >= 0) nrm.insert(nrm.end(), r + layout.normals - 3, r + layout.normals);
     if (layout.colors >= 0)
-      for (int k = 0; k < 3; ++k) rgb.push_back(color_byte(r[layout.colors - 3 + k]));
+      for (int k = 0; k < 3; ++k) rgb.push_back(text_color_byte(r[layout.colors - 3 + k]));
   }
   std::optional<std::uint64_t> first = not_finite[0];
   if (layout.normals >= 0)
