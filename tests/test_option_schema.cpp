@@ -125,7 +125,8 @@ TEST(OptionSchema, RefusalsNameTheOption) {
   EXPECT_EQ(refusal({{"alpha", "-1"}}), "alpha must be \"auto\" or a positive number, not \"-1\"");
   EXPECT_EQ(refusal({{"alpha", "nan"}}), "alpha must be \"auto\" or a positive number, not \"nan\"");
   EXPECT_EQ(refusal({{"trim", "2x"}}), "trim must be a number >= 0, not \"2x\"");
-  EXPECT_EQ(refusal({{"decimate", "-3"}}).substr(0, 32), "decimate must be a whole number ");
+  // A bound that only says what the type holds is left unsaid.
+  EXPECT_EQ(refusal({{"decimate", "0.2"}}), "decimate must be a whole number >= 0, not \"0.2\"");
   EXPECT_EQ(refusal({{"proxy", "cubic"}}), "proxy must be plane, poly or quadric, not \"cubic\"");
   EXPECT_EQ(refusal({{"watertight", "yes"}}), "watertight must be true or false, not \"yes\"");
   EXPECT_EQ(refusal({{"smoothness", "1"}}), "unknown option \"smoothness\"");

@@ -49,8 +49,11 @@ std::uint64_t parse_whole(std::string_view name, std::string_view text, std::uin
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (text.empty() || ec != std::errc() || end != text.data() + text.size() || value < low || value > high)
     throw OptionError(std::string(name) + " must be " + (word.empty() ? "" : quoted(word) + " or ") +
-                      "a whole number from " + std::to_string(low) + " to " + std::to_string(high) + ", not " +
-                      quoted(text));
+                      // A bound of 2^32 - 1 or more only says what the type holds: left unsaid.
+                      (high >= 0xFFFFFFFFull
+                           ? "a whole number >= " + std::to_string(low)
+                           : "a whole number from " + std::to_string(low) + " to " + std::to_string(high)) +
+                      ", not " + quoted(text));
   return value;
 }
 
