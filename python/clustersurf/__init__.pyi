@@ -22,6 +22,7 @@ from ._clustersurf import reconstruct_mesh as reconstruct_mesh
 from ._clustersurf import reconstruct_file as reconstruct_file
 from ._clustersurf import region_points_for_memory as region_points_for_memory
 from ._clustersurf import check_mesh as check_mesh
+from ._clustersurf import measure_registration as measure_registration
 from ._clustersurf import sample_surface as sample_surface
 from ._clustersurf import scan_surface as scan_surface
 from ._clustersurf import write_mesh as write_mesh
@@ -54,6 +55,7 @@ __all__ = [
     "reconstruct_file",
     "region_points_for_memory",
     "check_mesh",
+    "measure_registration",
     "sample_surface",
     "scan_surface",
     "write_mesh",

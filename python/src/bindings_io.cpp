@@ -8,6 +8,7 @@
 #include <clustersurf/io/point_cloud_io.hpp>
 #include <clustersurf/io/surface_sampling.hpp>
 #include <clustersurf/mesh/mesh_check.hpp>
+#include <clustersurf/spatial/scan_registration.hpp>
 
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
@@ -178,6 +179,29 @@ or None. ``ascii`` (default False): ascii PLY instead of binary. ``origin``: (x,
 to every vertex in the file (default: the mesh's origin, else zero; STL keeps coordinates
 relative to it, GLB makes it the node's translation). Raises OptionError (bad shapes or
 indices) or IoError.)doc");
+
+  m.def(
+      "measure_registration",
+      [](const py::handle& points) {
+        const PointCloud cloud = cloud_argument(points, py::none(), py::none(), py::none(), "points");
+        const ScanRegistration r = [&] {
+          py::gil_scoped_release release;
+          return measure_registration(cloud, KdTree(cloud.positions));
+        }();
+        py::dict out;
+        out["scans"] = r.scans;
+        out["overlaps"] = r.overlaps;
+        out["median_offset"] = r.median_offset;
+        out["rms_offset"] = r.rms_offset;
+        return out;
+      },
+      py::arg("points"), R"doc(
+How far apart the scans of a cloud lie where they overlap, as ``clustersurf reconstruct`` reports
+it (``registration``): ``points`` is a PointCloud whose ``scanner_of_point`` says which scan saw
+each point (read_points() of an E57, PTX or PLY file with a ``scan`` property, or scan_surface()).
+Returns a dict: scans, overlaps (sampled points with enough of their own scan and of another
+around them), median_offset and rms_offset (from the plane of a point's own scan to another scan's
+points around it, along its normal, in the cloud's units); no overlaps without scan labels.)doc");
 
   m.def(
       "check_mesh",

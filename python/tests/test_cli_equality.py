@@ -233,3 +233,16 @@ def test_an_unknown_option_is_refused_by_both_front_ends(tmp_path, cli, bunny_fi
     assert result.returncode != 0 and "smoothness" in result.stderr
     with pytest.raises(clustersurf.OptionError, match="smoothness"):
         clustersurf.reconstruct(clustersurf.read_points(bunny_file).positions, smoothness=2)
+
+
+def test_registration_equals_the_cli(tmp_path, cli, bunny_file):
+    scans = tmp_path / "scans.ply"
+    run(cli, "sample", bunny_file, "-o", scans, "-n", 20000, "--scanner", 6, "--registration", 0.002, "--seed", 3)
+    report = json.loads(subprocess.run([cli, "--json", "reconstruct", str(scans), "-o", str(tmp_path / "t.cstree")],
+                                       capture_output=True, text=True, check=True).stdout)["registration"]
+    measured = clustersurf.measure_registration(clustersurf.read_points(scans))
+    assert measured["scans"] == report["scans"] == 6
+    assert measured["overlaps"] == report["overlaps"] > 0
+    assert measured["median_offset"] == report["median_offset"] > 0
+    assert measured["rms_offset"] == report["rms_offset"]
+    assert clustersurf.measure_registration(clustersurf.read_points(bunny_file))["overlaps"] == 0

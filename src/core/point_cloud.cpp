@@ -4,8 +4,10 @@
 
 #include <clustersurf/core/errors.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace clustersurf {
 
@@ -51,6 +53,20 @@ Eigen::Vector3d shift_to_origin(PointCloud& cloud) {
   if (cloud.scanner_positions.rows() != 0) cloud.scanner_positions.rowwise() -= shift.transpose();
   cloud.origin += shift;
   return shift;
+}
+
+Eigen::Vector3d shift_to_origin(TriangleMesh& mesh) {
+  const Eigen::Vector3d shift = origin_shift(bounding_box(mesh.vertices));
+  if (shift.isZero()) return shift;
+  mesh.vertices.rowwise() -= shift.transpose();
+  mesh.origin += shift;
+  return shift;
+}
+
+std::size_t scan_count(const PointCloud& cloud) {
+  std::vector<std::uint32_t> scans = cloud.scanner_of_point;
+  std::sort(scans.begin(), scans.end());
+  return static_cast<std::size_t>(std::unique(scans.begin(), scans.end()) - scans.begin());
 }
 
 Eigen::Vector3d origin_shift(const BoundingBox& box) {

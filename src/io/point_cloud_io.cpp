@@ -158,12 +158,9 @@ TriangleMesh to_mesh(io::ParsedFile&& parsed) {
   return mesh;
 }
 
-/// `mesh` moved next to zero as shift_to_origin() moves a cloud, when it lies far from it.
+/// `mesh` moved next to zero when it lies far from it (shift_to_origin()).
 TriangleMesh shifted_to_origin(TriangleMesh mesh) {
-  const Eigen::Vector3d shift = origin_shift(bounding_box(mesh.vertices));
-  if (shift.isZero()) return mesh;
-  mesh.vertices.rowwise() -= shift.transpose();
-  mesh.origin += shift;
+  shift_to_origin(mesh);
   return mesh;
 }
 

@@ -62,10 +62,9 @@ Image render_mesh(const TriangleMesh& mesh, const RenderOptions& options, Render
   render::check_common_options(options);
   if (mesh.triangles.rows() == 0) throw OptionError("cannot render a mesh without triangles");
   // Embree works in float: a mesh far from zero is drawn from next to it, as the readers move one.
-  if (const Eigen::Vector3d shift = origin_shift(bounding_box(mesh.vertices)); !shift.isZero()) {
+  if (!origin_shift(bounding_box(mesh.vertices)).isZero()) {
     TriangleMesh near = mesh;
-    near.vertices.rowwise() -= shift.transpose();
-    near.origin += shift;
+    shift_to_origin(near);
     return render_mesh(near, options, stats, progress);
   }
   const Camera camera = render::scene_camera(options, bounding_box(mesh.vertices), mesh.origin, mesh.up);
@@ -100,7 +99,7 @@ Image render_points(const PointCloud& cloud, const RenderOptions& options, Rende
                     const ProgressCallback& progress) {
   render::check_common_options(options);
   if (cloud.empty()) throw OptionError("cannot render an empty point cloud");
-  if (origin_shift(bounding_box(cloud.positions)) != Eigen::Vector3d::Zero()) {
+  if (!origin_shift(bounding_box(cloud.positions)).isZero()) {
     PointCloud near = cloud;
     shift_to_origin(near);
     return render_points(near, options, stats, progress);

@@ -81,9 +81,7 @@ CloudStats compute_stats(const PointCloud& cloud, std::size_t max_samples) {
   s.has_colors = cloud.has_colors();
   for (const PointAttribute& a : cloud.attributes) s.attributes.push_back(a.name);
   s.scanners = static_cast<std::size_t>(cloud.scanner_positions.rows());
-  std::vector<std::uint32_t> scans = cloud.scanner_of_point;
-  std::sort(scans.begin(), scans.end());
-  s.scans = static_cast<std::size_t>(std::unique(scans.begin(), scans.end()) - scans.begin());
+  s.scans = scan_count(cloud);
   if (s.points < 2 || max_samples == 0) return s;
   const PointSpacing spacing = point_spacing(KdTree(cloud.positions), max_samples);
   s.mean_spacing = spacing.mean;

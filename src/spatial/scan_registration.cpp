@@ -58,9 +58,7 @@ ScanRegistration measure_registration(const PointCloud& cloud, const KdTree& ind
   ScanRegistration out;
   const auto n = static_cast<std::size_t>(cloud.size());
   if (cloud.scanner_of_point.size() != n || n == 0 || index.size() != n) return out;
-  std::vector<std::uint32_t> scans = cloud.scanner_of_point;
-  std::sort(scans.begin(), scans.end());
-  out.scans = static_cast<std::size_t>(std::unique(scans.begin(), scans.end()) - scans.begin());
+  out.scans = scan_count(cloud);
   if (out.scans < 2 || options.samples == 0) return out;
   const std::size_t samples = std::min(options.samples, n);
   std::vector<std::optional<double>> offsets(samples);

@@ -115,6 +115,10 @@ PointCloud select(const PointCloud& cloud, const std::vector<Eigen::Index>& indi
 /// round-trips bit for bit, while every stage works on small numbers. Returns the shift (zero:
 /// nothing moved).
 Eigen::Vector3d shift_to_origin(PointCloud& cloud);
+/// The same for a mesh: its vertices moved, the shift added to its origin.
+Eigen::Vector3d shift_to_origin(TriangleMesh& mesh);
+/// How many distinct scans cloud.scanner_of_point names (0: it names none).
+std::size_t scan_count(const PointCloud& cloud);
 /// The shift shift_to_origin() gives a cloud with bounding box `box` (zero: none).
 Eigen::Vector3d origin_shift(const BoundingBox& box);
 
