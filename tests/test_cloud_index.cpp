@@ -121,12 +121,21 @@ TEST(CloudIndex, KeptSpreadsAreThoseOfTheKeptPointsAlone) {
     beside_a_stray += all != sum;
   }
   EXPECT_GT(beside_a_stray, 0u);  // the case where the whole cloud's spread is not the answer
-  // The clustered subset of a tree built through the index carries them.
-  const ClusterTree tree = build_cluster_tree(index);
-  const CloudIndex::Subset rows = clustered_subset(index, tree);
+  // A tree built through the index leaves the repeated positions out too: its clustered
+  // subset is not the kept rows, whose spreads count the repeats, so it carries none.
+  const ClusterTree repeats_out = build_cluster_tree(index);
+  EXPECT_TRUE(clustered_subset(index, repeats_out).spread.empty());
+  // Without repeats, the clustered subset of a tree built through the index carries them.
+  PointCloud strays = torus_with_strays();
+  for (Eigen::Index i = 50; i < strays.positions.rows(); i += 100)
+    strays.positions.row(i) += 0.25 * strays.positions.row(i).normalized();
+  const CloudIndex strays_index(strays);
+  const OutlierReport strays_report = strays_index.outliers(OutlierOptions{});
+  const ClusterTree tree = build_cluster_tree(strays_index);
+  const CloudIndex::Subset rows = clustered_subset(strays_index, tree);
   ASSERT_EQ(rows.spread.size(), rows.index.size());
   EXPECT_EQ(rows.spread_neighbors, OutlierOptions{}.neighbors);
-  EXPECT_TRUE(std::equal(rows.spread.begin(), rows.spread.end(), report.kept_spread.begin()));
+  EXPECT_TRUE(std::equal(rows.spread.begin(), rows.spread.end(), strays_report.kept_spread.begin()));
   // Another subset has none.
   std::vector<std::uint32_t> some(100);
   std::iota(some.begin(), some.end(), 0u);

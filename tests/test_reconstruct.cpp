@@ -48,6 +48,24 @@ TEST(Reconstruct, IsTheStagesInOrder) {
   EXPECT_GT(r.mesh->mesh.triangles.rows(), 1000);
 }
 
+TEST(Reconstruct, PointsRepeatingTheirPositionsGiveTheDistinctPointsSurface) {
+  // Every point eight times, as a triangle soup's corners or a cloud saved twice over repeat
+  // them: each position counts once, in the tree, the mesh grid, the trim and the refit.
+  const PointCloud cloud = test::sample_sphere(4000);
+  std::vector<Eigen::Index> rows;
+  for (int copy = 0; copy < 8; ++copy)
+    for (Eigen::Index i = 0; i < cloud.size(); ++i) rows.push_back(i);
+  PointCloud repeated;
+  repeated.positions = cloud.positions(rows, Eigen::all);
+  repeated.normals = cloud.normals(rows, Eigen::all);
+  const Reconstruction distinct = reconstruct(cloud), r = reconstruct(repeated);
+  ASSERT_TRUE(r.mesh.has_value());
+  EXPECT_EQ(r.tree.outliers(), 7u * 4000u);
+  EXPECT_EQ(r.tree.point_spacing, distinct.tree.point_spacing);
+  EXPECT_EQ(r.tree.nodes.size(), distinct.tree.nodes.size());
+  EXPECT_TRUE(same_mesh(r.mesh->mesh, distinct.mesh->mesh));
+}
+
 TEST(Reconstruct, MeshOfTheSavedTreeIsTheSameMesh) {
   const PointCloud cloud = test::sample_sphere(4000);
   const Reconstruction r = reconstruct(cloud);

@@ -3,6 +3,7 @@
 
 #include <clustersurf/cluster/tree_file.hpp>
 #include <clustersurf/core/errors.hpp>
+#include <clustersurf/evaluation/surface_comparison.hpp>
 #include <clustersurf/io/point_cloud_io.hpp>
 #include <clustersurf/pipeline/reconstruct.hpp>
 #include <clustersurf/spatial/kd_tree.hpp>
@@ -330,4 +331,30 @@ TEST(TiledRun, MemorySizes) {
   EXPECT_EQ(parse_memory_size("1000"), 1000u);
   for (const char* bad : {"", "G", "4X", "-1G", "0", "nan"}) EXPECT_THROW(parse_memory_size(bad), OptionError) << bad;
   EXPECT_THROW(region_points_for_memory(1 << 20), OptionError);
+}
+
+TEST(TiledRun, PointsRepeatingTheirPositionsGiveTheDistinctPointsSurface) {
+  const PointCloud torus = test::sample_torus(12000);
+  std::vector<Eigen::Index> rows;
+  for (Eigen::Index i = 0; i < torus.size(); ++i)
+    for (int copy = 0; copy < 3; ++copy) rows.push_back(i);
+  PointCloud repeated;
+  repeated.positions = torus.positions(rows, Eigen::all);
+  repeated.normals = torus.normals(rows, Eigen::all);
+  RegionOptions regions;
+  regions.max_points = 4000;
+  ReconstructOptions options;
+  options.build.keep_point_leaves = false;
+  const Reconstruction distinct = reconstruct_tiled(torus, regions, options);
+  regions.max_points = 3 * 4000;  // the same cells around three times the points
+  const Reconstruction r = reconstruct_tiled(repeated, regions, options);
+  ASSERT_TRUE(r.mesh.has_value());
+  EXPECT_EQ(r.tree.point_spacing, distinct.tree.point_spacing);
+  // Each region judges its outliers among points whose spreads count their repeats, so a few
+  // leaves differ; the surfaces lie within a small share of a cell of each other.
+  const double cell = r.mesh->grid.voxel_size;
+  EXPECT_EQ(cell, distinct.mesh->grid.voxel_size);
+  const SurfaceComparison c = compare_surfaces(r.mesh->mesh, distinct.mesh->mesh);
+  EXPECT_LT(c.hausdorff, 0.5 * cell);
+  EXPECT_LT(c.chamfer, 0.02 * cell);
 }

@@ -11,9 +11,9 @@ std::vector<std::string> tree_report_lines(const ClusterTree& tree) {
   const TreeParameters& p = tree.parameters;
   const double diag = tree.bbox.diagonal();
   std::vector<std::string> out;
-  out.push_back(tree.outliers() == 0
-                    ? fmt::format("points          {}", tree.input_points)
-                    : fmt::format("points          {} ({} outliers left out)", tree.input_points, tree.outliers()));
+  out.push_back(tree.outliers() == 0 ? fmt::format("points          {}", tree.input_points)
+                                     : fmt::format("points          {} ({} left out: outliers, repeated positions)",
+                                                   tree.input_points, tree.outliers()));
   out.push_back(fmt::format("nodes           {} ({} leaves), depth {}", s.nodes, s.leaves, s.depth));
   std::string hist;
   for (std::size_t k = 0; k < kProxyKinds; ++k)

@@ -6,6 +6,7 @@
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/spatial/cloud_index.hpp>
 #include <clustersurf/spatial/cloud_stats.hpp>
+#include <clustersurf/spatial/repeated_positions.hpp>
 
 #include "cluster/build_state.hpp"
 #include "cluster/cluster_frame.hpp"
@@ -55,17 +56,21 @@ ClusterTree build_cluster_tree(const CloudIndex& cloud_index, const BuildOptions
   stage("indexing points");
   cloud_index.points();
   detail::BuildScale scale;
-  std::vector<std::uint32_t> ids;  // input index of each clustered point
+  std::vector<std::uint32_t> ids;        // input index of each clustered point
+  std::vector<std::uint8_t> coincident;  // the outlier test's rows with a repeat, when it ran
   if (options.remove_outliers) {
     stage("finding outliers");
-    const OutlierReport found = cloud_index.outliers(options.outliers);
+    OutlierReport found = cloud_index.outliers(options.outliers);
     if (!found.outliers.empty() && !found.kept.empty()) ids.assign(found.kept.begin(), found.kept.end());
+    coincident = std::move(found.coincident);
   }
   scale.point_spacing = cloud_index.median_spacing();
   if (ids.empty()) {
     ids.resize(static_cast<std::size_t>(cloud.size()));
     std::iota(ids.begin(), ids.end(), 0u);
   }
+  // A point at the very position of an earlier one is left out like an outlier.
+  ids = first_of_each_position(cloud.positions, std::move(ids), coincident);
   const CloudIndex::Subset clustered = cloud_index.rows(ids);
   scale.bbox = bounding_box(clustered.positions);
   // The input normals of the clustered points (rows as of clustered.positions), or null.

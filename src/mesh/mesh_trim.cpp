@@ -18,7 +18,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <mutex>
 #include <numbers>
 #include <optional>
 #include <span>
@@ -231,16 +233,25 @@ std::vector<std::uint8_t> detail::vertices_near_data(const TriangleMesh& mesh, c
 
 namespace {
 
+/// The most vertices nearest_kept() looks through in the index of all vertices before it asks
+/// the index of the kept ones alone (where the trim took most of the mesh around a point).
+constexpr std::size_t kMaxKeptSearch = 64;
+
 /// The row of the vertex nearest to `x` (ties by row) among those `component` gives a component,
-/// from `index` over all the mesh's vertices; -1 when none has one.
+/// from `index` over all the mesh's vertices or, past kMaxKeptSearch of them, from `kept` (an
+/// index of those vertices alone, rows `kept_rows` ascending, built once on first use); -1 when
+/// none has one.
 std::int64_t nearest_kept(const KdTree& index, const std::vector<std::int32_t>& component, const Eigen::Vector3d& x,
+                          const std::function<const KdTree&()>& kept, std::span<const Eigen::Index> kept_rows,
                           std::vector<Neighbor>& nb) {
-  for (std::size_t k = 1;; k *= 4) {
+  for (std::size_t k = 1; k <= kMaxKeptSearch; k *= 4) {
     index.knn(x, k, nb);
     for (const Neighbor& n : nb)
       if (component[n.index] >= 0) return n.index;
     if (nb.size() < k) return -1;
   }
+  kept().knn(x, 1, nb);
+  return nb.empty() ? -1 : kept_rows[nb[0].index];
 }
 
 /// Clears keep[t] for the triangles of every component (triangles sharing a vertex) on which
@@ -264,10 +275,20 @@ std::size_t drop_unsupported_components(const TriangleMesh& mesh, const Points& 
   const std::vector<std::uint32_t> order = detail::spatial_order(points);  // queries in spatial order
   std::optional<KdTree> own;
   const KdTree& index = vertex_index != nullptr ? *vertex_index : own.emplace(mesh.vertices);
+  Points kept_vertices;
+  std::optional<KdTree> kept_index;
+  std::once_flag kept_once;
+  const auto kept = [&]() -> const KdTree& {
+    std::call_once(kept_once, [&] {
+      kept_vertices = mesh.vertices(rows, Eigen::all);
+      kept_index.emplace(kept_vertices);
+    });
+    return *kept_index;
+  };
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 1024), [&](const auto& r) {
     std::vector<Neighbor> nb;
     for (std::size_t o = r.begin(); o != r.end(); ++o) {
-      const std::int64_t v = nearest_kept(index, component, points.row(order[o]).transpose(), nb);
+      const std::int64_t v = nearest_kept(index, component, points.row(order[o]).transpose(), kept, rows, nb);
       voted[order[o]] = component[static_cast<std::size_t>(v)];
     }
   });

@@ -5,6 +5,7 @@
 #include <clustersurf/regions/regions.hpp>
 #include <clustersurf/spatial/cloud_stats.hpp>
 #include <clustersurf/spatial/outliers.hpp>
+#include <clustersurf/spatial/repeated_positions.hpp>
 
 #include <algorithm>
 #include <numeric>
@@ -45,7 +46,8 @@ RegionSurvey survey_region(const RegionCloud& region, const BuildOptions& option
   if (region.own == 0) return survey;
   const KdTree index(points);
   std::vector<Eigen::Index> kept;
-  std::vector<double> nearest;  // the outlier test's nearest-neighbour distances, when it ran
+  std::vector<double> nearest;           // the outlier test's nearest-neighbour distances, when it ran
+  std::vector<std::uint8_t> coincident;  // and its rows with a repeat
   if (options.remove_outliers) {
     OutlierReport found = find_outliers(points, index, options.outliers);
     survey.median_spread = found.median_spread;
@@ -53,6 +55,7 @@ RegionSurvey survey_region(const RegionCloud& region, const BuildOptions& option
       if (r < static_cast<Eigen::Index>(region.own)) kept.push_back(r);
     survey.outliers = region.own - kept.size();
     nearest = std::move(found.nearest);
+    coincident = std::move(found.coincident);
   }
   // The region's own rows' spacing, their neighbours among the halo too: from the outlier
   // test's pass when it ran (the same samples and values), else queried.
@@ -64,14 +67,17 @@ RegionSurvey survey_region(const RegionCloud& region, const BuildOptions& option
     std::iota(kept.begin(), kept.end(), Eigen::Index{0});
     survey.outliers = 0;
   }
-  const Points clustered = points(kept, Eigen::all);
+  // As build_cluster_tree(): one point per position.
+  const std::vector<std::uint32_t> distinct =
+      first_of_each_position(points, std::vector<std::uint32_t>(kept.begin(), kept.end()), coincident);
+  const Points clustered = points(distinct, Eigen::all);
   survey.bbox = bounding_box(clustered);
   if (options.threshold_mode == ThresholdMode::Auto && options.noise_factor > 0) {
     // As build_cluster_tree(): the input normals keep facing sheets apart.
     const Points& normals = region.points.normals;
     const bool facing =
         options.use_normals && options.noise.facing_normals && normals.rows() == points.rows() && points.rows() > 0;
-    const Points clustered_normals = facing ? Points(normals(kept, Eigen::all)) : Points();
+    const Points clustered_normals = facing ? Points(normals(distinct, Eigen::all)) : Points();
     survey.noise_sigma =
         estimate_noise(clustered, KdTree(clustered), options.noise, facing ? &clustered_normals : nullptr);
   }

@@ -4,6 +4,7 @@
 #include <clustersurf/regions/regions.hpp>
 #include <clustersurf/spatial/cloud_index.hpp>
 #include <clustersurf/spatial/outliers.hpp>
+#include <clustersurf/spatial/repeated_positions.hpp>
 #include <clustersurf/surface/orientation.hpp>
 
 #include "cluster/build_state.hpp"
@@ -17,6 +18,26 @@ void mark_outliers(RegionCloud& region, const CloudScale& scale, const OutlierOp
   region.outliers.assign(static_cast<std::size_t>(points.rows()), 0);
   const OutlierReport found = find_outliers(points, KdTree(points), options, scale.median_spread);
   for (const Eigen::Index r : found.outliers) region.outliers[static_cast<std::size_t>(r)] = 1;
+  mark_repeated_positions(region, found.coincident);
+}
+
+void mark_repeated_positions(RegionCloud& region, std::span<const std::uint8_t> coincident) {
+  const auto n = static_cast<std::size_t>(region.points.size());
+  if (!region.outliers.empty() && region.outliers.size() != n)
+    throw OptionError("the region's outlier marks do not match its points");
+  std::vector<std::uint32_t> rows;  // the unmarked rows
+  for (std::size_t r = 0; r < n; ++r)
+    if (region.outliers.empty() || !region.outliers[r]) rows.push_back(static_cast<std::uint32_t>(r));
+  const std::vector<std::uint32_t> kept = first_of_each_position(region.points.positions, rows, coincident);
+  if (kept.size() == rows.size()) return;
+  region.outliers.resize(n, 0);
+  std::size_t k = 0;  // kept is a subsequence of rows
+  for (const std::uint32_t r : rows) {
+    if (k < kept.size() && kept[k] == r)
+      ++k;
+    else
+      region.outliers[r] = 1;
+  }
 }
 
 ClusterTree build_region_tree(const RegionCloud& region, const RegionPlan& plan, std::int32_t region_index,

@@ -54,9 +54,12 @@ PointSpacing point_spacing(const KdTree& index, std::size_t max_samples, std::si
     for (std::size_t o = r.begin(); o != r.end(); ++o) {
       const std::size_t j = order[o];
       const Eigen::Index i = rows_sampled[j];
+      // The nearest point at another position: the query itself and its repeats left out.
       index.knn(points.row(i).transpose(), 2, nb);
-      // Skip the query itself (and exact duplicates count as spacing 0).
-      nearest[j] = nb.size() > 1 ? std::sqrt(nb[1].distance_squared) : 0.0;
+      if (nb.size() > 1 && nb[1].distance_squared == 0)
+        index.knn(points.row(i).transpose(), kRepeatsLookedPast + 1, nb);
+      const auto other = std::find_if(nb.begin(), nb.end(), [](const Neighbor& q) { return q.distance_squared > 0; });
+      nearest[j] = other == nb.end() ? 0.0 : std::sqrt(other->distance_squared);
     }
   });
   return summarize(nearest);

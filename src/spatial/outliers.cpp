@@ -126,6 +126,7 @@ OutlierReport flag_outliers(const Points& points, const KdTree& index, const Out
   // at row o: both passes write and read that table sequentially.
   std::vector<double> spread(n);
   report.nearest.resize(n);
+  report.coincident.assign(n, 0);
   std::vector<std::uint32_t> neighbors(n * k);
   const std::vector<std::uint32_t> order = detail::spatial_order(points);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& r) {
@@ -139,7 +140,10 @@ OutlierReport flag_outliers(const Points& points, const KdTree& index, const Out
         sum += std::sqrt(nb[j].distance_squared);
       }
       spread[i] = sum / static_cast<double>(k);
-      report.nearest[i] = std::sqrt(nb[0].distance_squared);
+      // The nearest point at another position: repeats of this one's say nothing of the spacing.
+      const auto other = std::find_if(nb.begin(), nb.end(), [](const Neighbor& q) { return q.distance_squared > 0; });
+      report.nearest[i] = other == nb.end() ? 0.0 : std::sqrt(other->distance_squared);
+      report.coincident[i] = other != nb.begin();
     }
   });
   if (median_spread != nullptr) {

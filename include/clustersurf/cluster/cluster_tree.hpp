@@ -216,7 +216,8 @@ struct ClusterTree {
   std::vector<std::int32_t> leaves() const;
   /// Largest node depth (root: 0).
   std::uint32_t depth() const;
-  /// Input points left out of every cluster as outliers.
+  /// Input points left out of every cluster: outliers, and points at the very position of an
+  /// earlier point (build_cluster_tree() clusters one point per position).
   std::uint64_t outliers() const { return nodes.empty() ? 0 : input_points - nodes[0].point_count; }
 };
 
@@ -244,8 +245,11 @@ std::uint32_t leaf_min_points(double noise, double spacing);
 /// 0.75.
 double support_alpha(double noise, double spacing);
 
-/// Builds the tree. Deterministic: the same cloud and options give the same tree for any
-/// thread count. Throws OptionError for invalid options, Cancelled when `progress` says stop.
+/// Builds the tree of the cloud's points but its outliers (BuildOptions::remove_outliers) and
+/// but the points at the very position of an earlier one (first_of_each_position(): a cloud
+/// whose points each repeat gives the tree of its distinct points). Deterministic: the same
+/// cloud and options give the same tree for any thread count. Throws OptionError for invalid
+/// options, Cancelled when `progress` says stop.
 ClusterTree build_cluster_tree(const PointCloud& cloud, const BuildOptions& options = {},
                                const ProgressCallback& progress = {});
 /// The same with the cloud's index shared with the later stages (CloudIndex: its k-d tree,

@@ -66,7 +66,8 @@ RegionPlan plan_regions(const Points& sample, std::uint64_t total_points, const 
 struct RegionCloud {
   PointCloud points;
   std::size_t own = 0;  ///< rows [0, own) are the region's own points
-  /// Per row, 1 for an outlier (mark_outliers()); empty: none marked.
+  /// Per row, 1 for a point left out: an outlier (mark_outliers()) or a repeat of an earlier
+  /// row's position (mark_repeated_positions()); empty: none marked.
   std::vector<std::uint8_t> outliers;
 };
 
@@ -98,8 +99,14 @@ struct CloudScale {
 CloudScale combine_surveys(std::span<const RegionSurvey> surveys);
 
 /// Marks the region's outliers (find_outliers() over all its rows, judged against the cloud's
-/// median spread): what its build leaves out and its tile's trim ignores.
+/// median spread), then its repeated positions (mark_repeated_positions()): what its build
+/// leaves out and its tile's trim ignores.
 void mark_outliers(RegionCloud& region, const CloudScale& scale, const OutlierOptions& options = {});
+
+/// Marks each unmarked row whose position an earlier unmarked row holds exactly
+/// (first_of_each_position(); `coincident` as there): one point per position, as
+/// build_cluster_tree() clusters. Marks nothing where no position repeats.
+void mark_repeated_positions(RegionCloud& region, std::span<const std::uint8_t> coincident = {});
 
 /// The subtree of one region's own points at the cloud's scale: its marked outliers left out
 /// (mark_outliers(); a region whose own points are all marked keeps them), its support checks over its own and halo

@@ -30,8 +30,13 @@ struct CloudStats {
   std::size_t scans = 0;
 };
 
+/// Repeats of a point's position that the spacing looks past (find_outliers()'s default
+/// neighbours): a point with more has spacing 0.
+inline constexpr std::size_t kRepeatsLookedPast = 8;
+
 /// How densely points sample a surface: the mean and the median distance from a point to its
-/// nearest other point (exact duplicates count 0).
+/// nearest point at another position (points that repeat a position exactly count once; 0
+/// where kRepeatsLookedPast or more others repeat it).
 struct PointSpacing {
   double mean = 0;
   double median = 0;
@@ -44,7 +49,7 @@ PointSpacing point_spacing(const KdTree& index, std::size_t max_samples = 200000
 /// holds (a region's own points, its halo after them).
 PointSpacing point_spacing(const KdTree& index, std::size_t max_samples, std::size_t rows);
 
-/// The same figures from each point's distance to its nearest other point (as
+/// The same figures from each point's distance to its nearest point at another position (as
 /// OutlierReport::nearest holds them, or their first rows for a region's own points): the same
 /// samples, so the same values as point_spacing() of the points' k-d tree, without its queries.
 PointSpacing point_spacing(std::span<const double> nearest, std::size_t max_samples = 200000);

@@ -51,9 +51,13 @@ struct OutlierReport {
   std::vector<Eigen::Index> kept;      ///< rows that are not outliers, ascending
   std::vector<Eigen::Index> outliers;  ///< rows that are, ascending
   double median_spread = 0;            ///< the cloud's median d̄
-  /// Each point's distance to its nearest other point (0 beside a duplicate), measured on the
-  /// way (point_spacing() takes it); empty when the cloud was too small to test.
+  /// Each point's distance to its nearest point at another position (0 where its k nearest all
+  /// lie at its own), measured on the way (point_spacing() takes it); empty when the cloud was
+  /// too small to test.
   std::vector<double> nearest;
+  /// Per row, 1 where another point lies at its very position (first_of_each_position() then
+  /// compares only those); empty when the cloud was too small to test.
+  std::vector<std::uint8_t> coincident;
   /// Each kept point's spread among the kept points alone (in `kept`'s order; k = neighbors):
   /// what a k-d tree of the kept points gives, the trim's measure of the data's reach
   /// (TrimOptions::neighbors); empty when the cloud was too small to test.
