@@ -183,6 +183,32 @@ TEST(MeshExtraction, AWalkOverItsMemoryLimitIsRefusedBeforeItStarts) {
   EXPECT_GT(extract_mesh(f, o).triangles.rows(), 1000);
 }
 
+TEST(MeshExtraction, AGridWiderThanTheLatticeIsRefusedSayingWhatToChange) {
+  // Two spheres 100,000 radii apart: at the automatic cell the box spans some 800,000 cells.
+  PointCloud c = test::sample_sphere(3000);
+  const PointCloud far = test::sample_sphere(3000, 1.0, Eigen::Vector3d(100000, 0, 0));
+  c.positions.conservativeResize(6000, 3);
+  c.positions.bottomRows(3000) = far.positions;
+  c.normals.conservativeResize(6000, 3);
+  c.normals.bottomRows(3000) = far.normals;
+  const Reconstruction r = reconstruct(c, [] {
+    ReconstructOptions o;
+    o.mesh = false;
+    return o;
+  }());
+  const ImplicitSurface f(r.tree);
+  MeshOptions o;
+  o.voxel_size = auto_cell_size(f);
+  try {
+    extract_mesh(f, o);
+    FAIL() << "a lattice of " << 100000 / *o.voxel_size << " cells along x was walked";
+  } catch (const OptionError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("far"), std::string::npos) << what;
+    EXPECT_NE(what.find("voxel_size"), std::string::npos) << what;
+  }
+}
+
 TEST(MeshExtraction, TheProjectionDoesNotFoldTheMesh) {
   // 2,000 points of the bunny: cells of two spacings, where the blend bends sharply within a
   // cell (ears, the rim of the base); a vertex projected onto f = 0 there can be pushed past its

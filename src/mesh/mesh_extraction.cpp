@@ -35,6 +35,10 @@ using detail::group_by_block;
 using detail::Lattice;
 using detail::project;
 
+/// The most cells the lattice spans along the surface's box (its keys hold 21 bits per axis,
+/// with room around the box for the walk).
+constexpr double kMaxCellsAlong = 500000;
+
 /// Newton steps of a vertex's second projection, where its first one did not settle.
 constexpr int kRetrySteps = 8;
 
@@ -50,7 +54,13 @@ double checked_cell_size(const ImplicitSurface& surface, const detail::MeshClip*
     throw OptionError("the mesh cell size must be positive (MeshOptions::voxel_size, or resolution)");
   if (!(options.min_weight >= 0) || !std::isfinite(options.min_weight))
     throw OptionError("mesh min_weight must be >= 0");
-  if (longest / h > 500000) throw OptionError("mesh grid too fine: more than 500000 cells along the bounding box");
+  if (longest / h > kMaxCellsAlong)
+    throw OptionError(fmt::format(
+        "the mesh grid of cell size {:.4g} would span {:.3g} million cells along the surface's longest side ({:.4g}), "
+        "more than the lattice holds ({:.3g} million): the points reach far beyond the surface's detail (parts far "
+        "apart, or stray points that are not isolated); remove the far points or use a coarser voxel_size or "
+        "resolution",
+        h, longest / h / 1e6, longest, kMaxCellsAlong / 1e6));
   if (!(options.fill_cells >= 0) || !std::isfinite(options.fill_cells))
     throw OptionError("mesh fill_cells must be >= 0");
   if (options.fill_cell && (!(*options.fill_cell > 0) || !std::isfinite(*options.fill_cell)))
