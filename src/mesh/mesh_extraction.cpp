@@ -9,8 +9,8 @@
 #include "core/system_memory.hpp"
 #include "mesh/cell_polygonizer.hpp"
 #include "mesh/mesh_subset.hpp"
-#include "mesh/position_ids.hpp"
 #include "mesh/surface_walk.hpp"
+#include "spatial/position_ids.hpp"
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>

@@ -17,8 +17,8 @@
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/mesh/mesh_check.hpp>
 
-#include "mesh/position_ids.hpp"
 #include "mesh/triangle_boxes.hpp"
+#include "spatial/position_ids.hpp"
 
 #include <Eigen/Geometry>
 #include <embree3/rtcore.h>

@@ -3,7 +3,7 @@
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/spatial/repeated_positions.hpp>
 
-#include <tbb/parallel_sort.h>
+#include "spatial/position_ids.hpp"
 
 #include <string>
 
@@ -19,18 +19,15 @@ std::vector<std::uint32_t> first_of_each_position(const Points& positions, std::
   for (std::size_t k = 0; k < rows.size(); ++k)
     if (coincident.empty() || coincident[rows[k]] != 0) candidates.push_back(static_cast<std::uint32_t>(k));
   if (candidates.size() < 2) return rows;
-  const auto at = [&](std::uint32_t k) { return positions.row(rows[k]); };
-  // By position, then by place in `rows`: a repeat follows the first row at its position.
-  tbb::parallel_sort(candidates.begin(), candidates.end(), [&](std::uint32_t a, std::uint32_t b) {
-    const auto p = at(a), q = at(b);
-    for (int c = 0; c < 3; ++c)
-      if (p(c) != q(c)) return p(c) < q(c);
-    return a < b;
-  });
+  Points at(static_cast<Eigen::Index>(candidates.size()), 3);
+  for (std::size_t c = 0; c < candidates.size(); ++c)
+    at.row(static_cast<Eigen::Index>(c)) = positions.row(rows[candidates[c]]);
+  // A candidate repeats a position when an earlier one holds it: its id is not its own.
+  const std::vector<std::int32_t> first = detail::position_ids(at);
   std::vector<std::uint8_t> repeat(rows.size(), 0);
   bool any = false;
-  for (std::size_t i = 1; i < candidates.size(); ++i)
-    if (at(candidates[i]) == at(candidates[i - 1])) repeat[candidates[i]] = 1, any = true;
+  for (std::size_t c = 0; c < candidates.size(); ++c)
+    if (first[c] != static_cast<std::int32_t>(c)) repeat[candidates[c]] = 1, any = true;
   if (!any) return rows;
   std::size_t kept = 0;
   for (std::size_t k = 0; k < rows.size(); ++k)

@@ -10,12 +10,22 @@
 
 namespace clustersurf::detail {
 
-ClusterTree build_region(RegionCloud points, const RegionPlan& plan, std::int32_t region, const CloudScale& scale,
-                         const BuildOptions& options, OrientationReport& oriented) {
+namespace {
+
+/// Marks what a region's build and tile leave out: its outliers, unless kept, and its repeated
+/// positions.
+void mark_left_out(RegionCloud& points, const CloudScale& scale, const BuildOptions& options) {
   if (options.remove_outliers)
     mark_outliers(points, scale, options.outliers);
   else
     mark_repeated_positions(points);
+}
+
+}  // namespace
+
+ClusterTree build_region(RegionCloud points, const RegionPlan& plan, std::int32_t region, const CloudScale& scale,
+                         const BuildOptions& options, OrientationReport& oriented) {
+  mark_left_out(points, scale, options);
   return build_region_tree(points, plan, region, scale, options, &oriented);
 }
 
@@ -49,10 +59,7 @@ MeshTile mesh_region(const RegionPlan& plan, const RegionMerge& merge, std::int3
   std::vector<ClusterTree> trees(plan.regions());
   for (const std::int32_t k : tile_regions(plan, merge, region, grid))
     trees[static_cast<std::size_t>(k)] = region_tree(k);
-  if (options.build.remove_outliers)
-    mark_outliers(points, scale, options.build.outliers);
-  else
-    mark_repeated_positions(points);
+  mark_left_out(points, scale, options.build);
   MeshTile tile;
   tile.region = region;
   if (std::none_of(trees.begin(), trees.end(), [](const ClusterTree& t) { return !t.nodes.empty(); })) return tile;

@@ -5,7 +5,7 @@
 
 #include "mesh/mesh_components.hpp"
 #include "mesh/mesh_subset.hpp"
-#include "mesh/position_ids.hpp"
+#include "spatial/position_ids.hpp"
 
 #include <algorithm>
 

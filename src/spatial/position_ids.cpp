@@ -1,6 +1,6 @@
 // Vertices at the same position, as one.
-
-#include "mesh/position_ids.hpp"
+// Points at the same position, as one (a mesh's vertices, a cloud's repeated points).
+#include "spatial/position_ids.hpp"
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>

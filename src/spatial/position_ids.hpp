@@ -1,5 +1,5 @@
 #pragma once
-// Vertices at the same position, as one.
+// Points at the same position, as one (a mesh's vertices, a cloud's repeated points).
 
 #include <clustersurf/core/point_cloud.hpp>
 
