@@ -1,7 +1,7 @@
 // coarsen_mesh(): flat parts merged and curved ones kept, every merged vertex within the
 // tolerance, rims, topology and orientation kept, a crease kept straight, the same mesh for any
-// numbering and thread count, attributes kept apart, a lasting conflict undoing only the merges
-// around it, bad options refused.
+// numbering and thread count, attributes kept apart, fixed vertices kept, a lasting conflict
+// undoing only the merges around it, bad options refused.
 
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/evaluation/mesh_distance.hpp>
@@ -146,6 +146,34 @@ TEST(MeshCoarsening, NothingMergesWithoutATolerance) {
   EXPECT_EQ(same.vertices, fine.vertices);
   EXPECT_EQ(same.triangles, fine.triangles);
   EXPECT_EQ(coarsen_mesh(fine, kOrigin, kCell, 0.0).triangles, fine.triangles);
+}
+
+TEST(MeshCoarsening, FixedVerticesKeepTheirTriangles) {
+  // A flat plate whose left half is fixed: the right half merges, and every triangle more than
+  // a fan's reach (an edge) left of the first merged block stays.
+  const TriangleMesh fine = heightfield([](double, double) { return 0.2; });
+  Eigen::VectorXf fixed(fine.vertices.rows());
+  for (Eigen::Index v = 0; v < fine.vertices.rows(); ++v) fixed(v) = fine.vertices(v, 0) < 0 ? 1.0f : 0.0f;
+  const std::span<const float> pins(fixed.data(), static_cast<std::size_t>(fixed.size()));
+  const TriangleMesh coarse = coarsen_mesh(fine, kOrigin, kCell, 1e-4, with_share(1), nullptr, pins);
+  const auto left = [](const TriangleMesh& m) {
+    std::set<std::array<double, 9>> out;
+    for (Eigen::Index t = 0; t < m.triangles.rows(); ++t) {
+      std::array<double, 9> corners{};
+      bool inside = true;
+      for (int k = 0; k < 3; ++k) {
+        for (int a = 0; a < 3; ++a) corners[3 * k + a] = m.vertices(m.triangles(t, k), a);
+        inside = inside && corners[3 * k] < -2 * kCell;
+      }
+      if (inside) out.insert(corners);
+    }
+    return out;
+  };
+  EXPECT_EQ(left(coarse), left(fine));
+  EXPECT_LT(coarse.triangles.rows(), fine.triangles.rows() * 7 / 10);
+  EXPECT_EQ(mesh_topology(coarse).boundary_edges, mesh_topology(fine).boundary_edges);
+  const std::vector<float> wrong(3, 0.0f);
+  EXPECT_THROW(coarsen_mesh(fine, kOrigin, kCell, 1e-4, with_share(1), nullptr, wrong), OptionError);
 }
 
 TEST(MeshCoarsening, ACreaseStaysStraight) {

@@ -79,12 +79,14 @@ double squared_distance(const Eigen::Vector3d& p, const MeshView& mesh, std::spa
 
 }  // namespace
 
-MeshView::MeshView(const TriangleMesh& mesh, const Eigen::Vector3d& origin, double cell, double tolerance)
+MeshView::MeshView(const TriangleMesh& mesh, const Eigen::Vector3d& origin, double cell, double tolerance,
+                   std::span<const float> fixed)
     : mesh_(mesh),
       origin_(origin),
       cell_(cell),
       tolerance_(tolerance),
-      around_(mesh.triangles, static_cast<std::size_t>(mesh.vertices.rows())) {
+      around_(mesh.triangles, static_cast<std::size_t>(mesh.vertices.rows())),
+      fixed_(fixed) {
   if (mesh.normals.rows() != mesh.vertices.rows()) {
     normals_.assign(static_cast<std::size_t>(mesh.vertices.rows()), Eigen::Vector3d::Zero());
     for (Index t = 0; t < triangle_count(); ++t) {
@@ -115,7 +117,7 @@ Index BlockMerge::kept_vertex(std::span<const Index> block) {
   const MeshView& mesh = *mesh_;
   if (block.size() < 2) return kNone;
   for (const Index v : block)
-    if (!mesh.same_attributes(v, block.front())) return kNone;
+    if (mesh.fixed(v) || !mesh.same_attributes(v, block.front())) return kNone;
   triangles_.clear();
   for (const Index v : block)
     for (const Index t : mesh.around().of(v)) triangles_.push_back(t);

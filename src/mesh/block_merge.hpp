@@ -25,11 +25,12 @@ inline constexpr std::uint64_t kNoCell = std::numeric_limits<std::uint64_t>::max
 inline constexpr double kMinNormalCosine = 0.5;
 
 /// A mesh as coarsen_mesh() reads it, in place: its positions, unit normals (the mesh's, or its
-/// triangles' area-weighted mean where it has none), triangles, each vertex's triangles, and
-/// the lattice.
+/// triangles' area-weighted mean where it has none), triangles, each vertex's triangles, the
+/// lattice, and the vertices no merge may take (`fixed` positive; empty: none).
 class MeshView {
  public:
-  MeshView(const TriangleMesh& mesh, const Eigen::Vector3d& origin, double cell, double tolerance);
+  MeshView(const TriangleMesh& mesh, const Eigen::Vector3d& origin, double cell, double tolerance,
+           std::span<const float> fixed = {});
 
   Index vertices() const { return static_cast<Index>(mesh_.vertices.rows()); }
   std::size_t triangle_count() const { return static_cast<std::size_t>(mesh_.triangles.rows()); }
@@ -50,6 +51,8 @@ class MeshView {
   std::uint64_t cell_code(Index v) const { return cells_[v]; }
   /// Whether vertices a and b carry the same value of every attribute.
   bool same_attributes(Index a, Index b) const;
+  /// Whether vertex v must stay as it is: no block that holds it merges.
+  bool fixed(Index v) const { return !fixed_.empty() && fixed_[v] > 0; }
   double cell() const { return cell_; }
   double tolerance() const { return tolerance_; }
 
@@ -60,6 +63,7 @@ class MeshView {
   VertexTriangles around_;
   std::vector<Eigen::Vector3d> normals_;  ///< where the mesh has none
   std::vector<std::uint64_t> cells_;
+  std::span<const float> fixed_;
 };
 
 /// Tests blocks one at a time, with scratch space of its own (one per thread).
@@ -67,7 +71,8 @@ class BlockMerge {
  public:
   explicit BlockMerge(const MeshView& mesh) : mesh_(&mesh) {}
   /// The vertex of `block` (every vertex in one block, in increasing order) that they may merge
-  /// into, or kNone: their triangles form one disk off the
+  /// into, or kNone: none of them is fixed, they carry the same attributes, their triangles
+  /// form one disk off the
   /// mesh's boundary, and the fan from the vertex nearest their centroid (ties: the lowest
   /// position) to its rim keeps every triangle within kMinNormalCosine of its corners' normals
   /// and each of them within the tolerance.

@@ -253,7 +253,7 @@ double coarsening_scale(const ClusterTree& tree) {
 }
 
 TriangleMesh coarsen_mesh(const TriangleMesh& mesh, const Eigen::Vector3d& origin, double cell, double scale,
-                          const CoarseningOptions& options, CoarseningReport* report) {
+                          const CoarseningOptions& options, CoarseningReport* report, std::span<const float> fixed) {
   if (!(options.noise_share >= 0) || !std::isfinite(options.noise_share))
     throw OptionError("the coarsening's noise share (coarsen) must be a finite number >= 0");
   if (options.levels < 1 || options.levels > kMaxCoarseningLevels)
@@ -264,6 +264,8 @@ TriangleMesh coarsen_mesh(const TriangleMesh& mesh, const Eigen::Vector3d& origi
   if (!(scale >= 0) || !std::isfinite(scale))
     throw OptionError("the coarsening's error scale must be a finite distance >= 0");
   check_triangle_indices(mesh);
+  if (!fixed.empty() && fixed.size() != static_cast<std::size_t>(mesh.vertices.rows()))
+    throw OptionError("the coarsening's fixed vertices must be given one value per vertex");
   CoarseningReport done;
   done.vertices_before = done.vertices_after = static_cast<std::size_t>(mesh.vertices.rows());
   done.triangles_before = done.triangles_after = static_cast<std::size_t>(mesh.triangles.rows());
@@ -274,7 +276,7 @@ TriangleMesh coarsen_mesh(const TriangleMesh& mesh, const Eigen::Vector3d& origi
   }
   Triangles coarse;
   {
-    const MeshView view(mesh, origin, cell, done.tolerance);
+    const MeshView view(mesh, origin, cell, done.tolerance, fixed);
     Merges merges(view, options.levels);
     // Each round looks where the last one changed the mesh: first every block.
     std::vector<std::size_t> changed(merges.blocks());

@@ -291,10 +291,9 @@ std::vector<OptionSpec> mesh_finishing_options() {
   out.push_back(mesh_real(
       "coarsen",
       "Merge the vertices of flat blocks of the mesh's grid (2, 4, … cells wide: coarsen_levels sizes) into one "
-      "each, moving "
-      "the surface by at most this share of the input's estimated noise (without an estimate, of the error a leaf "
-      "may keep): fewer triangles where the surface is flat against the noise. 0 keeps every vertex, as tiled "
-      "(out-of-core and Dask) meshes do",
+      "each, moving the surface by at most this share of the input's estimated noise (without an estimate, of the "
+      "error a leaf may keep): fewer triangles where the surface is flat against the noise (tiled meshes keep "
+      "every vertex near their regions' borders). 0 keeps every vertex",
       [](auto& o) -> auto& { return meshing(o).coarsening.noise_share; }, RealBound::NonNegative));
   out.push_back(spec(
       "coarsen_levels", OptionStage::Mesh, OptionKind::Whole,

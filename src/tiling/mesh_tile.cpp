@@ -12,6 +12,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 
@@ -54,11 +55,49 @@ Eigen::VectorXf vertex_votes(const TriangleMesh& mesh, const Points& data, std::
   return votes;
 }
 
+/// The squared distance from x to box b (0 inside it).
+double squared_distance(const Eigen::Vector3d& x, const BoundingBox& b) {
+  return (b.min - x).cwiseMax(x - b.max).cwiseMax(0.0).squaredNorm();
+}
+
+/// The triangles of `mesh` that region `region` owns.
+std::size_t count_owned(const std::vector<std::uint8_t>& owned) {
+  return static_cast<std::size_t>(std::count(owned.begin(), owned.end(), std::uint8_t{1}));
+}
+
 }  // namespace
 
+Eigen::VectorXf near_other_regions(const TriangleMesh& mesh, const RegionPlan& plan, double distance) {
+  // Per region, the others whose cell lies within `distance` of its cell.
+  const std::size_t n = plan.regions();
+  std::vector<std::vector<std::int32_t>> near(n);
+  for (std::size_t a = 0; a < n; ++a)
+    for (std::size_t b = 0; b < n; ++b) {
+      BoundingBox grown = plan.region_box(static_cast<std::int32_t>(b));
+      grown.min.array() -= distance;
+      grown.max.array() += distance;
+      const BoundingBox& cell = plan.region_box(static_cast<std::int32_t>(a));
+      if (a != b && (cell.min.array() <= grown.max.array()).all() && (grown.min.array() <= cell.max.array()).all())
+        near[a].push_back(static_cast<std::int32_t>(b));
+    }
+  Eigen::VectorXf out = Eigen::VectorXf::Zero(mesh.vertices.rows());
+  const double d2 = distance * distance;
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, mesh.vertices.rows(), 4096), [&](const auto& r) {
+    for (Eigen::Index v = r.begin(); v != r.end(); ++v) {
+      const Eigen::Vector3d x = mesh.vertices.row(v).transpose();
+      for (const std::int32_t other : near[static_cast<std::size_t>(plan.region_of(x))])
+        if (squared_distance(x, plan.region_box(other)) < d2) {
+          out(v) = 1;
+          break;
+        }
+    }
+  });
+  return out;
+}
+
 MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::int32_t region_index,
-                   const RegionCloud& region, const MeshOptions& grid, const TrimOptions& trim,
-                   const VertexRefitOptions& refit, bool input_colors, const ProgressCallback& progress) {
+                   const RegionCloud& region, const MeshOptions& grid, const SurfaceMeshOptions& meshing,
+                   const ProgressCallback& progress) {
   if (region_index < 0 || static_cast<std::size_t>(region_index) >= plan.regions())
     throw OptionError("region " + std::to_string(region_index) + " is not in the plan");
   if (!grid.voxel_size || !(*grid.voxel_size > 0) || !std::isfinite(*grid.voxel_size))
@@ -86,19 +125,28 @@ MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::
 
   // The reach trim over the region's data; the fragment test waits for the whole mesh.
   const KdTree index(data);
-  TrimOptions reach = trim;
+  TrimOptions reach = meshing.trim;
   reach.min_component_points = 0;
   reach.close_pinholes = false;
   reach.typical_spread = typical_spread(surface.tree());  // as in core
   mesh = trim_to_points(mesh, index, reach);
 
+  // Flat blocks merged as in core, but near another region's cell, where both tiles keep the
+  // lattice's triangles.
+  tile.coarsening.triangles_before = count_owned(owned_triangles(mesh, plan, region_index));
+  const Eigen::VectorXf fixed = near_other_regions(mesh, plan, kTileFixedCells * h);
+  mesh = coarsen_mesh(mesh, surface.tree().bbox.min, h, coarsening_scale(surface.tree()), meshing.coarsening,
+                      &tile.coarsening, std::span<const float>(fixed.data(), static_cast<std::size_t>(fixed.size())));
+
   // The triangles the region owns, and the votes of its own points for their nearest vertex of
-  // the trimmed mesh (kept whether or not the region owns a triangle there: the neighbour that
+  // the coarse mesh (kept whether or not the region owns a triangle there: the neighbour that
   // does gets them when the tiles are joined).
   const std::vector<std::uint8_t> owned = owned_triangles(mesh, plan, region_index);
+  tile.coarsening.triangles_after = count_owned(owned);
+  tile.coarsening.vertices_before = tile.coarsening.vertices_after = 0;  // tiles share their border vertices
   const Eigen::VectorXf votes = vertex_votes(mesh, data, own_data);
   // Refitted after the votes, as the whole mesh is after its trim's fragment test.
-  refit_vertices(mesh, index, surface, refit);
+  refit_vertices(mesh, index, surface, meshing.refit);
   // Keep the owned triangles and every voted vertex (a voted vertex no owned triangle uses
   // joins its owner's copy, or goes with its own triangles when the join drops them).
   Triangles kept(mesh.triangles.rows(), 3);
@@ -120,7 +168,7 @@ MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::
   for (Eigen::Index t = 0; t < kept.rows(); ++t)
     for (int k = 0; k < 3; ++k)
       tile.mesh.triangles(t, k) = static_cast<std::int32_t>(remap[static_cast<std::size_t>(kept(t, k))]);
-  if (input_colors && region.points.has_colors())
+  if (meshing.coloring == MeshColoring::FromInput && region.points.has_colors())
     tile.mesh.colors = colors_from_points(tile.mesh, index, region.points.colors(rows, Eigen::all));
   tile.mesh.attributes.push_back({"votes", votes(keep_rows)});
   tile.mesh.origin = surface.tree().origin;

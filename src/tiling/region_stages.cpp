@@ -64,8 +64,7 @@ MeshTile mesh_region(const RegionPlan& plan, const RegionMerge& merge, std::int3
   tile.region = region;
   if (std::none_of(trees.begin(), trees.end(), [](const ClusterTree& t) { return !t.nodes.empty(); })) return tile;
   const ClusterTree tree = tile_tree(plan, std::move(trees), merge);
-  return mesh_tile(ImplicitSurface(tree), plan, region, points, grid, options.meshing.trim, options.meshing.refit,
-                   options.meshing.coloring == MeshColoring::FromInput);
+  return mesh_tile(ImplicitSurface(tree), plan, region, points, grid, options.meshing);
 }
 
 double merged_auto_cell(const ClusterTree& merged) {
@@ -76,10 +75,14 @@ void keep_tile_colors(MeshTile& tile, const SurfaceMeshOptions& options) {
   if (options.coloring != MeshColoring::FromInput) tile.mesh.colors.resize(0, 3);
 }
 
-void add_tile_grid(MeshReport& grid, const MeshTile& tile) {
+void add_tile_reports(MeshReport& grid, CoarseningReport& coarsening, const MeshTile& tile) {
   grid.voxel_size = tile.grid.voxel_size;
   grid.evaluated_corners += tile.grid.evaluated_corners;
   grid.surface_cells += tile.grid.surface_cells;
+  coarsening.tolerance = std::max(coarsening.tolerance, tile.coarsening.tolerance);
+  coarsening.merged_blocks += tile.coarsening.merged_blocks;
+  coarsening.triangles_before += tile.coarsening.triangles_before;
+  coarsening.triangles_after += tile.coarsening.triangles_after;
 }
 
 SurfaceMesh join_region_tiles(std::vector<MeshTile> tiles, const RegionMerge& merge, const Eigen::Vector3d& origin,
@@ -88,7 +91,7 @@ SurfaceMesh join_region_tiles(std::vector<MeshTile> tiles, const RegionMerge& me
   const auto start = std::chrono::steady_clock::now();
   SurfaceMesh out;
   for (MeshTile& t : tiles) {
-    add_tile_grid(out.grid, t);
+    add_tile_reports(out.grid, out.coarsening, t);
     keep_tile_colors(t, options);
   }
   out.mesh = join_tiles(tiles, options.trim);

@@ -39,8 +39,8 @@ MeshTile mesh_region(const RegionPlan& plan, const RegionMerge& merge, std::int3
 /// mesh from the input: a join with other colors, or none, has no use for them.
 void keep_tile_colors(MeshTile& tile, const SurfaceMeshOptions& options);
 
-/// The tiles' lattice figures summed into `grid`.
-void add_tile_grid(MeshReport& grid, const MeshTile& tile);
+/// The tile's lattice figures summed into `grid`, and its merges into `coarsening`.
+void add_tile_reports(MeshReport& grid, CoarseningReport& coarsening, const MeshTile& tile);
 
 /// The tiles welded into one mesh, then decimated and colored as `options` say (`merged_tree()`
 /// for colors by node); with the tiles' own colors only for colors from the input.

@@ -1,4 +1,4 @@
-// A tiled run's mesh tiles: one region's mesh, its grid report and its vertices' votes, in a
+// A tiled run's mesh tiles: one region's mesh, its grid and merge reports and its vertices' votes, in a
 // small binary file (little-endian, checked whole on reading).
 
 #include <clustersurf/core/errors.hpp>
@@ -16,7 +16,7 @@ namespace clustersurf::detail {
 
 namespace {
 
-constexpr char kTileMagic[8] = {'C', 'S', 'T', 'I', 'L', 'E', '2', '\n'};
+constexpr char kTileMagic[8] = {'C', 'S', 'T', 'I', 'L', 'E', '3', '\n'};
 /// The flags of a tile's header.
 constexpr std::int64_t kTileColors = 1, kTileZUp = 2;
 
@@ -27,14 +27,17 @@ void write_tile(const std::filesystem::path& file, const MeshTile& tile) {
   io::AtomicFile out(file);
   out.write(kTileMagic, sizeof kTileMagic);
   const bool colors = m.colors.rows() == m.vertices.rows() && m.vertices.rows() > 0;
-  const std::int64_t header[6] = {tile.region,
+  const std::int64_t header[8] = {tile.region,
                                   static_cast<std::int64_t>(m.vertices.rows()),
                                   static_cast<std::int64_t>(m.triangles.rows()),
                                   static_cast<std::int64_t>(tile.grid.surface_cells),
                                   static_cast<std::int64_t>(tile.grid.evaluated_corners),
-                                  (colors ? kTileColors : 0) | (m.up == UpAxis::Z ? kTileZUp : 0)};
+                                  (colors ? kTileColors : 0) | (m.up == UpAxis::Z ? kTileZUp : 0),
+                                  static_cast<std::int64_t>(tile.coarsening.triangles_before),
+                                  static_cast<std::int64_t>(tile.coarsening.merged_blocks)};
   out.write(header, sizeof header);
   out.write(&tile.grid.voxel_size, sizeof(double));
+  out.write(&tile.coarsening.tolerance, sizeof(double));
   out.write(m.origin.data(), 3 * sizeof(double));
   out.write(m.vertices.data(), static_cast<std::size_t>(m.vertices.size()) * sizeof(double));
   out.write(m.normals.data(), static_cast<std::size_t>(m.normals.size()) * sizeof(double));
@@ -58,12 +61,13 @@ MeshTile read_tile(const std::filesystem::path& file) {
   take(magic, sizeof magic, "the signature");
   if (std::memcmp(magic, kTileMagic, sizeof magic) != 0)
     throw InputError(file, FileLocation{std::nullopt, 0}, "not a clustersurf mesh tile");
-  std::int64_t header[6];
+  std::int64_t header[8];
   take(header, sizeof header, "the header");
   const std::int64_t nv = header[1], nt = header[2];
   const std::uint64_t per_vertex = 6 * sizeof(double) + sizeof(float), per_triangle = 3 * sizeof(std::int32_t);
-  if (header[0] < 0 || header[0] > std::numeric_limits<std::int32_t>::max() || header[3] < 0 || header[4] < 0)
-    throw InputError(file, FileLocation{std::nullopt, sizeof kTileMagic}, "region or cell counts out of range");
+  if (header[0] < 0 || header[0] > std::numeric_limits<std::int32_t>::max() || header[3] < 0 || header[4] < 0 ||
+      header[6] < 0 || header[7] < 0)
+    throw InputError(file, FileLocation{std::nullopt, sizeof kTileMagic}, "region, cell or merge counts out of range");
   if ((header[5] & ~(kTileColors | kTileZUp)) != 0)
     throw InputError(file, FileLocation{std::nullopt, sizeof kTileMagic + 5 * sizeof(std::int64_t)},
                      "unknown tile flags");
@@ -75,10 +79,17 @@ MeshTile read_tile(const std::filesystem::path& file) {
   tile.region = static_cast<std::int32_t>(header[0]);
   tile.grid.surface_cells = static_cast<std::size_t>(header[3]);
   tile.grid.evaluated_corners = static_cast<std::size_t>(header[4]);
+  tile.coarsening.triangles_before = static_cast<std::size_t>(header[6]);
+  tile.coarsening.triangles_after = static_cast<std::size_t>(nt);
+  tile.coarsening.merged_blocks = static_cast<std::size_t>(header[7]);
   const std::size_t voxel_at = at;
   take(&tile.grid.voxel_size, sizeof(double), "the header");
   if (!(tile.grid.voxel_size > 0) || !std::isfinite(tile.grid.voxel_size))
     throw InputError(file, FileLocation{std::nullopt, voxel_at}, "the cell size must be a positive number");
+  const std::size_t tolerance_at = at;
+  take(&tile.coarsening.tolerance, sizeof(double), "the header");
+  if (!(tile.coarsening.tolerance >= 0) || !std::isfinite(tile.coarsening.tolerance))
+    throw InputError(file, FileLocation{std::nullopt, tolerance_at}, "the merge tolerance must be a number >= 0");
   TriangleMesh& m = tile.mesh;
   const std::size_t origin_at = at;
   take(m.origin.data(), 3 * sizeof(double), "the origin");

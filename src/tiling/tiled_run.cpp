@@ -270,6 +270,7 @@ WrittenMesh TiledRun::write_mesh(const std::filesystem::path& file, const Surfac
     out.triangles = static_cast<std::size_t>(mesh.mesh.triangles.rows());
     out.blended_nodes = mesh.blended_nodes;
     out.grid = mesh.grid;
+    out.coarsening = mesh.coarsening;
     out.decimation = mesh.decimation;
     out.seconds = mesh.seconds;
     return out;
@@ -285,7 +286,7 @@ WrittenMesh TiledRun::write_mesh(const std::filesystem::path& file, const Surfac
   const auto tile = [&](std::int32_t k) {
     MeshTile t = detail::read_tile(impl_->need(impl_->file("tile", k, "bin"), "every region's mesh"));
     detail::keep_tile_colors(t, options);
-    if (!counted[static_cast<std::size_t>(k)]++) detail::add_tile_grid(out.grid, t);
+    if (!counted[static_cast<std::size_t>(k)]++) detail::add_tile_reports(out.grid, out.coarsening, t);
     return t;
   };
   const JoinedMesh joined = join_tiles_to_ply(tile, plan(), options.trim, file, surface ? &*surface : nullptr);

@@ -3,6 +3,7 @@
 // grid evaluate the same f, so they meet without seams (docs/architecture.md, "Regions and
 // tiles"); and the whole pipeline run region by region in memory.
 
+#include <clustersurf/mesh/mesh_coarsening.hpp>
 #include <clustersurf/mesh/mesh_extraction.hpp>
 #include <clustersurf/mesh/mesh_trim.hpp>
 #include <clustersurf/pipeline/reconstruct.hpp>
@@ -24,35 +25,49 @@ std::vector<std::int32_t> tile_regions(const RegionPlan& plan, const RegionMerge
                                        const MeshOptions& grid);
 
 /// One tile of a tiled mesh: the triangles of the global lattice's f = 0 whose centroid lies in
-/// the tile's region, trimmed to the region's points, with the votes of the region's own points
-/// for their nearest vertex (the trim's fragment test is decided by join_tiles() on the whole
-/// mesh). Vertices are exactly those of the neighbouring tiles where they meet.
+/// the tile's region, trimmed to the region's points, their flat blocks merged, with the votes of
+/// the region's own points for their nearest vertex (the trim's fragment test is decided by
+/// join_tiles() on the whole mesh). Vertices are exactly those of the neighbouring tiles where
+/// they meet.
 struct MeshTile {
   std::int32_t region = -1;
   TriangleMesh mesh;  ///< its "votes" attribute: own points nearest to each vertex
   MeshReport grid;
+  /// Of the triangles the region owns: their count before and after the merges, the blocks
+  /// merged and the tolerance.
+  CoarseningReport coarsening;
 };
-
-/// The tile of region `region_index` of `surface` (of a merged tree) on the lattice of cell
-/// size grid.voxel_size (required) anchored at the tree's box: the lattice is meshed over the
-/// region's cell and a margin of cells around it, seeded on the blended proxies and on the
-/// region's points, and trimmed with `trim` to the region's points but its outliers (without the
-/// fragment test, which join_tiles() decides, and without closing pinholes), its vertices
-/// refitted to those points (refit_vertices() with `refit`, as mesh_tree() does; its flat
-/// blocks are not merged: coarsen_mesh()'s merges depend, through its joint check, on merges
-/// farther away than a tile's margin holds); with
-/// `input_colors`, colored from those points (colors_from_points()) when they have colors.
-/// Deterministic. Throws OptionError for invalid options.
-MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::int32_t region_index,
-                   const RegionCloud& region, const MeshOptions& grid, const TrimOptions& trim = {},
-                   const VertexRefitOptions& refit = {}, bool input_colors = true,
-                   const ProgressCallback& progress = {});
 
 /// Cells of lattice a tile meshes beyond its region (mesh_tile()): a triangle whose centroid
 /// lies in the region comes from cells within two of it (a quad spans the two cells on each side
 /// of its edge, and the projection moves a vertex at most one cell), whose corner values every
 /// tile that visits them computes alike.
 inline constexpr double kTileMarginCells = 4;
+
+/// Cells of lattice from another region's cell within which no block of a tile merges
+/// (mesh_tile()): the refit of a vertex on a tile border reads the mesh about four edges around
+/// it (the moves over two rings of each neighbour whose move may turn one of its triangles),
+/// and a merge's fan reaches an edge beyond its block, so both tiles hold the lattice's
+/// triangles wherever a vertex they share looks.
+inline constexpr double kTileFixedCells = 16;
+
+/// Per vertex of `mesh`, 1 where it lies within `distance` of the cell of a region other than
+/// the one holding it (RegionPlan::region_of()), else 0.
+Eigen::VectorXf near_other_regions(const TriangleMesh& mesh, const RegionPlan& plan, double distance);
+
+/// The tile of region `region_index` of `surface` (of a merged tree) on the lattice of cell
+/// size grid.voxel_size (required) anchored at the tree's box: the lattice is meshed over the
+/// region's cell and a margin of cells around it, seeded on the blended proxies and on the
+/// region's points, and trimmed with meshing.trim to the region's points but its outliers
+/// (without the fragment test, which join_tiles() decides, and without closing pinholes); its
+/// flat blocks merged with meshing.coarsening as mesh_tree() merges them, but for the vertices
+/// within kTileFixedCells of another region's cell (near_other_regions()), which stay; its
+/// vertices refitted to those points with meshing.refit, as mesh_tree() does; colored from
+/// those points (colors_from_points()) when meshing.coloring asks for the input's colors and
+/// they have them. Deterministic. Throws OptionError for invalid options.
+MeshTile mesh_tile(const ImplicitSurface& surface, const RegionPlan& plan, std::int32_t region_index,
+                   const RegionCloud& region, const MeshOptions& grid, const SurfaceMeshOptions& meshing = {},
+                   const ProgressCallback& progress = {});
 
 /// The tiles as one mesh: vertices at the same position welded, then components on which fewer
 /// than trim.min_component_points votes fall dropped (the best-supported always stays), as

@@ -15,6 +15,8 @@ std::string written_mesh_json(const WrittenMesh& m) {
                             {"voxel_size", m.grid.voxel_size},
                             {"surface_cells", m.grid.surface_cells},
                             {"removed_components", m.removed_components},
+                            {"coarsened_from_triangles", m.coarsening.triangles_before},
+                            {"coarsening_tolerance", m.coarsening.tolerance},
                             {"mesh_seconds", m.seconds}};
   return j.dump();
 }

@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 
 namespace clustersurf {
 
@@ -67,10 +68,12 @@ double coarsening_scale(const ClusterTree& tree);
 /// and its vertices are a subset of the mesh's, in place with their normals, colors and
 /// attributes, in their order (blocks whose vertices differ in an attribute stay). Whether a
 /// block merges depends on the mesh around it and, through the joint check, around its
-/// neighbours' merges, never on the vertices' numbering or the thread count. Throws OptionError
-/// for a noise share or scale that is negative or not finite, levels outside 1 to
-/// kMaxCoarseningLevels, or a cell that is not positive.
+/// neighbours' merges, never on the vertices' numbering or the thread count. A block holding a
+/// vertex whose `fixed` value is positive does not merge (empty: none fixed). Throws
+/// OptionError for a noise share or scale that is negative or not finite, levels outside 1 to
+/// kMaxCoarseningLevels, a cell that is not positive, or `fixed` not empty nor one per vertex.
 TriangleMesh coarsen_mesh(const TriangleMesh& mesh, const Eigen::Vector3d& origin, double cell, double scale,
-                          const CoarseningOptions& options = {}, CoarseningReport* report = nullptr);
+                          const CoarseningOptions& options = {}, CoarseningReport* report = nullptr,
+                          std::span<const float> fixed = {});
 
 }  // namespace clustersurf

@@ -66,14 +66,15 @@ struct WrittenMesh {
   /// Joined straight into the file (binary PLY without decimation), never whole in memory.
   bool streamed = false;
   std::size_t blended_nodes = 0;
-  MeshReport grid;  ///< the tiles' cells and corners, summed
+  MeshReport grid;              ///< the tiles' cells and corners, summed
+  CoarseningReport coarsening;  ///< the tiles' merges, summed (triangles before and after: those the tiles own)
   DecimationReport decimation;
   double seconds = 0;
 };
 
 /// The report of `mesh` as one JSON object, the same for every front end: file, vertices,
-/// triangles, streamed, blended_nodes, voxel_size, surface_cells, removed_components and
-/// mesh_seconds.
+/// triangles, streamed, blended_nodes, voxel_size, surface_cells, removed_components,
+/// coarsened_from_triangles, coarsening_tolerance and mesh_seconds.
 std::string written_mesh_json(const WrittenMesh& mesh);
 
 /// A work directory of a tiled reconstruction. Every task writes its result atomically (a
