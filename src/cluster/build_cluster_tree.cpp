@@ -181,8 +181,9 @@ ClusterTree detail::build_tree(const PointCloud& cloud, std::vector<std::uint32_
   }
   detail::ProgressReporter reporter(progress, "building tree", n);
   detail::BuildNode root;
+  const bool bias_tests = noise >= detail::kNoiseCountsShare * scale.point_spacing;
   detail::build_nodes(root, normals, frame_normals, work, support ? &*support : nullptr, resolved, tolerance, noise,
-                      options.min_points == 0, reporter);
+                      bias_tests, options.min_points == 0, reporter);
   reporter.finish();
   const std::vector<std::uint32_t>& perm = work.ids;
 

@@ -14,6 +14,12 @@
 
 namespace clustersurf::detail {
 
+/// The noise, as a share of the point spacing, from which it counts as the points' own: below
+/// it the noise estimate of a clean sample reads the facets and detail its fits miss, which do
+/// not vary independently from point to point (support_alpha() starts widening the supports
+/// there; build_nodes() tests the leaves' bias against it from there).
+inline constexpr double kNoiseCountsShare = 0.15;
+
 /// The error a test over n points allows: the tolerance plus the noise with its margin
 /// (noise_variance_margin()), so a cluster or a support is not split or shrunk for noise alone.
 inline double allowed_error(double tolerance, double noise, double n) {

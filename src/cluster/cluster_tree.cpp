@@ -55,7 +55,7 @@ std::uint32_t leaf_min_points(double noise, double spacing) {
 
 double support_alpha(double noise, double spacing) {
   constexpr double kNarrow = 0.75, kWide = 1.0;
-  constexpr double kLowNoise = 0.15, kHighNoise = 0.5;  // σ / h where the widening starts and ends
+  constexpr double kLowNoise = detail::kNoiseCountsShare, kHighNoise = 0.5;  // σ / h where the widening starts and ends
   if (!(noise > 0) || !(spacing > 0)) return kNarrow;
   const double share = std::clamp((noise / spacing - kLowNoise) / (kHighNoise - kLowNoise), 0.0, 1.0);
   return kNarrow + share * (kWide - kNarrow);

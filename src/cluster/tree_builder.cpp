@@ -21,6 +21,9 @@
 #include <numeric>
 #include <optional>
 #include <span>
+#include <utility>
+#include <variant>
+#include <vector>
 
 namespace clustersurf {
 
@@ -51,11 +54,13 @@ class Builder {
   /// leaves may keep (0 when the threshold ignores noise). Both in the input's units.
   /// `normals`: the input normals, indexed like the input cloud (WorkingSet::ids), or null;
   /// `frame_normals`: the normals the clusters' frames may follow (the input's, or estimated).
-  /// `support`: the support checks, or null when they are off. `detail_splits`: whether a leaf
+  /// `support`: the support checks, or null when they are off. `bias_tests`: whether a would-be
+  /// leaf is split where halving it fits significantly better (significant_split()).
+  /// `detail_splits`: whether a leaf
   /// may be split below options.min_points (detail_split(); when min_points was "auto").
   Builder(const Points* normals, const detail::FrameNormals& frame_normals, WorkingSet& work,
           const detail::SupportFit* support, const BuildOptions& options, double tolerance, double noise,
-          bool detail_splits, detail::ProgressReporter& progress)
+          bool bias_tests, bool detail_splits, detail::ProgressReporter& progress)
       : normals_(normals),
         frame_normals_(frame_normals),
         work_(work),
@@ -64,6 +69,7 @@ class Builder {
         options_(options),
         tolerance_(tolerance),
         noise_(noise),
+        bias_tests_(bias_tests),
         detail_splits_(detail_splits),
         progress_(progress) {}
 
@@ -93,6 +99,10 @@ class Builder {
       k = options_.splitter == SplitterKind::SplitPlane
               ? detail::split_plane(points_, range, frame, options_, noise_)
               : detail::lloyd_split(points_, range, options_, detail::splitmix64(path_seed));
+    } else if (const std::size_t refined =
+                   can_split && fitted.determined && !smooth ? significant_split(range, frame, node) : 0;
+               refined != 0) {
+      k = refined;
     } else if (range.size() >= 2) {
       // The proxy fits, but the cluster may be two parts with empty space between them (below
       // 2 × min_points only stray points across a wide gap are cut off).
@@ -293,6 +303,64 @@ class Builder {
     return k;
   }
 
+  /// The split plane's k (split_plane() on `range`) when the node's points, halved at the median
+  /// of their first frame axis, are fitted by a quadratic per half in the node's frame
+  /// significantly better than by the node's one quadratic: a drop of the residual sum of
+  /// squares of their heights beyond what the noise gives six more coefficients (nested least
+  /// squares: under noise alone the drop is the noise's variance times a chi-square of six
+  /// degrees of freedom; kNoiseMargin deviations out). The halves are fixed by the positions
+  /// alone, as the test's null distribution needs (a split chosen to fit best would inflate the
+  /// drop). So a leaf's misfit is held to the standard error of its own fit, which its
+  /// residual's spread cannot show once it holds more than a few dozen points. Without input
+  /// normals, both halves must spread across the frame's plane by kDeterminedSpread times the
+  /// noise's variance along each of its axes: the test takes the noise for heights alone, and
+  /// in a blob as thick as it is wide the noise moves the points across the plane as much.
+  /// Else 0.
+  std::size_t significant_split(std::span<std::uint32_t> range, const Frame& frame, const ClusterNode& node) const {
+    if (!bias_tests_ || !(noise_ > 0) || !std::holds_alternative<PolyProxy>(node.proxy.variant()) ||
+        options_.splitter != SplitterKind::SplitPlane)
+      return 0;
+    std::vector<std::pair<double, std::uint32_t>> along;
+    along.reserve(range.size());
+    for (const std::uint32_t i : range) along.emplace_back(frame.to_local(points_.row(i).transpose()).x(), i);
+    const std::size_t half = along.size() / 2;
+    std::nth_element(along.begin(), along.begin() + static_cast<std::ptrdiff_t>(half), along.end());
+    std::vector<std::uint32_t> halves(along.size());
+    for (std::size_t j = 0; j < along.size(); ++j) halves[j] = along[j].second;
+    const std::span<const std::uint32_t> left(halves.data(), half), right(halves.data() + half, halves.size() - half);
+    if (frame_normals_.input == nullptr) {
+      const double resolved = detail::kDeterminedSpread * noise_ * noise_;
+      if (spread_across(left, frame) < resolved || spread_across(right, frame) < resolved) return 0;
+    }
+    const auto residual = [&](std::span<const std::uint32_t> part, const PolyProxy& p) {
+      double sum = 0;
+      for (const std::uint32_t i : part) {
+        const Eigen::Vector3d l = frame.to_local(points_.row(i).transpose());
+        const double r = l.z() - p.height(l.x(), l.y());
+        sum += r * r;
+      }
+      return sum;
+    };
+    const double drop = residual(halves, fit_poly_in_frame(frame, points_, halves)) -
+                        residual(left, fit_poly_in_frame(frame, points_, left)) -
+                        residual(right, fit_poly_in_frame(frame, points_, right));
+    constexpr double kAddedCoefficients = 6;
+    if (!(drop > noise_ * noise_ * kAddedCoefficients * noise_variance_quantile(kAddedCoefficients))) return 0;
+    return detail::split_plane(points_, range, frame, options_, noise_);
+  }
+
+  /// The smaller variance of points `part` along the first two axes of `frame`.
+  double spread_across(std::span<const std::uint32_t> part, const Frame& frame) const {
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero(), sum2 = Eigen::Vector2d::Zero();
+    for (const std::uint32_t i : part) {
+      const Eigen::Vector2d l = frame.to_local(points_.row(i).transpose()).head<2>();
+      sum += l;
+      sum2 += l.cwiseProduct(l);
+    }
+    const double n = static_cast<double>(part.size());
+    return (sum2 / n - (sum / n).cwiseProduct(sum / n)).minCoeff();
+  }
+
   /// Whether the proxy's residuals over the cluster correlate between neighbours more than
   /// independent noise lets them: kNoiseMargin times its spread, at most √(2/n) (relief the
   /// proxy does not follow, even below the noise the threshold allows). Without noise in the
@@ -311,6 +379,7 @@ class Builder {
   const BuildOptions& options_;
   double tolerance_;
   double noise_;
+  bool bias_tests_;
   bool detail_splits_;
   detail::ProgressReporter& progress_;
 };
@@ -319,8 +388,8 @@ class Builder {
 
 void detail::build_nodes(BuildNode& root, const Points* normals, const FrameNormals& frame_normals, WorkingSet& work,
                          const SupportFit* support, const BuildOptions& options, double tolerance, double noise,
-                         bool detail_splits, ProgressReporter& progress) {
-  Builder(normals, frame_normals, work, support, options, tolerance, noise, detail_splits, progress)
+                         bool bias_tests, bool detail_splits, ProgressReporter& progress) {
+  Builder(normals, frame_normals, work, support, options, tolerance, noise, bias_tests, detail_splits, progress)
       .build(root, work.local, 0, options.seed);
 }
 

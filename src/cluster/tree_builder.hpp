@@ -12,10 +12,12 @@ namespace clustersurf::detail {
 /// each node fitted, tried as a crease, split while its error or its support's misfit exceeds
 /// the threshold (`tolerance` and `noise` in input units), each leaf's support fitted. `normals`:
 /// the input normals indexed like the input (or null); `support` null skips the support checks;
-/// `detail_splits` lets leaves at min_points split below it where that resolves relief finer
-/// than them. The same tree for any thread count.
+/// `bias_tests` also splits a would-be leaf whose halves, each fitted with its own quadratic,
+/// fit significantly better than its one against the noise (for noise that is the points' own,
+/// kNoiseCountsShare of the spacing or more); `detail_splits` lets leaves at min_points split
+/// below it where that resolves relief finer than them. The same tree for any thread count.
 void build_nodes(BuildNode& root, const Points* normals, const FrameNormals& frame_normals, WorkingSet& work,
                  const SupportFit* support, const BuildOptions& options, double tolerance, double noise,
-                 bool detail_splits, ProgressReporter& progress);
+                 bool bias_tests, bool detail_splits, ProgressReporter& progress);
 
 }  // namespace clustersurf::detail
