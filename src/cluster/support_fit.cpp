@@ -112,6 +112,48 @@ SupportError SupportFit::weighted_error(const Proxy& proxy, const Sphere& suppor
   return {std::sqrt(sum / weight), weight * weight / weight2};
 }
 
+bool SupportFit::halves_fit_better(const ClusterNode& node, const Frame& frame) const {
+  const double r2 = node.support.radius * node.support.radius;
+  if (!(r2 > 0) || !(noise_ > 0)) return false;
+  thread_local std::vector<Neighbor> inside;
+  sampler_.inside(node.support.center, node.support.radius, kSupportPointsPerClusterPoint * node.point_count,
+                  kSupportSample, inside);
+  constexpr double kAddedCoefficients = 6;  // a quadratic's
+  if (static_cast<double>(inside.size()) < 4 * kAddedCoefficients) return false;
+  std::vector<std::pair<double, std::size_t>> along;
+  along.reserve(inside.size());
+  for (std::size_t k = 0; k < inside.size(); ++k)
+    along.emplace_back(frame.to_local(input_.row(inside[k].index).transpose()).x(), k);
+  const std::size_t half = along.size() / 2;
+  std::nth_element(along.begin(), along.begin() + static_cast<std::ptrdiff_t>(half), along.end());
+  std::vector<std::uint32_t> ids(along.size());
+  std::vector<double> weights(along.size());
+  for (std::size_t j = 0; j < along.size(); ++j) {
+    const Neighbor& nb = inside[along[j].second];
+    ids[j] = nb.index;
+    weights[j] = blend_weight(nb.distance_squared / r2);
+  }
+  const auto residual = [&](std::size_t begin, std::size_t end) {
+    const std::span<const std::uint32_t> part(ids.data() + begin, end - begin);
+    const std::span<const double> w(weights.data() + begin, end - begin);
+    const PolyProxy p = fit_poly_in_frame(frame, input_, part, w);
+    double sum = 0;
+    for (std::size_t k = 0; k < part.size(); ++k) {
+      const Eigen::Vector3d l = frame.to_local(input_.row(part[k]).transpose());
+      const double r = l.z() - p.height(l.x(), l.y());
+      sum += w[k] * r * r;
+    }
+    return sum;
+  };
+  const double drop = residual(0, ids.size()) - residual(0, half) - residual(half, ids.size());
+  // Each added coefficient takes the noise of the points it is fitted to with their weights: the
+  // weights' own mean weight Σw² / Σw scales the chi-square.
+  double sum = 0, sum2 = 0;
+  for (const double w : weights) sum += w, sum2 += w * w;
+  if (!(sum > 0)) return false;
+  return drop > (sum2 / sum) * noise_ * noise_ * kAddedCoefficients * noise_variance_quantile(kAddedCoefficients);
+}
+
 std::optional<SupportFit::SupportCrease> SupportFit::crease(const ClusterNode& node, const Frame& frame) const {
   if (!(node.support.radius > 0)) return std::nullopt;
   thread_local std::vector<Neighbor> inside;

@@ -49,6 +49,14 @@ class SupportFit {
   };
   std::optional<SupportCrease> crease(const ClusterNode& node, const Frame& frame) const;
 
+  /// Whether the points inside the node's support (the same sample as check()), halved at the
+  /// median of the frame's first axis, are fitted by a quadratic per half in `frame`, weighted by
+  /// the blend's weights, significantly better than by one: a drop of the weighted residual sum
+  /// of squares beyond the noise's variance times the kNoiseMargin-deviation quantile of a
+  /// chi-square of six degrees of freedom (the weights at most 1 make that bound conservative).
+  /// The blend reaches a leaf's proxy out to its support's rim, where a quadratic that holds on
+  /// the leaf's own points may not.
+  bool halves_fit_better(const ClusterNode& node, const Frame& frame) const;
   /// How far the node's support may reach before another sheet: the distance from its centre to
   /// the kOtherSheetPoints-th nearest input point inside it that lies off the proxy (beyond the
   /// support fit's reach) with its normal facing away from the leaf's own sheet (the mean normal

@@ -311,11 +311,13 @@ class Builder {
   /// degrees of freedom; kNoiseMargin deviations out). The halves are fixed by the positions
   /// alone, as the test's null distribution needs (a split chosen to fit best would inflate the
   /// drop). So a leaf's misfit is held to the standard error of its own fit, which its
-  /// residual's spread cannot show once it holds more than a few dozen points. Without input
-  /// normals, both halves must spread across the frame's plane by kDeterminedSpread times the
-  /// noise's variance along each of its axes: the test takes the noise for heights alone, and
-  /// in a blob as thick as it is wide the noise moves the points across the plane as much.
-  /// Else 0.
+  /// residual's spread cannot show once it holds more than a few dozen points. The same test
+  /// then runs over the points of the node's support with the blend's weights
+  /// (SupportFit::halves_fit_better()): the blend reaches the proxy out to the support's rim.
+  /// Without input normals, both halves of the node's points must spread across the frame's
+  /// plane by kDeterminedSpread times the noise's variance along each of its axes: the test
+  /// takes the noise for heights alone, and in a blob as thick as it is wide the noise moves the
+  /// points across the plane as much. Else 0.
   std::size_t significant_split(std::span<std::uint32_t> range, const Frame& frame, const ClusterNode& node) const {
     if (!bias_tests_ || !(noise_ > 0) || !std::holds_alternative<PolyProxy>(node.proxy.variant()) ||
         options_.splitter != SplitterKind::SplitPlane)
@@ -345,7 +347,9 @@ class Builder {
                         residual(left, fit_poly_in_frame(frame, points_, left)) -
                         residual(right, fit_poly_in_frame(frame, points_, right));
     constexpr double kAddedCoefficients = 6;
-    if (!(drop > noise_ * noise_ * kAddedCoefficients * noise_variance_quantile(kAddedCoefficients))) return 0;
+    if (!(drop > noise_ * noise_ * kAddedCoefficients * noise_variance_quantile(kAddedCoefficients)) &&
+        (support_ == nullptr || !support_->halves_fit_better(node, frame)))
+      return 0;
     return detail::split_plane(points_, range, frame, options_, noise_);
   }
 
