@@ -134,8 +134,8 @@ TEST(NoiseAveraging, ReliefBelowWhatALeafsResidualShowsIsFollowed) {
   // exceeds the noise's margin (for a few hundred points, about a third of σ), while its halves,
   // each fitted apart, show what their parent's quadratic misses against that quadratic's own
   // standard error, over its points and over its support. Split there, the leaves follow the
-  // ripples (0.074-0.081 σ measured; 0.10-0.11 σ with the halves of its own points alone, 0.15-0.16
-  // σ without either).
+  // ripples (0.064-0.079 σ measured; 0.10-0.11 σ with its own points' halves along one axis
+  // alone, 0.15-0.16 σ without the halves).
   const double sigma = 0.005;
   for (const double frequency : {3.0, 4.0}) {
     const auto ripples = [&](double x, double y) {

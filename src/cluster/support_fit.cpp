@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <numeric>
 
 namespace clustersurf::detail {
 
@@ -120,38 +121,51 @@ bool SupportFit::halves_fit_better(const ClusterNode& node, const Frame& frame) 
                   kSupportSample, inside);
   constexpr double kAddedCoefficients = 6;  // a quadratic's
   if (static_cast<double>(inside.size()) < 4 * kAddedCoefficients) return false;
-  std::vector<std::pair<double, std::size_t>> along;
-  along.reserve(inside.size());
-  for (std::size_t k = 0; k < inside.size(); ++k)
-    along.emplace_back(frame.to_local(input_.row(inside[k].index).transpose()).x(), k);
-  const std::size_t half = along.size() / 2;
-  std::nth_element(along.begin(), along.begin() + static_cast<std::ptrdiff_t>(half), along.end());
-  std::vector<std::uint32_t> ids(along.size());
-  std::vector<double> weights(along.size());
-  for (std::size_t j = 0; j < along.size(); ++j) {
-    const Neighbor& nb = inside[along[j].second];
-    ids[j] = nb.index;
-    weights[j] = blend_weight(nb.distance_squared / r2);
+  std::vector<Eigen::Vector3d> local(inside.size());
+  std::vector<std::uint32_t> ids(inside.size());
+  std::vector<double> weights(inside.size());
+  double sum = 0, sum2 = 0;
+  for (std::size_t k = 0; k < inside.size(); ++k) {
+    local[k] = frame.to_local(input_.row(inside[k].index).transpose());
+    ids[k] = inside[k].index;
+    weights[k] = blend_weight(inside[k].distance_squared / r2);
+    sum += weights[k];
+    sum2 += weights[k] * weights[k];
   }
-  const auto residual = [&](std::size_t begin, std::size_t end) {
-    const std::span<const std::uint32_t> part(ids.data() + begin, end - begin);
-    const std::span<const double> w(weights.data() + begin, end - begin);
+  if (!(sum > 0)) return false;
+  const auto residual = [&](std::span<const std::uint32_t> part, std::span<const double> w,
+                            std::span<const std::size_t> rows) {
     const PolyProxy p = fit_poly_in_frame(frame, input_, part, w);
-    double sum = 0;
+    double total = 0;
     for (std::size_t k = 0; k < part.size(); ++k) {
-      const Eigen::Vector3d l = frame.to_local(input_.row(part[k]).transpose());
+      const Eigen::Vector3d& l = local[rows[k]];
       const double r = l.z() - p.height(l.x(), l.y());
-      sum += w[k] * r * r;
+      total += w[k] * r * r;
     }
-    return sum;
+    return total;
   };
-  const double drop = residual(0, ids.size()) - residual(0, half) - residual(half, ids.size());
+  std::vector<std::size_t> rows(inside.size());
+  std::iota(rows.begin(), rows.end(), std::size_t{0});
+  const double whole = residual(ids, weights, rows);
   // Each added coefficient takes the noise of the points it is fitted to with their weights: the
   // weights' own mean weight Σw² / Σw scales the chi-square.
-  double sum = 0, sum2 = 0;
-  for (const double w : weights) sum += w, sum2 += w * w;
-  if (!(sum > 0)) return false;
-  return drop > (sum2 / sum) * noise_ * noise_ * kAddedCoefficients * noise_variance_quantile(kAddedCoefficients);
+  const double bound =
+      (sum2 / sum) * noise_ * noise_ * kAddedCoefficients * noise_variance_quantile(kAddedCoefficients);
+  const std::size_t half = rows.size() / 2;
+  std::vector<std::uint32_t> part_ids(rows.size());
+  std::vector<double> part_weights(rows.size());
+  for (const int axis : {0, 1}) {
+    std::nth_element(rows.begin(), rows.begin() + static_cast<std::ptrdiff_t>(half), rows.end(),
+                     [&](std::size_t a, std::size_t b) { return local[a][axis] < local[b][axis]; });
+    for (std::size_t j = 0; j < rows.size(); ++j) part_ids[j] = ids[rows[j]], part_weights[j] = weights[rows[j]];
+    const std::span<const std::uint32_t> all_ids(part_ids);
+    const std::span<const double> all_weights(part_weights);
+    const std::span<const std::size_t> all_rows(rows);
+    const double drop = whole - residual(all_ids.first(half), all_weights.first(half), all_rows.first(half)) -
+                        residual(all_ids.subspan(half), all_weights.subspan(half), all_rows.subspan(half));
+    if (drop > bound) return true;
+  }
+  return false;
 }
 
 std::optional<SupportFit::SupportCrease> SupportFit::crease(const ClusterNode& node, const Frame& frame) const {

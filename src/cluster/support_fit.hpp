@@ -50,7 +50,7 @@ class SupportFit {
   std::optional<SupportCrease> crease(const ClusterNode& node, const Frame& frame) const;
 
   /// Whether the points inside the node's support (the same sample as check()), halved at the
-  /// median of the frame's first axis, are fitted by a quadratic per half in `frame`, weighted by
+  /// median of the frame's first or second axis, are fitted by a quadratic per half in `frame`, weighted by
   /// the blend's weights, significantly better than by one: a drop of the weighted residual sum
   /// of squares beyond the noise's variance times the kNoiseMargin-deviation quantile of a
   /// chi-square of six degrees of freedom (the weights at most 1 make that bound conservative).

@@ -304,27 +304,42 @@ class Builder {
   }
 
   /// The split plane's k (split_plane() on `range`) when the node's points, halved at the median
-  /// of their first frame axis, are fitted by a quadratic per half in the node's frame
-  /// significantly better than by the node's one quadratic: a drop of the residual sum of
-  /// squares of their heights beyond what the noise gives six more coefficients (nested least
-  /// squares: under noise alone the drop is the noise's variance times a chi-square of six
+  /// of their first or of their second frame axis, are fitted by a quadratic per half in the
+  /// node's frame significantly better than by the node's one quadratic: a drop of the residual
+  /// sum of squares of their heights beyond what the noise gives six more coefficients (nested
+  /// least squares: under noise alone the drop is the noise's variance times a chi-square of six
   /// degrees of freedom; kNoiseMargin deviations out). The halves are fixed by the positions
   /// alone, as the test's null distribution needs (a split chosen to fit best would inflate the
   /// drop). So a leaf's misfit is held to the standard error of its own fit, which its
   /// residual's spread cannot show once it holds more than a few dozen points. The same test
   /// then runs over the points of the node's support with the blend's weights
   /// (SupportFit::halves_fit_better()): the blend reaches the proxy out to the support's rim.
-  /// Without input normals, both halves of the node's points must spread across the frame's
-  /// plane by kDeterminedSpread times the noise's variance along each of its axes: the test
-  /// takes the noise for heights alone, and in a blob as thick as it is wide the noise moves the
-  /// points across the plane as much. Else 0.
+  /// Without input normals, both halves of the node's points along its first axis must spread
+  /// across the frame's plane by kDeterminedSpread times the noise's variance along each of its
+  /// axes, or no test runs: the test takes the noise for heights alone, and in a blob as thick
+  /// as it is wide the noise moves the points across the plane as much. Else 0.
   std::size_t significant_split(std::span<std::uint32_t> range, const Frame& frame, const ClusterNode& node) const {
     if (!bias_tests_ || !(noise_ > 0) || !std::holds_alternative<PolyProxy>(node.proxy.variant()) ||
         options_.splitter != SplitterKind::SplitPlane)
       return 0;
+    const Halves first = halves(range, frame, 0);
+    if (first == Halves::Unresolved) return 0;  // a blob: no test holds
+    if (first == Halves::Differ || halves(range, frame, 1) == Halves::Differ ||
+        (support_ != nullptr && support_->halves_fit_better(node, frame)))
+      return detail::split_plane(points_, range, frame, options_, noise_);
+    return 0;
+  }
+
+  /// What the halves test of significant_split() finds along one axis.
+  enum class Halves { Unresolved, Same, Differ };
+
+  /// Whether the points `range`, halved at the median of the frame's axis `axis`, are fitted by
+  /// a quadratic per half significantly better than by one (significant_split()); Unresolved
+  /// where, without input normals, a half does not spread across the plane against the noise.
+  Halves halves(std::span<const std::uint32_t> range, const Frame& frame, int axis) const {
     std::vector<std::pair<double, std::uint32_t>> along;
     along.reserve(range.size());
-    for (const std::uint32_t i : range) along.emplace_back(frame.to_local(points_.row(i).transpose()).x(), i);
+    for (const std::uint32_t i : range) along.emplace_back(frame.to_local(points_.row(i).transpose())[axis], i);
     const std::size_t half = along.size() / 2;
     std::nth_element(along.begin(), along.begin() + static_cast<std::ptrdiff_t>(half), along.end());
     std::vector<std::uint32_t> halves(along.size());
@@ -332,7 +347,7 @@ class Builder {
     const std::span<const std::uint32_t> left(halves.data(), half), right(halves.data() + half, halves.size() - half);
     if (frame_normals_.input == nullptr) {
       const double resolved = detail::kDeterminedSpread * noise_ * noise_;
-      if (spread_across(left, frame) < resolved || spread_across(right, frame) < resolved) return 0;
+      if (spread_across(left, frame) < resolved || spread_across(right, frame) < resolved) return Halves::Unresolved;
     }
     const auto residual = [&](std::span<const std::uint32_t> part, const PolyProxy& p) {
       double sum = 0;
@@ -347,10 +362,8 @@ class Builder {
                         residual(left, fit_poly_in_frame(frame, points_, left)) -
                         residual(right, fit_poly_in_frame(frame, points_, right));
     constexpr double kAddedCoefficients = 6;
-    if (!(drop > noise_ * noise_ * kAddedCoefficients * noise_variance_quantile(kAddedCoefficients)) &&
-        (support_ == nullptr || !support_->halves_fit_better(node, frame)))
-      return 0;
-    return detail::split_plane(points_, range, frame, options_, noise_);
+    return drop > noise_ * noise_ * kAddedCoefficients * noise_variance_quantile(kAddedCoefficients) ? Halves::Differ
+                                                                                                     : Halves::Same;
   }
 
   /// The smaller variance of points `part` along the first two axes of `frame`.
