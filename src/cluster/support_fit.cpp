@@ -2,6 +2,7 @@
 
 #include <clustersurf/proxy/moments.hpp>
 
+#include "cluster/halves_test.hpp"
 #include "cluster/support_fit.hpp"
 #include "proxy/crease_fit.hpp"
 
@@ -9,7 +10,6 @@
 #include <array>
 #include <cmath>
 #include <numbers>
-#include <numeric>
 
 namespace clustersurf::detail {
 
@@ -119,53 +119,21 @@ bool SupportFit::halves_fit_better(const ClusterNode& node, const Frame& frame) 
   thread_local std::vector<Neighbor> inside;
   sampler_.inside(node.support.center, node.support.radius, kSupportPointsPerClusterPoint * node.point_count,
                   kSupportSample, inside);
-  constexpr double kAddedCoefficients = 6;  // a quadratic's
-  if (static_cast<double>(inside.size()) < 4 * kAddedCoefficients) return false;
-  std::vector<Eigen::Vector3d> local(inside.size());
+  constexpr std::size_t kFewest = 24;  // four times a quadratic's coefficients
+  if (inside.size() < kFewest) return false;
   std::vector<std::uint32_t> ids(inside.size());
   std::vector<double> weights(inside.size());
   double sum = 0, sum2 = 0;
   for (std::size_t k = 0; k < inside.size(); ++k) {
-    local[k] = frame.to_local(input_.row(inside[k].index).transpose());
     ids[k] = inside[k].index;
     weights[k] = blend_weight(inside[k].distance_squared / r2);
     sum += weights[k];
     sum2 += weights[k] * weights[k];
   }
   if (!(sum > 0)) return false;
-  const auto residual = [&](std::span<const std::uint32_t> part, std::span<const double> w,
-                            std::span<const std::size_t> rows) {
-    const PolyProxy p = fit_poly_in_frame(frame, input_, part, w);
-    double total = 0;
-    for (std::size_t k = 0; k < part.size(); ++k) {
-      const Eigen::Vector3d& l = local[rows[k]];
-      const double r = l.z() - p.height(l.x(), l.y());
-      total += w[k] * r * r;
-    }
-    return total;
-  };
-  std::vector<std::size_t> rows(inside.size());
-  std::iota(rows.begin(), rows.end(), std::size_t{0});
-  const double whole = residual(ids, weights, rows);
-  // Each added coefficient takes the noise of the points it is fitted to with their weights: the
-  // weights' own mean weight Σw² / Σw scales the chi-square.
-  const double bound =
-      (sum2 / sum) * noise_ * noise_ * kAddedCoefficients * noise_variance_quantile(kAddedCoefficients);
-  const std::size_t half = rows.size() / 2;
-  std::vector<std::uint32_t> part_ids(rows.size());
-  std::vector<double> part_weights(rows.size());
-  for (const int axis : {0, 1}) {
-    std::nth_element(rows.begin(), rows.begin() + static_cast<std::ptrdiff_t>(half), rows.end(),
-                     [&](std::size_t a, std::size_t b) { return local[a][axis] < local[b][axis]; });
-    for (std::size_t j = 0; j < rows.size(); ++j) part_ids[j] = ids[rows[j]], part_weights[j] = weights[rows[j]];
-    const std::span<const std::uint32_t> all_ids(part_ids);
-    const std::span<const double> all_weights(part_weights);
-    const std::span<const std::size_t> all_rows(rows);
-    const double drop = whole - residual(all_ids.first(half), all_weights.first(half), all_rows.first(half)) -
-                        residual(all_ids.subspan(half), all_weights.subspan(half), all_rows.subspan(half));
-    if (drop > bound) return true;
-  }
-  return false;
+  const std::array<HalvesDrop, 2> drops = halves_drops(input_, ids, weights, frame);
+  const double bound = halves_drop_bound(noise_, sum2 / sum);
+  return drops[0].drop > bound || drops[1].drop > bound;
 }
 
 std::optional<SupportFit::SupportCrease> SupportFit::crease(const ClusterNode& node, const Frame& frame) const {

@@ -49,13 +49,11 @@ class SupportFit {
   };
   std::optional<SupportCrease> crease(const ClusterNode& node, const Frame& frame) const;
 
-  /// Whether the points inside the node's support (the same sample as check()), halved at the
-  /// median of the frame's first or second axis, are fitted by a quadratic per half in `frame`, weighted by
-  /// the blend's weights, significantly better than by one: a drop of the weighted residual sum
-  /// of squares beyond the noise's variance times the kNoiseMargin-deviation quantile of a
-  /// chi-square of six degrees of freedom (the weights at most 1 make that bound conservative).
-  /// The blend reaches a leaf's proxy out to its support's rim, where a quadratic that holds on
-  /// the leaf's own points may not.
+  /// Whether the points inside the node's support (the same sample as check()), weighted by the
+  /// blend's weights, are fitted by a quadratic per half in `frame` significantly better than by
+  /// one, halved along either of its first two axes (halves_drops() beyond halves_drop_bound()
+  /// of their mean weight). The blend reaches a leaf's proxy out to its support's rim, where a
+  /// quadratic that holds on the leaf's own points may not.
   bool halves_fit_better(const ClusterNode& node, const Frame& frame) const;
   /// How far the node's support may reach before another sheet: the distance from its centre to
   /// the kOtherSheetPoints-th nearest input point inside it that lies off the proxy (beyond the

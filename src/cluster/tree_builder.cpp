@@ -5,6 +5,7 @@
 
 #include "cluster/build_state.hpp"
 #include "cluster/cluster_frame.hpp"
+#include "cluster/halves_test.hpp"
 #include "cluster/residual_structure.hpp"
 #include "cluster/splitters.hpp"
 #include "cluster/support_fit.hpp"
@@ -16,14 +17,13 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <numeric>
 #include <optional>
 #include <span>
-#include <utility>
 #include <variant>
-#include <vector>
 
 namespace clustersurf {
 
@@ -304,78 +304,28 @@ class Builder {
   }
 
   /// The split plane's k (split_plane() on `range`) when the node's points, halved at the median
-  /// of their first or of their second frame axis, are fitted by a quadratic per half in the
-  /// node's frame significantly better than by the node's one quadratic: a drop of the residual
-  /// sum of squares of their heights beyond what the noise gives six more coefficients (nested
-  /// least squares: under noise alone the drop is the noise's variance times a chi-square of six
-  /// degrees of freedom; kNoiseMargin deviations out). The halves are fixed by the positions
-  /// alone, as the test's null distribution needs (a split chosen to fit best would inflate the
-  /// drop). So a leaf's misfit is held to the standard error of its own fit, which its
-  /// residual's spread cannot show once it holds more than a few dozen points. The same test
-  /// then runs over the points of the node's support with the blend's weights
-  /// (SupportFit::halves_fit_better()): the blend reaches the proxy out to the support's rim.
-  /// Without input normals, both halves of the node's points along its first axis must spread
-  /// across the frame's plane by kDeterminedSpread times the noise's variance along each of its
-  /// axes, or no test runs: the test takes the noise for heights alone, and in a blob as thick
-  /// as it is wide the noise moves the points across the plane as much. Else 0.
+  /// of either of its first two frame axes, are fitted by a quadratic per half significantly
+  /// better than by one (halves_drops() beyond halves_drop_bound(): nested least squares, whose
+  /// drop under noise alone is the noise's variance times a chi-square of six degrees of
+  /// freedom), or the points of its support are (SupportFit::halves_fit_better(): the blend
+  /// reaches the proxy out to the support's rim). So a leaf's misfit is held to the standard
+  /// error of its own fit, which its residual's spread cannot show once it holds more than a few
+  /// dozen points. Without input normals, the halves along the first axis must spread across
+  /// the frame's plane by kDeterminedSpread times the noise's variance, or no test runs: the test
+  /// takes the noise for heights alone, and in a blob as thick as it is wide the noise moves the
+  /// points across the plane as much. Else 0.
   std::size_t significant_split(std::span<std::uint32_t> range, const Frame& frame, const ClusterNode& node) const {
     if (!bias_tests_ || !(noise_ > 0) || !std::holds_alternative<PolyProxy>(node.proxy.variant()) ||
         options_.splitter != SplitterKind::SplitPlane)
       return 0;
-    const Halves first = halves(range, frame, 0);
-    if (first == Halves::Unresolved) return 0;  // a blob: no test holds
-    if (first == Halves::Differ || halves(range, frame, 1) == Halves::Differ ||
+    const std::array<detail::HalvesDrop, 2> drops = detail::halves_drops(points_, range, {}, frame);
+    if (frame_normals_.input == nullptr && drops[0].spread < detail::kDeterminedSpread * noise_ * noise_)
+      return 0;  // a blob: no test holds
+    const double bound = detail::halves_drop_bound(noise_);
+    if (drops[0].drop > bound || drops[1].drop > bound ||
         (support_ != nullptr && support_->halves_fit_better(node, frame)))
       return detail::split_plane(points_, range, frame, options_, noise_);
     return 0;
-  }
-
-  /// What the halves test of significant_split() finds along one axis.
-  enum class Halves { Unresolved, Same, Differ };
-
-  /// Whether the points `range`, halved at the median of the frame's axis `axis`, are fitted by
-  /// a quadratic per half significantly better than by one (significant_split()); Unresolved
-  /// where, without input normals, a half does not spread across the plane against the noise.
-  Halves halves(std::span<const std::uint32_t> range, const Frame& frame, int axis) const {
-    std::vector<std::pair<double, std::uint32_t>> along;
-    along.reserve(range.size());
-    for (const std::uint32_t i : range) along.emplace_back(frame.to_local(points_.row(i).transpose())[axis], i);
-    const std::size_t half = along.size() / 2;
-    std::nth_element(along.begin(), along.begin() + static_cast<std::ptrdiff_t>(half), along.end());
-    std::vector<std::uint32_t> halves(along.size());
-    for (std::size_t j = 0; j < along.size(); ++j) halves[j] = along[j].second;
-    const std::span<const std::uint32_t> left(halves.data(), half), right(halves.data() + half, halves.size() - half);
-    if (frame_normals_.input == nullptr) {
-      const double resolved = detail::kDeterminedSpread * noise_ * noise_;
-      if (spread_across(left, frame) < resolved || spread_across(right, frame) < resolved) return Halves::Unresolved;
-    }
-    const auto residual = [&](std::span<const std::uint32_t> part, const PolyProxy& p) {
-      double sum = 0;
-      for (const std::uint32_t i : part) {
-        const Eigen::Vector3d l = frame.to_local(points_.row(i).transpose());
-        const double r = l.z() - p.height(l.x(), l.y());
-        sum += r * r;
-      }
-      return sum;
-    };
-    const double drop = residual(halves, fit_poly_in_frame(frame, points_, halves)) -
-                        residual(left, fit_poly_in_frame(frame, points_, left)) -
-                        residual(right, fit_poly_in_frame(frame, points_, right));
-    constexpr double kAddedCoefficients = 6;
-    return drop > noise_ * noise_ * kAddedCoefficients * noise_variance_quantile(kAddedCoefficients) ? Halves::Differ
-                                                                                                     : Halves::Same;
-  }
-
-  /// The smaller variance of points `part` along the first two axes of `frame`.
-  double spread_across(std::span<const std::uint32_t> part, const Frame& frame) const {
-    Eigen::Vector2d sum = Eigen::Vector2d::Zero(), sum2 = Eigen::Vector2d::Zero();
-    for (const std::uint32_t i : part) {
-      const Eigen::Vector2d l = frame.to_local(points_.row(i).transpose()).head<2>();
-      sum += l;
-      sum2 += l.cwiseProduct(l);
-    }
-    const double n = static_cast<double>(part.size());
-    return (sum2 / n - (sum / n).cwiseProduct(sum / n)).minCoeff();
   }
 
   /// Whether the proxy's residuals over the cluster correlate between neighbours more than

@@ -60,7 +60,7 @@ double squared_distance(const Eigen::Vector3d& x, const BoundingBox& b) {
   return (b.min - x).cwiseMax(x - b.max).cwiseMax(0.0).squaredNorm();
 }
 
-/// The triangles of `mesh` that region `region` owns.
+/// How many triangles `owned` (owned_triangles()) marks.
 std::size_t count_owned(const std::vector<std::uint8_t>& owned) {
   return static_cast<std::size_t>(std::count(owned.begin(), owned.end(), std::uint8_t{1}));
 }
