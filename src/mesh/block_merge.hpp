@@ -72,10 +72,9 @@ class BlockMerge {
   explicit BlockMerge(const MeshView& mesh) : mesh_(&mesh) {}
   /// The vertex of `block` (every vertex in one block, in increasing order) that they may merge
   /// into, or kNone: none of them is fixed, they carry the same attributes, their triangles
-  /// form one disk off the
-  /// mesh's boundary, and the fan from the vertex nearest their centroid (ties: the lowest
-  /// position) to its rim keeps every triangle within kMinNormalCosine of its corners' normals
-  /// and each of them within the tolerance.
+  /// form one disk off the mesh's boundary, and the fan from the vertex nearest their centroid
+  /// (ties: the lowest position) to its rim keeps every triangle within kMinNormalCosine of its
+  /// corners' normals and each of them within the tolerance.
   Index kept_vertex(std::span<const Index> block);
 
  private:
