@@ -173,7 +173,8 @@ double estimate_noise(const Points& points, const NoiseOptions& options) {
   return estimate_noise(points, KdTree(points), options);
 }
 
-double estimate_noise(const Points& points, const KdTree& tree, const NoiseOptions& options, const Points* normals) {
+double estimate_noise(const Points& points, const KdTree& tree, const NoiseOptions& options, const Points* normals,
+                      std::uint64_t cloud_points) {
   const auto n = static_cast<std::size_t>(points.rows());
   if (std::min(options.neighbors, n) < kMinFitPoints || options.samples == 0) return 0;
   if (normals != nullptr && normals->rows() != points.rows())
@@ -181,10 +182,14 @@ double estimate_noise(const Points& points, const KdTree& tree, const NoiseOptio
   if (!options.facing_normals) normals = nullptr;
   auto est = local_noise(points, tree, options, normals);
   // Dense samples of a noisy surface: the neighbourhoods are thin slabs of noise, and the
-  // local fit follows it. Coarsen until the neighbourhoods are wide compared with the noise.
+  // local fit follows it. Coarsen until the neighbourhoods are wide compared with the noise, as
+  // far as the whole cloud's subsample keeps kMinCoarsePoints.
+  const std::uint64_t whole = std::max<std::uint64_t>(cloud_points, n);
   for (unsigned level = 1;
-       est[0].width < options.min_width_ratio * est[0].sigma && (n >> (2 * level)) >= kMinCoarsePoints; ++level) {
+       est[0].width < options.min_width_ratio * est[0].sigma && (whole >> (2 * level)) >= kMinCoarsePoints; ++level) {
     const Points coarse = subsample(points, level);
+    // A small region's subsample may hold too few points for one neighbourhood.
+    if (static_cast<std::size_t>(coarse.rows()) < options.neighbors) break;
     const Points coarse_normals = normals != nullptr ? subsample(*normals, level) : Points();
     est = local_noise(coarse, KdTree(coarse), options, normals != nullptr ? &coarse_normals : nullptr);
   }

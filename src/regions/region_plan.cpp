@@ -119,6 +119,7 @@ RegionPlan plan_regions(const Points& sample, std::uint64_t total_points, const 
   RegionPlan plan;
   plan.point_spacing = point_spacing;
   plan.halo = options.halo_spacings * point_spacing;
+  plan.points = total_points;
   std::vector<std::uint32_t> rows(static_cast<std::size_t>(sample.rows()));
   std::iota(rows.begin(), rows.end(), 0u);
   const double per_sample = rows.empty() ? 0.0 : static_cast<double>(total_points) / static_cast<double>(rows.size());

@@ -37,7 +37,7 @@ double weighted_median(std::span<const RegionSurvey> surveys, Member value) {
 
 }  // namespace
 
-RegionSurvey survey_region(const RegionCloud& region, const BuildOptions& options) {
+RegionSurvey survey_region(const RegionCloud& region, std::uint64_t cloud_points, const BuildOptions& options) {
   const Points& points = region.points.positions;
   if (region.own > static_cast<std::size_t>(points.rows()))
     throw OptionError("a region cannot own more points than it holds");
@@ -78,8 +78,8 @@ RegionSurvey survey_region(const RegionCloud& region, const BuildOptions& option
     const bool facing =
         options.use_normals && options.noise.facing_normals && normals.rows() == points.rows() && points.rows() > 0;
     const Points clustered_normals = facing ? Points(normals(distinct, Eigen::all)) : Points();
-    survey.noise_sigma =
-        estimate_noise(clustered, KdTree(clustered), options.noise, facing ? &clustered_normals : nullptr);
+    survey.noise_sigma = estimate_noise(clustered, KdTree(clustered), options.noise,
+                                        facing ? &clustered_normals : nullptr, cloud_points);
   }
   return survey;
 }

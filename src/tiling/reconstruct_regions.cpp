@@ -97,7 +97,7 @@ Reconstruction reconstruct_regions(const RegionPlan& plan, const RegionSource& s
   std::vector<RegionSurvey> surveys;
   for (std::int32_t r = 0; r < n; ++r) {
     report("surveying regions", r);
-    surveys.push_back(survey_region(source.load(r), options.build));
+    surveys.push_back(survey_region(source.load(r), plan.points, options.build));
   }
   const CloudScale scale = combine_surveys(surveys);
   std::vector<ClusterTree> trees;

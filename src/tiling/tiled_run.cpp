@@ -184,7 +184,7 @@ void TiledRun::claim(const ReconstructOptions& options) const {
 
 void TiledRun::survey(std::int32_t region, const BuildOptions& options) const {
   if (done("survey", region)) return;
-  detail::write_survey(impl_->file("survey", region, "txt"), survey_region(load(region), options));
+  detail::write_survey(impl_->file("survey", region, "txt"), survey_region(load(region), input_points(), options));
 }
 
 CloudScale TiledRun::scale() const {

@@ -236,6 +236,7 @@ PartitionRecord read_partition(const std::filesystem::path& file) {
     owned += r.own[k];
   }
   if (owned != r.input_points) lines.fail("the regions' own points do not add up to the input's");
+  r.plan.points = r.input_points;
   if (!r.origin.allFinite() || !(r.plan.point_spacing >= 0) || !std::isfinite(r.plan.point_spacing) ||
       !(r.plan.halo >= 0) || !std::isfinite(r.plan.halo))
     lines.fail("origin, spacing or halo is not a finite number (spacing and halo >= 0)");

@@ -74,9 +74,12 @@ void for_each_field(Options& o, F&& f) {
 double estimate_noise(const Points& points, const NoiseOptions& options = {});
 /// The same estimate with a k-d tree of `points` the caller already has. With `normals` (one
 /// row per point, oriented consistently, or null) and NoiseOptions::facing_normals, each local
-/// fit keeps only the neighbours whose normal is within 90° of its centre point's.
+/// fit keeps only the neighbours whose normal is within 90° of its centre point's. Where
+/// `points` are one region of a cloud of `cloud_points` points (0: the whole cloud), the sample
+/// is coarsened as far as the whole cloud's would be, so that a region reads the noise at the
+/// same scale as the whole cloud does.
 double estimate_noise(const Points& points, const KdTree& index, const NoiseOptions& options = {},
-                      const Points* normals = nullptr);
+                      const Points* normals = nullptr, std::uint64_t cloud_points = 0);
 
 /// Standard deviations of margin a test of noise allows: the mean of n (effective) squared
 /// residuals of pure noise varies by a relative √(2/n), so a fit is not taken for detail for

@@ -41,6 +41,7 @@ struct RegionPlan {
   std::vector<std::int32_t> region_cell;  ///< the cell of each region
   double point_spacing = 0;               ///< the spacing the halo was measured in
   double halo = 0;                        ///< halo width, in the cloud's units
+  std::uint64_t points = 0;               ///< the cloud's points (plan_regions()'s total_points)
 
   std::size_t regions() const noexcept { return region_cell.size(); }
   /// The region whose cell holds x (points outside the root box go to the nearest cell).
@@ -81,9 +82,11 @@ struct RegionSurvey {
   std::uint64_t outliers = 0;  ///< own points its own outlier test flags
 };
 
-/// The survey of one region (its halo serves as the neighbourhood of its own points). Measures
-/// what `options` use: no spreads without remove_outliers, no noise unless the threshold is Auto.
-RegionSurvey survey_region(const RegionCloud& region, const BuildOptions& options = {});
+/// The survey of one region of a cloud of `cloud_points` points (its halo serves as the
+/// neighbourhood of its own points). Measures what `options` use: no spreads without
+/// remove_outliers, no noise unless the threshold is Auto. The noise is measured at the scale
+/// the whole cloud's estimate reaches (estimate_noise()'s cloud_points), whatever the region's size.
+RegionSurvey survey_region(const RegionCloud& region, std::uint64_t cloud_points, const BuildOptions& options = {});
 
 /// The measures every region's build shares, from the surveys: each median is the median of
 /// the regions' medians weighted by their points (the median itself for one region); the box
