@@ -30,8 +30,9 @@ struct CloudStats {
   std::size_t scans = 0;
 };
 
-/// Repeats of a point's position that the spacing looks past (find_outliers()'s default
-/// neighbours): a point with more has spacing 0.
+/// Repeats of a point's position that the spacing looks past (also OutlierOptions::neighbors'
+/// default, so that the outlier test's nearest distances are the spacing's): a point with more
+/// has spacing 0.
 inline constexpr std::size_t kRepeatsLookedPast = 8;
 
 /// How densely points sample a surface: the mean and the median distance from a point to its

@@ -3,6 +3,7 @@
 
 #include <clustersurf/core/option_fields.hpp>
 #include <clustersurf/core/point_cloud.hpp>
+#include <clustersurf/spatial/cloud_stats.hpp>
 #include <clustersurf/spatial/kd_tree.hpp>
 
 #include <cstdint>
@@ -13,7 +14,7 @@ namespace clustersurf {
 /// Options of find_outliers(). A point's spread d̄ is its mean distance to its k nearest
 /// neighbours; surface samples have spreads like their neighbours', isolated points do not.
 struct OutlierOptions {
-  std::size_t neighbors = 8;  ///< k
+  std::size_t neighbors = kRepeatsLookedPast;  ///< k (by default as many as point_spacing() looks past)
   /// An outlier has a spread this many times its neighbours' median spread (a point standing
   /// off the surface, next to surface points); the reference is at least half the cloud's
   /// median spread, so a point beside a dense patch is not judged by the patch alone.
