@@ -10,8 +10,9 @@
 
 #include <algorithm>
 #include <iostream>
-#include <numeric>
 #include <vector>
+
+#include "test_support.hpp"
 
 using namespace clustersurf;
 
@@ -26,18 +27,12 @@ Points two_rows(int first, int second, double step, double apart) {
   return p;
 }
 
-std::vector<std::uint32_t> all_rows(const Points& p) {
-  std::vector<std::uint32_t> rows(static_cast<std::size_t>(p.rows()));
-  std::iota(rows.begin(), rows.end(), 0u);
-  return rows;
-}
-
 }  // namespace
 
 TEST(LinkageGapSplit, TwoRowsApartAreTwoGroups) {
   // Ten points and five, a unit apart within each row, five units between the rows: the rows.
   const Points p = two_rows(10, 5, 1.0, 5.0);
-  std::vector<std::uint32_t> rows = all_rows(p);
+  std::vector<std::uint32_t> rows = test::all_rows(p.rows());
   const std::size_t k = detail::split_at_linkage_gap(p, rows, 3);
   ASSERT_TRUE(k == 10 || k == 5) << k;
   const auto first = std::span(rows).subspan(0, k), second = std::span(rows).subspan(k);
@@ -55,18 +50,18 @@ TEST(LinkageGapSplit, ASparserStretchOfOneRowIsNoGap) {
     p.row(i) << x, 0.1 * (i % 2), 0;
     x += i < 6 ? 1.0 : 1.8;
   }
-  std::vector<std::uint32_t> rows = all_rows(p);
+  std::vector<std::uint32_t> rows = test::all_rows(p.rows());
   EXPECT_EQ(detail::split_at_linkage_gap(p, rows, 3), 0u);
   // Rows 2.0 apart with a unit step: the gap is not twice the step within them.
   const Points near = two_rows(8, 8, 1.0, 1.9);
-  rows = all_rows(near);
+  rows = test::all_rows(near.rows());
   EXPECT_EQ(detail::split_at_linkage_gap(near, rows, 3), 0u);
 }
 
 TEST(LinkageGapSplit, AGroupBelowTheSmallestSideStays) {
   // Two stray points far from a row: fewer than the three a side keeps.
   const Points p = two_rows(10, 2, 1.0, 5.0);
-  std::vector<std::uint32_t> rows = all_rows(p);
+  std::vector<std::uint32_t> rows = test::all_rows(p.rows());
   EXPECT_EQ(detail::split_at_linkage_gap(p, rows, 3), 0u);
 }
 

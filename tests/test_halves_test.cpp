@@ -7,32 +7,20 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numeric>
-#include <random>
+#include <functional>
 #include <vector>
+
+#include "test_support.hpp"
 
 using namespace clustersurf;
 
 namespace {
 
-/// n points uniform over [0, 1]², z = height(x) plus Gaussian noise sigma.
-template <class Height>
-Points sheet(int n, double sigma, Height&& height, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0, 1);
-  std::normal_distribution<double> g(0, sigma);
-  Points p(n, 3);
-  for (int i = 0; i < n; ++i) {
-    const double x = u(rng), y = u(rng);
-    p.row(i) << x, y, height(x) + g(rng);
-  }
-  return p;
-}
-
-std::vector<std::uint32_t> all_of(const Points& p) {
-  std::vector<std::uint32_t> ids(static_cast<std::size_t>(p.rows()));
-  std::iota(ids.begin(), ids.end(), 0u);
-  return ids;
+/// n points uniform over [0, 1]², z = height(x), Gaussian noise sigma on every coordinate.
+Points sheet(int n, double sigma, const std::function<double(double)>& height, std::uint64_t seed) {
+  return test::noisy_heightfield(
+             n, sigma, [&](double x, double) { return height(x); }, seed)
+      .positions;
 }
 
 }  // namespace
@@ -44,7 +32,7 @@ TEST(HalvesTest, NoiseAloneStaysWithinTheBound) {
   for (std::uint64_t seed = 1; seed <= 20; ++seed) {
     const Points p = sheet(
         400, kSigma, [](double) { return 0.0; }, seed);
-    for (const detail::HalvesDrop& d : detail::halves_drops(p, all_of(p), {}, Frame{})) {
+    for (const detail::HalvesDrop& d : detail::halves_drops(p, test::all_rows(p.rows()), {}, Frame{})) {
       EXPECT_GE(d.drop, 0);
       over += d.drop > bound;
     }
@@ -58,7 +46,7 @@ TEST(HalvesTest, AMisfitTheHalvesFollowExceedsTheBoundAlongItsAxis) {
   constexpr double kSigma = 0.01;
   const Points p = sheet(
       400, kSigma, [](double x) { return 0.16 * std::pow(x - 0.5, 3); }, 3);
-  const auto drops = detail::halves_drops(p, all_of(p), {}, Frame{});
+  const auto drops = detail::halves_drops(p, test::all_rows(p.rows()), {}, Frame{});
   EXPECT_GT(drops[0].drop, detail::halves_drop_bound(kSigma));
   EXPECT_LT(drops[1].drop, detail::halves_drop_bound(kSigma));
   // Halves of the unit square along x: variance 1/48 along x, 1/12 along y.
@@ -70,8 +58,8 @@ TEST(HalvesTest, WeightsScaleTheDropAndTheBound) {
   const Points p = sheet(
       400, kSigma, [](double) { return 0.0; }, 5);
   const std::vector<double> halves_weight(400, 0.5);
-  const auto unit = detail::halves_drops(p, all_of(p), {}, Frame{});
-  const auto half = detail::halves_drops(p, all_of(p), halves_weight, Frame{});
+  const auto unit = detail::halves_drops(p, test::all_rows(p.rows()), {}, Frame{});
+  const auto half = detail::halves_drops(p, test::all_rows(p.rows()), halves_weight, Frame{});
   EXPECT_NEAR(half[0].drop, 0.5 * unit[0].drop, 1e-12);
   EXPECT_DOUBLE_EQ(detail::halves_drop_bound(kSigma, 0.5), 0.5 * detail::halves_drop_bound(kSigma));
   const std::vector<std::uint32_t> one{0};

@@ -6,7 +6,6 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include <numeric>
 #include <random>
 
 #include "test_support.hpp"
@@ -14,12 +13,6 @@
 using namespace clustersurf;
 
 namespace {
-
-std::vector<std::uint32_t> all(const Points& p) {
-  std::vector<std::uint32_t> idx(static_cast<std::size_t>(p.rows()));
-  std::iota(idx.begin(), idx.end(), 0u);
-  return idx;
-}
 
 Points heightfield(int n, double noise, std::uint64_t seed) {
   // w = 0.3 + 0.2u − 0.1v + 0.5u² − 0.3uv + 0.25v² over [-1,1]², in a rotated, shifted frame.
@@ -50,7 +43,7 @@ Eigen::Vector3d finite_difference(const Proxy& p, const Eigen::Vector3d& x, doub
 
 TEST(Proxy, PolyFitReproducesQuadraticExactly) {
   const Points p = heightfield(400, 0.0, 1);
-  const auto idx = all(p);
+  const auto idx = test::all_rows(p.rows());
   // In the generating frame the height field is exactly quadratic.
   Frame truth;
   truth.origin = Eigen::Vector3d(5, -2, 1);
@@ -86,7 +79,7 @@ TEST(Proxy, HermiteFitFollowsNormalsOfEitherSign) {
   Frame truth;
   truth.origin = Eigen::Vector3d(5, -2, 1);
   truth.axes = rot;
-  const auto idx = all(p);
+  const auto idx = test::all_rows(p.rows());
   const std::vector<double> ones(idx.size(), 1.0);
   const auto curvature_error = [](const PolyProxy& f) {
     return std::hypot(f.coeffs[3] - 0.5, f.coeffs[4] + 0.3, f.coeffs[5] - 0.25);
@@ -104,7 +97,7 @@ TEST(Proxy, HermiteFitFollowsNormalsOfEitherSign) {
 
 TEST(Proxy, QuadricFitsSphereExactly) {
   const PointCloud s = test::sample_sphere(500, 2.0, Eigen::Vector3d(1, 2, 3));
-  const auto idx = all(s.positions);
+  const auto idx = test::all_rows(s.positions.rows());
   const Proxy q = fit_proxy(ProxyKind::Quadric, s.positions, idx);
   EXPECT_LT(proxy_error(q, s.positions, idx).max, 1e-8);
   // Q approximates the signed distance off the surface too (within 5 % at 0.1 R).
@@ -117,7 +110,7 @@ TEST(Proxy, PlaneFitOfNoisyPlaneHasRmsNearNoise) {
   std::mt19937_64 rng(3);
   std::normal_distribution<double> g(0, 0.01);
   for (Eigen::Index i = 0; i < c.size(); ++i) c.positions(i, 2) += g(rng);
-  const auto idx = all(c.positions);
+  const auto idx = test::all_rows(c.positions.rows());
   const Proxy plane = fit_proxy(ProxyKind::Plane, c.positions, idx);
   EXPECT_NEAR(proxy_error(plane, c.positions, idx).rms, 0.01, 0.001);
   EXPECT_GT(std::abs(plane.normal().z()), 0.999);
@@ -128,7 +121,7 @@ TEST(Proxy, GradientsMatchFiniteDifferences) {
   const PointCloud sp = test::sample_sphere(300, 1.0);
   for (ProxyKind kind : {ProxyKind::Plane, ProxyKind::Poly, ProxyKind::Quadric}) {
     const Points& pts = kind == ProxyKind::Quadric ? sp.positions : hp;
-    const Proxy p = fit_proxy(kind, pts, all(pts));
+    const Proxy p = fit_proxy(kind, pts, test::all_rows(pts.rows()));
     std::mt19937_64 rng(5);
     std::uniform_real_distribution<double> u(-0.3, 0.3);
     for (int t = 0; t < 50; ++t) {
@@ -148,7 +141,7 @@ TEST(Proxy, ValueAndGradientGivesValuesValue) {
                                 CreaseProxy{a, b, false}};
   for (ProxyKind kind : {ProxyKind::Plane, ProxyKind::Poly, ProxyKind::Quadric})
     proxies.push_back(fit_proxy(kind, kind == ProxyKind::Quadric ? sp.positions : hp,
-                                all(kind == ProxyKind::Quadric ? sp.positions : hp)));
+                                test::all_rows((kind == ProxyKind::Quadric ? sp.positions : hp).rows())));
   std::mt19937_64 rng(9);
   std::uniform_real_distribution<double> u(-2, 2);
   for (const Proxy& p : proxies)
@@ -163,7 +156,7 @@ TEST(Proxy, RayIntersectionLiesOnTheZeroSet) {
   const PointCloud sp = test::sample_sphere(300, 1.0);
   for (ProxyKind kind : {ProxyKind::Plane, ProxyKind::Poly, ProxyKind::Quadric}) {
     const Points& pts = kind == ProxyKind::Quadric ? sp.positions : hp;
-    const Proxy p = fit_proxy(kind, pts, all(pts));
+    const Proxy p = fit_proxy(kind, pts, test::all_rows(pts.rows()));
     int hits = 0;
     for (int t = 0; t < 40; ++t) {
       const Eigen::Vector3d target = pts.row(t * 7).transpose();
@@ -181,7 +174,7 @@ TEST(Proxy, RayIntersectionLiesOnTheZeroSet) {
 TEST(Proxy, FlipNegatesValueKeepsZeroSet) {
   const Points hp = heightfield(100, 0.01, 6);
   for (ProxyKind kind : {ProxyKind::Plane, ProxyKind::Poly, ProxyKind::Quadric}) {
-    const Proxy p = fit_proxy(kind, hp, all(hp));
+    const Proxy p = fit_proxy(kind, hp, test::all_rows(hp.rows()));
     Proxy f = p;
     f.flip();
     for (int t = 0; t < 20; ++t) {
@@ -204,16 +197,16 @@ TEST(Proxy, RankDeficientFitsStayFinite) {
   Points dup = Points::Constant(8, 3, 2.5);
   for (const Points* pts : {&line, &one, &few, &dup}) {
     for (ProxyKind kind : {ProxyKind::Point, ProxyKind::Plane, ProxyKind::Poly, ProxyKind::Quadric}) {
-      const Proxy p = fit_proxy(kind, *pts, all(*pts));
-      const ProxyError e = proxy_error(p, *pts, all(*pts));
+      const Proxy p = fit_proxy(kind, *pts, test::all_rows(pts->rows()));
+      const ProxyError e = proxy_error(p, *pts, test::all_rows(pts->rows()));
       EXPECT_TRUE(std::isfinite(e.rms) && std::isfinite(e.max)) << to_string(kind);
       EXPECT_TRUE(std::isfinite(p.value(Eigen::Vector3d(0.3, 0.2, 0.1)))) << to_string(kind);
       EXPECT_TRUE(p.gradient(Eigen::Vector3d(0.3, 0.2, 0.1)).allFinite()) << to_string(kind);
     }
   }
   // Fewer than 6 points on a height field: the poly interpolates them (minimum-norm solution).
-  const Proxy p = fit_proxy(ProxyKind::Poly, few, all(few));
-  EXPECT_LT(proxy_error(p, few, all(few)).max, 1e-9);
+  const Proxy p = fit_proxy(ProxyKind::Poly, few, test::all_rows(few.rows()));
+  EXPECT_LT(proxy_error(p, few, test::all_rows(few.rows())).max, 1e-9);
 }
 
 // A crease: a roof (convex, max) and a valley (concave, min) of two planes meeting on the y axis.

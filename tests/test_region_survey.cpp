@@ -6,7 +6,6 @@
 
 #include <gtest/gtest.h>
 
-#include <random>
 #include <vector>
 
 #include "test_support.hpp"
@@ -18,10 +17,7 @@ TEST(RegionSurvey, SmallRegionsReadTheWholeCloudsNoise) {
   // estimate coarsens its sample three times before its neighbourhoods are wide enough. Regions
   // of at most 25 k points must read the noise at that scale too, not at their own count's.
   PointCloud c = test::sample_sphere(400000, 1.0);
-  std::mt19937_64 rng(11);
-  std::normal_distribution<double> g(0, 0.02);
-  for (Eigen::Index i = 0; i < c.size(); ++i)
-    for (int k = 0; k < 3; ++k) c.positions(i, k) += g(rng);
+  test::add_normal_noise(c, 0.02, 11);
   const auto total = static_cast<std::uint64_t>(c.size());
   const double whole = estimate_noise(c.positions);
   EXPECT_NEAR(whole, 0.02, 0.0015);

@@ -8,31 +8,19 @@
 
 #include <gtest/gtest.h>
 
-#include <numeric>
-
 #include "test_support.hpp"
 
 using namespace clustersurf;
 
-namespace {
-
-std::vector<std::uint32_t> all_rows(Eigen::Index n) {
-  std::vector<std::uint32_t> rows(static_cast<std::size_t>(n));
-  std::iota(rows.begin(), rows.end(), 0u);
-  return rows;
-}
-
-}  // namespace
-
 TEST(RepeatedPositions, KeepsTheFirstRowOfEachPositionInTheRowsOrder) {
   Points p(6, 3);
   p << 0, 0, 0, 1, 0, 0, 0, 0, 0, 2, 0, 0, 1, 0, 0, 0, 0, 0;
-  EXPECT_EQ(first_of_each_position(p, all_rows(6)), (std::vector<std::uint32_t>{0, 1, 3}));
+  EXPECT_EQ(first_of_each_position(p, test::all_rows(6)), (std::vector<std::uint32_t>{0, 1, 3}));
   EXPECT_EQ(first_of_each_position(p, {5, 4, 3, 2, 1, 0}), (std::vector<std::uint32_t>{5, 4, 3}));
   EXPECT_EQ(first_of_each_position(p, {3, 1}), (std::vector<std::uint32_t>{3, 1}));
   // Positions that differ in one coordinate's last bit are two positions.
   p(2, 2) = std::nextafter(0.0, 1.0);
-  EXPECT_EQ(first_of_each_position(p, all_rows(6)), (std::vector<std::uint32_t>{0, 1, 2, 3}));
+  EXPECT_EQ(first_of_each_position(p, test::all_rows(6)), (std::vector<std::uint32_t>{0, 1, 2, 3}));
 }
 
 TEST(RepeatedPositions, TheOutlierTestsFlagsGiveTheSameRows) {
@@ -45,9 +33,9 @@ TEST(RepeatedPositions, TheOutlierTestsFlagsGiveTheSameRows) {
   const OutlierReport found = find_outliers(p, KdTree(p));
   ASSERT_EQ(found.coincident.size(), order.size());
   EXPECT_EQ(std::count(found.coincident.begin(), found.coincident.end(), 1), 3 * 1000);
-  const std::vector<std::uint32_t> kept = first_of_each_position(p, all_rows(p.rows()), found.coincident);
-  EXPECT_EQ(kept, all_rows(sphere.size()));
-  EXPECT_EQ(first_of_each_position(p, all_rows(p.rows())), kept);
+  const std::vector<std::uint32_t> kept = first_of_each_position(p, test::all_rows(p.rows()), found.coincident);
+  EXPECT_EQ(kept, test::all_rows(sphere.size()));
+  EXPECT_EQ(first_of_each_position(p, test::all_rows(p.rows())), kept);
   // The nearest point at another position: the copies leave the spacing as it was.
   const OutlierReport distinct = find_outliers(sphere.positions, KdTree(sphere.positions));
   for (Eigen::Index i = 0; i < sphere.size(); ++i)
@@ -56,12 +44,12 @@ TEST(RepeatedPositions, TheOutlierTestsFlagsGiveTheSameRows) {
 
 TEST(RepeatedPositions, DistinctPointsKeepEveryRow) {
   const PointCloud sphere = test::sample_sphere(2000);
-  EXPECT_EQ(first_of_each_position(sphere.positions, all_rows(sphere.size())), all_rows(sphere.size()));
+  EXPECT_EQ(first_of_each_position(sphere.positions, test::all_rows(sphere.size())), test::all_rows(sphere.size()));
   EXPECT_EQ(first_of_each_position(sphere.positions, {}), std::vector<std::uint32_t>{});
 }
 
 TEST(RepeatedPositions, RefusesFlagsOfAnotherCloud) {
   const PointCloud sphere = test::sample_sphere(100);
   const std::vector<std::uint8_t> flags(99, 1);
-  EXPECT_THROW(first_of_each_position(sphere.positions, all_rows(100), flags), OptionError);
+  EXPECT_THROW(first_of_each_position(sphere.positions, test::all_rows(100), flags), OptionError);
 }

@@ -189,6 +189,12 @@ PointCloud noisy_heightfield(int n, double sigma, const std::function<double(dou
   return c;
 }
 
+std::vector<std::uint32_t> all_rows(Eigen::Index n) {
+  std::vector<std::uint32_t> rows(static_cast<std::size_t>(n));
+  std::iota(rows.begin(), rows.end(), 0u);
+  return rows;
+}
+
 std::set<std::array<double, 9>> triangle_set(const TriangleMesh& mesh) {
   std::set<std::array<double, 9>> out;
   for (Eigen::Index t = 0; t < mesh.triangles.rows(); ++t) {

@@ -64,5 +64,7 @@ std::set<std::array<double, 9>> triangle_set(const TriangleMesh& mesh);
 /// standard deviation `sigma` on every coordinate (seeded), no normals.
 PointCloud noisy_heightfield(int n, double sigma, const std::function<double(double, double)>& height,
                              std::uint64_t seed);
+/// The rows 0, 1, …, n − 1: every point of a cloud of n.
+std::vector<std::uint32_t> all_rows(Eigen::Index n);
 
 }  // namespace clustersurf::test
