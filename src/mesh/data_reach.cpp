@@ -137,9 +137,10 @@ void mark_surrounded(const TriangleMesh& mesh, const KdTree& index, std::span<co
     std::vector<double> angles;
     for (std::size_t b = r.begin(); b != r.end(); ++b) {
       const Eigen::Index v = between[b];
-      index.knn(mesh.vertices.row(v).transpose(), surrounding, around);
-      near[static_cast<std::size_t>(v)] = surrounded(mesh.vertices.row(v).transpose(), index.points(), around,
-                                                     spread[static_cast<std::size_t>(v)], angles);
+      const Eigen::Vector3d x = mesh.vertices.row(v).transpose();
+      index.knn(x, surrounding, around);
+      near[static_cast<std::size_t>(v)] =
+          surrounded(x, index.points(), around, spread[static_cast<std::size_t>(v)], angles);
     }
   });
 }
