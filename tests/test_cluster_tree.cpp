@@ -2,6 +2,7 @@
 
 #include <clustersurf/cluster/cluster_tree.hpp>
 #include <clustersurf/cluster/noise.hpp>
+#include <clustersurf/cluster/noise_field.hpp>
 #include <clustersurf/cluster/tree_file.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/io/point_cloud_io.hpp>
@@ -73,13 +74,14 @@ void expect_valid_partition(const ClusterTree& t, const BuildOptions& o) {
   EXPECT_EQ(outliers, t.outliers()) << "point_leaf marks exactly the outliers";
 }
 
-/// Every leaf meets the threshold or could not be split (fewer than 2 × min_points points).
+/// Every leaf meets the threshold, with the noise where it lies (at most kMaxLocalNoise times the
+/// estimate), or could not be split (fewer than 2 × min_points points).
 void expect_leaves_meet_threshold_or_min_points(const ClusterTree& t) {
   const auto& p = t.parameters;
   for (auto i : t.leaves()) {
     const auto& n = t.nodes[static_cast<std::size_t>(i)];
     const double e = p.metric == ErrorMetric::Rms ? n.rms_error : n.max_error;
-    if (e > cluster_error_threshold(t, n.point_count)) {
+    if (e > cluster_error_threshold(t, n.point_count, kMaxLocalNoise)) {
       EXPECT_LT(n.point_count, 2 * p.min_points) << "leaf " << i << " error " << e;
     }
   }

@@ -161,8 +161,8 @@ TEST(TreeFile, ReadsVersion1Files) {
   EXPECT_EQ(old.point_spacing, 0);
   for (const ClusterNode& n : old.nodes) EXPECT_DOUBLE_EQ(n.extent * old.parameters.alpha, n.support.radius);
   // Version 1's algorithm: no crease leaves, principal frames, no leaf below min_points, the
-  // noise from the positions alone, never corrected for the noise narrow fits follow, supports
-  // grown to hold 30 points.
+  // noise from the positions alone, never corrected for the noise narrow fits follow, one noise
+  // level everywhere, supports grown to hold 30 points.
   BuildOptions version1;
   version1.creases = false;
   version1.frames_from_normals = false;
@@ -171,6 +171,7 @@ TEST(TreeFile, ReadsVersion1Files) {
   version1.alpha = old.parameters.alpha;
   version1.noise.facing_normals = false;
   version1.noise.noisy_width_ratio = 0;
+  version1.noise.local = false;
   version1.support_points = 30;
   version1.support_factor = old.parameters.support_factor;
   const ClusterTree now = build_cluster_tree(read_point_cloud(data / "bunny400.ply"), version1);

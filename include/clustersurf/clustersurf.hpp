@@ -19,6 +19,7 @@
 // points, proxies, the tree, its implicit surface and its regions (clustersurf::tree)
 #include <clustersurf/cluster/cluster_tree.hpp>
 #include <clustersurf/cluster/noise.hpp>
+#include <clustersurf/cluster/noise_field.hpp>
 #include <clustersurf/cluster/tree_file.hpp>
 #include <clustersurf/proxy/moments.hpp>
 #include <clustersurf/proxy/proxy.hpp>

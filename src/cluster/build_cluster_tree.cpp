@@ -3,6 +3,7 @@
 
 #include <clustersurf/cluster/cluster_tree.hpp>
 #include <clustersurf/cluster/noise.hpp>
+#include <clustersurf/cluster/noise_field.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/spatial/cloud_index.hpp>
 #include <clustersurf/spatial/cloud_stats.hpp>
@@ -78,11 +79,17 @@ ClusterTree build_cluster_tree(const CloudIndex& cloud_index, const BuildOptions
   const bool subset = ids.size() != static_cast<std::size_t>(cloud.size());
   const Points subset_normals = normals && subset ? Points(cloud.normals(ids, Eigen::all)) : Points();
   const Points* clustered_normals = !normals ? nullptr : subset ? &subset_normals : &cloud.normals;
+  NoiseEstimate noise_estimate;
   if (options.threshold_mode == ThresholdMode::Auto && options.noise_factor > 0) {
     stage("estimating noise");
     // With input normals, the two sides of a thin part or a narrow fold are not taken for noise.
     const Points* facing = options.noise.facing_normals ? clustered_normals : nullptr;
-    scale.noise_sigma = estimate_noise(clustered.positions, clustered.index, options.noise, facing);
+    noise_estimate =
+        options.noise.local
+            ? estimate_noise_field(clustered.positions, clustered.index, options.noise, facing)
+            : NoiseEstimate{estimate_noise(clustered.positions, clustered.index, options.noise, facing), {}};
+    scale.noise_sigma = noise_estimate.sigma;
+    scale.noise_field = &noise_estimate.field;
   }
   return detail::build_tree(cloud, ids, clustered.positions, clustered.positions, clustered_normals, clustered.index,
                             scale, options, progress);
@@ -181,9 +188,13 @@ ClusterTree detail::build_tree(const PointCloud& cloud, std::vector<std::uint32_
   }
   detail::ProgressReporter reporter(progress, "building tree", n);
   detail::BuildNode root;
+  // Noise that is the points' own: below it the estimate reads facets and relief, and so would
+  // the noise field.
+  const bool noise_counts = noise > 0 && noise >= detail::kNoiseCountsShare * scale.point_spacing;
   const bool bias_tests = noise >= detail::kNoiseCountsShare * scale.point_spacing;
   detail::build_nodes(root, normals, frame_normals, work, support ? &*support : nullptr, resolved, tolerance, noise,
-                      bias_tests, options.min_points == 0, reporter);
+                      bias_tests, options.min_points == 0, reporter, noise_counts ? scale.noise_field : nullptr,
+                      scale.noise_sigma);
   reporter.finish();
   const std::vector<std::uint32_t>& perm = work.ids;
 

@@ -4,6 +4,7 @@
 
 #include <clustersurf/cluster/cluster_tree.hpp>
 #include <clustersurf/cluster/noise.hpp>
+#include <clustersurf/cluster/noise_field.hpp>
 
 #include <cmath>
 #include <cstdint>
@@ -52,6 +53,9 @@ struct BuildScale {
   BoundingBox bbox;
   double point_spacing = 0;
   double noise_sigma = 0;
+  /// The noise over the surface (empty: noise_sigma everywhere); a cluster keeps its local
+  /// noise, from noise_sigma up to kMaxLocalNoise times it.
+  const NoiseField* noise_field = nullptr;
 };
 
 /// The tree of the rows `ids` of `cloud` (their positions: `clustered`, in that order): the

@@ -61,11 +61,11 @@ double support_alpha(double noise, double spacing) {
   return kNarrow + share * (kWide - kNarrow);
 }
 
-double cluster_error_threshold(const ClusterTree& tree, double points) {
+double cluster_error_threshold(const ClusterTree& tree, double points, double noise_scale) {
   const TreeParameters& p = tree.parameters;
   const double noise = p.threshold_mode == ThresholdMode::Auto ? p.noise_factor * tree.noise_sigma : 0.0;
   const double tolerance = std::sqrt(std::max(0.0, tree.error_threshold * tree.error_threshold - noise * noise));
-  return detail::allowed_error(tolerance, noise, points);
+  return detail::allowed_error(tolerance, noise_scale * noise, points);
 }
 
 std::vector<std::int32_t> ClusterTree::leaves() const {

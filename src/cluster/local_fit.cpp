@@ -15,12 +15,13 @@ LocalFit fit_residual(const Points& points, std::span<const std::uint32_t> idx, 
   const PolyProxy poly = fit_poly_in_frame(frame, points, idx);
   thread_local std::vector<Eigen::Vector3d> local;  // tangent-plane position, residual
   local.clear();
-  double ss = 0;
+  double ss = 0, s4 = 0;
   for (auto j : idx) {
     const Eigen::Vector3d l = frame.to_local(points.row(j).transpose());
     const double r = l.z() - poly.height(l.x(), l.y());
     local.emplace_back(l.x(), l.y(), r);
     ss += r * r;
+    s4 += r * r * r * r;
   }
   double sd = 0;
   for (std::size_t i = 0; differences && i < local.size(); ++i) {
@@ -35,7 +36,8 @@ LocalFit fit_residual(const Points& points, std::span<const std::uint32_t> idx, 
   // Both corrected for the fit's six degrees of freedom: its residuals, and so their
   // differences, carry (k − 6) / k of the noise's variance.
   const auto dof = static_cast<double>(idx.size() - 6);
-  return {std::sqrt(ss / dof), std::sqrt(sd / (2 * dof))};
+  const double kurtosis = ss > 0 ? s4 * static_cast<double>(idx.size()) / (ss * ss) : 3;
+  return {std::sqrt(ss / dof), std::sqrt(sd / (2 * dof)), kurtosis};
 }
 
 }  // namespace clustersurf::detail

@@ -21,6 +21,9 @@ struct LocalFit {
   /// at neighbouring points and cancels, noise counts twice (Rice's difference estimator).
   /// Computed on request only (0 otherwise): it costs k² distances per fit.
   double difference = 0;
+  /// The residuals' kurtosis (mean fourth power over the squared mean square; 3 for Gaussian
+  /// noise, near 1 for two layers apart: a fit across both sides of a thin part).
+  double kurtosis = 3;
 };
 
 /// The quadratic height-field fit to points[idx] (in its principal frame) and its estimates of

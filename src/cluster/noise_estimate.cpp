@@ -1,4 +1,5 @@
 #include <clustersurf/cluster/noise.hpp>
+#include <clustersurf/cluster/noise_field.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/proxy/proxy.hpp>
 #include <clustersurf/spatial/kd_tree.hpp>
@@ -40,17 +41,28 @@ struct LocalNoise {
   std::size_t points = 0;  // median points per fit
 };
 
+/// Each sampled fit's place, what it reads against the median fit of its width (the least of
+/// its three widths' ratios), its widest fit's kurtosis, and the fits' points (NoiseField).
+struct SampledFits {
+  Points sites;
+  std::vector<double> ratio;
+  std::vector<double> kurtosis;
+  std::size_t widest_points = 0;
+  std::size_t narrowest_points = 0;
+};
+
 /// Median noise and neighbourhood radius over evenly strided points of `points`, for the
 /// neighbourhood sizes options.neighbors, /2, /4 (nested: the nearest of one query). With
 /// `normals`, a neighbourhood holds the neighbours facing the same way as its centre (when at
-/// least kMinFitPoints do; all of them otherwise).
+/// least kMinFitPoints do; all of them otherwise). With `fits`, each fit's place and ratio too.
 std::array<LocalNoise, 3> local_noise(const Points& points, const KdTree& tree, const NoiseOptions& options,
-                                      const Points* normals) {
+                                      const Points* normals, SampledFits* fits) {
   const auto n = static_cast<std::size_t>(points.rows());
   const std::size_t k = std::min(options.neighbors, n);
   const std::size_t samples = std::min(options.samples, n);
   const double stride = static_cast<double>(n) / static_cast<double>(samples);
   std::array<std::vector<double>, 3> sigma, difference, width, size;
+  std::vector<double> kurtosis(samples);
   for (auto& v : size) v.resize(samples);
   for (auto& v : sigma) v.resize(samples);
   for (auto& v : difference) v.resize(samples);
@@ -78,10 +90,11 @@ std::array<LocalNoise, 3> local_noise(const Points& points, const KdTree& tree, 
         const detail::LocalFit fit = detail::fit_residual(points, idx, options.residual_differences && scale == 2);
         sigma[scale][s] = fit.residual;
         difference[scale][s] = fit.difference;
+        if (scale == 0) kurtosis[s] = fit.kurtosis;
       }
     }
   });
-  const auto median = [&](std::vector<double>& v) {
+  const auto median = [&](std::vector<double> v) {
     std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(samples / 2), v.end());
     return v[samples / 2];
   };
@@ -89,6 +102,20 @@ std::array<LocalNoise, 3> local_noise(const Points& points, const KdTree& tree, 
   for (std::size_t scale = 0; scale < 3; ++scale)
     out[scale] = {median(sigma[scale]), median(difference[scale]), median(width[scale]),
                   static_cast<std::size_t>(median(size[scale]))};
+  if (fits != nullptr) {
+    fits->sites.resize(static_cast<Eigen::Index>(samples), 3);
+    fits->ratio.assign(samples, std::numeric_limits<double>::infinity());
+    fits->kurtosis = std::move(kurtosis);
+    fits->widest_points = out[0].points;
+    fits->narrowest_points = out[2].points;
+    for (std::size_t s = 0; s < samples; ++s) {
+      fits->sites.row(static_cast<Eigen::Index>(s)) =
+          points.row(static_cast<Eigen::Index>(static_cast<double>(s) * stride));
+      for (std::size_t scale = 0; scale < 3; ++scale)
+        if (out[scale].sigma > 0) fits->ratio[s] = std::min(fits->ratio[s], sigma[scale][s] / out[scale].sigma);
+      if (!std::isfinite(fits->ratio[s])) fits->ratio[s] = 1;
+    }
+  }
   return out;
 }
 
@@ -173,14 +200,17 @@ double estimate_noise(const Points& points, const NoiseOptions& options) {
   return estimate_noise(points, KdTree(points), options);
 }
 
-double estimate_noise(const Points& points, const KdTree& tree, const NoiseOptions& options, const Points* normals,
-                      std::uint64_t cloud_points) {
+namespace {
+
+/// estimate_noise() and, with `fits`, the sampled fits of the subsample it settled on.
+double estimate(const Points& points, const KdTree& tree, const NoiseOptions& options, const Points* normals,
+                std::uint64_t cloud_points, SampledFits* fits) {
   const auto n = static_cast<std::size_t>(points.rows());
   if (std::min(options.neighbors, n) < kMinFitPoints || options.samples == 0) return 0;
   if (normals != nullptr && normals->rows() != points.rows())
     throw OptionError("noise estimate: one normal per point is needed");
   if (!options.facing_normals) normals = nullptr;
-  auto est = local_noise(points, tree, options, normals);
+  auto est = local_noise(points, tree, options, normals, fits);
   // Dense samples of a noisy surface: the neighbourhoods are thin slabs of noise, and the
   // local fit follows it. Coarsen until the neighbourhoods are wide compared with the noise, as
   // far as the whole cloud's subsample keeps kMinCoarsePoints.
@@ -191,12 +221,36 @@ double estimate_noise(const Points& points, const KdTree& tree, const NoiseOptio
     // A small region's subsample may hold too few points for one neighbourhood.
     if (static_cast<std::size_t>(coarse.rows()) < options.neighbors) break;
     const Points coarse_normals = normals != nullptr ? subsample(*normals, level) : Points();
-    est = local_noise(coarse, KdTree(coarse), options, normals != nullptr ? &coarse_normals : nullptr);
+    est = local_noise(coarse, KdTree(coarse), options, normals != nullptr ? &coarse_normals : nullptr, fits);
   }
   // The residual differences at the narrowest width see the least detail: they replace the
-  // fits' residual where it is clearly higher, by detail.
+  // fits' residual where it is clearly higher, by detail. The fits' variation over the surface
+  // is then the detail's too: no field.
   const double fitted = pick_scale(est, options);
-  return options.residual_differences && est[2].difference < kDetailMargin * fitted ? est[2].difference : fitted;
+  if (!(options.residual_differences && est[2].difference < kDetailMargin * fitted)) return fitted;
+  if (fits != nullptr) *fits = {};
+  return est[2].difference;
+}
+
+}  // namespace
+
+double estimate_noise(const Points& points, const KdTree& tree, const NoiseOptions& options, const Points* normals,
+                      std::uint64_t cloud_points) {
+  return estimate(points, tree, options, normals, cloud_points, nullptr);
+}
+
+NoiseEstimate estimate_noise_field(const Points& points, const KdTree& index, const NoiseOptions& options,
+                                   const Points* normals, std::uint64_t cloud_points) {
+  SampledFits fits;
+  NoiseEstimate out;
+  out.sigma = estimate(points, index, options, normals, cloud_points, &fits);
+  if (!(out.sigma > 0) || fits.ratio.empty()) return out;
+  for (double& r : fits.ratio) r *= out.sigma;
+  // Fits of the neighbours facing their centre's way keep a thin part's sides apart.
+  if (normals != nullptr && options.facing_normals) fits.kurtosis.clear();
+  out.field = NoiseField(std::move(fits.sites), std::move(fits.ratio), std::move(fits.kurtosis), out.sigma,
+                         fits.widest_points, fits.narrowest_points);
+  return out;
 }
 
 }  // namespace clustersurf

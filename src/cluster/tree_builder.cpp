@@ -60,7 +60,8 @@ class Builder {
   /// may be split below options.min_points (detail_split(); when min_points was "auto").
   Builder(const Points* normals, const detail::FrameNormals& frame_normals, WorkingSet& work,
           const detail::SupportFit* support, const BuildOptions& options, double tolerance, double noise,
-          bool bias_tests, bool detail_splits, detail::ProgressReporter& progress)
+          bool bias_tests, bool detail_splits, detail::ProgressReporter& progress, const NoiseField* field,
+          double sigma)
       : normals_(normals),
         frame_normals_(frame_normals),
         work_(work),
@@ -69,11 +70,34 @@ class Builder {
         options_(options),
         tolerance_(tolerance),
         noise_(noise),
+        cloud_noise_(noise),
+        field_(field != nullptr && !field->empty() && sigma > 0 ? field : nullptr),
+        sigma_(sigma),
         bias_tests_(bias_tests),
         detail_splits_(detail_splits),
         progress_(progress) {}
 
+  /// Builds the subtree of `range` at the noise where it lies (build_here()).
   void build(BuildNode& bn, std::span<std::uint32_t> range, std::uint32_t depth, std::uint64_t path_seed) const {
+    if (field_ == nullptr) return build_here(bn, range, depth, path_seed);
+    Builder local = *this;
+    local.noise_ = local_noise(range);
+    local.build_here(bn, range, depth, path_seed);
+  }
+
+ private:
+  /// The noise the cluster `range` keeps: the cloud's, raised where the field reads more at its
+  /// centroid, by at most kMaxLocalNoise.
+  double local_noise(std::span<const std::uint32_t> range) const {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (const std::uint32_t i : range) c += points_.row(i).transpose();
+    c /= static_cast<double>(range.size());
+    return cloud_noise_ * std::clamp(field_->at(c) / sigma_, 1.0, kMaxLocalNoise);
+  }
+
+  /// Fits the node of `range`, splits it while the tests ask and builds its two subtrees, or
+  /// makes it a leaf; at this builder's noise.
+  void build_here(BuildNode& bn, std::span<std::uint32_t> range, std::uint32_t depth, std::uint64_t path_seed) const {
     progress_.check();
     ClusterNode& node = bn.node;
     node.depth = depth;
@@ -157,7 +181,6 @@ class Builder {
     node.bound = detail::enclose(detail::enclose(node.support, bn.left->node.bound), bn.right->node.bound);
   }
 
- private:
   /// A cluster on the two faces of a sharp edge: two planes meeting at a crease, where one
   /// smooth proxy rounds the edge and its split leaves a lumpy blend along it. The crease is
   /// kept when it meets the threshold and explains the smooth proxy's misfit `e`: it leaves at
@@ -345,7 +368,10 @@ class Builder {
   const detail::SupportFit* support_;
   const BuildOptions& options_;
   double tolerance_;
-  double noise_;
+  double noise_;        // the noise this node keeps
+  double cloud_noise_;  // the noise the leaves keep where the field reads no more than its estimate
+  const NoiseField* field_;
+  double sigma_;  // the estimate field_ scales
   bool bias_tests_;
   bool detail_splits_;
   detail::ProgressReporter& progress_;
@@ -355,8 +381,10 @@ class Builder {
 
 void detail::build_nodes(BuildNode& root, const Points* normals, const FrameNormals& frame_normals, WorkingSet& work,
                          const SupportFit* support, const BuildOptions& options, double tolerance, double noise,
-                         bool bias_tests, bool detail_splits, ProgressReporter& progress) {
-  Builder(normals, frame_normals, work, support, options, tolerance, noise, bias_tests, detail_splits, progress)
+                         bool bias_tests, bool detail_splits, ProgressReporter& progress, const NoiseField* field,
+                         double sigma) {
+  Builder(normals, frame_normals, work, support, options, tolerance, noise, bias_tests, detail_splits, progress, field,
+          sigma)
       .build(root, work.local, 0, options.seed);
 }
 

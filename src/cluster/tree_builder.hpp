@@ -15,9 +15,12 @@ namespace clustersurf::detail {
 /// `bias_tests` also splits a would-be leaf whose halves, each fitted with its own quadratic,
 /// fit significantly better than its one against the noise (for noise that is the points' own,
 /// kNoiseCountsShare of the spacing or more); `detail_splits` lets leaves at min_points split
-/// below it where that resolves relief finer than them. The same tree for any thread count.
+/// below it where that resolves relief finer than them. With `field`, each cluster keeps the
+/// noise where it lies: `noise` times its centroid's field value over `sigma` (the estimate the
+/// field scales), between 1 and kMaxLocalNoise. The same tree for any thread count.
 void build_nodes(BuildNode& root, const Points* normals, const FrameNormals& frame_normals, WorkingSet& work,
                  const SupportFit* support, const BuildOptions& options, double tolerance, double noise,
-                 bool bias_tests, bool detail_splits, ProgressReporter& progress);
+                 bool bias_tests, bool detail_splits, ProgressReporter& progress, const NoiseField* field = nullptr,
+                 double sigma = 0);
 
 }  // namespace clustersurf::detail

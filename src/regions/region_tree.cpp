@@ -1,5 +1,6 @@
 // A region's subtree, built at the whole cloud's scale.
 
+#include <clustersurf/cluster/noise_field.hpp>
 #include <clustersurf/core/errors.hpp>
 #include <clustersurf/regions/regions.hpp>
 #include <clustersurf/spatial/cloud_index.hpp>
@@ -73,6 +74,18 @@ ClusterTree build_region_tree(const RegionCloud& region, const RegionPlan& plan,
   build_scale.bbox = scale.bbox;
   build_scale.point_spacing = scale.point_spacing;
   build_scale.noise_sigma = scale.noise_sigma;
+  // The noise over the region, from its points and its halo's, as the whole cloud's would read
+  // it there (sampled as coarsely, scaled by the region's own estimate).
+  NoiseEstimate local;
+  if (options.threshold_mode == ThresholdMode::Auto && options.noise_factor > 0 && options.noise.local &&
+      scale.noise_sigma > 0) {
+    const bool facing = options.use_normals && options.noise.facing_normals &&
+                        cloud.normals.rows() == cloud.positions.rows() && cloud.size() > 0;
+    const Points facing_normals = facing ? Points(cloud.normals(kept, Eigen::all)) : Points();
+    local = estimate_noise_field(support.positions, support.index, options.noise, facing ? &facing_normals : nullptr,
+                                 scale.points);
+    build_scale.noise_field = &local.field;
+  }
   BuildOptions build = options;
   build.keep_point_leaves = true;  // the orientation follows the points' normals through it
   // The support points' normals, for the support fits that follow them.

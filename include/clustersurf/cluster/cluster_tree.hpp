@@ -223,8 +223,10 @@ struct ClusterTree {
 
 /// The error a cluster of `points` points may keep in `tree`: hypot(tolerance, noise), the
 /// noise allowed a margin for the spread of an RMS over that many points (σ² (1 + 2 √(2/n))), so
-/// that noise alone does not split a cluster. Equals tree.error_threshold without noise.
-double cluster_error_threshold(const ClusterTree& tree, double points);
+/// that noise alone does not split a cluster. Equals tree.error_threshold without noise. The
+/// noise is the cloud's estimate times `noise_scale`: a cluster where the noise field reads more
+/// (NoiseOptions::local) keeps up to kMaxLocalNoise times it.
+double cluster_error_threshold(const ClusterTree& tree, double points, double noise_scale = 1);
 
 /// The smallest cluster a leaf may have when BuildOptions::min_points is 0, from the noise σ
 /// against the point spacing h (both in the input's units): enough points that the noise a
@@ -282,7 +284,7 @@ struct TreeSummary {
   std::array<std::size_t, kProxyKinds> proxy_histogram{};  ///< leaves per ProxyKind
   std::array<double, 5> leaf_size_percentiles{};           ///< 0, 25, 50, 75, 100 %
   std::array<double, 5> leaf_rms_percentiles{};            ///< 0, 25, 50, 75, 100 %
-  std::size_t leaves_over_threshold = 0;                   ///< leaves whose error exceeds cluster_error_threshold()
+  std::size_t leaves_over_threshold = 0;  ///< leaves whose error exceeds cluster_error_threshold() at the estimate
 };
 
 TreeSummary summarize(const ClusterTree& tree);

@@ -48,6 +48,11 @@ struct NoiseOptions {
   /// centre's way: the two sides of a thin part or of a narrow fold are two surfaces, not one
   /// noisy layer (two clean sheets 4 spacings apart read as noise of 2 spacings without it).
   bool facing_normals = true;
+  /// Each cluster keeps the noise where it lies (NoiseField: the sampled fits' residuals over
+  /// the surface, between the estimate and kMaxLocalNoise times it), not the estimate, a median
+  /// set by the quietest half of the surface: scans overlapping at grazing angles, a scanner's
+  /// noise growing with range. Off: the estimate everywhere.
+  bool local = true;
 };
 
 /// Calls f(name, field) for every field of `o`, in declaration order.
@@ -60,6 +65,7 @@ void for_each_field(Options& o, F&& f) {
   f("noisy_width_ratio", o.noisy_width_ratio);
   f("residual_differences", o.residual_differences);
   f("facing_normals", o.facing_normals);
+  f("local", o.local);
 }
 
 /// Robust estimate of the standard deviation of the points' normal-direction noise: the median
